@@ -1,0 +1,57 @@
+#pragma once
+// A seam model: named patches (surfaces) and curves, as read from a JSON/.bpt file (and later STEP/IGES).
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "seam/core/types.h"
+#include "seam/spline/bspline_curve.h"
+#include "seam/spline/bspline_surface.h"
+
+namespace seam {
+
+/// How a patch was given in the file (the geometry is always held as a B-spline surface).
+enum class PatchKind { kBSpline, kBezier };
+
+struct Patch {
+  std::string name;
+  PatchKind kind = PatchKind::kBSpline;
+  BSplineSurface surface;
+};
+
+struct Curve {
+  std::string name;
+  BSplineCurve curve;
+};
+
+/// Axis-aligned box; empty() until a point is added.
+struct BoundingBox {
+  Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  [[nodiscard]] bool empty() const { return !(min.array() <= max.array()).all(); }
+  void add(const Vec3& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  void add(const BoundingBox& b) {
+    if (!b.empty()) { add(b.min); add(b.max); }
+  }
+  [[nodiscard]] double diagonal() const { return empty() ? 0.0 : (max - min).norm(); }
+};
+
+/// Bounding box of the control points (contains the surface: convex-hull property, positive weights).
+BoundingBox controlBox(const BSplineSurface& s);
+BoundingBox controlBox(const BSplineCurve& c);
+
+struct Model {
+  std::vector<Patch> patches;
+  std::vector<Curve> curves;
+
+  [[nodiscard]] const Patch* findPatch(const std::string& name) const;
+  [[nodiscard]] const Curve* findCurve(const std::string& name) const;
+  /// Box of every control point of every patch and curve.
+  [[nodiscard]] BoundingBox boundingBox() const;
+};
+
+}  // namespace seam

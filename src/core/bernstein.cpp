@@ -1,0 +1,367 @@
+#include "seam/core/bernstein.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <vector>
+
+namespace seam {
+
+double binomial(int n, int k) {
+  if (k < 0 || k > n) return 0.0;
+  k = std::min(k, n - k);
+  double r = 1.0;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return std::round(r);
+}
+
+namespace {
+
+// Runs de Casteljau on the rows of `c` (copied) at t; returns the final row.
+VecX deCasteljau(const Matrix& c, double t) {
+  const auto n = c.rows();
+  const auto d = c.cols();
+  if (n == 0) return VecX::Zero(d);
+  Matrix w = c;
+  const double s = 1.0 - t;
+  for (Eigen::Index r = 1; r < n; ++r)
+    for (Eigen::Index i = 0; i < n - r; ++i) w.row(i) = s * w.row(i) + t * w.row(i + 1);
+  return w.row(0).transpose();
+}
+
+// Blossom of the polynomial with coefficient rows c at the arguments args (size = degree).
+Eigen::RowVectorXd blossom(const Matrix& c, const std::vector<double>& args) {
+  Matrix w = c;
+  const auto n = c.rows();
+  for (Eigen::Index r = 1; r < n; ++r) {
+    const double t = args[static_cast<size_t>(r - 1)];
+    for (Eigen::Index i = 0; i < n - r; ++i) w.row(i) = (1.0 - t) * w.row(i) + t * w.row(i + 1);
+  }
+  return w.row(0);
+}
+
+// Weighted Cauchy product of Bernstein coefficient rows: out_k = sum_{i+j=k} C(n,i)C(m,j)/C(n+m,k) a_i * b_j
+// where "*" is the elementwise product of the rows (a broadcast when one of them has one column).
+Matrix productRows(const Matrix& a, const Matrix& b) {
+  const int n = static_cast<int>(a.rows()) - 1;
+  const int m = static_cast<int>(b.rows()) - 1;
+  const auto dim = std::max(a.cols(), b.cols());
+  Matrix out = Matrix::Zero(n + m + 1, dim);
+  for (int i = 0; i <= n; ++i) {
+    const double bi = binomial(n, i);
+    for (int j = 0; j <= m; ++j) {
+      const double f = bi * binomial(m, j) / binomial(n + m, i + j);
+      if (a.cols() == b.cols()) {
+        out.row(i + j).array() += f * a.row(i).array() * b.row(j).array();
+      } else if (a.cols() == 1) {
+        out.row(i + j) += (f * a(i, 0)) * b.row(j);
+      } else {
+        out.row(i + j) += (f * b(j, 0)) * a.row(i);
+      }
+    }
+  }
+  return out;
+}
+
+Matrix elevateRows(const Matrix& c, int by) {
+  if (by <= 0) return c;
+  const int n = static_cast<int>(c.rows()) - 1;
+  Matrix out = Matrix::Zero(n + by + 1, c.cols());
+  for (int i = 0; i <= n + by; ++i) {
+    const double denom = binomial(n + by, i);
+    for (int j = std::max(0, i - by); j <= std::min(n, i); ++j)
+      out.row(i) += (binomial(n, j) * binomial(by, i - j) / denom) * c.row(j);
+  }
+  return out;
+}
+
+Matrix derivativeRows(const Matrix& c, int order) {
+  Matrix cur = c;
+  for (int k = 0; k < order; ++k) {
+    const int n = static_cast<int>(cur.rows()) - 1;
+    if (n <= 0) return Matrix::Zero(1, c.cols());
+    Matrix next(n, cur.cols());
+    for (int i = 0; i < n; ++i) next.row(i) = n * (cur.row(i + 1) - cur.row(i));
+    cur = std::move(next);
+  }
+  return cur;
+}
+
+Matrix restrictRows(const Matrix& c, double a, double b) {
+  const int n = static_cast<int>(c.rows()) - 1;
+  Matrix out(c.rows(), c.cols());
+  std::vector<double> args(static_cast<size_t>(n));
+  for (int i = 0; i <= n; ++i) {
+    for (int k = 0; k < n; ++k) args[static_cast<size_t>(k)] = k < n - i ? a : b;
+    out.row(i) = blossom(c, args);
+  }
+  return out;
+}
+
+// View of a patch as a curve in u whose coefficients are whole v-rows: (n+1) x ((m+1)*dim).
+Matrix uRows(const BernsteinPatch& p) {
+  return Eigen::Map<const Matrix>(p.coeffs().data(), p.degreeU() + 1, (p.degreeV() + 1) * p.dim());
+}
+BernsteinPatch fromURows(const Matrix& rows, int degreeV, int dim) {
+  const int du = static_cast<int>(rows.rows()) - 1;
+  Matrix c = Eigen::Map<const Matrix>(rows.data(), (du + 1) * (degreeV + 1), dim);
+  return BernsteinPatch(du, degreeV, std::move(c));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------------
+// BernsteinPoly
+
+BernsteinPoly::BernsteinPoly(Matrix coefficients) : c_(std::move(coefficients)) {}
+
+BernsteinPoly BernsteinPoly::zero(int degree, int dim) { return BernsteinPoly(Matrix::Zero(degree + 1, dim)); }
+
+BernsteinPoly BernsteinPoly::constant(const VecX& value, int degree) {
+  Matrix c(degree + 1, value.size());
+  for (int i = 0; i <= degree; ++i) c.row(i) = value.transpose();
+  return BernsteinPoly(std::move(c));
+}
+
+BernsteinPoly BernsteinPoly::constant(double value, int degree) {
+  return BernsteinPoly(Matrix::Constant(degree + 1, 1, value));
+}
+
+BernsteinPoly BernsteinPoly::linear(double a, double b) {
+  Matrix c(2, 1);
+  c << a, b;
+  return BernsteinPoly(std::move(c));
+}
+
+BernsteinPoly BernsteinPoly::fromPowerBasis(const VecX& a) {
+  const int n = std::max<int>(0, static_cast<int>(a.size()) - 1);
+  Matrix c = Matrix::Zero(n + 1, 1);
+  for (int i = 0; i <= n; ++i)
+    for (int k = 0; k <= i && k < a.size(); ++k) c(i, 0) += binomial(i, k) / binomial(n, k) * a[k];
+  return BernsteinPoly(std::move(c));
+}
+
+VecX BernsteinPoly::operator()(double t) const { return deCasteljau(c_, t); }
+
+double BernsteinPoly::scalar(double t) const {
+  assert(dim() == 1);
+  const int n = degree();
+  if (n < 0) return 0.0;
+  // Scalar de Casteljau without allocation for degrees up to 63.
+  double w[64];
+  if (n < 64) {
+    for (int i = 0; i <= n; ++i) w[i] = c_(i, 0);
+    const double s = 1.0 - t;
+    for (int r = 1; r <= n; ++r)
+      for (int i = 0; i <= n - r; ++i) w[i] = s * w[i] + t * w[i + 1];
+    return w[0];
+  }
+  return deCasteljau(c_, t)[0];
+}
+
+BernsteinPoly BernsteinPoly::derivative(int order) const { return BernsteinPoly(derivativeRows(c_, order)); }
+
+BernsteinPoly BernsteinPoly::elevated(int by) const { return BernsteinPoly(elevateRows(c_, by)); }
+
+BernsteinPoly BernsteinPoly::elevatedTo(int degree) const {
+  assert(degree >= this->degree());
+  return elevated(degree - this->degree());
+}
+
+std::pair<BernsteinPoly, BernsteinPoly> BernsteinPoly::subdivided(double t) const {
+  const auto n = c_.rows();
+  Matrix w = c_;
+  Matrix left(n, c_.cols()), right(n, c_.cols());
+  left.row(0) = w.row(0);
+  right.row(n - 1) = w.row(n - 1);
+  for (Eigen::Index r = 1; r < n; ++r) {
+    for (Eigen::Index i = 0; i < n - r; ++i) w.row(i) = (1.0 - t) * w.row(i) + t * w.row(i + 1);
+    left.row(r) = w.row(0);
+    right.row(n - 1 - r) = w.row(n - 1 - r);
+  }
+  return {BernsteinPoly(std::move(left)), BernsteinPoly(std::move(right))};
+}
+
+BernsteinPoly BernsteinPoly::restricted(double a, double b) const { return BernsteinPoly(restrictRows(c_, a, b)); }
+
+BernsteinPoly BernsteinPoly::reversed() const { return BernsteinPoly(c_.colwise().reverse()); }
+
+BernsteinPoly BernsteinPoly::composed(const BernsteinPoly& w) const {
+  assert(w.dim() == 1);
+  const int n = degree();
+  // de Casteljau with polynomial arithmetic: b_i <- (1 - w) b_i + w b_{i+1}; each level raises the degree by deg w.
+  const BernsteinPoly oneMinusW = BernsteinPoly::constant(1.0, w.degree()) - w;
+  std::vector<BernsteinPoly> b;
+  b.reserve(static_cast<size_t>(n + 1));
+  for (int i = 0; i <= n; ++i) b.emplace_back(Matrix(c_.row(i)));
+  for (int r = 1; r <= n; ++r)
+    for (int i = 0; i <= n - r; ++i)
+      b[static_cast<size_t>(i)] =
+          product(oneMinusW, b[static_cast<size_t>(i)]) + product(w, b[static_cast<size_t>(i + 1)]);
+  return b.front();
+}
+
+BernsteinPoly BernsteinPoly::component(int k) const { return BernsteinPoly(Matrix(c_.col(k))); }
+
+VecX BernsteinPoly::minCoeff() const { return c_.colwise().minCoeff().transpose(); }
+VecX BernsteinPoly::maxCoeff() const { return c_.colwise().maxCoeff().transpose(); }
+double BernsteinPoly::maxAbsCoeff() const { return c_.size() ? c_.cwiseAbs().maxCoeff() : 0.0; }
+double BernsteinPoly::maxCoeffNorm() const { return c_.size() ? c_.rowwise().norm().maxCoeff() : 0.0; }
+
+BernsteinPoly& BernsteinPoly::operator*=(double s) {
+  c_ *= s;
+  return *this;
+}
+
+BernsteinPoly operator+(const BernsteinPoly& a, const BernsteinPoly& b) {
+  assert(a.dim() == b.dim());
+  const int n = std::max(a.degree(), b.degree());
+  return BernsteinPoly(elevateRows(a.c_, n - a.degree()) + elevateRows(b.c_, n - b.degree()));
+}
+
+BernsteinPoly operator-(const BernsteinPoly& a, const BernsteinPoly& b) {
+  assert(a.dim() == b.dim());
+  const int n = std::max(a.degree(), b.degree());
+  return BernsteinPoly(elevateRows(a.c_, n - a.degree()) - elevateRows(b.c_, n - b.degree()));
+}
+
+BernsteinPoly BernsteinPoly::operator-() const { return BernsteinPoly(-c_); }
+
+BernsteinPoly product(const BernsteinPoly& a, const BernsteinPoly& b) {
+  assert(a.dim() == b.dim() || a.dim() == 1 || b.dim() == 1);
+  return BernsteinPoly(productRows(a.coeffs(), b.coeffs()));
+}
+
+BernsteinPoly dot(const BernsteinPoly& a, const BernsteinPoly& b) {
+  assert(a.dim() == b.dim());
+  Matrix p = productRows(a.coeffs(), b.coeffs());
+  return BernsteinPoly(Matrix(p.rowwise().sum()));
+}
+
+BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
+  assert(a.dim() == 3 && b.dim() == 3);
+  auto c = [&](int i, int j) { return product(a.component(i), b.component(j)); };
+  const BernsteinPoly x = c(1, 2) - c(2, 1);
+  const BernsteinPoly y = c(2, 0) - c(0, 2);
+  const BernsteinPoly z = c(0, 1) - c(1, 0);
+  Matrix out(x.coeffs().rows(), 3);
+  out.col(0) = x.coeffs().col(0);
+  out.col(1) = y.coeffs().col(0);
+  out.col(2) = z.coeffs().col(0);
+  return BernsteinPoly(std::move(out));
+}
+
+BernsteinPoly triple(const BernsteinPoly& a, const BernsteinPoly& b, const BernsteinPoly& c) {
+  return dot(a, cross(b, c));
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// BernsteinPatch
+
+BernsteinPatch::BernsteinPatch(int degreeU, int degreeV, Matrix coefficients)
+    : du_(degreeU), dv_(degreeV), c_(std::move(coefficients)) {
+  assert(c_.rows() == (du_ + 1) * (dv_ + 1));
+}
+
+BernsteinPatch BernsteinPatch::zero(int degreeU, int degreeV, int dim) {
+  return BernsteinPatch(degreeU, degreeV, Matrix::Zero((degreeU + 1) * (degreeV + 1), dim));
+}
+
+VecX BernsteinPatch::operator()(double u, double v) const { return isoU(u)(v); }
+
+BernsteinPoly BernsteinPatch::isoU(double u) const {
+  const VecX row = deCasteljau(uRows(*this), u);
+  return BernsteinPoly(Matrix(Eigen::Map<const Matrix>(row.data(), dv_ + 1, dim())));
+}
+
+BernsteinPoly BernsteinPatch::isoV(double v) const { return swapped().isoU(v); }
+
+BernsteinPatch BernsteinPatch::swapped() const {
+  Matrix c(c_.rows(), c_.cols());
+  for (int i = 0; i <= du_; ++i)
+    for (int j = 0; j <= dv_; ++j) c.row(j * (du_ + 1) + i) = c_.row(i * (dv_ + 1) + j);
+  return BernsteinPatch(dv_, du_, std::move(c));
+}
+
+BernsteinPatch BernsteinPatch::derivative(int ku, int kv) const {
+  BernsteinPatch p = fromURows(derivativeRows(uRows(*this), ku), dv_, dim());
+  if (kv == 0) return p;
+  const BernsteinPatch s = p.swapped();
+  return fromURows(derivativeRows(uRows(s), kv), s.degreeV(), dim()).swapped();
+}
+
+BernsteinPatch BernsteinPatch::elevated(int byU, int byV) const {
+  BernsteinPatch p = fromURows(elevateRows(uRows(*this), byU), dv_, dim());
+  if (byV == 0) return p;
+  const BernsteinPatch s = p.swapped();
+  return fromURows(elevateRows(uRows(s), byV), s.degreeV(), dim()).swapped();
+}
+
+BernsteinPatch BernsteinPatch::elevatedTo(int degreeU, int degreeV) const {
+  assert(degreeU >= du_ && degreeV >= dv_);
+  return elevated(degreeU - du_, degreeV - dv_);
+}
+
+BernsteinPatch BernsteinPatch::restricted(double u0, double u1, double v0, double v1) const {
+  const BernsteinPatch p = fromURows(restrictRows(uRows(*this), u0, u1), dv_, dim());
+  const BernsteinPatch s = p.swapped();
+  return fromURows(restrictRows(uRows(s), v0, v1), s.degreeV(), dim()).swapped();
+}
+
+BernsteinPatch BernsteinPatch::reversedU() const {
+  return fromURows(Matrix(uRows(*this).colwise().reverse()), dv_, dim());
+}
+
+BernsteinPatch BernsteinPatch::reversedV() const { return swapped().reversedU().swapped(); }
+
+VecX BernsteinPatch::minCoeff() const { return c_.colwise().minCoeff().transpose(); }
+VecX BernsteinPatch::maxCoeff() const { return c_.colwise().maxCoeff().transpose(); }
+double BernsteinPatch::maxAbsCoeff() const { return c_.size() ? c_.cwiseAbs().maxCoeff() : 0.0; }
+
+namespace {
+// Tensor-product weighted product of two patches; combine(a_row, b_row) -> out row contribution.
+template <class Combine>
+BernsteinPatch patchProduct(const BernsteinPatch& a, const BernsteinPatch& b, int outDim, Combine combine) {
+  const int n1 = a.degreeU(), m1 = a.degreeV(), n2 = b.degreeU(), m2 = b.degreeV();
+  BernsteinPatch out = BernsteinPatch::zero(n1 + n2, m1 + m2, outDim);
+  for (int i1 = 0; i1 <= n1; ++i1)
+    for (int i2 = 0; i2 <= n2; ++i2) {
+      const double fu = binomial(n1, i1) * binomial(n2, i2) / binomial(n1 + n2, i1 + i2);
+      for (int j1 = 0; j1 <= m1; ++j1)
+        for (int j2 = 0; j2 <= m2; ++j2) {
+          const double f = fu * binomial(m1, j1) * binomial(m2, j2) / binomial(m1 + m2, j1 + j2);
+          combine(out.coeff(i1 + i2, j1 + j2), f, a.coeff(i1, j1), b.coeff(i2, j2));
+        }
+    }
+  return out;
+}
+}  // namespace
+
+BernsteinPatch product(const BernsteinPatch& a, const BernsteinPatch& b) {
+  assert(a.dim() == b.dim() || a.dim() == 1 || b.dim() == 1);
+  const int dim = std::max(a.dim(), b.dim());
+  return patchProduct(a, b, dim, [&](auto out, double f, auto x, auto y) {
+    if (x.size() == y.size())
+      out.array() += f * x.array() * y.array();
+    else if (x.size() == 1)
+      out += (f * x(0)) * y;
+    else
+      out += (f * y(0)) * x;
+  });
+}
+
+BernsteinPatch dot(const BernsteinPatch& a, const BernsteinPatch& b) {
+  assert(a.dim() == b.dim());
+  return patchProduct(a, b, 1, [](auto out, double f, auto x, auto y) { out(0) += f * x.dot(y); });
+}
+
+BernsteinPatch cross(const BernsteinPatch& a, const BernsteinPatch& b) {
+  assert(a.dim() == 3 && b.dim() == 3);
+  return patchProduct(a, b, 3, [](auto out, double f, auto x, auto y) {
+    out(0) += f * (x(1) * y(2) - x(2) * y(1));
+    out(1) += f * (x(2) * y(0) - x(0) * y(2));
+    out(2) += f * (x(0) * y(1) - x(1) * y(0));
+  });
+}
+
+}  // namespace seam

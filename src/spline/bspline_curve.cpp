@@ -1,0 +1,140 @@
+#include "seam/spline/bspline_curve.h"
+
+#include <fmt/format.h>
+
+#include <cassert>
+#include <cmath>
+
+#include "seam/core/bernstein.h"
+#include "spline/spline_internal.h"
+
+namespace seam {
+
+namespace {
+
+Status checkPointsAndWeights(const Matrix& points, const VecX& weights) {
+  if (points.cols() < 1) return invalidInput("control points have no coordinates");
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    if (!points.row(i).allFinite())
+      return invalidInput(fmt::format("control point {} has a coordinate that is not a finite number", i));
+  if (weights.size() > 0) {
+    if (weights.size() != points.rows())
+      return invalidInput(fmt::format("{} weights given for {} control points", weights.size(), points.rows()));
+    for (Eigen::Index i = 0; i < weights.size(); ++i)
+      if (!std::isfinite(weights[i]) || !(weights[i] > 0.0))
+        return invalidInput(fmt::format("weight {} is {}, weights must be positive finite numbers", i, weights[i]));
+  }
+  return Status::ok();
+}
+
+}  // namespace
+
+Result<BSplineCurve> BSplineCurve::create(int degree, std::vector<double> knots, Matrix points, VecX weights) {
+  if (degree < 1) return invalidInput(fmt::format("degree {} is below 1", degree));
+  if (Status s = checkPointsAndWeights(points, weights); !s) return s;
+  KnotVector kv(std::move(knots));
+  if (Status s = kv.validate(degree, static_cast<int>(points.rows())); !s) return s;
+  return BSplineCurve(degree, std::move(kv), std::move(points), std::move(weights));
+}
+
+BSplineCurve::BSplineCurve(int degree, KnotVector knots, Matrix points, VecX weights)
+    : p_(degree), knots_(std::move(knots)), points_(std::move(points)), weights_(std::move(weights)) {
+  assert(knots_.size() == points_.rows() + p_ + 1);
+  assert(weights_.size() == 0 || weights_.size() == points_.rows());
+}
+
+BSplineCurve BSplineCurve::fromHomogeneous(int degree, KnotVector knots, const Matrix& h, bool rational) {
+  if (!rational) return BSplineCurve(degree, std::move(knots), h);
+  const auto d = h.cols() - 1;
+  VecX w = h.col(d);
+  Matrix pts = h.leftCols(d);
+  for (Eigen::Index i = 0; i < pts.rows(); ++i) pts.row(i) /= w[i];
+  return BSplineCurve(degree, std::move(knots), std::move(pts), std::move(w));
+}
+
+Matrix BSplineCurve::homogeneous() const {
+  if (!isRational()) return points_;
+  Matrix h(points_.rows(), points_.cols() + 1);
+  for (Eigen::Index i = 0; i < points_.rows(); ++i) {
+    h.row(i).head(points_.cols()) = weights_[i] * points_.row(i);
+    h(i, points_.cols()) = weights_[i];
+  }
+  return h;
+}
+
+VecX BSplineCurve::evaluate(double t) const { return derivatives(t, 0).row(0).transpose(); }
+
+Matrix BSplineCurve::derivatives(double t, int order) const {
+  assert(order >= 0);
+  const int span = knots_.findSpan(p_, t);
+  const int du = std::min(order, p_);
+  const Matrix N = basisFunctionDerivatives(knots_, p_, span, t, du);
+  const bool rational = isRational();
+  const auto dh = points_.cols() + (rational ? 1 : 0);
+  Matrix H = Matrix::Zero(order + 1, dh);
+  for (int k = 0; k <= du; ++k)
+    for (int r = 0; r <= p_; ++r) {
+      const int i = span - p_ + r;
+      if (rational) {
+        H.row(k).head(points_.cols()) += (N(k, r) * weights_[i]) * points_.row(i);
+        H(k, points_.cols()) += N(k, r) * weights_[i];
+      } else {
+        H.row(k) += N(k, r) * points_.row(i);
+      }
+    }
+  if (!rational) return H;
+  // Quotient rule (The NURBS Book A4.2): C^(k) = (A^(k) - sum_{i=1}^{k} C(k,i) w^(i) C^(k-i)) / w.
+  const auto d = points_.cols();
+  Matrix C(order + 1, d);
+  for (int k = 0; k <= order; ++k) {
+    Eigen::RowVectorXd v = H.row(k).head(d);
+    for (int i = 1; i <= k; ++i) v -= binomial(k, i) * H(i, d) * C.row(k - i);
+    C.row(k) = v / H(0, d);
+  }
+  return C;
+}
+
+BSplineCurve BSplineCurve::withKnotInserted(double t, int times) const {
+  std::vector<double> k = knots_.values();
+  Matrix h = homogeneous();
+  detail::insertKnot(p_, k, h, t, times);
+  return fromHomogeneous(p_, KnotVector(std::move(k)), h, isRational());
+}
+
+BSplineCurve BSplineCurve::refined(const std::vector<double>& newKnots) const {
+  std::vector<double> k = knots_.values();
+  Matrix h = homogeneous();
+  detail::refineKnots(p_, k, h, newKnots);
+  return fromHomogeneous(p_, KnotVector(std::move(k)), h, isRational());
+}
+
+std::vector<BezierCurvePiece> BSplineCurve::bezierPieces() const {
+  std::vector<double> k = knots_.values();
+  Matrix h = homogeneous();
+  const auto spans = detail::decompose(p_, k, h);
+  std::vector<BezierCurvePiece> out;
+  out.reserve(spans.size());
+  for (size_t s = 0; s < spans.size(); ++s) {
+    const BernsteinPoly piece(Matrix(h.middleRows(static_cast<Eigen::Index>(s) * p_, p_ + 1)));
+    out.push_back({isRational() ? BezierCurve::fromHomogeneous(piece) : BezierCurve(piece.coeffs()), spans[s]});
+  }
+  return out;
+}
+
+BSplineCurve BSplineCurve::degreeElevated(int by) const {
+  std::vector<double> k = knots_.values();
+  Matrix h = homogeneous();
+  detail::elevateDegree(p_, k, h, by);
+  return fromHomogeneous(p_ + std::max(by, 0), KnotVector(std::move(k)), h, isRational());
+}
+
+BSplineCurve BSplineCurve::reversed() const {
+  VecX w = isRational() ? VecX(weights_.reverse()) : VecX();
+  return BSplineCurve(p_, knots_.reversed(p_), Matrix(points_.colwise().reverse()), std::move(w));
+}
+
+BSplineCurve BSplineCurve::reparametrized(double a, double b) const {
+  return BSplineCurve(p_, knots_.reparametrized(p_, a, b), points_, weights_);
+}
+
+}  // namespace seam

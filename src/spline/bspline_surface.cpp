@@ -1,0 +1,424 @@
+#include "seam/spline/bspline_surface.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cctype>
+#include <cmath>
+
+#include "seam/core/bernstein.h"
+#include "spline/spline_internal.h"
+
+namespace seam {
+
+std::string_view edgeName(Edge e) {
+  switch (e) {
+    case Edge::U0: return "u0";
+    case Edge::U1: return "u1";
+    case Edge::V0: return "v0";
+    case Edge::V1: return "v1";
+  }
+  return "?";
+}
+
+Result<Edge> parseEdge(std::string_view name) {
+  std::string s(name);
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (Edge e : kAllEdges)
+    if (s == edgeName(e)) return e;
+  return invalidInput(fmt::format("unknown edge \"{}\" (expected u0, u1, v0 or v1)", name));
+}
+
+namespace detail {
+Matrix transposeGrid(const Matrix& rows, int nu, int nv) {
+  Matrix out(rows.rows(), rows.cols());
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) out.row(j * nu + i) = rows.row(i * nv + j);
+  return out;
+}
+}  // namespace detail
+
+namespace {
+
+// Surface rows (nu*nv) x d seen as nu rows of nv*d coefficients, and back.
+Matrix asURows(const Matrix& h, int nu) { return Eigen::Map<const Matrix>(h.data(), nu, h.size() / nu); }
+Matrix fromURows(const Matrix& rows, int d) { return Eigen::Map<const Matrix>(rows.data(), rows.size() / d, d); }
+
+// Applies a curve algorithm fn(degree, knots, rows) to the u direction of homogeneous surface rows.
+template <class Fn>
+void applyU(int degree, std::vector<double>& knots, Matrix& h, int& nu, int nv, Fn fn) {
+  const auto d = h.cols();
+  Matrix rows = asURows(h, nu);
+  fn(degree, knots, rows);
+  nu = static_cast<int>(rows.rows());
+  h = fromURows(rows, static_cast<int>(d));
+  (void)nv;
+}
+
+template <class Fn>
+void applyV(int degree, std::vector<double>& knots, Matrix& h, int nu, int& nv, Fn fn) {
+  Matrix t = detail::transposeGrid(h, nu, nv);
+  applyU(degree, knots, t, nv, nu, fn);
+  h = detail::transposeGrid(t, nv, nu);
+}
+
+}  // namespace
+
+Result<BSplineSurface> BSplineSurface::create(int degreeU, int degreeV, std::vector<double> knotsU,
+                                              std::vector<double> knotsV, int numU, int numV, Matrix points,
+                                              VecX weights) {
+  if (degreeU < 1 || degreeV < 1)
+    return invalidInput(fmt::format("degree ({}, {}) is below 1", degreeU, degreeV));
+  if (numU < 1 || numV < 1 || points.rows() != static_cast<Eigen::Index>(numU) * numV)
+    return invalidInput(fmt::format("{} control points given for a {} x {} grid", points.rows(), numU, numV));
+  if (points.cols() < 1) return invalidInput("control points have no coordinates");
+  for (Eigen::Index r = 0; r < points.rows(); ++r)
+    if (!points.row(r).allFinite())
+      return invalidInput(fmt::format("control point [{}][{}] has a coordinate that is not a finite number",
+                                      r / numV, r % numV));
+  if (weights.size() > 0) {
+    if (weights.size() != points.rows())
+      return invalidInput(fmt::format("{} weights given for {} control points", weights.size(), points.rows()));
+    for (Eigen::Index r = 0; r < weights.size(); ++r)
+      if (!std::isfinite(weights[r]) || !(weights[r] > 0.0))
+        return invalidInput(fmt::format("weight [{}][{}] is {}, weights must be positive finite numbers", r / numV,
+                                        r % numV, weights[r]));
+  }
+  KnotVector ku(std::move(knotsU)), kv(std::move(knotsV));
+  if (Status s = ku.validate(degreeU, numU); !s) return s.withContext("u");
+  if (Status s = kv.validate(degreeV, numV); !s) return s.withContext("v");
+  return BSplineSurface(degreeU, degreeV, std::move(ku), std::move(kv), numU, numV, std::move(points),
+                        std::move(weights));
+}
+
+BSplineSurface::BSplineSurface(int degreeU, int degreeV, KnotVector knotsU, KnotVector knotsV, int numU, int numV,
+                               Matrix points, VecX weights)
+    : pu_(degreeU),
+      pv_(degreeV),
+      ku_(std::move(knotsU)),
+      kv_(std::move(knotsV)),
+      nu_(numU),
+      nv_(numV),
+      points_(std::move(points)),
+      weights_(std::move(weights)) {
+  assert(points_.rows() == static_cast<Eigen::Index>(nu_) * nv_);
+  assert(ku_.size() == nu_ + pu_ + 1 && kv_.size() == nv_ + pv_ + 1);
+  assert(weights_.size() == 0 || weights_.size() == points_.rows());
+}
+
+BSplineSurface BSplineSurface::fromHomogeneous(int degreeU, int degreeV, KnotVector knotsU, KnotVector knotsV,
+                                               int numU, int numV, const Matrix& h, bool rational) {
+  if (!rational) return BSplineSurface(degreeU, degreeV, std::move(knotsU), std::move(knotsV), numU, numV, h);
+  const auto d = h.cols() - 1;
+  VecX w = h.col(d);
+  Matrix pts = h.leftCols(d);
+  for (Eigen::Index i = 0; i < pts.rows(); ++i) pts.row(i) /= w[i];
+  return BSplineSurface(degreeU, degreeV, std::move(knotsU), std::move(knotsV), numU, numV, std::move(pts),
+                        std::move(w));
+}
+
+Matrix BSplineSurface::homogeneous() const {
+  if (!isRational()) return points_;
+  Matrix h(points_.rows(), points_.cols() + 1);
+  for (Eigen::Index i = 0; i < points_.rows(); ++i) {
+    h.row(i).head(points_.cols()) = weights_[i] * points_.row(i);
+    h(i, points_.cols()) = weights_[i];
+  }
+  return h;
+}
+
+VecX BSplineSurface::evaluate(double u, double v) const { return derivatives(u, v, 0)[0][0]; }
+
+std::vector<std::vector<VecX>> BSplineSurface::derivatives(double u, double v, int order) const {
+  assert(order >= 0);
+  const int su = ku_.findSpan(pu_, u), sv = kv_.findSpan(pv_, v);
+  const Matrix Nu = basisFunctionDerivatives(ku_, pu_, su, u, std::min(order, pu_));
+  const Matrix Nv = basisFunctionDerivatives(kv_, pv_, sv, v, std::min(order, pv_));
+  const bool rational = isRational();
+  const auto d = points_.cols();
+  const auto dh = d + (rational ? 1 : 0);
+  std::vector<std::vector<VecX>> H(static_cast<size_t>(order + 1));
+  for (int k = 0; k <= order; ++k) {
+    for (int l = 0; l <= order - k; ++l) {
+      VecX acc = VecX::Zero(dh);
+      if (k <= pu_ && l <= pv_) {
+        for (int r = 0; r <= pu_; ++r) {
+          VecX row = VecX::Zero(dh);
+          for (int s = 0; s <= pv_; ++s) {
+            const Eigen::Index idx = static_cast<Eigen::Index>(su - pu_ + r) * nv_ + (sv - pv_ + s);
+            if (rational) {
+              row.head(d) += (Nv(l, s) * weights_[idx]) * points_.row(idx).transpose();
+              row[d] += Nv(l, s) * weights_[idx];
+            } else {
+              row += Nv(l, s) * points_.row(idx).transpose();
+            }
+          }
+          acc += Nu(k, r) * row;
+        }
+      }
+      H[static_cast<size_t>(k)].push_back(std::move(acc));
+    }
+  }
+  return rational ? detail::surfaceQuotientRule(H) : H;
+}
+
+Vec3 BSplineSurface::normal(double u, double v) const {
+  const auto d = derivatives(u, v, 1);
+  const Vec3 n = Vec3(d[1][0].head<3>()).cross(Vec3(d[0][1].head<3>()));
+  const double len = n.norm();
+  return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+BSplineSurface BSplineSurface::withKnotInsertedU(double u, int times) const {
+  std::vector<double> k = ku_.values();
+  Matrix h = homogeneous();
+  int nu = nu_;
+  applyU(pu_, k, h, nu, nv_, [&](int p, auto& kn, auto& rows) { detail::insertKnot(p, kn, rows, u, times); });
+  return fromHomogeneous(pu_, pv_, KnotVector(std::move(k)), kv_, nu, nv_, h, isRational());
+}
+
+BSplineSurface BSplineSurface::withKnotInsertedV(double v, int times) const {
+  std::vector<double> k = kv_.values();
+  Matrix h = homogeneous();
+  int nv = nv_;
+  applyV(pv_, k, h, nu_, nv, [&](int p, auto& kn, auto& rows) { detail::insertKnot(p, kn, rows, v, times); });
+  return fromHomogeneous(pu_, pv_, ku_, KnotVector(std::move(k)), nu_, nv, h, isRational());
+}
+
+BSplineSurface BSplineSurface::refinedU(const std::vector<double>& newKnots) const {
+  std::vector<double> k = ku_.values();
+  Matrix h = homogeneous();
+  int nu = nu_;
+  applyU(pu_, k, h, nu, nv_, [&](int p, auto& kn, auto& rows) { detail::refineKnots(p, kn, rows, newKnots); });
+  return fromHomogeneous(pu_, pv_, KnotVector(std::move(k)), kv_, nu, nv_, h, isRational());
+}
+
+BSplineSurface BSplineSurface::refinedV(const std::vector<double>& newKnots) const {
+  std::vector<double> k = kv_.values();
+  Matrix h = homogeneous();
+  int nv = nv_;
+  applyV(pv_, k, h, nu_, nv, [&](int p, auto& kn, auto& rows) { detail::refineKnots(p, kn, rows, newKnots); });
+  return fromHomogeneous(pu_, pv_, ku_, KnotVector(std::move(k)), nu_, nv, h, isRational());
+}
+
+std::vector<BezierPatchPiece> BSplineSurface::bezierPatches() const {
+  std::vector<double> kU = ku_.values(), kV = kv_.values();
+  Matrix h = homogeneous();
+  int nu = nu_, nv = nv_;
+  std::vector<Interval> spansU, spansV;
+  applyU(pu_, kU, h, nu, nv, [&](int p, auto& kn, auto& rows) { spansU = detail::decompose(p, kn, rows); });
+  applyV(pv_, kV, h, nu, nv, [&](int p, auto& kn, auto& rows) { spansV = detail::decompose(p, kn, rows); });
+  std::vector<BezierPatchPiece> out;
+  out.reserve(spansU.size() * spansV.size());
+  const auto d = h.cols();
+  for (size_t a = 0; a < spansU.size(); ++a)
+    for (size_t b = 0; b < spansV.size(); ++b) {
+      Matrix c((pu_ + 1) * (pv_ + 1), d);
+      for (int i = 0; i <= pu_; ++i)
+        for (int j = 0; j <= pv_; ++j)
+          c.row(i * (pv_ + 1) + j) =
+              h.row((static_cast<Eigen::Index>(a) * pu_ + i) * nv + static_cast<Eigen::Index>(b) * pv_ + j);
+      const BernsteinPatch bp(pu_, pv_, std::move(c));
+      out.push_back({isRational() ? BezierPatch::fromHomogeneous(bp) : BezierPatch(pu_, pv_, bp.coeffs()),
+                     spansU[a], spansV[b], static_cast<int>(a), static_cast<int>(b)});
+    }
+  return out;
+}
+
+BSplineSurface BSplineSurface::degreeElevated(int byU, int byV) const {
+  std::vector<double> kU = ku_.values(), kV = kv_.values();
+  Matrix h = homogeneous();
+  int nu = nu_, nv = nv_;
+  if (byU > 0)
+    applyU(pu_, kU, h, nu, nv, [&](int p, auto& kn, auto& rows) { detail::elevateDegree(p, kn, rows, byU); });
+  if (byV > 0)
+    applyV(pv_, kV, h, nu, nv, [&](int p, auto& kn, auto& rows) { detail::elevateDegree(p, kn, rows, byV); });
+  return fromHomogeneous(pu_ + std::max(byU, 0), pv_ + std::max(byV, 0), KnotVector(std::move(kU)),
+                         KnotVector(std::move(kV)), nu, nv, h, isRational());
+}
+
+BSplineSurface BSplineSurface::reversedU() const {
+  Matrix p(points_.rows(), points_.cols());
+  VecX w(weights_.size());
+  for (int i = 0; i < nu_; ++i)
+    for (int j = 0; j < nv_; ++j) {
+      p.row((nu_ - 1 - i) * nv_ + j) = points_.row(i * nv_ + j);
+      if (isRational()) w[(nu_ - 1 - i) * nv_ + j] = weights_[i * nv_ + j];
+    }
+  return BSplineSurface(pu_, pv_, ku_.reversed(pu_), kv_, nu_, nv_, std::move(p), std::move(w));
+}
+
+BSplineSurface BSplineSurface::reversedV() const { return swappedUV().reversedU().swappedUV(); }
+
+BSplineSurface BSplineSurface::swappedUV() const {
+  Matrix p = detail::transposeGrid(points_, nu_, nv_);
+  VecX w;
+  if (isRational()) w = detail::transposeGrid(Matrix(weights_), nu_, nv_).col(0);
+  return BSplineSurface(pv_, pu_, kv_, ku_, nv_, nu_, std::move(p), std::move(w));
+}
+
+BSplineSurface BSplineSurface::reparametrized(Interval u, Interval v) const {
+  return BSplineSurface(pu_, pv_, ku_.reparametrized(pu_, u.lo, u.hi), kv_.reparametrized(pv_, v.lo, v.hi), nu_,
+                        nv_, points_, weights_);
+}
+
+BSplineCurve BSplineSurface::homogeneousCrossDerivative(Edge e, int order) const {
+  if (!isUEdge(e)) return swappedUV().homogeneousCrossDerivative(e == Edge::V0 ? Edge::U0 : Edge::U1, order);
+  const Matrix h = homogeneous();
+  const double u = (e == Edge::U0) ? domainU().lo : domainU().hi;
+  Matrix rows = Matrix::Zero(nv_, h.cols());
+  if (order <= pu_) {
+    const int span = ku_.findSpan(pu_, u);
+    const Matrix N = basisFunctionDerivatives(ku_, pu_, span, u, order);
+    for (int r = 0; r <= pu_; ++r) {
+      const double c = N(order, r);
+      if (c == 0.0) continue;
+      rows += c * h.middleRows(static_cast<Eigen::Index>(span - pu_ + r) * nv_, nv_);
+    }
+  }
+  return BSplineCurve(pv_, kv_, std::move(rows));
+}
+
+BSplineCurve BSplineSurface::crossDerivativeCurve(Edge e, int order) const {
+  assert(order >= 0 && order <= 2);
+  if (!isRational()) return homogeneousCrossDerivative(e, order);
+  const BSplineCurve h0 = homogeneousCrossDerivative(e, 0);
+  if (order == 0) return BSplineCurve::fromHomogeneous(h0.degree(), h0.knots(), h0.points(), true);
+  // Cartesian derivatives of S = A / w across the edge, piece by piece in Bernstein form:
+  //   S_n  = (w A_n - w_n A) / w^2
+  //   S_nn = (w^2 A_nn - w w_nn A - 2 w_n (w A_n - w_n A)) / w^3.
+  const BSplineCurve h1 = homogeneousCrossDerivative(e, 1);
+  const BSplineCurve h2 = order == 2 ? homogeneousCrossDerivative(e, 2) : h1;
+  auto piecesOf = [](const BSplineCurve& c, std::vector<Interval>& spans) {
+    std::vector<double> k = c.knots().values();
+    Matrix rows = c.points();
+    spans = detail::decompose(c.degree(), k, rows);
+    std::vector<BernsteinPoly> out;
+    for (size_t s = 0; s < spans.size(); ++s)
+      out.emplace_back(Matrix(rows.middleRows(static_cast<Eigen::Index>(s) * c.degree(), c.degree() + 1)));
+    return out;
+  };
+  std::vector<Interval> spans;
+  const auto P0 = piecesOf(h0, spans), P1 = piecesOf(h1, spans), P2 = piecesOf(h2, spans);
+  const int d = dim();
+  std::vector<BernsteinPoly> out;
+  for (size_t s = 0; s < spans.size(); ++s) {
+    const BernsteinPoly A = BernsteinPoly(Matrix(P0[s].coeffs().leftCols(d))), w = P0[s].component(d);
+    const BernsteinPoly An = BernsteinPoly(Matrix(P1[s].coeffs().leftCols(d))), wn = P1[s].component(d);
+    const BernsteinPoly num1 = product(w, An) - product(wn, A);
+    BernsteinPoly num, den;
+    if (order == 1) {
+      num = num1;
+      den = product(w, w);
+    } else {
+      const BernsteinPoly Ann = BernsteinPoly(Matrix(P2[s].coeffs().leftCols(d))), wnn = P2[s].component(d);
+      num = product(product(w, w), Ann) - product(product(w, wnn), A) - 2.0 * product(wn, num1);
+      den = product(product(w, w), w);
+    }
+    const int deg = std::max(num.degree(), den.degree());
+    num = num.elevatedTo(deg);
+    den = den.elevatedTo(deg);
+    Matrix hrow(deg + 1, d + 1);
+    hrow.leftCols(d) = num.coeffs();
+    hrow.col(d) = den.coeffs().col(0);
+    out.emplace_back(std::move(hrow));
+  }
+  return detail::curveFromBezierPieces(out, spans, true);
+}
+
+BSplineCurve BSplineSurface::boundaryCurve(Edge e) const { return crossDerivativeCurve(e, 0); }
+
+BSplineSurface BSplineSurface::orientedFrom(Edge e) const {
+  switch (e) {
+    case Edge::U0: return *this;
+    case Edge::U1: return reversedU();
+    case Edge::V0: return swappedUV();
+    case Edge::V1: return swappedUV().reversedU();
+  }
+  return *this;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// GridEvaluator
+
+GridEvaluator::GridEvaluator(const BSplineSurface& surface, std::vector<double> us, std::vector<double> vs)
+    : s_(&surface), us_(std::move(us)), vs_(std::move(vs)) {
+  const int p = surface.degreeU(), q = surface.degreeV();
+  spanU_.resize(us_.size());
+  spanV_.resize(vs_.size());
+  basisU_.resize(static_cast<Eigen::Index>(us_.size()), 2 * (p + 1));
+  basisV_.resize(static_cast<Eigen::Index>(vs_.size()), 2 * (q + 1));
+  for (size_t a = 0; a < us_.size(); ++a) {
+    spanU_[a] = surface.knotsU().findSpan(p, us_[a]);
+    const Matrix N = basisFunctionDerivatives(surface.knotsU(), p, spanU_[a], us_[a], 1);
+    basisU_.row(static_cast<Eigen::Index>(a)) << N.row(0), N.row(1);
+  }
+  for (size_t b = 0; b < vs_.size(); ++b) {
+    spanV_[b] = surface.knotsV().findSpan(q, vs_[b]);
+    const Matrix N = basisFunctionDerivatives(surface.knotsV(), q, spanV_[b], vs_[b], 1);
+    basisV_.row(static_cast<Eigen::Index>(b)) << N.row(0), N.row(1);
+  }
+}
+
+void GridEvaluator::evaluate(Matrix* points, Matrix* du, Matrix* dv) const {
+  const BSplineSurface& s = *s_;
+  const int p = s.degreeU(), q = s.degreeV(), nv = s.numV();
+  const bool rational = s.isRational();
+  const int D = rational ? 4 : 3;
+  const Matrix h = rational ? s.homogeneous() : s.points();
+  assert(s.dim() == 3);
+  const auto total = static_cast<Eigen::Index>(us_.size() * vs_.size());
+  if (points) points->resize(total, 3);
+  if (du) du->resize(total, 3);
+  if (dv) dv->resize(total, 3);
+  // Per u line: T_j = sum_r N_r(u) P_rj and Tu_j = sum_r N'_r(u) P_rj for every column j (D values each).
+  std::vector<double> T(static_cast<size_t>(nv * D)), Tu(static_cast<size_t>(nv * D));
+  const double* H = h.data();
+  for (size_t a = 0; a < us_.size(); ++a) {
+    const double* Nu = basisU_.row(static_cast<Eigen::Index>(a)).data();
+    const double* Nu1 = Nu + (p + 1);
+    const int i0 = spanU_[a] - p;
+    std::fill(T.begin(), T.end(), 0.0);
+    std::fill(Tu.begin(), Tu.end(), 0.0);
+    for (int r = 0; r <= p; ++r) {
+      const double* row = H + static_cast<size_t>(i0 + r) * static_cast<size_t>(nv * D);
+      const double n0 = Nu[r], n1 = Nu1[r];
+      for (int k = 0; k < nv * D; ++k) {
+        T[static_cast<size_t>(k)] += n0 * row[k];
+        Tu[static_cast<size_t>(k)] += n1 * row[k];
+      }
+    }
+    for (size_t b = 0; b < vs_.size(); ++b) {
+      const double* Nv = basisV_.row(static_cast<Eigen::Index>(b)).data();
+      const double* Nv1 = Nv + (q + 1);
+      const int j0 = spanV_[b] - q;
+      double S[4] = {0, 0, 0, 0}, Su[4] = {0, 0, 0, 0}, Sv[4] = {0, 0, 0, 0};
+      for (int c = 0; c <= q; ++c) {
+        const double* t = T.data() + static_cast<size_t>((j0 + c) * D);
+        const double* tu = Tu.data() + static_cast<size_t>((j0 + c) * D);
+        const double m0 = Nv[c], m1 = Nv1[c];
+        for (int k = 0; k < D; ++k) {
+          S[k] += m0 * t[k];
+          Su[k] += m0 * tu[k];
+          Sv[k] += m1 * t[k];
+        }
+      }
+      const auto row = static_cast<Eigen::Index>(a * vs_.size() + b);
+      if (rational) {
+        const double w = S[3];
+        for (int k = 0; k < 3; ++k) {
+          const double x = S[k] / w;
+          S[k] = x;
+          Su[k] = (Su[k] - Su[3] * x) / w;
+          Sv[k] = (Sv[k] - Sv[3] * x) / w;
+        }
+      }
+      if (points) (*points).row(row) << S[0], S[1], S[2];
+      if (du) (*du).row(row) << Su[0], Su[1], Su[2];
+      if (dv) (*dv).row(row) << Sv[0], Sv[1], Sv[2];
+    }
+  }
+}
+
+}  // namespace seam

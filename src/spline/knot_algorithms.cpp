@@ -1,0 +1,146 @@
+// Generic knot algorithms on rows of coefficients (any number of columns). Curves use them directly; surfaces
+// apply them to one parameter direction at a time with whole rows of control points as "coefficients".
+#include <Eigen/QR>
+#include <algorithm>
+#include <cassert>
+
+#include "seam/core/bernstein.h"
+#include "seam/spline/bspline_curve.h"
+#include "spline/spline_internal.h"
+
+namespace seam::detail {
+
+namespace {
+
+int spanOf(int degree, const std::vector<double>& knots, double t) {
+  return KnotVector(knots).findSpan(degree, t);
+}
+
+int exactMultiplicity(const std::vector<double>& knots, double t) {
+  return static_cast<int>(std::count(knots.begin(), knots.end(), t));
+}
+
+// One Boehm insertion of t (t inside the domain, span k with t_k <= t <= t_{k+1}, t_k < t_{k+1}).
+void insertOnce(int p, std::vector<double>& knots, Matrix& rows, double t) {
+  const int k = spanOf(p, knots, t);
+  const auto n = rows.rows();
+  Matrix out(n + 1, rows.cols());
+  for (int i = 0; i <= k - p; ++i) out.row(i) = rows.row(i);
+  for (int i = k - p + 1; i <= k; ++i) {
+    const double ti = knots[static_cast<size_t>(i)];
+    const double a = (t - ti) / (knots[static_cast<size_t>(i + p)] - ti);
+    out.row(i) = (1.0 - a) * rows.row(i - 1) + a * rows.row(i);
+  }
+  for (Eigen::Index i = k + 1; i <= n; ++i) out.row(i) = rows.row(i - 1);
+  knots.insert(knots.begin() + k + 1, t);
+  rows = std::move(out);
+}
+
+}  // namespace
+
+void insertKnot(int degree, std::vector<double>& knots, Matrix& rows, double t, int times) {
+  const Interval dom = KnotVector(knots).domain(degree);
+  if (t < dom.lo || t > dom.hi || times <= 0) return;
+  const bool atEnd = (t == dom.lo || t == dom.hi);
+  const int cap = atEnd ? degree + 1 : degree;
+  const int s = exactMultiplicity(knots, t);
+  const int r = std::min(times, cap - s);
+  for (int i = 0; i < r; ++i) insertOnce(degree, knots, rows, t);
+}
+
+void refineKnots(int degree, std::vector<double>& knots, Matrix& rows, const std::vector<double>& newKnots) {
+  for (double t : newKnots) insertKnot(degree, knots, rows, t, 1);
+}
+
+void clampEnds(int degree, std::vector<double>& knots, Matrix& rows) {
+  const Interval dom = KnotVector(knots).domain(degree);
+  const int p = degree;
+  for (double t : {dom.lo, dom.hi}) {
+    const int s = exactMultiplicity(knots, t);
+    for (int i = s; i < p; ++i) insertOnce(p, knots, rows, t);
+  }
+  // Now both ends have multiplicity >= p: keep the control points of the domain spans only.
+  const KnotVector kv(knots);
+  const int first = kv.findSpan(p, dom.lo) - p;
+  const int last = kv.findSpan(p, dom.hi);
+  Matrix trimmed = rows.middleRows(first, last - first + 1);
+  std::vector<double> t(knots.begin() + first, knots.begin() + last + p + 2);
+  t.front() = dom.lo;
+  t.back() = dom.hi;
+  knots = std::move(t);
+  rows = std::move(trimmed);
+}
+
+std::vector<Interval> decompose(int degree, std::vector<double>& knots, Matrix& rows) {
+  clampEnds(degree, knots, rows);
+  const std::vector<double> interior = KnotVector(knots).interiorBreakpoints(degree);
+  for (double b : interior) insertKnot(degree, knots, rows, b, degree);
+  std::vector<Interval> spans;
+  const Interval dom = KnotVector(knots).domain(degree);
+  double lo = dom.lo;
+  for (double b : interior) {
+    spans.push_back({lo, b});
+    lo = b;
+  }
+  spans.push_back({lo, dom.hi});
+  assert(rows.rows() == static_cast<Eigen::Index>(spans.size()) * degree + 1);
+  return spans;
+}
+
+void elevateDegree(int degree, std::vector<double>& knots, Matrix& rows, int by) {
+  if (by <= 0) return;
+  const int p = degree, q = degree + by;
+  clampEnds(p, knots, rows);
+  const KnotVector kv(knots);
+  const Interval dom = kv.domain(p);
+
+  // Target knot vector: every multiplicity rises by `by`.
+  std::vector<double> target;
+  for (int i = 0; i <= q; ++i) target.push_back(dom.lo);
+  for (double b : kv.interiorBreakpoints(p))
+    for (int i = 0; i < exactMultiplicity(knots, b) + by; ++i) target.push_back(b);
+  for (int i = 0; i <= q; ++i) target.push_back(dom.hi);
+  const auto nNew = static_cast<Eigen::Index>(target.size()) - q - 1;
+
+  // Elevated Bezier coefficients of the curve, piece by piece (adjacent pieces share their end row).
+  std::vector<double> kd = knots;
+  Matrix bez = rows;
+  const auto spans = decompose(p, kd, bez);
+  const auto pieces = static_cast<Eigen::Index>(spans.size());
+  Matrix B(pieces * q + 1, rows.cols());
+  for (Eigen::Index k = 0; k < pieces; ++k) {
+    const BernsteinPoly piece(Matrix(bez.middleRows(k * p, p + 1)));
+    B.middleRows(k * q, q + 1) = piece.elevated(by).coeffs();
+  }
+
+  // Decomposition matrix of the target space: Bezier rows as linear combinations of the new control points.
+  // The elevated curve lies in that space, so M X = B is consistent; QR solves it to round-off.
+  std::vector<double> kt = target;
+  Matrix M = Matrix::Identity(nNew, nNew);
+  decompose(q, kt, M);
+  assert(M.rows() == B.rows());
+  const Eigen::MatrixXd X = Eigen::MatrixXd(M).householderQr().solve(Eigen::MatrixXd(B));
+  knots = std::move(target);
+  rows = X;
+}
+
+BSplineCurve curveFromBezierPieces(const std::vector<BernsteinPoly>& pieces, const std::vector<Interval>& spans,
+                                   bool rational) {
+  assert(!pieces.empty() && pieces.size() == spans.size());
+  const int d = pieces.front().degree();
+  std::vector<double> knots;
+  for (int i = 0; i <= d; ++i) knots.push_back(spans.front().lo);
+  for (size_t k = 1; k < spans.size(); ++k)
+    for (int i = 0; i < d; ++i) knots.push_back(spans[k].lo);
+  for (int i = 0; i <= d; ++i) knots.push_back(spans.back().hi);
+  const auto n = static_cast<Eigen::Index>(pieces.size()) * d + 1;
+  Matrix rows(n, pieces.front().dim());
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const auto base = static_cast<Eigen::Index>(k) * d;
+    assert(pieces[k].degree() == d);
+    rows.middleRows(base, d + 1) = pieces[k].coeffs();
+  }
+  return BSplineCurve::fromHomogeneous(d, KnotVector(std::move(knots)), rows, rational);
+}
+
+}  // namespace seam::detail

@@ -1,0 +1,27 @@
+#pragma once
+// Private helpers shared by the spline module's sources.
+#include <vector>
+
+#include "seam/core/bernstein.h"
+#include "seam/core/types.h"
+#include "seam/spline/bspline_curve.h"
+
+namespace seam::detail {
+
+/// Makes both domain ends of multiplicity degree+1 and drops control rows outside the domain (same curve).
+void clampEnds(int degree, std::vector<double>& knots, Matrix& rows);
+
+/// A B-spline (full-multiplicity interior knots) from Bezier pieces of equal degree on consecutive intervals.
+/// Pieces hold homogeneous coefficients (last column = weight) when `rational`.
+BSplineCurve curveFromBezierPieces(const std::vector<BernsteinPoly>& pieces, const std::vector<Interval>& spans,
+                                   bool rational);
+
+/// Transposes the (i, j) layout of surface rows: in (nu*nv) x d with row i*nv+j -> out row j*nu+i.
+Matrix transposeGrid(const Matrix& rows, int nu, int nv);
+
+/// Quotient rule for curves: rows of H are A^(k) | w^(k) (k = 0..order); returns rows C^(k) (NURBS Book A4.2).
+Matrix curveQuotientRule(const Matrix& H);
+/// Quotient rule for surfaces: H[k][l] = (A_{kl}, w_{kl}) for k + l <= order; returns S[k][l] (NURBS Book A4.4).
+std::vector<std::vector<VecX>> surfaceQuotientRule(const std::vector<std::vector<VecX>>& H);
+
+}  // namespace seam::detail
