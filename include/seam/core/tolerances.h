@@ -13,6 +13,12 @@ inline constexpr double kRoundoff = 1e-12;
 /// Two knots closer than kKnotRelTol * (knot-vector length) are the same knot (multiplicity counting, span search).
 inline constexpr double kKnotRelTol = 1e-12;
 
+/// A polynomial identity (e.g. "the normals of two patches are parallel along the whole seam") is taken to hold when
+/// every Bernstein coefficient of the difference is below kIdentityRelTol x the scale of the data it was computed
+/// from. Products of several factors of degree up to ~30 lose a few digits more than kRoundoff; 1e-10 leaves two
+/// orders of margin while any real defect of a CAD model (>= 1e-8 relative) stays far above it.
+inline constexpr double kIdentityRelTol = 1e-10;
+
 /// Model-dependent tolerances used to classify geometry. Defaults follow `seam check` (issue 3):
 /// distance = 1e-6 x bounding-box diagonal, angle = 0.01 degrees, curvature = 1 % relative.
 struct Tolerances {

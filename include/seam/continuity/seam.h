@@ -1,0 +1,99 @@
+#pragma once
+// Continuity of two patches along a shared edge (a seam): certified G0/G1/G2 and C0/C1/C2 measures.
+//
+// Conventions (docs/algorithms/johansson.md has the derivation):
+//  * Each side is seen from its edge: A' = A.orientedFrom(ea), B' = B.orientedFrom(eb), so the edge is u = 0 and
+//    t (A) / s (B) run along it. A_out = -A'_u points out of A across the seam; B_cross = B'_u points into B.
+//  * The correspondence s = phi(t) maps A's edge parameter to B's (affine, polynomial, or closest point).
+//  * G1 connecting functions (Johansson Lemma 1): B_cross(phi(t)) = lambda(t) A_out(t) + kappa(t) A_t(t);
+//    lambda > 0 for a proper join, lambda <= 0 is a fold. Normals n_A = A_t x A_out, n_B = B_t x B_cross (B_t the
+//    derivative of b(phi(t)) in t) are oriented consistently, so a fold shows an angle near 180 degrees.
+//  * G2: the jump of the shape operator in a common orthonormal frame of the tangent plane (spectral norm), and the
+//    normal component of the Lemma 2 residual B_cc - lambda^2 A_oo - 2 lambda kappa A_ot - kappa^2 A_tt.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/core/types.h"
+#include "seam/model/model.h"
+#include "seam/spline/bspline_surface.h"
+
+namespace seam {
+
+enum class GeometricClass { kNone, kG0, kG1, kG2 };
+enum class ParametricClass { kNone, kC0, kC1, kC2 };
+/// How points of B's edge were matched to points of A's edge.
+enum class Correspondence {
+  kAffine,      ///< s = alpha t + beta on the whole overlap (verified as a polynomial identity, or as the best map)
+  kPolynomial,  ///< s = phi(t) (or t = psi(s)) polynomial per span, verified as an identity b(phi(t)) == a(t)
+  kProjection,  ///< closest-point projection, sampled (measures not certified)
+};
+std::string_view toString(GeometricClass c);
+std::string_view toString(ParametricClass c);
+std::string_view toString(Correspondence c);
+
+/// Where a worst value occurs: parameter on A's edge (A's own parameter, not the oriented one) and the 3-D point.
+struct WorstLocation {
+  double t = 0.0;
+  Vec3 point = Vec3::Zero();
+};
+
+/// One sample along the seam (for plots and reports).
+struct SeamSample {
+  double t = 0.0;        ///< parameter on A's edge
+  double g0 = 0.0;       ///< distance to B at the corresponding point
+  double g1Deg = 0.0;    ///< tangent-plane angle, degrees
+  double g2 = 0.0;       ///< shape-operator jump (1/length)
+  double g2Rel = 0.0;    ///< relative to the larger curvature
+};
+
+struct SeamOptions {
+  Tolerances tol;                 ///< classification thresholds (defaults: Tolerances{}; scale them to the model)
+  int samplesPerSpan = 64;        ///< dense samples per Bezier span (at least 64), for the sampled worst values
+  double boundRelGap = 0.01;      ///< subdivide until a certified bound is within 1 % of the sampled worst value
+  int maxSubdivisionDepth = 30;   ///< per piece; a bound that is not tight by then is reported as it is
+  int maxCertifiedDegree = 160;   ///< polynomial data above this degree are sampled instead (certified = false)
+  bool keepSamples = false;       ///< fill SeamReport::samples (for reports and plots)
+};
+
+struct SeamReport {
+  std::string a, b;                   ///< patch names
+  Edge aEdge = Edge::U0, bEdge = Edge::U0;
+  Interval overlapA, overlapB;        ///< the shared part, in each patch's own edge parameter
+  bool reversed = false;              ///< B's edge parameter decreases where A's increases
+  Correspondence correspondence = Correspondence::kProjection;
+  int correspondenceDegree = 1;       ///< degree of phi (1 = affine)
+
+  // Worst values: *Max are certified upper bounds when `certified`, else the refined sampled maxima.
+  double g0Max = 0.0, g0Sampled = 0.0;
+  double g1MaxDeg = 0.0, g1SampledDeg = 0.0;
+  double g2Max = 0.0, g2Sampled = 0.0;          ///< absolute (1/length)
+  double g2RelMax = 0.0, g2RelSampled = 0.0;    ///< relative to the larger curvature
+  double g2ResidualMax = 0.0;                    ///< |normal component of the Lemma 2 residual|, sampled
+  WorstLocation g0Worst, g1Worst, g2Worst;
+  Interval lambdaRange{0.0, 0.0}, kappaRange{0.0, 0.0};  ///< sampled ranges of the G1 connecting functions
+  double c1Mismatch = 0.0, c2Mismatch = 0.0;    ///< max |B'_u^k - (-1)^k A'_u^k| relative to max |A'_u^k|
+
+  GeometricClass geometric = GeometricClass::kNone;
+  ParametricClass parametric = ParametricClass::kNone;
+  bool certified = false;             ///< bounds computed in Bernstein form over the whole overlap
+  bool g1Identity = false;            ///< G1 proved as a polynomial identity (coefficients zero to round-off)
+  bool g2Identity = false;            ///< G2 proved as a polynomial identity
+  std::vector<std::string> notes;     ///< why something was not certified, degenerate normals, ...
+  std::vector<SeamSample> samples;    ///< only with SeamOptions::keepSamples
+};
+
+/// Analyses the seam between edge `ea` of `a` and edge `eb` of `b`. The edges must overlap (within
+/// options.tol.distance, or with a gap: the overlap is found by closest-point projection of the end points).
+/// Errors: kInvalidInput for non-3-D patches, kNotFound when the edges do not overlap at all, kDegenerate when an
+/// edge collapses to a point.
+Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options = {});
+
+/// Same, restricted to the part of A's edge with parameter in `aRange` (T-junctions: one long edge against several
+/// short ones are analysed one short edge at a time).
+Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options,
+                               std::optional<Interval> aRange);
+
+}  // namespace seam

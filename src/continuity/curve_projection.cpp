@@ -1,0 +1,72 @@
+#include "continuity/curve_projection.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace seam::detail {
+
+namespace {
+// Coarse samples per knot span before Newton; 8 separates the minima of the cubic/quintic distance functions met
+// in practice, and Newton then converges quadratically.
+constexpr int kCoarseSamplesPerSpan = 8;
+constexpr int kNewtonIterations = 12;
+
+double newton(const BSplineCurve& c, const Vec3& p, double t, Interval r) {
+  for (int it = 0; it < kNewtonIterations; ++it) {
+    const Matrix d = c.derivatives(t, 2);
+    const Vec3 diff = d.row(0).transpose() - p;
+    const Vec3 d1 = d.row(1).transpose(), d2 = d.row(2).transpose();
+    const double f = diff.dot(d1);
+    const double fp = d1.squaredNorm() + diff.dot(d2);
+    if (!(fp > 0.0)) break;
+    const double next = std::clamp(t - f / fp, r.lo, r.hi);
+    if (std::abs(next - t) <= 1e-15 * std::max(1.0, std::abs(t)) + 1e-16 * r.length()) {
+      t = next;
+      break;
+    }
+    t = next;
+  }
+  return t;
+}
+}  // namespace
+
+CurvePoint closestPoint(const BSplineCurve& curve, const Vec3& p, std::optional<Interval> range,
+                        std::optional<double> guess) {
+  const Interval r = range.value_or(curve.domain());
+  auto distAt = [&](double t) { return (curve.evaluate(t).head<3>() - p).norm(); };
+  if (guess) {
+    const double g = std::clamp(*guess, r.lo, r.hi);
+    const double t = newton(curve, p, g, r);
+    const double d = distAt(t);
+    if (d <= distAt(g)) {
+      // Accept when the projection is locally optimal (Newton converged or hit the range boundary).
+      const Matrix der = curve.derivatives(t, 1);
+      const Vec3 diff = der.row(0).transpose() - p;
+      const double grad = diff.dot(Vec3(der.row(1).transpose()));
+      const bool boundary = (t == r.lo && grad >= 0.0) || (t == r.hi && grad <= 0.0);
+      if (boundary || std::abs(grad) <= 1e-9 * (diff.norm() + 1e-300) * Vec3(der.row(1).transpose()).norm() ||
+          d == 0.0)
+        return {t, d};
+    }
+  }
+  // Coarse search over the spans inside the range.
+  std::vector<double> cuts{r.lo};
+  for (double b : curve.knots().interiorBreakpoints(curve.degree()))
+    if (b > r.lo && b < r.hi) cuts.push_back(b);
+  cuts.push_back(r.hi);
+  double bestT = r.lo, bestD = distAt(r.lo);
+  for (size_t k = 0; k + 1 < cuts.size(); ++k)
+    for (int i = 1; i <= kCoarseSamplesPerSpan; ++i) {
+      const double t = cuts[k] + (cuts[k + 1] - cuts[k]) * i / kCoarseSamplesPerSpan;
+      const double d = distAt(t);
+      if (d < bestD) {
+        bestD = d;
+        bestT = t;
+      }
+    }
+  const double t = newton(curve, p, bestT, r);
+  const double d = distAt(t);
+  return d <= bestD ? CurvePoint{t, d} : CurvePoint{bestT, bestD};
+}
+
+}  // namespace seam::detail

@@ -1,0 +1,904 @@
+// Certified seam analysis. See include/seam/continuity/seam.h for conventions and docs/algorithms/johansson.md for
+// the derivations (Lemma 1, Lemma 2, the shape-operator jump of a G1 seam and the Bernstein bounds).
+#include "seam/continuity/seam.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "continuity/curve_projection.h"
+#include "continuity/rational_poly.h"
+#include "seam/core/bernstein.h"
+
+namespace seam {
+
+std::string_view toString(GeometricClass c) {
+  switch (c) {
+    case GeometricClass::kNone: return "none";
+    case GeometricClass::kG0: return "G0";
+    case GeometricClass::kG1: return "G1";
+    case GeometricClass::kG2: return "G2";
+  }
+  return "?";
+}
+std::string_view toString(ParametricClass c) {
+  switch (c) {
+    case ParametricClass::kNone: return "none";
+    case ParametricClass::kC0: return "C0";
+    case ParametricClass::kC1: return "C1";
+    case ParametricClass::kC2: return "C2";
+  }
+  return "?";
+}
+std::string_view toString(Correspondence c) {
+  switch (c) {
+    case Correspondence::kAffine: return "affine";
+    case Correspondence::kPolynomial: return "polynomial";
+    case Correspondence::kProjection: return "projection";
+  }
+  return "?";
+}
+
+namespace {
+
+using detail::RationalPoly;
+using detail::WeightContext;
+
+/// A correspondence whose certified distance bound is below this fraction of the edge size is exact.
+constexpr double kExactCorrespondenceRel = 1e-9;
+/// Normal curvatures below kFlatCurvatureRatio / (patch size) are treated as flat when forming relative jumps:
+/// a radius of curvature a thousand times the patch size is indistinguishable from a plane.
+constexpr double kFlatCurvatureRatio = 1e-3;
+/// |slope| of an affine correspondence within this of 1 means the edge parametrisations match (parametric C^k).
+constexpr double kMatchingSlopeTol = 1e-9;
+/// Local maxima of each sampled measure that are refined by golden-section search.
+constexpr int kRefinedMaxima = 3;
+constexpr int kGoldenIterations = 40;
+/// Samples per span used to fit a polynomial correspondence (over-determined least squares, then verified exactly).
+constexpr int kFitSamplesFactor = 3;
+
+/// An edge end point is matched to the other edge's end point when that end is within this factor of the distance
+/// to the other curve (gaps), rather than to its closest point (T-junctions).
+constexpr double kOverlapSnapFactor = 2.0;
+/// Absolute slack (radians) of the certified angle bound: far below any angle tolerance, above the round-off of
+/// normal directions.
+constexpr double kAngleBoundFloor = 1e-9;
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+// ------------------------------------------------------------------------------------------------------------
+// One side of the seam, seen from its edge (edge = u 0 of `oriented`).
+struct Side {
+  const Patch* patch = nullptr;
+  Edge edge = Edge::U0;
+  BSplineSurface oriented;
+  bool rational = false;
+  BSplineCurve curve;                           // Cartesian boundary curve
+  std::vector<Interval> spans;                  // Bezier spans along the edge
+  std::array<std::vector<BernsteinPoly>, 3> h;  // homogeneous k-th cross derivative, per span
+  [[nodiscard]] Interval domain() const { return oriented.domainV(); }
+};
+
+Side makeSide(const Patch& p, Edge e) {
+  Side s;
+  s.patch = &p;
+  s.edge = e;
+  s.oriented = p.surface.orientedFrom(e);
+  s.rational = p.surface.isRational();
+  s.curve = s.oriented.boundaryCurve(Edge::U0);
+  for (int k = 0; k < 3; ++k) {
+    const BSplineCurve hk = s.oriented.homogeneousCrossDerivative(Edge::U0, k);
+    const auto pieces = hk.bezierPieces();
+    if (k == 0)
+      for (const auto& pc : pieces) s.spans.push_back(pc.interval);
+    for (const auto& pc : pieces) s.h[static_cast<size_t>(k)].emplace_back(pc.curve.points());
+  }
+  return s;
+}
+
+int spanIndex(const Side& s, double t) {
+  const auto& sp = s.spans;
+  for (size_t i = 0; i < sp.size(); ++i)
+    if (t <= sp[i].hi) return static_cast<int>(i);
+  return static_cast<int>(sp.size()) - 1;
+}
+
+// ------------------------------------------------------------------------------------------------------------
+// Pointwise measures from the surfaces' own derivatives (the sampled route).
+struct PointMeasures {
+  double g0 = 0.0;        // |a(t) - b(s)|
+  double g1 = 0.0;        // radians
+  double g2 = 0.0;        // spectral norm of the shape-operator difference
+  double curvature = 0.0; // larger curvature of the two sides (spectral norms)
+  double lambda = 0.0, kappa = 0.0;
+  double residual = 0.0;  // normal component of the Lemma 2 residual
+  double c1 = 0.0, c2 = 0.0, c1Scale = 0.0, c2Scale = 0.0;
+  Vec3 point = Vec3::Zero();
+  bool normalsOk = true;
+};
+
+// Second fundamental form of a side in the orthonormal frame (e1, e2), with unit normal n.
+Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, const Vec3& suv, const Vec3& svv,
+                             const Vec3& n, const Vec3& e1, const Vec3& e2) {
+  Eigen::Matrix<double, 3, 2> J;
+  J << su, sv;
+  const Eigen::Matrix2d G = J.transpose() * J;
+  Eigen::Matrix2d II;
+  II << suu.dot(n), suv.dot(n), suv.dot(n), svv.dot(n);
+  Eigen::Matrix<double, 2, 2> C;
+  const Eigen::Matrix2d Ginv = G.inverse();
+  C.col(0) = Ginv * (J.transpose() * e1);
+  C.col(1) = Ginv * (J.transpose() * e2);
+  return C.transpose() * II * C;
+}
+
+double spectralNorm(const Eigen::Matrix2d& m) {
+  const Eigen::Matrix2d s = 0.5 * (m + m.transpose());
+  const double tr = 0.5 * (s(0, 0) + s(1, 1));
+  const double det = s(0, 0) * s(1, 1) - s(0, 1) * s(1, 0);
+  const double disc = std::sqrt(std::max(0.0, tr * tr - det));
+  return std::max(std::abs(tr + disc), std::abs(tr - disc));
+}
+
+// sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise.
+PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
+  const auto da = A.oriented.derivatives(A.oriented.domainU().lo, t, 2);
+  const auto db = B.oriented.derivatives(B.oriented.domainU().lo, s, 2);
+  PointMeasures m;
+  const Vec3 a = da[0][0].head<3>(), T = da[0][1].head<3>(), O = -da[1][0].head<3>();
+  const Vec3 Aoo = da[2][0].head<3>(), Aot = -da[1][1].head<3>(), Att = da[0][2].head<3>();
+  const Vec3 b = db[0][0].head<3>(), Bc = db[1][0].head<3>(), Bt = sgn * db[0][1].head<3>();
+  const Vec3 Bcc = db[2][0].head<3>();
+  m.point = a;
+  m.g0 = (a - b).norm();
+  const Vec3 nA = T.cross(O), nB = Bt.cross(Bc);
+  m.g1 = std::atan2(nA.cross(nB).norm(), nA.dot(nB));
+  m.c1 = (Bc - O).norm();
+  m.c2 = (Bcc - Aoo).norm();
+  m.c1Scale = std::max(O.norm(), Bc.norm());
+  m.c2Scale = std::max(Aoo.norm(), Bcc.norm());
+  const double la = nA.norm(), lb = nB.norm();
+  if (!(la > 0.0) || !(lb > 0.0) || !(T.norm() > 0.0)) {
+    m.normalsOk = false;
+    return m;
+  }
+  // Lemma 1 connecting functions by least squares: Bc = lambda O + kappa T.
+  Eigen::Matrix<double, 3, 2> M;
+  M << O, T;
+  const Eigen::Vector2d lk = (M.transpose() * M).ldlt().solve(M.transpose() * Bc);
+  m.lambda = lk[0];
+  m.kappa = lk[1];
+  const Vec3 nhA = nA / la, nhB = nB / lb;
+  m.residual = nhA.dot(Bcc - m.lambda * m.lambda * Aoo - 2.0 * m.lambda * m.kappa * Aot - m.kappa * m.kappa * Att);
+  // Shape operators in A's frame (e1 along the seam, e2 = n x e1), each side with its consistently oriented normal.
+  const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
+  const Eigen::Matrix2d SA = shapeInFrame(da[1][0].head<3>(), da[0][1].head<3>(), da[2][0].head<3>(),
+                                          da[1][1].head<3>(), da[0][2].head<3>(), nhA, e1, e2);
+  const Eigen::Matrix2d SB = shapeInFrame(db[1][0].head<3>(), db[0][1].head<3>(), db[2][0].head<3>(),
+                                          db[1][1].head<3>(), db[0][2].head<3>(), nhB, e1, e2);
+  m.g2 = spectralNorm(SB - SA);
+  m.curvature = std::max(spectralNorm(SA), spectralNorm(SB));
+  return m;
+}
+
+// ------------------------------------------------------------------------------------------------------------
+// Exact piece data along the seam: everything as (rational) polynomials of a local parameter tau in [0,1].
+struct CartesianSide {
+  RationalPoly S, Su, Sv, Suu, Suv, Svv;
+};
+
+// Cartesian derivatives of S = x / w from homogeneous cross-derivative polynomials X0, X1, X2 (k-th u-derivative
+// along the edge, as functions of tau). `slot` selects which weight exponent (A = 0, B = 1) the result carries.
+CartesianSide cartesian(const BernsteinPoly& X0, const BernsteinPoly& X1, const BernsteinPoly& X2, bool rational,
+                        int slot) {
+  auto rp = [&](BernsteinPoly num, int e) {
+    return slot == 0 ? RationalPoly{std::move(num), e, 0} : RationalPoly{std::move(num), 0, e};
+  };
+  CartesianSide c;
+  if (!rational) {
+    c.S = rp(X0, 0);
+    c.Su = rp(X1, 0);
+    c.Sv = rp(X0.derivative(), 0);
+    c.Suu = rp(X2, 0);
+    c.Suv = rp(X1.derivative(), 0);
+    c.Svv = rp(X0.derivative(2), 0);
+    return c;
+  }
+  const int d = X0.dim() - 1;
+  auto xyz = [d](const BernsteinPoly& p) { return BernsteinPoly(Matrix(p.coeffs().leftCols(d))); };
+  const BernsteinPoly x = xyz(X0), xu = xyz(X1), xuu = xyz(X2);
+  const BernsteinPoly w = X0.component(d), wu = X1.component(d), wuu = X2.component(d);
+  const BernsteinPoly xv = x.derivative(), xvv = x.derivative(2), xuv = xu.derivative();
+  const BernsteinPoly wv = w.derivative(), wvv = w.derivative(2), wuv = wu.derivative();
+  const BernsteinPoly Nu = product(w, xu) - product(wu, x);  // S_u = Nu / w^2
+  const BernsteinPoly Nv = product(w, xv) - product(wv, x);  // S_v = Nv / w^2
+  const BernsteinPoly ww = product(w, w);
+  c.S = rp(x, 1);
+  c.Su = rp(Nu, 2);
+  c.Sv = rp(Nv, 2);
+  c.Suu = rp(product(ww, xuu) - product(product(w, wuu), x) - 2.0 * product(wu, Nu), 3);
+  c.Svv = rp(product(ww, xvv) - product(product(w, wvv), x) - 2.0 * product(wv, Nv), 3);
+  // S_uv = d/dv (Nu / w^2) = (Nu' w - 2 Nu w') / w^3, Nu' = w' xu + w xuv - wuv x - wu xv.
+  const BernsteinPoly dNu = product(wv, xu) + product(w, xuv) - product(wuv, x) - product(wu, xv);
+  c.Suv = rp(product(dNu, w) - 2.0 * product(Nu, wv), 3);
+  return c;
+}
+
+struct Piece {
+  BernsteinPoly tOf, sOf;  // A's and B's edge parameters as functions of tau
+  BernsteinPoly wa, wb;
+  RationalPoly g0;          // a - b
+  BernsteinPoly P, Q, R;    // G1: NA.NB, |NA x NB|^2, |NA|^2 |NB|^2 (normal numerators, end roots stripped)
+  BernsteinPoly cross;      // NA x NB
+  double crossScale = 0.0;  // |NA| |NB| scale for the identity test
+  bool g2Available = false;
+  RationalPoly rho, T2, nA2, BcT2;
+  double rhoScale = 0.0;
+  RationalPoly c1, c2, O, Aoo;
+};
+
+Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
+                 bool ratB, BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree) {
+  Piece pc;
+  pc.tOf = std::move(tOf);
+  pc.sOf = std::move(sOf);
+  const CartesianSide A = cartesian(XA[0], XA[1], XA[2], ratA, 0);
+  const CartesianSide B = cartesian(XB[0], XB[1], XB[2], ratB, 1);
+  pc.wa = ratA ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0);
+  pc.wb = ratB ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0);
+  WeightContext ctx(pc.wa, pc.wb);
+  const RationalPoly T = A.Sv, O = WeightContext::scaled(A.Su, -1.0), Aoo = A.Suu,
+                     Aot = WeightContext::scaled(A.Suv, -1.0), Att = A.Svv;
+  const RationalPoly Bc = B.Su, Bt = B.Sv, Bcc = B.Suu;
+  pc.g0 = ctx.add(A.S, B.S, -1.0);
+  const RationalPoly nA = WeightContext::cross(T, O), nB = WeightContext::cross(Bt, Bc);
+  const double stripA = kRoundoff * nA.num.maxCoeffNorm(), stripB = kRoundoff * nB.num.maxCoeffNorm();
+  const BernsteinPoly NA = detail::stripEndRoots(nA.num, stripA), NB = detail::stripEndRoots(nB.num, stripB);
+  pc.P = dot(NA, NB);
+  pc.cross = seam::cross(NA, NB);
+  pc.Q = dot(pc.cross, pc.cross);
+  pc.R = product(dot(NA, NA), dot(NB, NB));
+  pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
+  pc.c1 = ctx.add(Bc, O, -1.0);
+  pc.c2 = ctx.add(Bcc, Aoo, -1.0);
+  pc.O = O;
+  pc.Aoo = Aoo;
+  // Lemma 2 with lambda = L / D, kappa = K / D (D = (O x T).nA):  rho~ = nA . (D^2 Bcc - L^2 Aoo - 2 L K Aot - K^2 Att)
+  const RationalPoly L = WeightContext::dot(WeightContext::cross(Bc, T), nA);
+  const RationalPoly K = WeightContext::dot(WeightContext::cross(O, Bc), nA);
+  const RationalPoly D = WeightContext::dot(WeightContext::cross(O, T), nA);
+  const int estimate = 2 * D.num.degree() + Bcc.num.degree() + nA.num.degree() + 2 * (pc.wa.degree() + pc.wb.degree());
+  if (estimate <= maxDegree) {
+    const RationalPoly t1 = WeightContext::mul(WeightContext::mul(D, D), Bcc);
+    const RationalPoly t2 = WeightContext::mul(WeightContext::mul(L, L), Aoo);
+    const RationalPoly t3 = WeightContext::scaled(WeightContext::mul(WeightContext::mul(L, K), Aot), 2.0);
+    const RationalPoly t4 = WeightContext::mul(WeightContext::mul(K, K), Att);
+    const RationalPoly V = ctx.add(ctx.add(ctx.add(t1, t2, -1.0), t3, -1.0), t4, -1.0);
+    pc.rho = WeightContext::dot(nA, V);
+    const double sD = D.num.maxAbsCoeff(), sL = L.num.maxAbsCoeff(), sK = K.num.maxAbsCoeff();
+    pc.rhoScale = nA.num.maxCoeffNorm() * (sD * sD * Bcc.num.maxCoeffNorm() + sL * sL * Aoo.num.maxCoeffNorm() +
+                                           2.0 * sL * sK * Aot.num.maxCoeffNorm() + sK * sK * Att.num.maxCoeffNorm());
+    pc.T2 = WeightContext::dot(T, T);
+    pc.nA2 = WeightContext::dot(nA, nA);
+    const RationalPoly BcT = WeightContext::cross(Bc, T);
+    pc.BcT2 = WeightContext::dot(BcT, BcT);
+    pc.g2Available = true;
+  }
+  return pc;
+}
+
+// Bounds of a rational quantity on a sub-interval [x0, x1] of the piece.
+struct SubPiece {
+  const Piece* pc;
+  BernsteinPoly wa, wb;
+  SubPiece(const Piece& p, double x0, double x1) : pc(&p), wa(p.wa.restricted(x0, x1)), wb(p.wb.restricted(x0, x1)) {}
+  [[nodiscard]] double denLower(const RationalPoly& r) const { return detail::denominatorLower(wa, wb, r.ea, r.eb); }
+  [[nodiscard]] double denUpper(const RationalPoly& r) const { return detail::denominatorUpper(wa, wb, r.ea, r.eb); }
+};
+
+double evalRational(const RationalPoly& r, const Piece& pc, double x, VecX* vec = nullptr) {
+  const VecX v = r.num(x);
+  const double den = std::pow(pc.wa.scalar(x), r.ea) * std::pow(pc.wb.scalar(x), r.eb);
+  if (vec) *vec = v / den;
+  return v.norm() / den;
+}
+
+double g0Bound(const Piece& pc, double x0, double x1) {
+  const SubPiece sp(pc, x0, x1);
+  return pc.g0.num.restricted(x0, x1).maxCoeffNorm() / sp.denLower(pc.g0);
+}
+double g0Value(const Piece& pc, double x) { return evalRational(pc.g0, pc, x); }
+
+double g1Bound(const Piece& pc, double x0, double x1) {
+  const double rLo = detail::lowerBound(pc.R.restricted(x0, x1));
+  if (!(rLo > 0.0)) return std::numbers::pi;
+  const double pLo = detail::lowerBound(pc.P.restricted(x0, x1));
+  if (pLo > 0.0) {
+    const double qHi = std::max(0.0, detail::upperBound(pc.Q.restricted(x0, x1)));
+    return std::asin(std::sqrt(std::min(1.0, qHi / rLo)));
+  }
+  return std::acos(std::clamp(pLo / std::sqrt(rLo), -1.0, 1.0));
+}
+double g1Value(const Piece& pc, double x) {
+  return std::atan2(std::sqrt(std::max(0.0, pc.Q.scalar(x))), pc.P.scalar(x));
+}
+
+double g2Bound(const Piece& pc, double x0, double x1) {
+  const SubPiece sp(pc, x0, x1);
+  const double rho = pc.rho.num.restricted(x0, x1).maxAbsCoeff() / sp.denLower(pc.rho);
+  const double t2 = detail::upperBound(pc.T2.num.restricted(x0, x1)) / sp.denLower(pc.T2);
+  const double n2 = detail::lowerBound(pc.nA2.num.restricted(x0, x1)) / sp.denUpper(pc.nA2);
+  const double b2 = detail::lowerBound(pc.BcT2.num.restricted(x0, x1)) / sp.denUpper(pc.BcT2);
+  if (!(n2 > 0.0) || !(b2 > 0.0)) return std::numeric_limits<double>::infinity();
+  return rho * t2 / (std::pow(n2, 2.5) * b2);
+}
+double g2Value(const Piece& pc, double x) {
+  auto val = [&](const RationalPoly& r) {
+    return r.num.scalar(x) / (std::pow(pc.wa.scalar(x), r.ea) * std::pow(pc.wb.scalar(x), r.eb));
+  };
+  const double n2 = val(pc.nA2), b2 = val(pc.BcT2);
+  if (!(n2 > 0.0) || !(b2 > 0.0)) return 0.0;
+  return std::abs(val(pc.rho)) * val(pc.T2) / (std::pow(n2, 2.5) * b2);
+}
+
+// Certified maximum over all pieces: subdivides each piece until its bound is within the relative gap of the best
+// value seen (`best`, raised by the values found at midpoints). Returns the bound; `ok` false when some interval
+// could not be bounded (infinite bound at the depth limit).
+double certifyMax(const std::vector<Piece>& pieces, const std::function<double(const Piece&, double, double)>& bound,
+                  const std::function<double(const Piece&, double)>& value, double& best, double& bestX,
+                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok) {
+  struct Item {
+    int piece;
+    double x0, x1;
+    int depth;
+  };
+  std::vector<Item> stack;
+  for (int i = 0; i < static_cast<int>(pieces.size()); ++i) stack.push_back({i, 0.0, 1.0, 0});
+  double result = 0.0;
+  ok = true;
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const Piece& pc = pieces[static_cast<size_t>(it.piece)];
+    const double ub = bound(pc, it.x0, it.x1);
+    if (ub <= (1.0 + opt.boundRelGap) * best + floor) {
+      result = std::max(result, ub);
+      continue;
+    }
+    if (it.depth >= opt.maxSubdivisionDepth) {
+      if (!std::isfinite(ub)) ok = false;
+      result = std::max(result, ub);
+      continue;
+    }
+    const double xm = 0.5 * (it.x0 + it.x1);
+    const double v = value(pc, xm);
+    if (v > best) {
+      best = v;
+      bestX = xm;
+      bestPiece = it.piece;
+    }
+    stack.push_back({it.piece, it.x0, xm, it.depth + 1});
+    stack.push_back({it.piece, xm, it.x1, it.depth + 1});
+  }
+  return std::max(result, best);
+}
+
+// ------------------------------------------------------------------------------------------------------------
+// Correspondence: a master side parametrises the seam; per master span a polynomial map m(sigma) (sigma local in
+// the span) gives the other side's global edge parameter.
+struct MapSpan {
+  int span;             // master span index
+  double sig0, sig1;    // local interval inside the span that belongs to the overlap
+  BernsteinPoly m;      // slave global parameter as a function of sigma in [0,1] (whole span)
+};
+
+// Finds sigma in [lo, hi] with m(sigma) = target, m monotone on it (bisection to round-off).
+double solveMonotone(const BernsteinPoly& m, double target, double lo, double hi) {
+  const bool increasing = m.scalar(hi) >= m.scalar(lo);
+  for (int i = 0; i < 200 && hi - lo > 1e-16; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const double v = m.scalar(mid);
+    if ((v < target) == increasing)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool masterIsA,
+                               const std::vector<MapSpan>& maps, const SeamOptions& opt) {
+  std::vector<Piece> out;
+  for (const MapSpan& ms : maps) {
+    const Interval msp = master.spans[static_cast<size_t>(ms.span)];
+    // Split the local interval where the slave parameter crosses one of the slave's breakpoints.
+    std::vector<double> cuts{ms.sig0};
+    const double m0 = ms.m.scalar(ms.sig0), m1 = ms.m.scalar(ms.sig1);
+    for (size_t k = 0; k + 1 < slave.spans.size(); ++k) {
+      const double b = slave.spans[k].hi;
+      if (b > std::min(m0, m1) && b < std::max(m0, m1)) cuts.push_back(solveMonotone(ms.m, b, ms.sig0, ms.sig1));
+    }
+    cuts.push_back(ms.sig1);
+    std::sort(cuts.begin(), cuts.end());
+    for (size_t c = 0; c + 1 < cuts.size(); ++c) {
+      const double sa = cuts[c], sb = cuts[c + 1];
+      if (!(sb > sa)) continue;
+      // Master data restricted to [sa, sb] of its span.
+      std::array<BernsteinPoly, 3> XM, XS;
+      for (size_t k = 0; k < 3; ++k) XM[k] = master.h[k][static_cast<size_t>(ms.span)].restricted(sa, sb);
+      // Slave: the span containing the middle, and the map in its local coordinates.
+      const BernsteinPoly mr = ms.m.restricted(sa, sb);
+      const int sspan = spanIndex(slave, mr.scalar(0.5));
+      const Interval ssp = slave.spans[static_cast<size_t>(sspan)];
+      BernsteinPoly local = mr;
+      local.coeffs().array() -= ssp.lo;
+      local *= 1.0 / ssp.length();
+      for (size_t k = 0; k < 3; ++k) {
+        const BernsteinPoly& hs = slave.h[k][static_cast<size_t>(sspan)];
+        XS[k] = local.degree() <= 1 ? hs.restricted(local.coeffs()(0, 0), local.coeffs()(local.degree(), 0))
+                                    : hs.composed(local);
+      }
+      const BernsteinPoly masterParam = BernsteinPoly::linear(msp.lo + msp.length() * sa, msp.lo + msp.length() * sb);
+      if (masterIsA)
+        out.push_back(buildPiece(XM, XS, master.rational, slave.rational, masterParam, mr, opt.maxCertifiedDegree));
+      else
+        out.push_back(buildPiece(XS, XM, slave.rational, master.rational, mr, masterParam, opt.maxCertifiedDegree));
+    }
+  }
+  return out;
+}
+
+// Affine map from A's overlap onto B's overlap.
+std::vector<MapSpan> affineMaps(const Side& A, Interval oa, Interval ob, bool reversed) {
+  std::vector<MapSpan> maps;
+  const double slope = (reversed ? -1.0 : 1.0) * ob.length() / oa.length();
+  const double s0 = reversed ? ob.hi : ob.lo;
+  for (size_t k = 0; k < A.spans.size(); ++k) {
+    const Interval sp = A.spans[k];
+    const double lo = std::max(sp.lo, oa.lo), hi = std::min(sp.hi, oa.hi);
+    if (!(hi > lo)) continue;
+    const auto sOf = [&](double t) { return s0 + slope * (t - oa.lo); };
+    maps.push_back({static_cast<int>(k), (lo - sp.lo) / sp.length(), (hi - sp.lo) / sp.length(),
+                    BernsteinPoly::linear(sOf(sp.lo), sOf(sp.hi))});
+  }
+  return maps;
+}
+
+// Polynomial map of degree r from the master's parameter to the slave's, fitted per master span by least squares
+// on closest-point projections (it is verified afterwards by the exact distance bound).
+std::vector<MapSpan> fittedMaps(const Side& master, const Side& slave, Interval om, int r) {
+  std::vector<MapSpan> maps;
+  const int n = kFitSamplesFactor * (r + 1);
+  double guess = slave.domain().lo;
+  bool first = true;
+  for (size_t k = 0; k < master.spans.size(); ++k) {
+    const Interval sp = master.spans[k];
+    const double lo = std::max(sp.lo, om.lo), hi = std::min(sp.hi, om.hi);
+    if (!(hi > lo)) continue;
+    Eigen::MatrixXd V(n, r + 1);
+    Eigen::VectorXd y(n);
+    for (int i = 0; i < n; ++i) {
+      const double sigma = (static_cast<double>(i) + 0.5) / n;
+      const double tm = sp.lo + sp.length() * sigma;
+      const Vec3 p = master.curve.evaluate(tm).head<3>();
+      const auto cp = first ? detail::closestPoint(slave.curve, p) : detail::closestPoint(slave.curve, p, {}, guess);
+      first = false;
+      guess = cp.t;
+      y[i] = cp.t;
+      for (int j = 0; j <= r; ++j) V(i, j) = binomial(r, j) * std::pow(sigma, j) * std::pow(1.0 - sigma, r - j);
+    }
+    const Eigen::VectorXd c = V.colPivHouseholderQr().solve(y);
+    maps.push_back({static_cast<int>(k), (lo - sp.lo) / sp.length(), (hi - sp.lo) / sp.length(),
+                    BernsteinPoly(Matrix(c))});
+  }
+  return maps;
+}
+
+// ------------------------------------------------------------------------------------------------------------
+struct SampleSet {
+  std::vector<double> t, s;
+  std::vector<PointMeasures> m;
+};
+
+// Golden-section refinement of a local maximum of f on [lo, hi].
+std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = lo, b = hi;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < kGoldenIterations; ++i) {
+    if (f1 < f2) {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      f2 = f(x2);
+    } else {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      f1 = f(x1);
+    }
+  }
+  return f1 > f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+}
+
+// Refines the kRefinedMaxima largest local maxima of values[i] (sampled at xs[i]) and returns the best (x, value).
+std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const std::vector<double>& values,
+                                         const std::function<double(double)>& f) {
+  std::vector<size_t> locals;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const bool leftOk = i == 0 || values[i] >= values[i - 1];
+    const bool rightOk = i + 1 == values.size() || values[i] >= values[i + 1];
+    if (leftOk && rightOk) locals.push_back(i);
+  }
+  std::sort(locals.begin(), locals.end(), [&](size_t a, size_t b) { return values[a] > values[b]; });
+  if (locals.size() > static_cast<size_t>(kRefinedMaxima)) locals.resize(kRefinedMaxima);
+  double bestX = xs.empty() ? 0.0 : xs[0], best = values.empty() ? 0.0 : values[0];
+  for (size_t i = 0; i < values.size(); ++i)
+    if (values[i] > best) {
+      best = values[i];
+      bestX = xs[i];
+    }
+  for (size_t i : locals) {
+    const double lo = xs[i == 0 ? 0 : i - 1], hi = xs[i + 1 == xs.size() ? i : i + 1];
+    if (!(hi > lo)) continue;
+    const auto [x, v] = refineMax(f, lo, hi);
+    if (v > best) {
+      best = v;
+      bestX = x;
+    }
+  }
+  return {bestX, best};
+}
+
+double controlDiagonal(const BSplineSurface& s) { return controlBox(s).diagonal(); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------------
+Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options) {
+  return analyzeSeam(a, ea, b, eb, options, std::nullopt);
+}
+
+Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge eb, const SeamOptions& opt,
+                               std::optional<Interval> aRange) {
+  if (pa.surface.dim() != 3 || pb.surface.dim() != 3)
+    return invalidInput(fmt::format("seam {}:{} / {}:{}: patches must have 3-D control points", pa.name,
+                                    edgeName(ea), pb.name, edgeName(eb)));
+  const std::string label = fmt::format("seam {}:{} / {}:{}", pa.name, edgeName(ea), pb.name, edgeName(eb));
+  const Side A = makeSide(pa, ea), B = makeSide(pb, eb);
+  const double scale = std::max(controlDiagonal(pa.surface), controlDiagonal(pb.surface));
+  for (const Side* s : {&A, &B}) {
+    const BoundingBox box = controlBox(s->curve);
+    if (!(box.diagonal() > kRoundoff * scale))
+      return Status(ErrorCode::kDegenerate, fmt::format("{}: edge {} of patch \"{}\" collapses to a point", label,
+                                                        edgeName(s->edge), s->patch->name));
+  }
+  SeamReport rep;
+  rep.a = pa.name;
+  rep.b = pb.name;
+  rep.aEdge = ea;
+  rep.bEdge = eb;
+
+  // ---- overlap: project each edge's end points onto the other edge.
+  Interval da = A.domain(), db = B.domain();
+  if (aRange) da = {std::max(da.lo, aRange->lo), std::min(da.hi, aRange->hi)};
+  const Vec3 a0 = A.curve.evaluate(da.lo).head<3>(), a1 = A.curve.evaluate(da.hi).head<3>();
+  const Vec3 b0 = B.curve.evaluate(db.lo).head<3>(), b1 = B.curve.evaluate(db.hi).head<3>();
+  // An end point whose partner edge's end is about as close as the partner curve itself (a gap, not a
+  // T-junction) is snapped to that end, so that offset seams keep their exact end-to-end correspondence.
+  auto project = [](const BSplineCurve& c, const Vec3& p, Interval range) {
+    const detail::CurvePoint cp = detail::closestPoint(c, p, range);
+    const double dLo = (c.evaluate(range.lo).head<3>() - p).norm(), dHi = (c.evaluate(range.hi).head<3>() - p).norm();
+    const double slack = kOverlapSnapFactor * cp.distance + kRoundoff * controlBox(c).diagonal();
+    if (std::min(dLo, dHi) <= slack) return dLo <= dHi ? range.lo : range.hi;
+    return cp.t;
+  };
+  const double tb0 = project(A.curve, b0, da), tb1 = project(A.curve, b1, da);
+  const double sa0 = project(B.curve, a0, db), sa1 = project(B.curve, a1, db);
+  rep.reversed = tb0 > tb1 || (tb0 == tb1 && sa0 > sa1);
+  rep.overlapA = {std::min(tb0, tb1), std::max(tb0, tb1)};
+  rep.overlapB = {std::min(sa0, sa1), std::max(sa0, sa1)};
+  const double minOverlap = kKnotRelTol * 1e3;
+  if (!(rep.overlapA.length() > minOverlap * da.length()) || !(rep.overlapB.length() > minOverlap * db.length()))
+    return Status(ErrorCode::kNotFound, fmt::format("{}: the edges do not overlap", label));
+  const double sgn = rep.reversed ? -1.0 : 1.0;
+  const double edgeScale = std::max(controlBox(A.curve).diagonal(), controlBox(B.curve).diagonal());
+  const double exactFloor = kExactCorrespondenceRel * edgeScale;
+
+  // ---- correspondence: affine, then polynomial, else closest-point projection.
+  std::vector<Piece> pieces;
+  bool certified = false;
+  auto tryMaps = [&](const Side& master, const Side& slave, bool masterIsA, const std::vector<MapSpan>& maps) {
+    std::vector<Piece> pcs = buildPieces(master, slave, masterIsA, maps, opt);
+    double best = 0.0, bx = 0.0;
+    int bp = 0;
+    bool ok = true;
+    for (size_t i = 0; i < pcs.size(); ++i)
+      for (int k = 0; k <= 4; ++k) best = std::max(best, g0Value(pcs[i], k / 4.0));
+    const double bound = certifyMax(pcs, g0Bound, g0Value, best, bx, bp, exactFloor, opt, ok);
+    return std::pair{std::move(pcs), bound};
+  };
+  {
+    auto [pcs, bound] = tryMaps(A, B, true, affineMaps(A, rep.overlapA, rep.overlapB, rep.reversed));
+    if (bound <= exactFloor) {
+      pieces = std::move(pcs);
+      rep.correspondence = Correspondence::kAffine;
+      certified = true;
+    } else {
+      const int pA = A.oriented.degreeV(), pB = B.oriented.degreeV();
+      bool found = false;
+      if (!A.rational && !B.rational) {
+        if (pB % pA == 0 && pB / pA > 1) {
+          auto [pc2, b2] = tryMaps(B, A, false, fittedMaps(B, A, rep.overlapB, pB / pA));
+          if (b2 <= exactFloor) {
+            pieces = std::move(pc2);
+            rep.correspondenceDegree = pB / pA;
+            found = true;
+          }
+        } else if (pA % pB == 0 && pA / pB > 1) {
+          auto [pc2, b2] = tryMaps(A, B, true, fittedMaps(A, B, rep.overlapA, pA / pB));
+          if (b2 <= exactFloor) {
+            pieces = std::move(pc2);
+            rep.correspondenceDegree = pA / pB;
+            found = true;
+          }
+        }
+      }
+      if (found) {
+        rep.correspondence = Correspondence::kPolynomial;
+        certified = true;
+      } else {
+        // A gap: keep the affine map when it is as good as closest-point matching (offset seams), else project.
+        double haus = 0.0;
+        const int n = std::max(opt.samplesPerSpan, 8) * static_cast<int>(A.spans.size());
+        for (int i = 0; i <= n; ++i) {
+          const double t = rep.overlapA.lo + rep.overlapA.length() * i / n;
+          haus = std::max(haus, detail::closestPoint(B.curve, A.curve.evaluate(t).head<3>(), rep.overlapB).distance);
+        }
+        if (bound <= (1.0 + opt.boundRelGap) * haus + exactFloor) {
+          pieces = std::move(pcs);
+          rep.correspondence = Correspondence::kAffine;
+          certified = true;
+        } else {
+          rep.correspondence = Correspondence::kProjection;
+          rep.notes.push_back("no polynomial correspondence between the edges: measures are sampled");
+        }
+      }
+    }
+  }
+  for (const Piece& pc : pieces)
+    if (pc.P.degree() > opt.maxCertifiedDegree) {
+      certified = false;
+      pieces.clear();
+      rep.notes.push_back("seam polynomials exceed the certified degree limit: measures are sampled");
+      break;
+    }
+
+  // ---- dense sampling (the sampled worst values, and the whole story when not certified).
+  SampleSet S;
+  const auto sOfT = [&](double t, double guess) {
+    return detail::closestPoint(B.curve, A.curve.evaluate(t).head<3>(), rep.overlapB, guess).t;
+  };
+  const int perSpan = std::max(opt.samplesPerSpan, 2);
+  if (certified) {
+    for (const Piece& pc : pieces)
+      for (int i = 0; i <= perSpan; ++i) {
+        const double x = static_cast<double>(i) / perSpan;
+        S.t.push_back(pc.tOf.scalar(x));
+        S.s.push_back(pc.sOf.scalar(x));
+      }
+  } else {
+    double guess = rep.reversed ? rep.overlapB.hi : rep.overlapB.lo;
+    for (size_t k = 0; k < A.spans.size(); ++k) {
+      const double lo = std::max(A.spans[k].lo, rep.overlapA.lo), hi = std::min(A.spans[k].hi, rep.overlapA.hi);
+      if (!(hi > lo)) continue;
+      for (int i = 0; i <= perSpan; ++i) {
+        const double t = lo + (hi - lo) * i / perSpan;
+        const double s = sOfT(t, guess);
+        guess = s;
+        S.t.push_back(t);
+        S.s.push_back(s);
+      }
+    }
+  }
+  // Sort by t (pieces may come in B's order when B is the master).
+  {
+    std::vector<size_t> idx(S.t.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::sort(idx.begin(), idx.end(), [&](size_t x, size_t y) { return S.t[x] < S.t[y]; });
+    SampleSet sorted;
+    for (size_t i : idx) {
+      sorted.t.push_back(S.t[i]);
+      sorted.s.push_back(S.s[i]);
+    }
+    S = std::move(sorted);
+  }
+  for (size_t i = 0; i < S.t.size(); ++i) S.m.push_back(measureAt(A, S.t[i], B, S.s[i], sgn));
+
+  // Curvature reference for relative G2 values: the largest curvature on the seam, floored at "flat".
+  const double flat = kFlatCurvatureRatio / std::max(scale, std::numeric_limits<double>::min());
+  double curvRef = flat;
+  for (const auto& m : S.m) curvRef = std::max(curvRef, m.curvature);
+
+  // Sampled maxima, refined by golden section (s follows t through the correspondence or projection).
+  auto sAt = [&](double t) {
+    // Start from the nearest sample's partner and project (on an exact correspondence this is phi(t) to round-off).
+    const auto it = std::lower_bound(S.t.begin(), S.t.end(), t);
+    const size_t i = std::min<size_t>(static_cast<size_t>(it - S.t.begin()), S.t.size() - 1);
+    return sOfT(t, S.s[i]);
+  };
+  auto pointMeasure = [&](double t) { return measureAt(A, t, B, sAt(t), sgn); };
+  // Sampled maxima follow the correspondence; golden-section refinement (which re-projects) only where the
+  // correspondence is itself a projection. Certified seams are refined by the subdivision of the bounds instead.
+  auto refined = [&](auto get) {
+    std::vector<double> v(S.m.size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = get(S.m[i]);
+    if (certified) {
+      const auto it = std::max_element(v.begin(), v.end());
+      const size_t i = static_cast<size_t>(it - v.begin());
+      return std::pair{S.t[i], *it};
+    }
+    return refinedMaximum(S.t, v, [&](double t) { return get(pointMeasure(t)); });
+  };
+  bool anyDegenerate = false;
+  for (const auto& m : S.m) anyDegenerate |= !m.normalsOk;
+  if (anyDegenerate) rep.notes.push_back("the normal vanishes somewhere on the seam (pole or degenerate edge)");
+
+  // G0 sampled: closest-point distance both ways (parametrisation independent).
+  {
+    std::vector<double> d1(S.t.size());
+    for (size_t i = 0; i < S.t.size(); ++i)
+      d1[i] = detail::closestPoint(B.curve, S.m[i].point, rep.overlapB, S.s[i]).distance;
+    auto f = [&](double t) {
+      return detail::closestPoint(B.curve, A.curve.evaluate(t).head<3>(), rep.overlapB, sAt(t)).distance;
+    };
+    auto [tw, w] = refinedMaximum(S.t, d1, f);
+    double other = 0.0;
+    for (size_t i = 0; i < S.s.size(); ++i)
+      other = std::max(other, detail::closestPoint(A.curve, B.curve.evaluate(S.s[i]).head<3>(), rep.overlapA,
+                                                   S.t[i]).distance);
+    rep.g0Sampled = std::max(w, other);
+    rep.g0Worst = {tw, A.curve.evaluate(tw).head<3>()};
+  }
+  {
+    auto [tw, w] = refined([](const PointMeasures& m) { return m.normalsOk ? m.g1 : 0.0; });
+    rep.g1SampledDeg = w * kRadToDeg;
+    rep.g1Worst = {tw, A.curve.evaluate(tw).head<3>()};
+  }
+  {
+    auto [tw, w] = refined([](const PointMeasures& m) { return m.normalsOk ? m.g2 : 0.0; });
+    rep.g2Sampled = w;
+    rep.g2RelSampled = w / curvRef;
+    rep.g2Worst = {tw, A.curve.evaluate(tw).head<3>()};
+  }
+  double lamLo = std::numeric_limits<double>::infinity(), lamHi = -lamLo, kapLo = lamLo, kapHi = -lamLo;
+  double c1 = 0.0, c1s = 0.0, c2 = 0.0, c2s = 0.0;
+  for (const auto& m : S.m) {
+    if (m.normalsOk) {
+      lamLo = std::min(lamLo, m.lambda);
+      lamHi = std::max(lamHi, m.lambda);
+      kapLo = std::min(kapLo, m.kappa);
+      kapHi = std::max(kapHi, m.kappa);
+      rep.g2ResidualMax = std::max(rep.g2ResidualMax, std::abs(m.residual));
+    }
+    c1 = std::max(c1, m.c1);
+    c1s = std::max(c1s, m.c1Scale);
+    c2 = std::max(c2, m.c2);
+    c2s = std::max(c2s, m.c2Scale);
+  }
+  if (lamLo <= lamHi) {
+    rep.lambdaRange = {lamLo, lamHi};
+    rep.kappaRange = {kapLo, kapHi};
+  }
+  rep.c1Mismatch = c1s > 0.0 ? c1 / c1s : 0.0;
+  rep.c2Mismatch = c2s > 0.0 ? c2 / c2s : 0.0;
+  if (opt.keepSamples)
+    for (size_t i = 0; i < S.t.size(); ++i)
+      rep.samples.push_back({S.t[i], S.m[i].g0, S.m[i].g1 * kRadToDeg, S.m[i].g2, S.m[i].g2 / curvRef});
+
+  // ---- certified bounds and identities.
+  rep.certified = certified;
+  rep.g0Max = rep.g0Sampled;
+  rep.g1MaxDeg = rep.g1SampledDeg;
+  rep.g2Max = rep.g2Sampled;
+  bool c1Identity = false, c2Identity = false;
+  if (certified) {
+    auto tAt = [&](int piece, double x) { return pieces[static_cast<size_t>(piece)].tOf.scalar(x); };
+    bool ok = true;
+    {
+      double best = 0.0, bx = 0.0;
+      int bp = 0;
+      for (const Piece& pc : pieces)
+        for (int i = 0; i <= 4; ++i) best = std::max(best, g0Value(pc, i / 4.0));
+      rep.g0Max = std::max(certifyMax(pieces, g0Bound, g0Value, best, bx, bp, exactFloor, opt, ok), rep.g0Sampled);
+    }
+    {
+      double best = rep.g1SampledDeg / kRadToDeg, bx = 0.0;
+      int bp = -1;
+      const double bound = certifyMax(pieces, g1Bound, g1Value, best, bx, bp, kAngleBoundFloor, opt, ok);
+      rep.g1MaxDeg = bound * kRadToDeg;
+      if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {
+        rep.g1SampledDeg = best * kRadToDeg;
+        const double t = tAt(bp, bx);
+        rep.g1Worst = {t, A.curve.evaluate(t).head<3>()};
+      }
+      if (!ok) {
+        rep.notes.push_back("the G1 bound could not be closed near a vanishing normal");
+        rep.g1MaxDeg = std::max(rep.g1SampledDeg, rep.g1MaxDeg);
+      }
+    }
+    // G1 identity: NA x NB == 0 and no fold.
+    rep.g1Identity = true;
+    for (const Piece& pc : pieces)
+      if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale || detail::lowerBound(pc.P) < 0.0)
+        rep.g1Identity = false;
+    for (const auto& m : S.m)
+      if (m.normalsOk && m.g1 > std::numbers::pi / 2) rep.g1Identity = false;
+    // G2: only meaningful for a G1 seam.
+    bool g2Ready = rep.g1Identity;
+    for (const Piece& pc : pieces) g2Ready = g2Ready && pc.g2Available;
+    if (g2Ready) {
+      rep.g2Identity = true;
+      for (const Piece& pc : pieces)
+        if (pc.rho.num.maxAbsCoeff() > kIdentityRelTol * pc.rhoScale) rep.g2Identity = false;
+      double best = rep.g2Sampled, bx = 0.0;
+      int bp = -1;
+      bool g2ok = true;
+      const double bound = certifyMax(pieces, g2Bound, g2Value, best, bx, bp, kIdentityRelTol * curvRef, opt, g2ok);
+      if (g2ok) {
+        rep.g2Max = std::max(bound, rep.g2Sampled);
+      } else {
+        rep.notes.push_back("G2 bound not closed near a vanishing normal: G2 values are sampled");
+      }
+      if (bp >= 0 && best > rep.g2Sampled) {
+        rep.g2Sampled = best;
+        const double t = tAt(bp, bx);
+        rep.g2Worst = {t, A.curve.evaluate(t).head<3>()};
+      }
+    } else if (!rep.g1Identity) {
+      rep.notes.push_back("not exactly G1: the G2 jump is sampled");
+    }
+    // Parametric identities: certified bounds of |B'_u - A_out| and |B'_uu - A'_uu| at round-off level.
+    c1Identity = c2Identity = true;
+    for (const Piece& pc : pieces) {
+      const SubPiece sp(pc, 0.0, 1.0);
+      if (pc.c1.num.maxCoeffNorm() / sp.denLower(pc.c1) > kIdentityRelTol * c1s) c1Identity = false;
+      if (pc.c2.num.maxCoeffNorm() / sp.denLower(pc.c2) > kIdentityRelTol * std::max(c2s, c1s)) c2Identity = false;
+    }
+  }
+  rep.g2RelMax = rep.g2Max / curvRef;
+  rep.g2RelSampled = rep.g2Sampled / curvRef;
+
+  // ---- classification.
+  const auto& tol = opt.tol;
+  if (rep.g0Max <= tol.distance) {
+    rep.geometric = GeometricClass::kG0;
+    if (rep.g1MaxDeg <= tol.angleDeg || rep.g1Identity) {
+      rep.geometric = GeometricClass::kG1;
+      if (rep.g2Identity || rep.g2RelMax <= tol.curvatureRel) rep.geometric = GeometricClass::kG2;
+    }
+  }
+  // Parametric continuity only where the parametrisations match: affine correspondence with |slope| = 1.
+  const double slope = rep.overlapB.length() / rep.overlapA.length();
+  const bool matching = rep.correspondence == Correspondence::kAffine && std::abs(slope - 1.0) <= kMatchingSlopeTol;
+  if (!matching) {
+    rep.notes.push_back(fmt::format("edge parametrisations differ (correspondence {}, slope {:.6g}): no C^k",
+                                    toString(rep.correspondence), slope));
+  } else if (rep.g0Max <= tol.distance) {
+    rep.parametric = ParametricClass::kC0;
+    if (c1Identity || rep.c1Mismatch <= tol.parametric) {
+      rep.parametric = ParametricClass::kC1;
+      if (c2Identity || rep.c2Mismatch <= tol.parametric) rep.parametric = ParametricClass::kC2;
+    }
+  }
+  return rep;
+}
+
+}  // namespace seam
