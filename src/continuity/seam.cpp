@@ -146,13 +146,14 @@ double spectralNorm(const Eigen::Matrix2d& m) {
 
 // sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise.
 PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
-  const auto da = A.oriented.derivatives(A.oriented.domainU().lo, t, 2);
-  const auto db = B.oriented.derivatives(B.oriented.domainU().lo, s, 2);
+  std::array<Vec3, 6> da, db;  // S, S_u, S_v, S_uu, S_uv, S_vv
+  A.oriented.secondOrderDerivatives(A.oriented.domainU().lo, t, da);
+  B.oriented.secondOrderDerivatives(B.oriented.domainU().lo, s, db);
   PointMeasures m;
-  const Vec3 a = da[0][0].head<3>(), T = da[0][1].head<3>(), O = -da[1][0].head<3>();
-  const Vec3 Aoo = da[2][0].head<3>(), Aot = -da[1][1].head<3>(), Att = da[0][2].head<3>();
-  const Vec3 b = db[0][0].head<3>(), Bc = db[1][0].head<3>(), Bt = sgn * db[0][1].head<3>();
-  const Vec3 Bcc = db[2][0].head<3>();
+  const Vec3 a = da[0], T = da[2], O = -da[1];
+  const Vec3 Aoo = da[3], Aot = -da[4], Att = da[5];
+  const Vec3 b = db[0], Bc = db[1], Bt = sgn * db[2];
+  const Vec3 Bcc = db[3];
   m.point = a;
   m.g0 = (a - b).norm();
   const Vec3 nA = T.cross(O), nB = Bt.cross(Bc);
@@ -176,10 +177,8 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
   m.residual = nhA.dot(Bcc - m.lambda * m.lambda * Aoo - 2.0 * m.lambda * m.kappa * Aot - m.kappa * m.kappa * Att);
   // Shape operators in A's frame (e1 along the seam, e2 = n x e1), each side with its consistently oriented normal.
   const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
-  const Eigen::Matrix2d SA = shapeInFrame(da[1][0].head<3>(), da[0][1].head<3>(), da[2][0].head<3>(),
-                                          da[1][1].head<3>(), da[0][2].head<3>(), nhA, e1, e2);
-  const Eigen::Matrix2d SB = shapeInFrame(db[1][0].head<3>(), db[0][1].head<3>(), db[2][0].head<3>(),
-                                          db[1][1].head<3>(), db[0][2].head<3>(), nhB, e1, e2);
+  const Eigen::Matrix2d SA = shapeInFrame(da[1], da[2], da[3], da[4], da[5], nhA, e1, e2);
+  const Eigen::Matrix2d SB = shapeInFrame(db[1], db[2], db[3], db[4], db[5], nhB, e1, e2);
   m.g2 = spectralNorm(SB - SA);
   m.curvature = std::max(spectralNorm(SA), spectralNorm(SB));
   return m;
@@ -615,6 +614,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   // ---- correspondence: affine, then polynomial, else closest-point projection.
   std::vector<Piece> pieces;
   bool certified = false;
+  double corrBound = std::numeric_limits<double>::infinity();  // certified bound of |a - b o phi| when certified
   auto tryMaps = [&](const Side& master, const Side& slave, bool masterIsA, const std::vector<MapSpan>& maps) {
     std::vector<Piece> pcs = buildPieces(master, slave, masterIsA, maps, opt);
     double best = 0.0, bx = 0.0;
@@ -631,6 +631,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       pieces = std::move(pcs);
       rep.correspondence = Correspondence::kAffine;
       certified = true;
+      corrBound = bound;
     } else {
       const int pA = A.oriented.degreeV(), pB = B.oriented.degreeV();
       bool found = false;
@@ -641,6 +642,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
             pieces = std::move(pc2);
             rep.correspondenceDegree = pB / pA;
             found = true;
+            corrBound = b2;
           }
         } else if (pA % pB == 0 && pA / pB > 1) {
           auto [pc2, b2] = tryMaps(A, B, true, fittedMaps(A, B, rep.overlapA, pA / pB));
@@ -648,6 +650,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
             pieces = std::move(pc2);
             rep.correspondenceDegree = pA / pB;
             found = true;
+            corrBound = b2;
           }
         }
       }
@@ -666,6 +669,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
           pieces = std::move(pcs);
           rep.correspondence = Correspondence::kAffine;
           certified = true;
+          corrBound = bound;
         } else {
           rep.correspondence = Correspondence::kProjection;
           rep.notes.push_back("no polynomial correspondence between the edges: measures are sampled");
@@ -688,9 +692,10 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   };
   const int perSpan = std::max(opt.samplesPerSpan, 2);
   if (certified) {
+    const int perPiece = std::max(opt.certifiedSamplesPerPiece, 2);
     for (const Piece& pc : pieces)
-      for (int i = 0; i <= perSpan; ++i) {
-        const double x = static_cast<double>(i) / perSpan;
+      for (int i = 0; i <= perPiece; ++i) {
+        const double x = static_cast<double>(i) / perPiece;
         S.t.push_back(pc.tOf.scalar(x));
         S.s.push_back(pc.sOf.scalar(x));
       }
@@ -751,8 +756,13 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   for (const auto& m : S.m) anyDegenerate |= !m.normalsOk;
   if (anyDegenerate) rep.notes.push_back("the normal vanishes somewhere on the seam (pole or degenerate edge)");
 
-  // G0 sampled: closest-point distance both ways (parametrisation independent).
-  {
+  // G0 sampled: closest-point distance both ways (parametrisation independent). On an exact correspondence the
+  // distance is below the certified round-off bound already, and the projections are skipped.
+  if (corrBound <= exactFloor) {
+    const auto it = std::max_element(S.m.begin(), S.m.end(), [](auto& x, auto& y) { return x.g0 < y.g0; });
+    rep.g0Sampled = it->g0;
+    rep.g0Worst = {S.t[static_cast<size_t>(it - S.m.begin())], it->point};
+  } else {
     std::vector<double> d1(S.t.size());
     for (size_t i = 0; i < S.t.size(); ++i)
       d1[i] = detail::closestPoint(B.curve, S.m[i].point, rep.overlapB, S.s[i]).distance;

@@ -7,8 +7,29 @@
 
 namespace seam {
 
+namespace {
+// Pascal's triangle up to kBinomialTableSize - 1 (exact in double far beyond that size).
+constexpr int kBinomialTableSize = 128;
+struct BinomialTable {
+  std::vector<double> v;
+  BinomialTable() : v(static_cast<size_t>(kBinomialTableSize * kBinomialTableSize), 0.0) {
+    for (int n = 0; n < kBinomialTableSize; ++n) {
+      v[static_cast<size_t>(n * kBinomialTableSize)] = 1.0;
+      for (int k = 1; k <= n; ++k)
+        v[static_cast<size_t>(n * kBinomialTableSize + k)] =
+            v[static_cast<size_t>((n - 1) * kBinomialTableSize + k - 1)] +
+            (k <= n - 1 ? v[static_cast<size_t>((n - 1) * kBinomialTableSize + k)] : 0.0);
+    }
+  }
+};
+}  // namespace
+
 double binomial(int n, int k) {
   if (k < 0 || k > n) return 0.0;
+  if (n < kBinomialTableSize) {
+    static const BinomialTable table;
+    return table.v[static_cast<size_t>(n * kBinomialTableSize + k)];
+  }
   k = std::min(k, n - k);
   double r = 1.0;
   for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
@@ -87,8 +108,32 @@ Matrix derivativeRows(const Matrix& c, int order) {
   return cur;
 }
 
+// In place: after the call, w holds the coefficients of the piece on [0, t] (keepLeft) or [t, 1].
+void subdivideInPlace(Matrix& w, double t, bool keepLeft) {
+  const auto n = w.rows() - 1;
+  const double s = 1.0 - t;
+  if (keepLeft) {
+    // left_r = first row after r levels; computing from the bottom keeps earlier rows intact.
+    for (Eigen::Index r = 1; r <= n; ++r)
+      for (Eigen::Index i = n; i >= r; --i) w.row(i) = s * w.row(i - 1) + t * w.row(i);
+  } else {
+    for (Eigen::Index r = 1; r <= n; ++r)
+      for (Eigen::Index i = 0; i <= n - r; ++i) w.row(i) = s * w.row(i) + t * w.row(i + 1);
+  }
+}
+
 Matrix restrictRows(const Matrix& c, double a, double b) {
   const int n = static_cast<int>(c.rows()) - 1;
+  if (a == 0.0 && b == 1.0) return c;
+  if (a > b && a <= 1.0 && b >= 0.0) return restrictRows(c, b, a).colwise().reverse();
+  if (a >= 0.0 && a < b && b <= 1.0) {
+    // Two de Casteljau subdivisions: keep [0, b], then the part [a/b, 1] of it.
+    Matrix w = c;
+    if (b < 1.0) subdivideInPlace(w, b, true);
+    if (a > 0.0) subdivideInPlace(w, a / b, false);
+    return w;
+  }
+  // General intervals (outside [0,1]): blossoms q_i = p[a^(n-i), b^i].
   Matrix out(c.rows(), c.cols());
   std::vector<double> args(static_cast<size_t>(n));
   for (int i = 0; i <= n; ++i) {

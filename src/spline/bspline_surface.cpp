@@ -163,6 +163,199 @@ std::vector<std::vector<VecX>> BSplineSurface::derivatives(double u, double v, i
   return rational ? detail::surfaceQuotientRule(H) : H;
 }
 
+namespace {
+// Largest degree handled by the allocation-free paths (higher degrees use the general algorithm).
+constexpr int kMaxFastDegree = 15;
+
+// Values and first derivatives of the p+1 non-zero basis functions at t in `span` (Cox-de Boor triangle on the
+// stack; N'_{i,p} = p (N_{i,p-1} / (t_{i+p} - t_i) - N_{i+1,p-1} / (t_{i+p+1} - t_{i+1}))).
+void basisAndDerivative(const std::vector<double>& U, int p, int span, double t, double* N, double* dN) {
+  double left[kMaxFastDegree + 1], right[kMaxFastDegree + 1], low[kMaxFastDegree + 1];
+  N[0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
+    right[j] = U[static_cast<size_t>(span + j)] - t;
+    double saved = 0.0;
+    if (j == p)
+      for (int r = 0; r < p; ++r) low[r] = N[r];
+    for (int r = 0; r < j; ++r) {
+      const double temp = N[r] / (right[r + 1] + left[j - r]);
+      N[r] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    N[j] = saved;
+  }
+  if (p == 0) {
+    dN[0] = 0.0;
+    return;
+  }
+  // low[r] = N_{span-p+1+r, p-1}, r = 0..p-1.
+  for (int r = 0; r <= p; ++r) {
+    const int i = span - p + r;
+    double d = 0.0;
+    if (r >= 1) d += low[r - 1] / (U[static_cast<size_t>(i + p)] - U[static_cast<size_t>(i)]);
+    if (r <= p - 1) d -= low[r] / (U[static_cast<size_t>(i + p + 1)] - U[static_cast<size_t>(i + 1)]);
+    dN[r] = p * d;
+  }
+}
+}  // namespace
+
+void BSplineSurface::pointAndFirstDerivatives(double u, double v, Vec3& point, Vec3& du, Vec3& dv) const {
+  assert(dim() == 3);
+  if (pu_ > kMaxFastDegree || pv_ > kMaxFastDegree) {
+    const auto d = derivatives(u, v, 1);
+    point = d[0][0];
+    du = d[1][0];
+    dv = d[0][1];
+    return;
+  }
+  const int su = ku_.findSpan(pu_, u), sv = kv_.findSpan(pv_, v);
+  double Nu[kMaxFastDegree + 1], dNu[kMaxFastDegree + 1], Nv[kMaxFastDegree + 1], dNv[kMaxFastDegree + 1];
+  basisAndDerivative(ku_.values(), pu_, su, u, Nu, dNu);
+  basisAndDerivative(kv_.values(), pv_, sv, v, Nv, dNv);
+  const bool rational = isRational();
+  double S[4] = {0, 0, 0, 0}, Su[4] = {0, 0, 0, 0}, Sv[4] = {0, 0, 0, 0};
+  const double* P = points_.data();
+  for (int r = 0; r <= pu_; ++r) {
+    double row[4] = {0, 0, 0, 0}, rowV[4] = {0, 0, 0, 0};
+    const int i = su - pu_ + r;
+    for (int c = 0; c <= pv_; ++c) {
+      const int idx = i * nv_ + (sv - pv_ + c);
+      const double w = rational ? weights_[idx] : 1.0;
+      const double* x = P + 3 * static_cast<size_t>(idx);
+      const double a = Nv[c] * w, b = dNv[c] * w;
+      for (int k = 0; k < 3; ++k) {
+        row[k] += a * x[k];
+        rowV[k] += b * x[k];
+      }
+      row[3] += a;
+      rowV[3] += b;
+    }
+    for (int k = 0; k < 4; ++k) {
+      S[k] += Nu[r] * row[k];
+      Su[k] += dNu[r] * row[k];
+      Sv[k] += Nu[r] * rowV[k];
+    }
+  }
+  if (rational) {
+    const double w = S[3];
+    for (int k = 0; k < 3; ++k) {
+      S[k] /= w;
+      Su[k] = (Su[k] - Su[3] * S[k]) / w;
+      Sv[k] = (Sv[k] - Sv[3] * S[k]) / w;
+    }
+  }
+  point = Vec3(S[0], S[1], S[2]);
+  du = Vec3(Su[0], Su[1], Su[2]);
+  dv = Vec3(Sv[0], Sv[1], Sv[2]);
+}
+
+namespace {
+// Values, first and second derivatives of the p+1 non-zero basis functions (NURBS Book A2.3 on the stack).
+void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastDegree + 1]) {
+  double ndu[kMaxFastDegree + 1][kMaxFastDegree + 1], a[2][kMaxFastDegree + 1];
+  double left[kMaxFastDegree + 1], right[kMaxFastDegree + 1];
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
+    right[j] = U[static_cast<size_t>(span + j)] - t;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];
+      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  for (int j = 0; j <= p; ++j) {
+    ders[0][j] = ndu[j][p];
+    ders[1][j] = ders[2][j] = 0.0;
+  }
+  const int n = std::min(2, p);
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= n; ++k) {
+      double d = 0.0;
+      const int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      const int j1 = rk >= -1 ? 1 : -rk;
+      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  double f = p;
+  for (int k = 1; k <= n; ++k) {
+    for (int j = 0; j <= p; ++j) ders[k][j] *= f;
+    f *= (p - k);
+  }
+}
+}  // namespace
+
+void BSplineSurface::secondOrderDerivatives(double u, double v, std::array<Vec3, 6>& out) const {
+  assert(dim() == 3);
+  if (pu_ > kMaxFastDegree || pv_ > kMaxFastDegree) {
+    const auto d = derivatives(u, v, 2);
+    out = {Vec3(d[0][0]), Vec3(d[1][0]), Vec3(d[0][1]), Vec3(d[2][0]), Vec3(d[1][1]), Vec3(d[0][2])};
+    return;
+  }
+  const int su = ku_.findSpan(pu_, u), sv = kv_.findSpan(pv_, v);
+  double Nu[3][kMaxFastDegree + 1], Nv[3][kMaxFastDegree + 1];
+  basisUpTo2(ku_.values(), pu_, su, u, Nu);
+  basisUpTo2(kv_.values(), pv_, sv, v, Nv);
+  const bool rational = isRational();
+  // H[k][l] homogeneous derivative d^{k+l}/du^k dv^l, k + l <= 2, 4 coordinates.
+  double H[3][3][4] = {};
+  const double* P = points_.data();
+  for (int r = 0; r <= pu_; ++r) {
+    double row[3][4] = {};
+    const int i = su - pu_ + r;
+    for (int c = 0; c <= pv_; ++c) {
+      const int idx = i * nv_ + (sv - pv_ + c);
+      const double w = rational ? weights_[idx] : 1.0;
+      const double* x = P + 3 * static_cast<size_t>(idx);
+      for (int l = 0; l <= 2; ++l) {
+        const double f = Nv[l][c] * w;
+        row[l][0] += f * x[0];
+        row[l][1] += f * x[1];
+        row[l][2] += f * x[2];
+        row[l][3] += f;
+      }
+    }
+    for (int k = 0; k <= 2; ++k)
+      for (int l = 0; l <= 2 - k; ++l)
+        for (int q = 0; q < 4; ++q) H[k][l][q] += Nu[k][r] * row[l][q];
+  }
+  Vec3 S[3][3];
+  for (int k = 0; k <= 2; ++k)
+    for (int l = 0; l <= 2 - k; ++l) S[k][l] = Vec3(H[k][l][0], H[k][l][1], H[k][l][2]);
+  if (rational) {
+    // Quotient rule (NURBS Book A4.4) for order 2.
+    auto w = [&](int k, int l) { return H[k][l][3]; };
+    const double w0 = w(0, 0);
+    S[0][0] /= w0;
+    S[1][0] = (S[1][0] - w(1, 0) * S[0][0]) / w0;
+    S[0][1] = (S[0][1] - w(0, 1) * S[0][0]) / w0;
+    S[2][0] = (S[2][0] - 2.0 * w(1, 0) * S[1][0] - w(2, 0) * S[0][0]) / w0;
+    S[0][2] = (S[0][2] - 2.0 * w(0, 1) * S[0][1] - w(0, 2) * S[0][0]) / w0;
+    S[1][1] = (S[1][1] - w(1, 0) * S[0][1] - w(0, 1) * S[1][0] - w(1, 1) * S[0][0]) / w0;
+  }
+  out = {S[0][0], S[1][0], S[0][1], S[2][0], S[1][1], S[0][2]};
+}
+
 Vec3 BSplineSurface::normal(double u, double v) const {
   const auto d = derivatives(u, v, 1);
   const Vec3 n = Vec3(d[1][0].head<3>()).cross(Vec3(d[0][1].head<3>()));
@@ -361,63 +554,78 @@ GridEvaluator::GridEvaluator(const BSplineSurface& surface, std::vector<double> 
   }
 }
 
-void GridEvaluator::evaluate(Matrix* points, Matrix* du, Matrix* dv) const {
-  const BSplineSurface& s = *s_;
-  const int p = s.degreeU(), q = s.degreeV(), nv = s.numV();
-  const bool rational = s.isRational();
-  const int D = rational ? 4 : 3;
-  const Matrix h = rational ? s.homogeneous() : s.points();
-  assert(s.dim() == 3);
-  const auto total = static_cast<Eigen::Index>(us_.size() * vs_.size());
-  if (points) points->resize(total, 3);
-  if (du) du->resize(total, 3);
-  if (dv) dv->resize(total, 3);
-  // Per u line: T_j = sum_r N_r(u) P_rj and Tu_j = sum_r N'_r(u) P_rj for every column j (D values each).
+namespace {
+// The per-point blend of GridEvaluator, for D = 3 (polynomial) or 4 (homogeneous) coordinates.
+template <int D>
+void gridKernel(const double* H, int p, int q, int nv, const std::vector<int>& spanU, const std::vector<int>& spanV,
+                const Matrix& basisU, const Matrix& basisV, double* out0, double* outU, double* outV) {
   std::vector<double> T(static_cast<size_t>(nv * D)), Tu(static_cast<size_t>(nv * D));
-  const double* H = h.data();
-  for (size_t a = 0; a < us_.size(); ++a) {
-    const double* Nu = basisU_.row(static_cast<Eigen::Index>(a)).data();
+  const size_t nvs = spanV.size();
+  for (size_t a = 0; a < spanU.size(); ++a) {
+    const double* Nu = basisU.row(static_cast<Eigen::Index>(a)).data();
     const double* Nu1 = Nu + (p + 1);
-    const int i0 = spanU_[a] - p;
+    const int i0 = spanU[a] - p;
     std::fill(T.begin(), T.end(), 0.0);
     std::fill(Tu.begin(), Tu.end(), 0.0);
     for (int r = 0; r <= p; ++r) {
       const double* row = H + static_cast<size_t>(i0 + r) * static_cast<size_t>(nv * D);
       const double n0 = Nu[r], n1 = Nu1[r];
+      double* t = T.data();
+      double* tu = Tu.data();
       for (int k = 0; k < nv * D; ++k) {
-        T[static_cast<size_t>(k)] += n0 * row[k];
-        Tu[static_cast<size_t>(k)] += n1 * row[k];
+        t[k] += n0 * row[k];
+        tu[k] += n1 * row[k];
       }
     }
-    for (size_t b = 0; b < vs_.size(); ++b) {
-      const double* Nv = basisV_.row(static_cast<Eigen::Index>(b)).data();
+    for (size_t b = 0; b < nvs; ++b) {
+      const double* Nv = basisV.row(static_cast<Eigen::Index>(b)).data();
       const double* Nv1 = Nv + (q + 1);
-      const int j0 = spanV_[b] - q;
-      double S[4] = {0, 0, 0, 0}, Su[4] = {0, 0, 0, 0}, Sv[4] = {0, 0, 0, 0};
+      const double* t = T.data() + static_cast<size_t>((spanV[b] - q) * D);
+      const double* tu = Tu.data() + static_cast<size_t>((spanV[b] - q) * D);
+      double S[D] = {}, Su[D] = {}, Sv[D] = {};
       for (int c = 0; c <= q; ++c) {
-        const double* t = T.data() + static_cast<size_t>((j0 + c) * D);
-        const double* tu = Tu.data() + static_cast<size_t>((j0 + c) * D);
         const double m0 = Nv[c], m1 = Nv1[c];
         for (int k = 0; k < D; ++k) {
-          S[k] += m0 * t[k];
-          Su[k] += m0 * tu[k];
-          Sv[k] += m1 * t[k];
+          S[k] += m0 * t[c * D + k];
+          Su[k] += m0 * tu[c * D + k];
+          Sv[k] += m1 * t[c * D + k];
         }
       }
-      const auto row = static_cast<Eigen::Index>(a * vs_.size() + b);
-      if (rational) {
+      if constexpr (D == 4) {
         const double w = S[3];
         for (int k = 0; k < 3; ++k) {
-          const double x = S[k] / w;
-          S[k] = x;
-          Su[k] = (Su[k] - Su[3] * x) / w;
-          Sv[k] = (Sv[k] - Sv[3] * x) / w;
+          S[k] /= w;
+          Su[k] = (Su[k] - Su[3] * S[k]) / w;
+          Sv[k] = (Sv[k] - Sv[3] * S[k]) / w;
         }
       }
-      if (points) (*points).row(row) << S[0], S[1], S[2];
-      if (du) (*du).row(row) << Su[0], Su[1], Su[2];
-      if (dv) (*dv).row(row) << Sv[0], Sv[1], Sv[2];
+      const size_t o = 3 * (a * nvs + b);
+      for (int k = 0; k < 3; ++k) {
+        if (out0) out0[o + static_cast<size_t>(k)] = S[k];
+        if (outU) outU[o + static_cast<size_t>(k)] = Su[k];
+        if (outV) outV[o + static_cast<size_t>(k)] = Sv[k];
+      }
     }
+  }
+}
+}  // namespace
+
+void GridEvaluator::evaluate(Matrix* points, Matrix* du, Matrix* dv) const {
+  const BSplineSurface& s = *s_;
+  assert(s.dim() == 3);
+  const auto total = static_cast<Eigen::Index>(us_.size() * vs_.size());
+  if (points) points->resize(total, 3);
+  if (du) du->resize(total, 3);
+  if (dv) dv->resize(total, 3);
+  double* o0 = points ? points->data() : nullptr;
+  double* oU = du ? du->data() : nullptr;
+  double* oV = dv ? dv->data() : nullptr;
+  if (s.isRational()) {
+    const Matrix h = s.homogeneous();
+    gridKernel<4>(h.data(), s.degreeU(), s.degreeV(), s.numV(), spanU_, spanV_, basisU_, basisV_, o0, oU, oV);
+  } else {
+    gridKernel<3>(s.points().data(), s.degreeU(), s.degreeV(), s.numV(), spanU_, spanV_, basisU_, basisV_, o0, oU,
+                  oV);
   }
 }
 

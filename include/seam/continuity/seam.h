@@ -51,7 +51,8 @@ struct SeamSample {
 
 struct SeamOptions {
   Tolerances tol;                 ///< classification thresholds (defaults: Tolerances{}; scale them to the model)
-  int samplesPerSpan = 64;        ///< dense samples per Bezier span (at least 64), for the sampled worst values
+  int samplesPerSpan = 64;        ///< dense samples per Bezier span where the seam cannot be certified
+  int certifiedSamplesPerPiece = 16;  ///< start samples per piece of a certified seam (the bound subdivision refines)
   double boundRelGap = 0.01;      ///< subdivide until a certified bound is within 1 % of the sampled worst value
   int maxSubdivisionDepth = 30;   ///< per piece; a bound that is not tight by then is reported as it is
   int maxCertifiedDegree = 160;   ///< polynomial data above this degree are sampled instead (certified = false)

@@ -65,6 +65,10 @@ class BSplineSurface {
   [[nodiscard]] VecX evaluate(double u, double v) const;
   /// out[k][l] = d^{k+l} S / du^k dv^l for k + l <= order (rational: NURBS Book A4.4).
   [[nodiscard]] std::vector<std::vector<VecX>> derivatives(double u, double v, int order) const;
+  /// Point and first partial derivatives without allocation (3-D surfaces; the hot path of dense checks).
+  void pointAndFirstDerivatives(double u, double v, Vec3& point, Vec3& du, Vec3& dv) const;
+  /// S, S_u, S_v, S_uu, S_uv, S_vv (in that order) without allocation (3-D surfaces).
+  void secondOrderDerivatives(double u, double v, std::array<Vec3, 6>& out) const;
   /// Unit normal (S_u x S_v normalised); zero vector where the normal vanishes.
   [[nodiscard]] Vec3 normal(double u, double v) const;
 
