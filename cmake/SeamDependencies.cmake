@@ -14,6 +14,14 @@ target_include_directories(seam_glpk SYSTEM INTERFACE ${GLPK_INCLUDE_DIR} ${GMP_
 target_link_libraries(seam_glpk INTERFACE ${GLPK_LIBRARY} ${GMPXX_LIBRARY} ${GMP_LIBRARY})
 install(TARGETS seam_glpk EXPORT seamTargets)
 
+# GiNaC (symbolic expressions of "expression" patches) and Boost headers (autodiff), issue 6.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(GINAC REQUIRED IMPORTED_TARGET ginac)
+find_package(Boost 1.74 REQUIRED)
+add_library(seam_symbolic INTERFACE)
+target_link_libraries(seam_symbolic INTERFACE PkgConfig::GINAC Boost::headers)
+install(TARGETS seam_symbolic EXPORT seamTargets)
+
 if(SEAM_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)

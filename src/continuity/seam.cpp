@@ -635,7 +635,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     } else {
       const int pA = A.oriented.degreeV(), pB = B.oriented.degreeV();
       bool found = false;
-      if (!A.rational && !B.rational) {
+      {  // homogeneous degrees: b = a o psi holds for (wP, w) as well, up to a common factor that is not sought
         if (pB % pA == 0 && pB / pA > 1) {
           auto [pc2, b2] = tryMaps(B, A, false, fittedMaps(B, A, rep.overlapB, pB / pA));
           if (b2 <= exactFloor) {
@@ -692,7 +692,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   };
   const int perSpan = std::max(opt.samplesPerSpan, 2);
   if (certified) {
-    const int perPiece = std::max(opt.certifiedSamplesPerPiece, 2);
+    // Plots (keepSamples) get the dense sampling; otherwise the bound subdivision does the refining.
+    const int perPiece = std::max(opt.keepSamples ? opt.samplesPerSpan : opt.certifiedSamplesPerPiece, 2);
     for (const Piece& pc : pieces)
       for (int i = 0; i <= perPiece; ++i) {
         const double x = static_cast<double>(i) / perPiece;

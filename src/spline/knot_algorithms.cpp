@@ -20,6 +20,16 @@ int exactMultiplicity(const std::vector<double>& knots, double t) {
   return static_cast<int>(std::count(knots.begin(), knots.end(), t));
 }
 
+// Distinct knot values strictly inside the domain, compared exactly (knot insertion counts multiplicities exactly,
+// so decomposition must too: two knots 1e-14 apart are two breakpoints, however close).
+std::vector<double> exactInteriorBreakpoints(int degree, const std::vector<double>& knots) {
+  const Interval dom = KnotVector(knots).domain(degree);
+  std::vector<double> out;
+  for (double k : knots)
+    if (k > dom.lo && k < dom.hi && (out.empty() || k != out.back())) out.push_back(k);
+  return out;
+}
+
 // One Boehm insertion of t (t inside the domain, span k with t_k <= t <= t_{k+1}, t_k < t_{k+1}).
 void insertOnce(int p, std::vector<double>& knots, Matrix& rows, double t) {
   const int k = spanOf(p, knots, t);
@@ -73,7 +83,7 @@ void clampEnds(int degree, std::vector<double>& knots, Matrix& rows) {
 
 std::vector<Interval> decompose(int degree, std::vector<double>& knots, Matrix& rows) {
   clampEnds(degree, knots, rows);
-  const std::vector<double> interior = KnotVector(knots).interiorBreakpoints(degree);
+  const std::vector<double> interior = exactInteriorBreakpoints(degree, knots);
   for (double b : interior) insertKnot(degree, knots, rows, b, degree);
   std::vector<Interval> spans;
   const Interval dom = KnotVector(knots).domain(degree);
@@ -97,7 +107,7 @@ void elevateDegree(int degree, std::vector<double>& knots, Matrix& rows, int by)
   // Target knot vector: every multiplicity rises by `by`.
   std::vector<double> target;
   for (int i = 0; i <= q; ++i) target.push_back(dom.lo);
-  for (double b : kv.interiorBreakpoints(p))
+  for (double b : exactInteriorBreakpoints(p, knots))
     for (int i = 0; i < exactMultiplicity(knots, b) + by; ++i) target.push_back(b);
   for (int i = 0; i <= q; ++i) target.push_back(dom.hi);
   const auto nNew = static_cast<Eigen::Index>(target.size()) - q - 1;

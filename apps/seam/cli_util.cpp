@@ -1,0 +1,139 @@
+#include "cli_util.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "seam/io/file.h"
+
+namespace seam::cli {
+
+namespace {
+
+bool isScalar(const OrderedJson& v) { return !v.is_object() && !v.is_array(); }
+
+std::string scalarText(const OrderedJson& v) {
+  if (v.is_number_float() && !std::isfinite(v.get<double>())) return "null";
+  return v.dump(-1, ' ', false, OrderedJson::error_handler_t::replace);
+}
+
+void appendJson(std::string& out, const OrderedJson& v, int indent) {
+  const std::string pad(static_cast<size_t>(indent + 2), ' ');
+  if (v.is_object()) {
+    if (v.empty()) {
+      out += "{}";
+      return;
+    }
+    out += "{\n";
+    bool first = true;
+    for (const auto& [key, value] : v.items()) {
+      if (!first) out += ",\n";
+      first = false;
+      out += pad + OrderedJson(key).dump(-1, ' ', false, OrderedJson::error_handler_t::replace) + ": ";
+      appendJson(out, value, indent + 2);
+    }
+    out += '\n';
+    out.append(static_cast<size_t>(indent), ' ');
+    out += '}';
+  } else if (v.is_array()) {
+    if (std::all_of(v.begin(), v.end(), isScalar)) {
+      out += "[";
+      for (size_t k = 0; k < v.size(); ++k) {
+        if (k > 0) out += ", ";
+        out += scalarText(v[k]);
+      }
+      out += "]";
+      return;
+    }
+    out += "[\n";
+    for (size_t k = 0; k < v.size(); ++k) {
+      if (k > 0) out += ",\n";
+      out += pad;
+      appendJson(out, v[k], indent + 2);
+    }
+    out += '\n';
+    out.append(static_cast<size_t>(indent), ' ');
+    out += ']';
+  } else {
+    out += scalarText(v);
+  }
+}
+
+}  // namespace
+
+void printError(std::string_view message) {
+  std::cout.flush();
+  std::cerr << "seam: error: " << message << "\n";
+}
+
+std::optional<Model> loadModel(const std::filesystem::path& file) {
+  Result<Model> model = io::readModel(file);
+  if (!model) {
+    printError(model.status().message());
+    return std::nullopt;
+  }
+  return std::move(model).value();
+}
+
+std::string jsonText(const OrderedJson& value) {
+  std::string out;
+  appendJson(out, value, 0);
+  out += "\n";
+  return out;
+}
+
+void printJson(const OrderedJson& value) { std::cout << jsonText(value) << std::flush; }
+
+std::string formatNumber(double x) { return fmt::format("{:.10g}", x); }
+
+std::string formatVector(const double* values, int count) {
+  std::string s = "[";
+  for (int k = 0; k < count; ++k) {
+    if (k > 0) s += ", ";
+    s += formatNumber(values[k]);
+  }
+  return s + "]";
+}
+
+std::string formatTable(const std::vector<std::string>& header,
+                        const std::vector<std::vector<std::string>>& rows,
+                        const std::vector<bool>& rightAligned) {
+  std::vector<size_t> width(header.size(), 0);
+  auto measure = [&](const std::vector<std::string>& row) {
+    for (size_t c = 0; c < row.size() && c < width.size(); ++c) width[c] = std::max(width[c], row[c].size());
+  };
+  measure(header);
+  for (const auto& row : rows) measure(row);
+
+  auto line = [&](const std::vector<std::string>& row) {
+    std::string s;
+    for (size_t c = 0; c < width.size(); ++c) {
+      const std::string& cell = c < row.size() ? row[c] : std::string();
+      const bool right = c < rightAligned.size() && rightAligned[c];
+      if (c > 0) s += "  ";
+      s += right ? fmt::format("{:>{}}", cell, width[c]) : fmt::format("{:<{}}", cell, width[c]);
+    }
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s + "\n";
+  };
+  std::string out = line(header);
+  size_t total = 0;
+  for (size_t c = 0; c < width.size(); ++c) total += width[c] + (c > 0 ? 2 : 0);
+  out += std::string(total, '-') + "\n";
+  for (const auto& row : rows) out += line(row);
+  return out;
+}
+
+bool writeOutputFile(const std::filesystem::path& file, const std::string& content) {
+  const Status status = io::writeFileAtomically(file, content);
+  if (!status) {
+    printError(status.message());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace seam::cli

@@ -1,0 +1,46 @@
+#pragma once
+// Helpers shared by the seam subcommands: loading a model with errors on stderr, printing JSON and
+// fixed-width tables, formatting numbers, writing output files atomically.
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "seam/model/model.h"
+
+namespace seam::cli {
+
+/// JSON with keys kept in insertion order (what the commands print).
+using OrderedJson = nlohmann::ordered_json;
+
+/// Prints "seam: error: <message>" on stderr.
+void printError(std::string_view message);
+
+/// Loads a model with io::readModel; on failure prints the message on stderr and returns nullopt
+/// (the command then exits with kExitBadInput).
+std::optional<Model> loadModel(const std::filesystem::path& file);
+
+/// JSON text: objects indented by two spaces, arrays of numbers/strings on one line, doubles with round-trip
+/// precision, non-finite doubles as null. Ends with a newline.
+std::string jsonText(const OrderedJson& value);
+/// Prints jsonText(value) on stdout.
+void printJson(const OrderedJson& value);
+
+/// A number for tables: up to 10 significant digits (%.10g).
+std::string formatNumber(double x);
+/// "[x, y, z]" with formatNumber for each coordinate.
+std::string formatVector(const double* values, int count);
+
+/// A fixed-width text table: a header row, a rule, then the rows; columns are padded to their widest cell,
+/// the first column left-aligned and the others as given by `rightAligned` (default: left). Ends with a
+/// newline.
+std::string formatTable(const std::vector<std::string>& header,
+                        const std::vector<std::vector<std::string>>& rows,
+                        const std::vector<bool>& rightAligned = {});
+
+/// Writes `content` to `file` atomically; on failure prints the message on stderr and returns false.
+bool writeOutputFile(const std::filesystem::path& file, const std::string& content);
+
+}  // namespace seam::cli

@@ -1,0 +1,394 @@
+// seam check FILE [--seam A:ea B:eb] [--tol-distance D] [--tol-angle DEG] [--tol-curvature K]
+//                  [--require G0|G1|G2] [--json]
+// Continuity of every seam of a model (or of one pair of edges), its vertices and its free edges.
+// Exit codes: 0 ok, 1 --require given and some seam is below it, 2 bad usage or input.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli_util.h"
+#include "command_registry.h"
+#include "seam/continuity/model_check.h"
+#include "seam/continuity/seam.h"
+
+namespace seam::cli {
+
+namespace {
+
+struct CheckOptions {
+  std::string file;
+  std::vector<std::string> seam;
+  std::optional<double> tolDistance, tolAngle, tolCurvature;
+  std::string require;
+  bool json = false;
+};
+
+std::optional<GeometricClass> parseClass(const std::string& s) {
+  if (s == "G0") return GeometricClass::kG0;
+  if (s == "G1") return GeometricClass::kG1;
+  if (s == "G2") return GeometricClass::kG2;
+  return std::nullopt;
+}
+
+OrderedJson point(const Vec3& p) { return OrderedJson::array({p.x(), p.y(), p.z()}); }
+OrderedJson range(const Interval& i) { return OrderedJson::array({i.lo, i.hi}); }
+
+const std::string& patchName(const Model& m, int index) { return m.patches[static_cast<size_t>(index)].name; }
+
+OrderedJson seamJson(const SeamReport& r) {
+  auto worst = [](const WorstLocation& w) { return OrderedJson{{"t", w.t}, {"point", point(w.point)}}; };
+  OrderedJson j{{"a", r.a},
+                {"a_edge", std::string(edgeName(r.aEdge))},
+                {"b", r.b},
+                {"b_edge", std::string(edgeName(r.bEdge))},
+                {"overlap", range(r.overlapA)},
+                {"g0_max", r.g0Max},
+                {"g1_max_deg", r.g1MaxDeg},
+                {"g2_max", r.g2Max},
+                {"g2_rel_max", r.g2RelMax},
+                {"lambda_range", range(r.lambdaRange)},
+                {"kappa_range", range(r.kappaRange)},
+                {"geometric", std::string(toString(r.geometric))},
+                {"parametric", std::string(toString(r.parametric))},
+                {"certified", r.certified},
+                {"worst", {{"g0", worst(r.g0Worst)}, {"g1", worst(r.g1Worst)}, {"g2", worst(r.g2Worst)}}}};
+  j["overlap_b"] = range(r.overlapB);
+  j["reversed"] = r.reversed;
+  j["correspondence"] = std::string(toString(r.correspondence));
+  j["g0_sampled"] = r.g0Sampled;
+  j["g1_sampled_deg"] = r.g1SampledDeg;
+  j["g2_sampled"] = r.g2Sampled;
+  j["g2_rel_sampled"] = r.g2RelSampled;
+  j["g2_residual_max"] = r.g2ResidualMax;
+  j["c1_mismatch"] = r.c1Mismatch;
+  j["c2_mismatch"] = r.c2Mismatch;
+  j["notes"] = r.notes;
+  return j;
+}
+
+OrderedJson failedSeamJson(const Model& m, const EdgePair& p, const Status& error) {
+  return OrderedJson{{"a", patchName(m, p.a.patch)},
+                     {"a_edge", std::string(edgeName(p.a.edge))},
+                     {"b", patchName(m, p.b.patch)},
+                     {"b_edge", std::string(edgeName(p.b.edge))},
+                     {"overlap", range(p.overlapA)},
+                     {"error", error.message()}};
+}
+
+OrderedJson optionalNumber(const std::optional<double>& x) { return x ? OrderedJson(*x) : OrderedJson(nullptr); }
+
+OrderedJson cornerJson(const Model& m, const CornerReport& c) {
+  OrderedJson patches = OrderedJson::array();
+  for (const PatchCorner& k : c.corners) patches.push_back(patchName(m, k.patch));
+  OrderedJson j{{"point", point(c.point)},
+                {"patches", patches},
+                {"valence", c.valence},
+                {"normal_spread_deg", optionalNumber(c.normalSpreadDeg)},
+                {"g1_residual", c.fourPatch ? OrderedJson(c.fourPatch->g1Residual) : OrderedJson(nullptr)},
+                {"g2_residual", c.fourPatch ? optionalNumber(c.fourPatch->g2Residual) : OrderedJson(nullptr)}};
+  j["closed"] = c.closed;
+  j["degenerate"] = c.degenerate;
+  j["corner_gap"] = c.cornerGap;
+  if (c.fourPatch) {
+    OrderedJson numbering = OrderedJson::array();
+    for (int k : c.fourPatch->corner) numbering.push_back(patchName(m, c.corners[static_cast<size_t>(k)].patch));
+    j["paper_patches"] = numbering;
+    OrderedJson seams = OrderedJson::array();
+    for (const VertexSeam& s : c.fourPatch->seams) {
+      seams.push_back({{"from", s.from},
+                       {"to", s.to},
+                       {"lambda", s.lambda},
+                       {"kappa", s.kappa},
+                       {"d_lambda", s.dLambda},
+                       {"d_kappa", s.dKappa},
+                       {"mu", optionalNumber(s.mu)},
+                       {"nu", optionalNumber(s.nu)},
+                       {"g1", s.g1},
+                       {"g2", s.g2}});
+    }
+    j["seams"] = seams;
+    j["g1_relations"] = OrderedJson(std::vector<double>(c.fourPatch->g1Relations.begin(), c.fourPatch->g1Relations.end()));
+    j["g2_relations"] = c.fourPatch->g2Relations
+                            ? OrderedJson(std::vector<double>(c.fourPatch->g2Relations->begin(),
+                                                              c.fourPatch->g2Relations->end()))
+                            : OrderedJson(nullptr);
+  }
+  if (!c.notes.empty()) j["notes"] = c.notes;
+  return j;
+}
+
+OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing) {
+  OrderedJson j{{"distance", t.distance},
+                {"angle_deg", t.angleDeg},
+                {"curvature_rel", t.curvatureRel},
+                {"parametric", t.parametric}};
+  if (pairing) j["pairing"] = *pairing;
+  return j;
+}
+
+OrderedJson summaryJson(const ModelCheckReport& r, const std::optional<GeometricClass>& require) {
+  const ModelCheckSummary& s = r.summary;
+  OrderedJson geometric, parametric;
+  for (int k = 0; k < 4; ++k) {
+    geometric[std::string(toString(static_cast<GeometricClass>(k)))] = s.geometric[static_cast<size_t>(k)];
+    parametric[std::string(toString(static_cast<ParametricClass>(k)))] = s.parametric[static_cast<size_t>(k)];
+  }
+  OrderedJson j{{"seams", s.seams},
+                {"worst_geometric", std::string(toString(s.worstGeometric))},
+                {"worst_parametric", std::string(toString(s.worstParametric))},
+                {"geometric", geometric},
+                {"parametric", parametric},
+                {"certified", s.certifiedSeams},
+                {"failed", s.failedSeams},
+                {"g0_max", s.g0Max},
+                {"g1_max_deg", s.g1MaxDeg},
+                {"g2_max", s.g2Max},
+                {"g2_rel_max", s.g2RelMax},
+                {"corners", s.corners},
+                {"four_valent_corners", s.fourValentCorners},
+                {"degenerate_corners", s.degenerateCorners},
+                {"normal_spread_max_deg", s.normalSpreadMaxDeg},
+                {"corner_g1_residual_max", s.cornerG1ResidualMax},
+                {"corner_g2_residual_max", optionalNumber(s.cornerG2ResidualMax)},
+                {"free_edges", s.freeEdges},
+                {"degenerate_edges", s.degenerateEdges}};
+  j["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
+  j["below_required"] = s.belowRequired;
+  return j;
+}
+
+std::string num(double x) { return formatNumber(x); }
+
+std::string seamTable(const Model& m, const ModelCheckReport& r) {
+  std::vector<std::vector<std::string>> rows;
+  for (const ModelSeam& s : r.seams) {
+    const EdgePair& p = s.pair;
+    std::vector<std::string> row{patchName(m, p.a.patch), std::string(edgeName(p.a.edge)), patchName(m, p.b.patch),
+                                 std::string(edgeName(p.b.edge))};
+    if (s.report) {
+      const SeamReport& x = *s.report;
+      row.insert(row.end(), {num(x.g0Max), num(x.g1MaxDeg), num(x.g2Max), std::string(toString(x.geometric)),
+                             std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
+    } else {
+      row.insert(row.end(), {"-", "-", "-", "error", "-", "-"});
+    }
+    if (!(p.fullA && p.fullB)) row.push_back(fmt::format("partial [{}, {}]", num(p.overlapA.lo), num(p.overlapA.hi)));
+    else row.emplace_back("");
+    rows.push_back(std::move(row));
+  }
+  std::string out = fmt::format("seams ({})\n", r.seams.size());
+  if (!rows.empty()) {
+    out += formatTable({"A", "edge", "B", "edge", "G0 gap", "G1 angle (deg)", "G2 jump", "geometric", "parametric",
+                        "certified", "overlap"},
+                       rows, {false, false, false, false, true, true, true, false, false, false, false});
+  }
+  for (const ModelSeam& s : r.seams)
+    if (!s.report)
+      out += fmt::format("  {}:{} - {}:{}: {}\n", patchName(m, s.pair.a.patch), edgeName(s.pair.a.edge),
+                         patchName(m, s.pair.b.patch), edgeName(s.pair.b.edge), s.error.message());
+  return out;
+}
+
+std::string cornerTable(const Model& m, const ModelCheckReport& r) {
+  std::vector<std::vector<std::string>> rows;
+  for (const ModelCorner& c : r.corners) {
+    const CornerReport& x = c.report;
+    std::string names;
+    for (const PatchCorner& k : x.corners) names += (names.empty() ? "" : " ") + patchName(m, k.patch);
+    rows.push_back({formatVector(x.point.data(), 3), std::to_string(x.valence) + (x.closed ? "" : " (boundary)"),
+                    names, x.normalSpreadDeg ? num(*x.normalSpreadDeg) : (x.degenerate ? "degenerate" : "-"),
+                    x.fourPatch ? num(x.fourPatch->g1Residual) : "-",
+                    x.fourPatch && x.fourPatch->g2Residual ? num(*x.fourPatch->g2Residual) : "-"});
+  }
+  std::string out = fmt::format("\ncorners ({})\n", r.corners.size());
+  if (!rows.empty())
+    out += formatTable({"point", "valence", "patches", "normal spread (deg)", "G1 residual", "G2 residual"}, rows,
+                       {false, false, false, true, true, true});
+  return out;
+}
+
+std::string edgeLists(const Model& m, const ModelCheckReport& r) {
+  std::string out = fmt::format("\nfree edges ({})\n", r.freeEdges.size());
+  for (const FreeEdge& f : r.freeEdges) {
+    out += fmt::format("  {}:{}", patchName(m, f.edge.patch), edgeName(f.edge.edge));
+    if (f.partial) out += fmt::format(" [{}, {}]", num(f.range.lo), num(f.range.hi));
+    out += "\n";
+  }
+  out += fmt::format("\ndegenerate edges ({})\n", r.degenerateEdges.size());
+  for (const DegenerateEdge& d : r.degenerateEdges)
+    out += fmt::format("  {}:{} at {}\n", patchName(m, d.edge.patch), edgeName(d.edge.edge),
+                       formatVector(d.point.data(), 3));
+  return out;
+}
+
+std::string summaryLine(const ModelCheckReport& r, const std::optional<GeometricClass>& require) {
+  const ModelCheckSummary& s = r.summary;
+  std::string line = fmt::format(
+      "\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified{}), worst {} / {}, max gap {}, max angle {} "
+      "deg, max G2 jump {}; {} corners ({} 4-valent, {} degenerate), {} free edges, {} degenerate edges",
+      s.seams, s.geometric[3], s.geometric[2], s.geometric[1], s.geometric[0], s.certifiedSeams,
+      s.failedSeams > 0 ? fmt::format(", {} failed", s.failedSeams) : "", toString(s.worstGeometric),
+      toString(s.worstParametric), num(s.g0Max), num(s.g1MaxDeg), num(s.g2Max), s.corners, s.fourValentCorners,
+      s.degenerateCorners, s.freeEdges, s.degenerateEdges);
+  if (require)
+    line += s.belowRequired > 0 ? fmt::format("; {} below {}", s.belowRequired, toString(*require))
+                                : fmt::format("; all meet {}", toString(*require));
+  return line + "\n";
+}
+
+/// "NAME:edge" -> patch index and edge; prints the problem and returns nullopt when it is wrong.
+std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, const std::string& text) {
+  const size_t colon = text.rfind(':');
+  if (colon == std::string::npos) {
+    printError(fmt::format("--seam: \"{}\" is not NAME:EDGE (EDGE one of u0, u1, v0, v1)", text));
+    return std::nullopt;
+  }
+  const std::string name = text.substr(0, colon);
+  const Result<Edge> edge = parseEdge(text.substr(colon + 1));
+  if (!edge) {
+    printError(fmt::format("--seam: \"{}\": {}", text, edge.status().message()));
+    return std::nullopt;
+  }
+  for (size_t k = 0; k < m.patches.size(); ++k)
+    if (m.patches[k].name == name) return EdgeRef{static_cast<int>(k), *edge};
+  printError(fmt::format("{}: no patch named \"{}\"", file, name));
+  return std::nullopt;
+}
+
+int runCheck(const CheckOptions& o) {
+  std::optional<GeometricClass> require;
+  if (!o.require.empty()) {
+    require = parseClass(o.require);
+    if (!require) {
+      printError(fmt::format("--require: \"{}\" is not G0, G1 or G2", o.require));
+      return kExitBadInput;
+    }
+  }
+  for (const auto& [name, value] : {std::pair{"--tol-distance", o.tolDistance}, std::pair{"--tol-angle", o.tolAngle},
+                                    std::pair{"--tol-curvature", o.tolCurvature}}) {
+    if (value && !(std::isfinite(*value) && *value > 0.0)) {
+      printError(fmt::format("{} must be a positive number, got {}", name, *value));
+      return kExitBadInput;
+    }
+  }
+  const std::optional<Model> model = loadModel(o.file);
+  if (!model) return kExitBadInput;
+  if (model->patches.empty()) {
+    printError(fmt::format("{}: the model has no patches", o.file));
+    return kExitBadInput;
+  }
+  Tolerances tol = Tolerances::forModelSize(model->boundingBox().diagonal());
+  if (o.tolDistance) tol.distance = *o.tolDistance;
+  if (o.tolAngle) tol.angleDeg = *o.tolAngle;
+  if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
+
+  ModelCheckReport report;
+  std::optional<double> pairing;
+  if (!o.seam.empty()) {
+    const std::optional<EdgeRef> a = parseSeamSide(*model, o.file, o.seam[0]);
+    if (!a) return kExitBadInput;
+    const std::optional<EdgeRef> b = parseSeamSide(*model, o.file, o.seam[1]);
+    if (!b) return kExitBadInput;
+    SeamOptions so;
+    so.tol = tol;
+    Result<SeamReport> r = analyzeSeam(model->patches[static_cast<size_t>(a->patch)], a->edge,
+                                       model->patches[static_cast<size_t>(b->patch)], b->edge, so);
+    if (!r) {
+      printError(fmt::format("{}: seam {} - {}: {}", o.file, o.seam[0], o.seam[1], r.status().message()));
+      return kExitBadInput;
+    }
+    report.tolerances = tol;
+    ModelSeam ms;
+    ms.pair.a = *a;
+    ms.pair.b = *b;
+    ms.pair.overlapA = r->overlapA;
+    ms.pair.overlapB = r->overlapB;
+    ms.pair.reversed = r->reversed;
+    ms.report = std::move(r).value();
+    report.seams.push_back(std::move(ms));
+    ModelCheckSummary& s = report.summary;
+    const SeamReport& x = *report.seams[0].report;
+    s.seams = 1;
+    ++s.geometric[static_cast<size_t>(x.geometric)];
+    ++s.parametric[static_cast<size_t>(x.parametric)];
+    s.certifiedSeams = x.certified ? 1 : 0;
+    s.worstGeometric = x.geometric;
+    s.worstParametric = x.parametric;
+    s.g0Max = x.g0Max, s.g1MaxDeg = x.g1MaxDeg, s.g2Max = x.g2Max, s.g2RelMax = x.g2RelMax;
+    s.g0Seam = s.g1Seam = s.g2Seam = 0;
+    if (require && !meets(x.geometric, *require)) s.belowRequired = 1;
+  } else {
+    ModelCheckOptions mo;
+    mo.tolerances = tol;
+    mo.require = require;
+    Result<ModelCheckReport> r = checkModel(*model, mo);
+    if (!r) {
+      printError(fmt::format("{}: {}", o.file, r.status().message()));
+      return kExitBadInput;
+    }
+    report = std::move(r).value();
+    pairing = report.pairingTolerance;
+  }
+
+  if (o.json) {
+    OrderedJson seams = OrderedJson::array();
+    for (const ModelSeam& s : report.seams)
+      seams.push_back(s.report ? seamJson(*s.report) : failedSeamJson(*model, s.pair, s.error));
+    OrderedJson corners = OrderedJson::array();
+    for (const ModelCorner& c : report.corners) corners.push_back(cornerJson(*model, c.report));
+    OrderedJson free = OrderedJson::array();
+    for (const FreeEdge& f : report.freeEdges) {
+      OrderedJson e{{"patch", patchName(*model, f.edge.patch)}, {"edge", std::string(edgeName(f.edge.edge))}};
+      e["range"] = range(f.range);
+      e["partial"] = f.partial;
+      free.push_back(e);
+    }
+    OrderedJson degenerate = OrderedJson::array();
+    for (const DegenerateEdge& d : report.degenerateEdges)
+      degenerate.push_back({{"patch", patchName(*model, d.edge.patch)},
+                            {"edge", std::string(edgeName(d.edge.edge))},
+                            {"point", point(d.point)}});
+    printJson(OrderedJson{{"tolerances", tolerancesJson(report.tolerances, pairing)},
+                          {"seams", seams},
+                          {"corners", corners},
+                          {"free_edges", free},
+                          {"degenerate_edges", degenerate},
+                          {"summary", summaryJson(report, require)}});
+  } else {
+    std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}\n\n", o.file,
+                                  num(tol.distance), num(tol.angleDeg), num(tol.curvatureRel),
+                                  pairing ? fmt::format(", pairing {}", num(*pairing)) : "");
+    out += seamTable(*model, report);
+    if (o.seam.empty()) out += cornerTable(*model, report) + edgeLists(*model, report);
+    out += summaryLine(report, require);
+    fmt::print("{}", out);
+  }
+  return require && report.summary.belowRequired > 0 ? kExitGeometryProblem : kExitOk;
+}
+
+void addCheck(CLI::App& app, int& exit) {
+  auto options = std::make_shared<CheckOptions>();
+  CLI::App* cmd = app.add_subcommand("check", "Continuity of every seam, vertex and free edge of a model");
+  cmd->add_option("FILE", options->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("--seam", options->seam, "Analyse only this pair of edges, e.g. --seam S1:u1 S2:u0")
+      ->expected(2)
+      ->type_name("A:EDGE B:EDGE");
+  cmd->add_option("--tol-distance", options->tolDistance,
+                  "G0 tolerance (length); default 1e-6 x bounding-box diagonal");
+  cmd->add_option("--tol-angle", options->tolAngle, "G1 tolerance in degrees; default 0.01");
+  cmd->add_option("--tol-curvature", options->tolCurvature, "G2 tolerance, relative; default 0.01");
+  cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
+  cmd->add_flag("--json", options->json, "Print JSON instead of tables");
+  cmd->footer("Exit codes: 0 ok, 1 some seam is below --require, 2 bad usage or input.");
+  cmd->callback([options, &exit]() { exit = runCheck(*options); });
+}
+
+}  // namespace
+
+static CommandRegistrar registerCheck("check", addCheck);
+
+}  // namespace seam::cli

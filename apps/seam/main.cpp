@@ -1,0 +1,50 @@
+// The seam command-line tool: every subcommand registers itself in command_registry.h; main only builds the
+// CLI11 application, parses, and maps errors to exit codes (0 ok, 1 geometry problem, 2 bad usage or input).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "command_registry.h"
+#include "seam/version.h"
+
+int main(int argc, char** argv) {
+  using seam::cli::kExitBadInput;
+  try {
+    CLI::App app{"seam: geometric continuity of spline surfaces", "seam"};
+    app.set_version_flag("--version", std::string("seam ") + seam::kVersion, "Print the version and exit");
+    app.require_subcommand(1);
+    app.footer(
+        "Exit codes: 0 success, 1 a problem was found in the geometry, 2 bad usage or invalid input.\n"
+        "Run 'seam <command> --help' for the options of a command.\n");
+
+    std::vector<seam::cli::CommandEntry> commands = seam::cli::commandRegistry();
+    std::sort(
+        commands.begin(), commands.end(),
+        [](const seam::cli::CommandEntry& a, const seam::cli::CommandEntry& b) { return a.name < b.name; });
+    int exitCode = seam::cli::kExitOk;
+    for (const seam::cli::CommandEntry& command : commands) command.add(app, exitCode);
+
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::Success& e) {  // --help, --help-all, --version
+      return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+      std::cout.flush();
+      std::cerr << "seam: error: " << e.what()
+                << "\nRun 'seam --help' or 'seam <command> --help' for usage.\n";
+      return kExitBadInput;
+    }
+    return exitCode;
+  } catch (const std::exception& e) {
+    std::cout.flush();
+    std::cerr << "seam: error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (...) {
+    std::cout.flush();
+    std::cerr << "seam: error: unknown internal error\n";
+    return kExitBadInput;
+  }
+}

@@ -1,0 +1,117 @@
+// Benchmarks of the whole-model check (issue 3, section 8): an n x n model of bicubic Bezier patches cut from one
+// C2 bicubic B-spline surface, with some seams perturbed (a gap or a kink).
+//
+//   BM_CheckModel/100        full certified check of 100 x 100 patches (target < 1 s on one core)
+//   BM_CheckModelPairingAndCorners/100   the same without the seam analyses (pairing + vertices)
+//   BM_AnalyzeSeam           one interior seam (per-seam cost)
+//   BM_PairEdges/n           pairing alone for n x n patches, n = 32 (1k), 100 (10k), 200 (40k): O(N log N)
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "seam/continuity/model_check.h"
+#include "seam/continuity/seam.h"
+#include "seam/spline/bspline_surface.h"
+
+namespace {
+
+using seam::BSplineSurface;
+using seam::Matrix;
+using seam::Model;
+
+/// Every kPerturbEvery-th patch gets one perturbed seam: even ones a 1e-4 gap (a lifted boundary row), odd ones a
+/// kink (the row next to the boundary moved along z).
+constexpr int kPerturbEvery = 97;
+
+Model gridModel(int n) {
+  const int np = n + 3;
+  Matrix pts(np * np, 3);
+  for (int i = 0; i < np; ++i)
+    for (int j = 0; j < np; ++j)
+      pts.row(i * np + j) = Eigen::RowVector3d(double(i) / n, double(j) / n,
+                                               0.05 * std::sin(6.0 * i / n) * std::cos(5.0 * j / n + 0.3));
+  std::vector<double> knots(static_cast<size_t>(np + 4));
+  for (int k = 0; k < np + 4; ++k) knots[static_cast<size_t>(k)] = std::clamp(double(k - 3), 0.0, double(n)) / n;
+  const BSplineSurface s = BSplineSurface::create(3, 3, knots, knots, np, np, pts).value();
+  Model m;
+  int index = 0;
+  for (const seam::BezierPatchPiece& piece : s.bezierPatches()) {
+    BSplineSurface b = piece.patch.toBSpline(piece.u, piece.v);
+    if (index % kPerturbEvery == kPerturbEvery - 1 && piece.spanU > 0) {
+      Matrix q = b.points();
+      const bool gap = (index / kPerturbEvery) % 2 == 0;
+      for (int j = 0; j < 4; ++j) q(gap ? j : 4 + j, 2) += gap ? 1e-4 : 2e-3;  // row i = 0 (U0 edge) or i = 1
+      b = BSplineSurface(3, 3, b.knotsU(), b.knotsV(), 4, 4, q);
+    }
+    m.patches.push_back({"P" + std::to_string(index++), seam::PatchKind::kBezier, std::move(b)});
+  }
+  return m;
+}
+
+const Model& cachedModel(int n) {
+  static std::vector<std::pair<int, Model>> cache;
+  for (const auto& [k, m] : cache)
+    if (k == n) return m;
+  cache.emplace_back(n, gridModel(n));
+  return cache.back().second;
+}
+
+void BM_CheckModel(benchmark::State& state) {
+  const Model& m = cachedModel(static_cast<int>(state.range(0)));
+  size_t seams = 0, certified = 0;
+  for (auto _ : state) {
+    auto r = seam::checkModel(m);
+    benchmark::DoNotOptimize(r);
+    seams = r->seams.size();
+    certified = static_cast<size_t>(r->summary.certifiedSeams);
+  }
+  state.counters["patches"] = static_cast<double>(m.patches.size());
+  state.counters["seams"] = static_cast<double>(seams);
+  state.counters["certified"] = static_cast<double>(certified);
+  state.counters["per_seam"] = benchmark::Counter(static_cast<double>(seams),
+                                                  benchmark::Counter::kIsIterationInvariantRate |
+                                                      benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_CheckModel)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
+
+void BM_CheckModelPairingAndCorners(benchmark::State& state) {
+  const Model& m = cachedModel(static_cast<int>(state.range(0)));
+  seam::ModelCheckOptions o;
+  o.analyzeSeams = false;
+  for (auto _ : state) {
+    auto r = seam::checkModel(m, o);
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["patches"] = static_cast<double>(m.patches.size());
+}
+BENCHMARK(BM_CheckModelPairingAndCorners)->Arg(100)->Unit(benchmark::kMillisecond);
+
+void BM_AnalyzeSeam(benchmark::State& state) {
+  const Model& m = cachedModel(100);
+  // Patch 0 is span (0,0); patch 1 is span (0,1): they share patch 0's V1 edge and patch 1's V0 edge.
+  seam::SeamOptions o;
+  o.tol = seam::Tolerances::forModelSize(m.boundingBox().diagonal());
+  for (auto _ : state) {
+    auto r = seam::analyzeSeam(m.patches[0], seam::Edge::V1, m.patches[1], seam::Edge::V0, o);
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK(BM_AnalyzeSeam)->Unit(benchmark::kMicrosecond);
+
+void BM_PairEdges(benchmark::State& state) {
+  const Model& m = cachedModel(static_cast<int>(state.range(0)));
+  size_t pairs = 0;
+  for (auto _ : state) {
+    auto r = seam::pairEdges(m);
+    benchmark::DoNotOptimize(r);
+    pairs = r->pairs.size();
+  }
+  state.counters["pairs"] = static_cast<double>(pairs);
+  state.SetComplexityN(static_cast<int64_t>(m.patches.size()));
+}
+BENCHMARK(BM_PairEdges)->Arg(32)->Arg(100)->Arg(200)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oNLogN);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,115 @@
+// Throughput of the regularity certificates (issue 5): order-4 curve segments in R^3 per second (target >= 1e6/s)
+// and 4 x 4 surface sub-nets per second, certificate only (no search, no ell), and the defect search for scale.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "seam/regularity/regularity.h"
+
+namespace {
+
+using seam::BSplineCurve;
+using seam::BSplineSurface;
+using seam::Matrix;
+
+std::vector<double> uniformKnots(int degree, int numPoints) {
+  std::vector<double> t(static_cast<size_t>(numPoints + degree + 1));
+  for (size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i);
+  return t;
+}
+
+/// A wavy space curve with `n` control points; `noise` scales random perturbations (0: smooth, Lau holds
+/// everywhere; 1: a random walk, most segments need Definition 1.1).
+BSplineCurve curve(int n, double noise) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Matrix p(n, 3);
+  for (int i = 0; i < n; ++i) {
+    p.row(i) << std::cos(0.3 * i) + noise * u(rng), std::sin(0.3 * i) + noise * u(rng), 0.1 * i + noise * u(rng);
+  }
+  return BSplineCurve(3, seam::KnotVector(uniformKnots(3, n)), p);
+}
+
+BSplineSurface surface(int n, double noise) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Matrix p(n * n, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      p.row(i * n + j) << i + noise * u(rng), j + noise * u(rng),
+          std::sin(0.2 * i) * std::cos(0.2 * j) + noise * u(rng);
+    }
+  }
+  return BSplineSurface(3, 3, seam::KnotVector(uniformKnots(3, n)), seam::KnotVector(uniformKnots(3, n)), n, n, p);
+}
+
+seam::regularity::RegularityOptions certificateOnly() {
+  seam::regularity::RegularityOptions o;
+  o.runSearch = false;
+  o.maxEll = 0;
+  return o;
+}
+
+void BM_CurveSegments(benchmark::State& state) {
+  const double noise = static_cast<double>(state.range(0)) / 100.0;
+  const BSplineCurve c = curve(20003, noise);
+  const auto options = certificateOnly();
+  long segments = 0;
+  long certified = 0;
+  for (auto _ : state) {
+    auto r = seam::regularity::analyzeCurve(c, options);
+    benchmark::DoNotOptimize(r);
+    segments += static_cast<long>(r->segments.size());
+    for (const auto& s : r->segments) certified += s.verdict == seam::regularity::Verdict::kCertified ? 1 : 0;
+  }
+  state.SetItemsProcessed(segments);
+  state.counters["certified%"] = 100.0 * static_cast<double>(certified) / static_cast<double>(segments);
+}
+BENCHMARK(BM_CurveSegments)->Arg(0)->Arg(100)->Unit(benchmark::kMillisecond);
+
+void BM_SurfaceSubnets(benchmark::State& state) {
+  const double noise = static_cast<double>(state.range(0)) / 100.0;
+  const BSplineSurface s = surface(103, noise);
+  const auto options = certificateOnly();
+  long subnets = 0;
+  long certified = 0;
+  for (auto _ : state) {
+    auto r = seam::regularity::analyzeSurface(s, options);
+    benchmark::DoNotOptimize(r);
+    subnets += static_cast<long>(r->subnets.size());
+    for (const auto& x : r->subnets) certified += x.verdict == seam::regularity::Verdict::kCertified ? 1 : 0;
+  }
+  state.SetItemsProcessed(subnets);
+  state.counters["certified%"] = 100.0 * static_cast<double>(certified) / static_cast<double>(subnets);
+}
+BENCHMARK(BM_SurfaceSubnets)->Arg(0)->Arg(30)->Unit(benchmark::kMillisecond);
+
+void BM_CurveSearch(benchmark::State& state) {
+  const BSplineCurve c = curve(203, 0.0);
+  long segments = 0;
+  for (auto _ : state) {
+    auto r = seam::regularity::searchCurveDefects(c);
+    benchmark::DoNotOptimize(r);
+    segments += 200;
+  }
+  state.SetItemsProcessed(segments);
+}
+BENCHMARK(BM_CurveSearch)->Unit(benchmark::kMillisecond);
+
+void BM_SurfaceSearch(benchmark::State& state) {
+  const BSplineSurface s = surface(13, 0.0);
+  long patches = 0;
+  for (auto _ : state) {
+    auto r = seam::regularity::searchSurfaceDefects(s);
+    benchmark::DoNotOptimize(r);
+    patches += 100;
+  }
+  state.SetItemsProcessed(patches);
+}
+BENCHMARK(BM_SurfaceSearch)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,509 @@
+#include "seam/continuity/corner.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "continuity/model_check_internal.h"
+
+namespace seam {
+
+namespace {
+
+/// A corner whose |S_u x S_v| is below this fraction of max(|S_u|, |S_v|)^2 has no normal: the angle between S_u and
+/// S_v is below ~1e-8 rad, or one of them is shorter than 1e-8 of the other (a collapsed edge, e.g. a pole). Above
+/// it, the unit normal is computed to ~kRoundoff / 1e-8 = 1e-4 relative at worst, and far better at ordinary corners.
+constexpr double kDegenerateNormalRel = 1e-8;
+
+/// Where the geometric link test samples each edge: at this fraction of the edge's parameter range from the vertex.
+constexpr double kLinkSampleFraction = 0.25;
+
+/// Default link tolerance of the geometric overload, as a multiple of Tolerances::distance (small gaps still link).
+constexpr double kDefaultLinkToleranceFactor = 100.0;
+
+double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
+
+/// Angle between two unit vectors in radians, accurate near 0 and pi.
+double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+
+/// Value and partial derivatives up to order 2 at one point.
+struct Jet {
+  Vec3 p = Vec3::Zero(), u = Vec3::Zero(), v = Vec3::Zero(), uu = Vec3::Zero(), uv = Vec3::Zero(),
+       vv = Vec3::Zero();
+};
+
+Vec2 cornerUV(const BSplineSurface& s, const PatchCorner& c) {
+  const Interval du = s.domainU(), dv = s.domainV();
+  return {c.uMax ? du.hi : du.lo, c.vMax ? dv.hi : dv.lo};
+}
+
+Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
+  const Vec2 uv = cornerUV(s, c);
+  const std::vector<std::vector<VecX>> d = s.derivatives(uv.x(), uv.y(), 2);
+  Jet j;
+  j.p = d[0][0].head<3>();
+  j.u = d[1][0].head<3>();
+  j.v = d[0][1].head<3>();
+  j.uu = d[2][0].head<3>();
+  j.uv = d[1][1].head<3>();
+  j.vv = d[0][2].head<3>();
+  return j;
+}
+
+/// The jet of the reoriented patch (PatchLayout) at the same point.
+Jet orient(Jet j, const PatchLayout& l) {
+  if (l.swapUV) {
+    std::swap(j.u, j.v);
+    std::swap(j.uu, j.vv);
+  }
+  if (l.reverseU) {
+    j.u = -j.u;
+    j.uv = -j.uv;
+  }
+  if (l.reverseV) {
+    j.v = -j.v;
+    j.uv = -j.uv;
+  }
+  return j;
+}
+
+/// Where the corner lies after reorientation by `l`.
+PatchCorner orientCorner(PatchCorner c, const PatchLayout& l) {
+  if (l.swapUV) std::swap(c.uMax, c.vMax);
+  if (l.reverseU) c.uMax = !c.uMax;
+  if (l.reverseV) c.vMax = !c.vMax;
+  return c;
+}
+
+/// First and second derivative of a separable reparametrisation u -> alpha(u) at V.
+struct Map1 {
+  double d1 = 1.0;
+  double d2 = 0.0;
+};
+
+/// r~(u, v) = r(alpha(u), beta(v)): chain rule up to order 2.
+Jet reparametrize(const Jet& j, const Map1& a, const Map1& b) {
+  Jet r;
+  r.p = j.p;
+  r.u = a.d1 * j.u;
+  r.v = b.d1 * j.v;
+  r.uu = a.d1 * a.d1 * j.uu + a.d2 * j.u;
+  r.uv = a.d1 * b.d1 * j.uv;
+  r.vv = b.d1 * b.d1 * j.vv + b.d2 * j.v;
+  return r;
+}
+
+/// The correspondence s = phi(t) between two parametrisations of one curve at a point, from c1(t) = c2(phi(t)):
+/// c1' = c2' phi', c1'' = c2'' phi'^2 + c2' phi'' (least squares along c2').
+Map1 correspondence(const Vec3& c1d, const Vec3& c1dd, const Vec3& c2d, const Vec3& c2dd) {
+  const double n2 = c2d.squaredNorm();
+  Map1 m;
+  m.d1 = c1d.dot(c2d) / n2;
+  m.d2 = (c1dd - m.d1 * m.d1 * c2dd).dot(c2d) / n2;
+  return m;
+}
+
+/// Eq. 2.1 / 3.10 / 3.11 at V for one seam. a = A_cross, b = A_along (side A), da, db their derivatives along the seam,
+/// B = B_cross and dB its derivative along the seam, Acc/Aca/Aaa the second derivatives of A (cross-cross,
+/// cross-along, along-along), Bcc that of B.
+VertexSeam seamAtVertex(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, const Vec3& B, const Vec3& dB,
+                        const Vec3& Acc, const Vec3& Aca, const Vec3& Aaa, const Vec3& Bcc, double lengthScale,
+                        const Tolerances& tol) {
+  VertexSeam s;
+  Eigen::Matrix2d G;
+  G << a.dot(a), a.dot(b), a.dot(b), b.dot(b);
+  const Eigen::Matrix2d Ginv = G.inverse();
+  const Eigen::Vector2d x = Ginv * Eigen::Vector2d(a.dot(B), b.dot(B));
+  s.lambda = x[0];
+  s.kappa = x[1];
+  const Vec3 res = B - s.lambda * a - s.kappa * b;
+  s.g1Residual = res.norm() / B.norm();
+
+  // d/ds of the least-squares solution: G x = c  =>  G' x + G x' = c'.
+  Eigen::Matrix2d Gd;
+  Gd << 2.0 * a.dot(da), da.dot(b) + a.dot(db), da.dot(b) + a.dot(db), 2.0 * b.dot(db);
+  const Eigen::Vector2d cd(da.dot(B) + a.dot(dB), db.dot(B) + b.dot(dB));
+  const Eigen::Vector2d xd = Ginv * (cd - Gd * x);
+  s.dLambda = xd[0];
+  s.dKappa = xd[1];
+  const Vec3 n = a.cross(b).normalized();
+  const Vec3 dres = dB - s.dLambda * a - s.lambda * da - s.dKappa * b - s.kappa * db;
+  s.g1SlopeResidual = std::abs(n.dot(dres)) / B.norm() / b.norm() * lengthScale;
+
+  // Lemma 2: B_cc = lambda^2 A_cc + 2 lambda kappa A_ca + kappa^2 A_aa + mu A_cross + nu A_along (+ normal residual).
+  const Vec3 predicted = s.lambda * s.lambda * Acc + 2.0 * s.lambda * s.kappa * Aca + s.kappa * s.kappa * Aaa;
+  const Vec3 r2 = Bcc - predicted;
+  const Eigen::Vector2d mn = Ginv * Eigen::Vector2d(a.dot(r2), b.dot(r2));
+  const double b2 = B.squaredNorm();
+  s.g2Jump = n.dot(r2) / b2;
+  const double kA = n.dot(predicted) / b2, kB = n.dot(Bcc) / b2;
+  s.g2JumpRel = std::abs(s.g2Jump) / std::max({std::abs(kA), std::abs(kB), 1.0 / lengthScale});
+
+  const double sinTol = std::sin(tol.angleDeg * std::numbers::pi / 180.0);
+  s.g1 = s.g1Residual <= sinTol && s.g1SlopeResidual <= sinTol;
+  s.g2 = s.g1 && s.g2JumpRel <= tol.curvatureRel;
+  if (s.g2) {
+    s.mu = mn[0];
+    s.nu = mn[1];
+  }
+  return s;
+}
+
+/// Node of the fan walk: one of the two edges through a corner.
+struct CornerEdge {
+  int corner = 0;
+  Edge edge = Edge::U0;
+  friend bool operator==(const CornerEdge&, const CornerEdge&) = default;
+};
+
+/// The two edges through a corner in counter-clockwise order around the vertex (seen from the side S_u x S_v points
+/// to): at (u_min, v_min) and (u_max, v_max) the v-edge comes first, at the two other corners the u-edge.
+std::pair<Edge, Edge> ccwEdges(const PatchCorner& c, int orientation) {
+  const bool vFirst = (c.uMax == c.vMax);
+  std::pair<Edge, Edge> e = vFirst ? std::pair{c.vEdge(), c.uEdge()} : std::pair{c.uEdge(), c.vEdge()};
+  if (orientation < 0) std::swap(e.first, e.second);
+  return e;
+}
+
+struct Fan {
+  std::vector<int> order;  // corners in walk order
+  bool closed = false;
+};
+
+}  // namespace
+
+BSplineSurface applyLayout(const BSplineSurface& s, const PatchLayout& layout) {
+  BSplineSurface r = layout.swapUV ? s.swappedUV() : s;
+  if (layout.reverseU) r = r.reversedU();
+  if (layout.reverseV) r = r.reversedV();
+  return r;
+}
+
+std::vector<CornerLink> findCornerLinks(std::span<const Patch> patches, std::span<const PatchCorner> corners,
+                                        double tolerance) {
+  std::vector<CornerLink> links;
+  const int n = static_cast<int>(corners.size());
+  // The point at kLinkSampleFraction of edge e from the corner, and the edge curve.
+  struct EdgeSample {
+    CornerEdge node;
+    Vec3 point;
+    BSplineCurve curve;
+    bool valid = false;
+  };
+  std::vector<EdgeSample> samples;
+  for (int i = 0; i < n; ++i) {
+    const PatchCorner& c = corners[static_cast<size_t>(i)];
+    if (c.patch < 0 || c.patch >= static_cast<int>(patches.size())) continue;
+    const BSplineSurface& s = patches[static_cast<size_t>(c.patch)].surface;
+    for (Edge e : {c.uEdge(), c.vEdge()}) {
+      EdgeSample es;
+      es.node = {i, e};
+      es.curve = s.boundaryCurve(e);
+      const Interval d = es.curve.domain();
+      // The corner is at the start of the edge when the other parameter is at its minimum.
+      const bool atStart = isUEdge(e) ? !c.vMax : !c.uMax;
+      const double t = atStart ? d.lo + kLinkSampleFraction * d.length() : d.hi - kLinkSampleFraction * d.length();
+      es.point = es.curve.evaluate(t).head<3>();
+      es.valid = true;
+      samples.push_back(std::move(es));
+    }
+  }
+  for (size_t x = 0; x < samples.size(); ++x) {
+    for (size_t y = x + 1; y < samples.size(); ++y) {
+      const EdgeSample& p = samples[x];
+      const EdgeSample& q = samples[y];
+      if (p.node.corner == q.node.corner) continue;  // the two edges of one corner are never one seam
+      const PatchCorner& cp = corners[static_cast<size_t>(p.node.corner)];
+      const PatchCorner& cq = corners[static_cast<size_t>(q.node.corner)];
+      if (cp.patch == cq.patch && p.node.edge == q.node.edge) {
+        // Both ends of one edge at the vertex: a collapsed edge when its middle is there too.
+        const Interval d = p.curve.domain();
+        const Vec3 mid = p.curve.evaluate(0.5 * (d.lo + d.hi)).head<3>();
+        if ((mid - p.curve.evaluate(d.lo).head<3>()).norm() <= tolerance &&
+            detail::controlExtent(p.curve) <= tolerance) {
+          links.push_back({p.node.corner, p.node.edge, q.node.corner, q.node.edge});
+        }
+        continue;
+      }
+      if (detail::projectOntoCurve(q.curve, p.point).distance <= tolerance &&
+          detail::projectOntoCurve(p.curve, q.point).distance <= tolerance) {
+        links.push_back({p.node.corner, p.node.edge, q.node.corner, q.node.edge});
+      }
+    }
+  }
+  return links;
+}
+
+Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<const PatchCorner> corners,
+                                   const CornerOptions& options) {
+  for (const PatchCorner& c : corners) {
+    if (c.patch < 0 || c.patch >= static_cast<int>(patches.size()))
+      return invalidInput(fmt::format("corner: patch index {} out of range (0..{})", c.patch, patches.size()));
+  }
+  const double tolerance = options.linkTolerance.value_or(kDefaultLinkToleranceFactor * options.tol.distance);
+  const std::vector<CornerLink> links = findCornerLinks(patches, corners, tolerance);
+  return analyzeCorner(patches, corners, links, options);
+}
+
+Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<const PatchCorner> corners,
+                                   std::span<const CornerLink> links, const CornerOptions& options) {
+  const int n = static_cast<int>(corners.size());
+  if (n == 0) return invalidInput("corner: no patch corners given");
+  for (const PatchCorner& c : corners) {
+    if (c.patch < 0 || c.patch >= static_cast<int>(patches.size()))
+      return invalidInput(fmt::format("corner: patch index {} out of range (0..{})", c.patch, patches.size()));
+    if (patches[static_cast<size_t>(c.patch)].surface.dim() != 3)
+      return invalidInput(fmt::format("corner: patch \"{}\" is not 3-D", patches[static_cast<size_t>(c.patch)].name));
+  }
+  // Links: validated, and at most one partner per corner edge.
+  std::vector<std::array<std::optional<CornerEdge>, 2>> partner(static_cast<size_t>(n));
+  auto slot = [&](int corner, Edge e) -> int {
+    const PatchCorner& c = corners[static_cast<size_t>(corner)];
+    return e == c.uEdge() ? 0 : (e == c.vEdge() ? 1 : -1);
+  };
+  std::vector<std::string> notes;
+  std::set<std::pair<int, int>> collapsed;  // (corner, corner) pairs joined by a collapsed edge
+  for (const CornerLink& l : links) {
+    if (l.a < 0 || l.a >= n || l.b < 0 || l.b >= n)
+      return invalidInput(fmt::format("corner: link refers to corner {} or {} (have {})", l.a, l.b, n));
+    const int sa = slot(l.a, l.aEdge), sb = slot(l.b, l.bEdge);
+    if (sa < 0 || sb < 0 || l.a == l.b)
+      return invalidInput(fmt::format("corner: link {}:{} - {}:{} does not join edges through two corners", l.a,
+                                      edgeName(l.aEdge), l.b, edgeName(l.bEdge)));
+    auto& pa = partner[static_cast<size_t>(l.a)][static_cast<size_t>(sa)];
+    auto& pb = partner[static_cast<size_t>(l.b)][static_cast<size_t>(sb)];
+    if (pa || pb) {
+      notes.push_back(fmt::format("non-manifold: corner edge {}:{} or {}:{} belongs to more than one seam; extra link "
+                                  "ignored",
+                                  l.a, edgeName(l.aEdge), l.b, edgeName(l.bEdge)));
+      continue;
+    }
+    pa = CornerEdge{l.b, l.bEdge};
+    pb = CornerEdge{l.a, l.aEdge};
+    if (corners[static_cast<size_t>(l.a)].patch == corners[static_cast<size_t>(l.b)].patch && l.aEdge == l.bEdge)
+      collapsed.insert({std::min(l.a, l.b), std::max(l.a, l.b)});
+  }
+
+  CornerReport report;
+  report.corners.assign(corners.begin(), corners.end());
+  report.notes = std::move(notes);
+
+  // Corner data.
+  std::vector<Jet> jets(static_cast<size_t>(n));
+  std::vector<Vec3> normals(static_cast<size_t>(n), Vec3::Zero());
+  std::vector<bool> degenerate(static_cast<size_t>(n), false);
+  double scale = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const PatchCorner& c = corners[static_cast<size_t>(i)];
+    const BSplineSurface& s = patches[static_cast<size_t>(c.patch)].surface;
+    jets[static_cast<size_t>(i)] = cornerJet(s, c);
+    const Jet& j = jets[static_cast<size_t>(i)];
+    report.point += j.p;
+    scale = std::max(scale, controlBox(s).diagonal());
+    const Vec3 cr = j.u.cross(j.v);
+    const double m = std::max(j.u.norm(), j.v.norm());
+    if (!(cr.norm() > kDegenerateNormalRel * m * m)) {
+      degenerate[static_cast<size_t>(i)] = true;
+      report.degenerateCorners.push_back(i);
+    } else {
+      normals[static_cast<size_t>(i)] = cr.normalized();
+    }
+  }
+  report.point /= n;
+  for (const Jet& j : jets) report.cornerGap = std::max(report.cornerGap, (j.p - report.point).norm());
+  report.degenerate = !report.degenerateCorners.empty();
+  const double lengthScale =
+      options.lengthScale.value_or(scale > 0.0 && std::isfinite(scale) ? scale : 1.0);
+
+  // Fans: walk from corner to corner across the linked edges, orienting each corner so that the seam edge we arrive
+  // by is its first edge (counter-clockwise); start open fans at a corner with an unlinked edge.
+  report.orientation.assign(static_cast<size_t>(n), 0);
+  std::vector<Fan> fans;
+  auto walk = [&](int start, int startOrientation) {
+    Fan fan;
+    int cur = start;
+    report.orientation[static_cast<size_t>(cur)] = startOrientation;
+    fan.order.push_back(cur);
+    for (;;) {
+      const PatchCorner& c = corners[static_cast<size_t>(cur)];
+      const Edge second = ccwEdges(c, report.orientation[static_cast<size_t>(cur)]).second;
+      const auto& next = partner[static_cast<size_t>(cur)][static_cast<size_t>(slot(cur, second))];
+      if (!next) break;
+      const int j = next->corner;
+      if (j == start) {
+        const Edge first = ccwEdges(corners[static_cast<size_t>(j)], report.orientation[static_cast<size_t>(j)]).first;
+        if (first == next->edge) {
+          fan.closed = true;
+        } else {
+          report.notes.push_back("the seams around the vertex cannot be oriented consistently (non-orientable)");
+        }
+        break;
+      }
+      if (report.orientation[static_cast<size_t>(j)] != 0) {
+        report.notes.push_back("non-manifold vertex: a corner is reached twice around the vertex");
+        break;
+      }
+      const int o = ccwEdges(corners[static_cast<size_t>(j)], 1).first == next->edge ? 1 : -1;
+      report.orientation[static_cast<size_t>(j)] = o;
+      fan.order.push_back(j);
+      cur = j;
+    }
+    fans.push_back(std::move(fan));
+  };
+  // Open fans first: a corner with exactly one linked edge starts one, oriented so the unlinked edge comes first.
+  for (int i = 0; i < n; ++i) {
+    if (report.orientation[static_cast<size_t>(i)] != 0) continue;
+    const auto& p = partner[static_cast<size_t>(i)];
+    if (p[0].has_value() == p[1].has_value()) continue;
+    const Edge unlinked = p[0] ? corners[static_cast<size_t>(i)].vEdge() : corners[static_cast<size_t>(i)].uEdge();
+    walk(i, ccwEdges(corners[static_cast<size_t>(i)], 1).first == unlinked ? 1 : -1);
+  }
+  for (int i = 0; i < n; ++i)
+    if (report.orientation[static_cast<size_t>(i)] == 0) walk(i, 1);
+  if (fans.size() > 1) report.notes.push_back(fmt::format("{} separate fans meet at the vertex", fans.size()));
+
+  // Sectors: consecutive corners of a fan joined by a collapsed edge are one sector.
+  for (const Fan& fan : fans) {
+    std::vector<std::vector<int>> sectors;
+    for (int c : fan.order) {
+      if (!sectors.empty() && collapsed.count({std::min(sectors.back().back(), c), std::max(sectors.back().back(), c)}))
+        sectors.back().push_back(c);
+      else
+        sectors.push_back({c});
+    }
+    if (fan.closed && sectors.size() > 1 &&
+        collapsed.count({std::min(sectors.back().back(), sectors.front().front()),
+                         std::max(sectors.back().back(), sectors.front().front())})) {
+      sectors.front().insert(sectors.front().begin(), sectors.back().begin(), sectors.back().end());
+      sectors.pop_back();
+    }
+    for (auto& s : sectors) report.sectors.push_back(std::move(s));
+  }
+  report.valence = static_cast<int>(report.sectors.size());
+  report.closed = fans.size() == 1 && fans[0].closed;
+
+  // Normal spread over the consistently oriented normals, within each fan (the orientations of separate fans, e.g. a
+  // handle touching a body at a vertex, are unrelated, so their normals are not compared).
+  for (const Fan& fan : fans) {
+    std::vector<Vec3> oriented;
+    for (int i : fan.order)
+      if (!degenerate[static_cast<size_t>(i)])
+        oriented.push_back(report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)]);
+    if (oriented.size() < 2) continue;
+    double spread = 0.0;
+    for (size_t x = 0; x < oriented.size(); ++x)
+      for (size_t y = x + 1; y < oriented.size(); ++y) spread = std::max(spread, angleBetween(oriented[x], oriented[y]));
+    report.normalSpreadDeg = std::max(report.normalSpreadDeg.value_or(0.0), degrees(spread));
+  }
+
+  // Four-patch analysis (Theorems 1 and 2).
+  const bool fourPatch = report.closed && report.valence == 4 && n == 4 && !report.degenerate;
+  if (!fourPatch) {
+    if (report.closed && report.valence == 4 && report.degenerate)
+      report.notes.push_back("4-valent vertex with a degenerate corner: Theorems 1 and 2 need S_u x S_v != 0");
+    return report;
+  }
+  FourPatchVertex fp;
+  // Patch 1: the corner listed first; patch 2 across its u-edge, patch 4 across its v-edge, patch 3 opposite.
+  const int c1 = 0;
+  const PatchCorner& k1 = corners[0];
+  const CornerEdge to2 = *partner[0][0];
+  const CornerEdge to4 = *partner[0][1];
+  const int c2 = to2.corner, c4 = to4.corner;
+  const PatchCorner& k2 = corners[static_cast<size_t>(c2)];
+  const PatchCorner& k4 = corners[static_cast<size_t>(c4)];
+  const Edge e2other = to2.edge == k2.uEdge() ? k2.vEdge() : k2.uEdge();
+  const Edge e4other = to4.edge == k4.uEdge() ? k4.vEdge() : k4.uEdge();
+  const CornerEdge from2 = *partner[static_cast<size_t>(c2)][static_cast<size_t>(slot(c2, e2other))];
+  const CornerEdge from4 = *partner[static_cast<size_t>(c4)][static_cast<size_t>(slot(c4, e4other))];
+  if (from2.corner != from4.corner || from2.corner == c1) {
+    report.notes.push_back("4-valent vertex whose seams do not form the 2 x 2 layout of Figure 2");
+    return report;
+  }
+  const int c3 = from2.corner;
+  const PatchCorner& k3 = corners[static_cast<size_t>(c3)];
+  fp.corner = {c1, c2, c3, c4};
+  // Layouts: the oriented patch k has V at (max,max), (min,max), (min,min), (max,min) for k = 1, 2, 3, 4; the seam
+  // (1,2) is u = max of 1 and u = min of 2, (1,4) is v = max of 1 and v = min of 4, (2,3) is v = max of 2 and
+  // v = min of 3, (4,3) is u = max of 4 and u = min of 3.
+  auto layoutFor = [](const PatchCorner& c, bool swap, bool wantUMax, bool wantVMax) {
+    PatchLayout l;
+    l.swapUV = swap;
+    const PatchCorner s = orientCorner(c, {swap, false, false});
+    l.reverseU = s.uMax != wantUMax;
+    l.reverseV = s.vMax != wantVMax;
+    return l;
+  };
+  fp.layout[0] = layoutFor(k1, false, true, true);
+  fp.layout[1] = layoutFor(k2, !isUEdge(to2.edge), false, true);      // shared edge with 1 becomes u = min
+  fp.layout[2] = layoutFor(k3, isUEdge(from2.edge), false, false);    // shared edge with 2 becomes v = min
+  fp.layout[3] = layoutFor(k4, isUEdge(to4.edge), true, false);       // shared edge with 1 becomes v = min
+  Jet D1 = orient(jets[static_cast<size_t>(c1)], fp.layout[0]);
+  Jet D2 = orient(jets[static_cast<size_t>(c2)], fp.layout[1]);
+  Jet D3 = orient(jets[static_cast<size_t>(c3)], fp.layout[2]);
+  Jet D4 = orient(jets[static_cast<size_t>(c4)], fp.layout[3]);
+
+  // Common parametrisation (johansson.md): patch 1 as it is; patch 2 keeps its u and takes v from patch 1 along seam
+  // (1,2); patch 4 keeps its v and takes u from patch 1 along seam (1,4); patch 3 takes u from patch 2 along (2,3)
+  // and v from patch 4 along (4,3).
+  const Map1 id;
+  const Map1 phi12 = correspondence(D1.v, D1.vv, D2.v, D2.vv);
+  const Map1 phi14 = correspondence(D1.u, D1.uu, D4.u, D4.uu);
+  const Map1 phi23 = correspondence(D2.u, D2.uu, D3.u, D3.uu);
+  const Map1 phi43 = correspondence(D4.v, D4.vv, D3.v, D3.vv);
+  const Jet R1 = D1;
+  const Jet R2 = reparametrize(D2, id, phi12);
+  const Jet R4 = reparametrize(D4, phi14, id);
+  const Jet R3 = reparametrize(D3, phi23, phi43);
+
+  const Tolerances& tol = options.tol;
+  // (1,2): cross u, along v.   (4,3): cross u, along v.   (1,4): cross v, along u.   (2,3): cross v, along u.
+  VertexSeam s12 = seamAtVertex(R1.u, R1.v, R1.uv, R1.vv, R2.u, R2.uv, R1.uu, R1.uv, R1.vv, R2.uu, lengthScale, tol);
+  VertexSeam s43 = seamAtVertex(R4.u, R4.v, R4.uv, R4.vv, R3.u, R3.uv, R4.uu, R4.uv, R4.vv, R3.uu, lengthScale, tol);
+  VertexSeam s14 = seamAtVertex(R1.v, R1.u, R1.uv, R1.uu, R4.v, R4.uv, R1.vv, R1.uv, R1.uu, R4.vv, lengthScale, tol);
+  VertexSeam s23 = seamAtVertex(R2.v, R2.u, R2.uv, R2.uu, R3.v, R3.uv, R2.vv, R2.uv, R2.uu, R3.vv, lengthScale, tol);
+  s12.from = 1, s12.to = 2;
+  s23.from = 2, s23.to = 3;
+  s43.from = 4, s43.to = 3;
+  s14.from = 1, s14.to = 4;
+  fp.seams = {s12, s23, s43, s14};
+
+  const double l12 = s12.lambda, k12 = s12.kappa, l14 = s14.lambda, k14 = s14.kappa;
+  const double l23 = s23.lambda, k23 = s23.kappa, l43 = s43.lambda, k43 = s43.kappa;
+  const double au = R1.u.norm(), av = R1.v.norm();
+  const double su = std::max(R2.u.norm(), R3.u.norm()), sv = std::max(R4.v.norm(), R3.v.norm());
+  // Components of r3_u (2.6a, 2.7a) and r3_v (2.6b, 2.7b) predicted along the two routes around V.
+  fp.g1Relations = {(k12 - l14 * k43) * av / su, (k14 - l12 * k23) * au / sv, (l12 - l43 - k14 * k43) * au / su,
+                    (l14 - l23 - k12 * k23) * av / sv};
+  for (double r : fp.g1Relations) fp.g1Residual = std::max(fp.g1Residual, std::abs(r));
+
+  if (s12.g2 && s23.g2 && s43.g2 && s14.g2) {
+    const double m12 = *s12.mu, n12 = *s12.nu, m14 = *s14.mu, n14 = *s14.nu;
+    const double m23 = *s23.mu, n23 = *s23.nu, m43 = *s43.mu, n43 = *s43.nu;
+    const double dl12 = s12.dLambda, dk12 = s12.dKappa, dl14 = s14.dLambda, dk14 = s14.dKappa;
+    const double dl23 = s23.dLambda, dk23 = s23.dKappa, dl43 = s43.dLambda;
+    const double dk43 = s43.dKappa;
+    double M = std::max(au, av) * std::max(au, av) / lengthScale;
+    for (const Jet* r : {&R1, &R2, &R3, &R4}) M = std::max({M, r->uu.norm(), r->uv.norm(), r->vv.norm()});
+    std::array<double, 6> g2 = {
+        // r3_uu along r1_v, r3_vv along r1_u, r3_uu along r1_u, r3_vv along r1_v, twist along r1_u, r1_v.
+        (2.0 * l43 * dl14 * k43 - n12 + n43 * l14 + m14 * k43 * k43) * av / M,
+        (2.0 * l23 * dl12 * k23 - n14 + n23 * l12 + m12 * k23 * k23) * au / M,
+        (2.0 * l43 * k43 * dk14 - m12 + m43 + n43 * k14 + n14 * k43 * k43) * au / M,
+        (2.0 * l23 * k23 * dk12 - m14 + m23 + n23 * k12 + n12 * k23 * k23) * av / M,
+        (dl43 - l23 * dl12 + l43 * dk14 - l12 * dk23 + k14 * dk43 - m12 * k23 + n14 * k43) * au / M,
+        (dl23 - l43 * dl14 + l23 * dk12 - l14 * dk43 + k12 * dk23 - m14 * k43 + n12 * k23) * av / M,
+    };
+    double worst = 0.0;
+    for (double r : g2) worst = std::max(worst, std::abs(r));
+    fp.g2Relations = g2;
+    fp.g2Residual = worst;
+  }
+  report.fourPatch = fp;
+  return report;
+}
+
+}  // namespace seam

@@ -1,0 +1,862 @@
+#include "seam/continuity/model_check.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "continuity/model_check_internal.h"
+
+namespace seam {
+
+// ---------------------------------------------------------------------------------------------------------------
+// Edge geometry helpers (model_check_internal.h)
+
+namespace detail {
+
+namespace {
+/// Coarse samples per knot span before Newton (the distance function of a cubic/quintic edge has at most a few
+/// minima per span; 8 separates them in practice, as in the seam analysis).
+constexpr int kProjectionSamplesPerSpan = 8;
+constexpr int kProjectionNewtonIterations = 20;
+}  // namespace
+
+EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::optional<Interval> range) {
+  const Interval r = range.value_or(curve.domain());
+  std::vector<double> cuts{r.lo};
+  for (double b : curve.knots().interiorBreakpoints(curve.degree()))
+    if (b > r.lo && b < r.hi) cuts.push_back(b);
+  cuts.push_back(r.hi);
+  auto dist2 = [&](double t) { return (curve.evaluate(t).head<3>() - p).squaredNorm(); };
+  double bestT = r.lo, bestD = dist2(r.lo);
+  for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+    for (int i = 1; i <= kProjectionSamplesPerSpan; ++i) {
+      const double t = cuts[k] + (cuts[k + 1] - cuts[k]) * i / kProjectionSamplesPerSpan;
+      const double d = dist2(t);
+      if (d < bestD) {
+        bestD = d;
+        bestT = t;
+      }
+    }
+  }
+  // Safeguarded Newton on f(t) = (C - p) . C'; accept only steps that do not increase the distance.
+  double t = bestT;
+  for (int it = 0; it < kProjectionNewtonIterations; ++it) {
+    const Matrix d = curve.derivatives(t, 2);
+    const Vec3 diff = d.row(0).head<3>().transpose() - p;
+    const Vec3 d1 = d.row(1).head<3>().transpose(), d2 = d.row(2).head<3>().transpose();
+    const double f = diff.dot(d1);
+    const double fp = d1.squaredNorm() + diff.dot(d2);
+    if (!(fp > 0.0)) break;
+    double next = std::clamp(t - f / fp, r.lo, r.hi);
+    double dn = dist2(next);
+    int halvings = 0;
+    while (dn > bestD && halvings < 30) {
+      next = 0.5 * (next + t);
+      dn = dist2(next);
+      ++halvings;
+    }
+    if (dn > bestD) break;
+    const bool converged = std::abs(next - t) <= kRoundoff * r.length();
+    t = next;
+    bestD = dn;
+    if (converged) break;
+  }
+  return {t, std::sqrt(bestD)};
+}
+
+double controlExtent(const BSplineCurve& curve) {
+  const Matrix& P = curve.points();
+  double extent = 0.0;
+  for (Eigen::Index i = 1; i < P.rows(); ++i) extent = std::max(extent, (P.row(i) - P.row(0)).head<3>().norm());
+  return extent;
+}
+
+Interval edgeDomain(const BSplineSurface& s, Edge e) { return isUEdge(e) ? s.domainV() : s.domainU(); }
+
+Vec2 edgePointUV(const BSplineSurface& s, Edge e, double t) {
+  switch (e) {
+    case Edge::U0: return {s.domainU().lo, t};
+    case Edge::U1: return {s.domainU().hi, t};
+    case Edge::V0: return {t, s.domainV().lo};
+    case Edge::V1: return {t, s.domainV().hi};
+  }
+  return {0.0, 0.0};
+}
+
+}  // namespace detail
+
+namespace {
+
+/// Samples per Bezier span of an edge for the pairing's overlap test (at least kMinPairSamples in all).
+constexpr int kPairSamplesPerSpan = 8;
+constexpr int kMinPairSamples = 16;
+/// The departure directions of an edge are chords to the points at 1/kDepartureDivisor of its domain from each end.
+constexpr double kDepartureDivisor = 64.0;
+/// Two edges meeting at a common end point can only share a part that starts there when they leave it in nearly the
+/// same direction: cos(angle) above this (60 degrees; a real seam with a gap d shared over a length >= 2d leaves at
+/// most ~30 degrees apart). Edges meeting at a corner at any larger angle, or continuing each other, are not tested
+/// further.
+constexpr double kDepartureCos = 0.5;
+/// Polyline points per Bezier span for the approximate first pass of the overlap test.
+constexpr int kPolylinePerSpan = 32;
+/// A candidate pair is rejected when more than this fraction of its shared part is already claimed, on either edge,
+/// by a closer partner.
+constexpr double kMaxClaimedFraction = 0.5;
+/// An edge whose bounding box covers more grid cells than this is tested against every edge by bounding boxes
+/// instead (a few very long edges must not blow up the index).
+constexpr long kMaxCellsPerEdge = 4096;
+/// Relative slack on parameters: an overlap reaching within this fraction of an edge's domain length (plus the
+/// pair's distance) of its end covers that end.
+constexpr double kParamRelSlack = 1e-9;
+
+struct EdgeInfo {
+  EdgeRef ref;
+  BSplineCurve curve;
+  Interval domain;
+  BoundingBox box;
+  double length = 0.0;  ///< control-polygon length (>= arc length)
+  double width = 0.0;   ///< extent of the patch across the edge
+  bool collapsed = false;
+  Vec3 start = Vec3::Zero(), end = Vec3::Zero();
+  /// Unit directions in which the edge leaves its start and its end point (chords to the points at 1/64 of the
+  /// domain from each end, robust where the first derivative vanishes).
+  Vec3 startDir = Vec3::Zero(), endDir = Vec3::Zero();
+  // Samples for the general overlap test (filled on demand).
+  std::vector<double> sampleT;
+  std::vector<Vec3> sampleP;
+  // Dense polyline for the fast approximate projection of the first pass (filled on demand).
+  std::vector<double> polyT;
+  std::vector<Vec3> polyP;
+};
+
+EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
+  EdgeInfo info;
+  info.ref = {index, e};
+  const BSplineSurface& s = patch.surface;
+  info.curve = s.boundaryCurve(e);
+  info.domain = info.curve.domain();
+  info.box = controlBox(info.curve);
+  const Matrix& P = info.curve.points();
+  for (Eigen::Index i = 1; i < P.rows(); ++i) info.length += (P.row(i) - P.row(i - 1)).head<3>().norm();
+  info.collapsed = detail::controlExtent(info.curve) <= collapseTol;
+  info.start = info.curve.evaluate(info.domain.lo).head<3>();
+  info.end = info.curve.evaluate(info.domain.hi).head<3>();
+  const double step = info.domain.length() / kDepartureDivisor;
+  info.startDir = (info.curve.evaluate(info.domain.lo + step).head<3>() - info.start).normalized();
+  info.endDir = (info.curve.evaluate(info.domain.hi - step).head<3>() - info.end).normalized();
+  return info;
+}
+
+/// Width of a patch across two opposite edges (U0/U1 or V0/V1, whose curves share one parameter domain): the largest
+/// of the distances between them at 1/4, 1/2 and 3/4 of the edge parameter.
+void setWidths(EdgeInfo& e0, EdgeInfo& e1) {
+  double w = 0.0;
+  for (double f : {0.25, 0.5, 0.75}) {
+    const double t = e0.domain.lo + f * e0.domain.length();
+    w = std::max(w, (e0.curve.evaluate(t) - e1.curve.evaluate(t)).head<3>().norm());
+  }
+  e0.width = e1.width = w;
+}
+
+void ensureSamples(EdgeInfo& e) {
+  if (!e.sampleT.empty()) return;
+  std::vector<double> cuts{e.domain.lo};
+  for (double b : e.curve.knots().interiorBreakpoints(e.curve.degree())) cuts.push_back(b);
+  cuts.push_back(e.domain.hi);
+  const int spans = static_cast<int>(cuts.size()) - 1;
+  const int perSpan = std::max(kPairSamplesPerSpan, (kMinPairSamples + spans - 1) / spans);
+  for (int k = 0; k < spans; ++k)
+    for (int i = (k == 0 ? 0 : 1); i <= perSpan; ++i)
+      e.sampleT.push_back(cuts[static_cast<size_t>(k)] + (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / perSpan);
+  for (double t : e.sampleT) e.sampleP.push_back(e.curve.evaluate(t).head<3>());
+  for (int k = 0; k < spans; ++k)
+    for (int i = (k == 0 ? 0 : 1); i <= kPolylinePerSpan; ++i)
+      e.polyT.push_back(cuts[static_cast<size_t>(k)] +
+                        (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / kPolylinePerSpan);
+  for (double t : e.polyT) e.polyP.push_back(e.curve.evaluate(t).head<3>());
+}
+
+/// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
+/// pass of the overlap test. Its error is the polyline's sag, ~(span length / kPolylinePerSpan)^2 x curvature / 8.
+detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
+  detail::EdgeProjection best{e.polyT[0], (e.polyP[0] - p).norm()};
+  for (size_t k = 0; k + 1 < e.polyP.size(); ++k) {
+    const Vec3 d = e.polyP[k + 1] - e.polyP[k];
+    const double len2 = d.squaredNorm();
+    const double f = len2 > 0.0 ? std::clamp((p - e.polyP[k]).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const double dist = (e.polyP[k] + f * d - p).norm();
+    if (dist < best.distance) best = {e.polyT[k] + f * (e.polyT[k + 1] - e.polyT[k]), dist};
+  }
+  return best;
+}
+
+/// Knot vector of the curve mapped affinely onto [0, 1].
+std::vector<double> normalizedKnots(const BSplineCurve& c) {
+  std::vector<double> k = c.knots().values();
+  const Interval d = c.domain();
+  for (double& x : k) x = (x - d.lo) / d.length();
+  return k;
+}
+
+/// Fast path: control polygons that agree point by point within `tol` (in the same or reversed order, the closer of
+/// the two) with equivalent knots and weights. Then the edges are the same parametrised curve up to the largest
+/// control-point distance (partition of unity).
+std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, double tol) {
+  const BSplineCurve& ca = a.curve;
+  const BSplineCurve& cb = b.curve;
+  if (ca.degree() != cb.degree() || ca.numPoints() != cb.numPoints() || ca.isRational() != cb.isRational())
+    return std::nullopt;
+  const std::vector<double> ka = normalizedKnots(ca), kb = normalizedKnots(cb);
+  const int n = ca.numPoints();
+  std::optional<EdgePair> best;
+  for (bool reversed : {false, true}) {
+    bool knotsMatch = true;
+    for (size_t i = 0; i < ka.size() && knotsMatch; ++i) {
+      const double other = reversed ? 1.0 - kb[ka.size() - 1 - i] : kb[i];
+      knotsMatch = std::abs(ka[i] - other) <= kKnotRelTol;
+    }
+    if (!knotsMatch) continue;
+    double d = 0.0;
+    bool weightsMatch = true;
+    for (int i = 0; i < n; ++i) {
+      const int j = reversed ? n - 1 - i : i;
+      d = std::max(d, (ca.points().row(i) - cb.points().row(j)).head<3>().norm());
+      if (ca.isRational())
+        weightsMatch = weightsMatch && std::abs(ca.weights()[i] - cb.weights()[j]) <= kRoundoff * std::abs(ca.weights()[i]);
+    }
+    if (!weightsMatch || d > tol || (best && best->distance <= d)) continue;
+    EdgePair p;
+    p.a = a.ref;
+    p.b = b.ref;
+    p.overlapA = a.domain;
+    p.overlapB = b.domain;
+    p.reversed = reversed;
+    p.distance = d;
+    p.identicalControlPolygons = true;
+    best = p;
+  }
+  return best;
+}
+
+/// The longest run of consecutive samples within `tol` of the other edge; returns (first, last) indices.
+std::optional<std::pair<size_t, size_t>> longestRun(const std::vector<detail::EdgeProjection>& proj, double tol) {
+  std::optional<std::pair<size_t, size_t>> best;
+  size_t i = 0;
+  while (i < proj.size()) {
+    if (proj[i].distance > tol) {
+      ++i;
+      continue;
+    }
+    size_t j = i;
+    while (j + 1 < proj.size() && proj[j + 1].distance <= tol) ++j;
+    if (j > i && (!best || j - i > best->second - best->first)) best = std::pair{i, j};
+    i = j + 1;
+  }
+  return best;
+}
+
+/// Distance from p to an axis-aligned box (0 inside).
+double boxDistance(const BoundingBox& b, const Vec3& p) {
+  return (p.cwiseMax(b.min).cwiseMin(b.max) - p).norm();
+}
+
+/// Cheap necessary condition for a shared part (whose ends are always edge ends, see endsExplained): some end point
+/// of one edge lies within tol of the other edge's control box, and where that end point coincides with an end point
+/// of the other edge, both edges leave it in nearly the same direction.
+bool mayOverlap(const EdgeInfo& a, const EdgeInfo& b, double tol) {
+  auto check = [tol](const Vec3& E, const Vec3& dir, const EdgeInfo& o) {
+    if (boxDistance(o.box, E) > tol) return false;
+    if ((E - o.start).norm() <= tol) return dir.dot(o.startDir) > kDepartureCos;
+    if ((E - o.end).norm() <= tol) return dir.dot(o.endDir) > kDepartureCos;
+    return true;  // near the other edge's interior: a T-junction is possible
+  };
+  return check(a.start, a.startDir, b) || check(a.end, a.endDir, b) || check(b.start, b.startDir, a) ||
+         check(b.end, b.endDir, a);
+}
+
+/// General overlap test by sampling both edges and projecting onto the other. A candidate shared part is built from
+/// the longest run of samples of A within `tol` of B and the longest such run of B (or from one of them alone), and
+/// kept only when it verifies: every sample of A inside it lies within `tol` of B and every sample of B inside its
+/// image lies within `tol` of A. (Without the check, two curves that meet only at both of their ends, like the
+/// two halves of a closed loop, would combine their two end runs into a false full overlap.)
+/// With `exact` false, every projection is onto the other edge's dense polyline (cheap; used to reject most
+/// candidates); with `exact` true, onto the curve itself (Newton).
+std::optional<EdgePair> sampledOverlap(EdgeInfo& a, EdgeInfo& b, double tol, const ModelCheckOptions& options,
+                                       bool exact) {
+  ensureSamples(a);
+  ensureSamples(b);
+  auto project = [exact](const EdgeInfo& onto, const Vec3& p) {
+    return exact ? detail::projectOntoCurve(onto.curve, p) : polylineProjection(onto, p);
+  };
+  std::vector<detail::EdgeProjection> pa, pb;  // a's samples onto b, b's samples onto a
+  for (const Vec3& p : a.sampleP) pa.push_back(project(b, p));
+  for (const Vec3& p : b.sampleP) pb.push_back(project(a, p));
+  const auto ra = longestRun(pa, tol), rb = longestRun(pb, tol);
+  if (!ra && !rb) return std::nullopt;
+
+  struct Candidate {
+    Interval oa, ob;
+    double dist = 0.0, corr = 0.0;
+  };
+  auto build = [&](bool useA, bool useB) -> std::optional<Candidate> {
+    Candidate c{{a.domain.hi, a.domain.lo}, {b.domain.hi, b.domain.lo}, 0.0, 0.0};
+    if (useA) {
+      c.oa.lo = std::min(c.oa.lo, a.sampleT[ra->first]);
+      c.oa.hi = std::max(c.oa.hi, a.sampleT[ra->second]);
+      for (size_t k = ra->first; k <= ra->second; ++k) {
+        c.ob.lo = std::min(c.ob.lo, pa[k].t);
+        c.ob.hi = std::max(c.ob.hi, pa[k].t);
+      }
+      c.corr += (pa[ra->second].t - pa[ra->first].t) / b.domain.length();
+    }
+    if (useB) {
+      c.ob.lo = std::min(c.ob.lo, b.sampleT[rb->first]);
+      c.ob.hi = std::max(c.ob.hi, b.sampleT[rb->second]);
+      for (size_t k = rb->first; k <= rb->second; ++k) {
+        c.oa.lo = std::min(c.oa.lo, pb[k].t);
+        c.oa.hi = std::max(c.oa.hi, pb[k].t);
+      }
+      c.corr += (pb[rb->second].t - pb[rb->first].t) / a.domain.length();
+    }
+    if (!(c.oa.hi > c.oa.lo) || !(c.ob.hi > c.ob.lo)) return std::nullopt;
+    // Verification over the whole candidate part.
+    for (size_t k = 0; k < pa.size(); ++k) {
+      if (a.sampleT[k] < c.oa.lo || a.sampleT[k] > c.oa.hi) continue;
+      if (pa[k].distance > tol) return std::nullopt;
+      c.dist = std::max(c.dist, pa[k].distance);
+    }
+    for (size_t k = 0; k < pb.size(); ++k) {
+      if (b.sampleT[k] < c.ob.lo || b.sampleT[k] > c.ob.hi) continue;
+      if (pb[k].distance > tol) return std::nullopt;
+      c.dist = std::max(c.dist, pb[k].distance);
+    }
+    return c;
+  };
+  std::optional<Candidate> c;
+  if (ra && rb) c = build(true, true);
+  if (!c && ra) c = build(true, false);
+  if (!c && rb) c = build(false, true);
+  if (!c) return std::nullopt;
+
+  // Refine the ends: a shared part ends where one of the edges ends, so each end of the sampled part is moved to the
+  // nearest of: the edge's own domain end, or the projection of an end point of the other edge (when that end point
+  // lies within tol of this edge). Runs overshoot by up to one sample spacing (samples just beyond the other edge's
+  // end are still within tol of its end point); two edges that only touch at a corner collapse to a point here.
+  const detail::EdgeProjection bs = project(a, b.start), be = project(a, b.end);
+  const detail::EdgeProjection as = project(b, a.start), ae = project(b, a.end);
+  auto refine = [tol](Interval& o, const EdgeInfo& e, const detail::EdgeProjection& p0, const detail::EdgeProjection& p1) {
+    const double spacing = e.domain.length() / static_cast<double>(e.sampleT.size() - 1);
+    const double slack = 1.5 * spacing + (e.length > 0.0 ? tol / e.length * e.domain.length() : 0.0);
+    auto snapEnd = [&](double x) {
+      double best = x, bestD = slack;
+      for (const double cand : {e.domain.lo, e.domain.hi}) {
+        if (std::abs(cand - x) <= bestD) best = cand, bestD = std::abs(cand - x);
+      }
+      for (const detail::EdgeProjection* q : {&p0, &p1}) {
+        if (q->distance <= tol && std::abs(q->t - x) < bestD) best = q->t, bestD = std::abs(q->t - x);
+      }
+      return best;
+    };
+    o = {snapEnd(o.lo), snapEnd(o.hi)};
+  };
+  refine(c->oa, a, bs, be);
+  refine(c->ob, b, as, ae);
+  if (!(c->oa.hi > c->oa.lo) || !(c->ob.hi > c->ob.lo)) return std::nullopt;
+  c->dist = 0.0;
+  for (size_t k = 0; k < pa.size(); ++k)
+    if (a.sampleT[k] >= c->oa.lo && a.sampleT[k] <= c->oa.hi) c->dist = std::max(c->dist, pa[k].distance);
+  for (size_t k = 0; k < pb.size(); ++k)
+    if (b.sampleT[k] >= c->ob.lo && b.sampleT[k] <= c->ob.hi) c->dist = std::max(c->dist, pb[k].distance);
+  for (const auto* q : {&bs, &be}) {
+    if (q->t >= c->oa.lo && q->t <= c->oa.hi && q->distance <= tol) c->dist = std::max(c->dist, q->distance);
+  }
+  for (const auto* q : {&as, &ae}) {
+    if (q->t >= c->ob.lo && q->t <= c->ob.hi && q->distance <= tol) c->dist = std::max(c->dist, q->distance);
+  }
+  const double lenA = a.length * c->oa.length() / a.domain.length();
+  const double lenB = b.length * c->ob.length() / b.domain.length();
+  const double shorter = std::min(a.length, b.length);
+  if (std::min(lenA, lenB) < options.minOverlapFraction * shorter) return std::nullopt;
+  EdgePair p;
+  p.a = a.ref;
+  p.b = b.ref;
+  p.overlapA = c->oa;
+  p.overlapB = c->ob;
+  p.reversed = c->corr < 0.0;
+  p.distance = c->dist;
+  return p;
+}
+
+/// Snaps overlap ends to the domain ends they reach (within the pair's distance) and sets fullA / fullB.
+void snapOverlap(EdgePair& p, const EdgeInfo& a, const EdgeInfo& b) {
+  auto snap = [&](Interval& o, const EdgeInfo& e) {
+    const double slack = (e.length > 0.0 ? 2.0 * p.distance / e.length : 0.0) * e.domain.length() +
+                         kParamRelSlack * e.domain.length();
+    if (o.lo - e.domain.lo <= slack) o.lo = e.domain.lo;
+    if (e.domain.hi - o.hi <= slack) o.hi = e.domain.hi;
+    return o.lo == e.domain.lo && o.hi == e.domain.hi;
+  };
+  p.fullA = snap(p.overlapA, a);
+  p.fullB = snap(p.overlapB, b);
+}
+
+/// A pair with a gap must share a part at least this many times longer than the gap (on both edges): two edges that
+/// only touch at a common corner come within the gap of each other over a length of about gap / sin(angle), i.e. a
+/// ratio near 1 for the usual angles, while a real near-coincident seam shares (almost) the whole edge.
+constexpr double kMinOverlapToGap = 2.0;
+
+/// A pair with a gap must share a part that is long compared with the gap (on both edges).
+/// Note: two sheets whose free edges run side by side closer than the pairing tolerance (the tip of the teaspoon's
+/// bowl, where the inner and outer surfaces end 0.0089 apart) are paired; the seam analysis then reports the gap and
+/// the fold. shared/data/README.md counts that tip as a gap seam too.
+bool plausibleGappedSeam(const EdgePair& p, const EdgeInfo& a, const EdgeInfo& b) {
+  const double lenA = a.length * p.overlapA.length() / a.domain.length();
+  const double lenB = b.length * p.overlapB.length() / b.domain.length();
+  return std::min(lenA, lenB) >= kMinOverlapToGap * p.distance;
+}
+
+/// Every end of a shared part must be the end of one of the two edges (after snapping): a real seam, full, T-junction
+/// or staggered, ends where an edge ends. Two edges that merely approach each other (e.g. the two halves of the
+/// teapot's handle end, which meet in a cusp at their common corner) share a part that ends in the middle of both.
+bool endsExplained(const EdgePair& p, const EdgeInfo& a, const EdgeInfo& b) {
+  const bool aLo = p.overlapA.lo == a.domain.lo, aHi = p.overlapA.hi == a.domain.hi;
+  const bool bLo = p.overlapB.lo == b.domain.lo, bHi = p.overlapB.hi == b.domain.hi;
+  // A's lower end meets B's lower end unless the directions are opposite.
+  const bool lowEnd = aLo || (p.reversed ? bHi : bLo);
+  const bool highEnd = aHi || (p.reversed ? bLo : bHi);
+  return lowEnd && highEnd;
+}
+
+/// Length of the part of `o` covered by the (possibly overlapping) intervals `claimed`.
+double claimedLength(const std::vector<Interval>& claimed, const Interval& o) {
+  std::vector<Interval> cut;
+  for (const Interval& c : claimed) {
+    const double lo = std::max(c.lo, o.lo), hi = std::min(c.hi, o.hi);
+    if (hi > lo) cut.push_back({lo, hi});
+  }
+  std::sort(cut.begin(), cut.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+  double total = 0.0, curLo = 0.0, curHi = -1.0;
+  bool open = false;
+  for (const Interval& c : cut) {
+    if (!open || c.lo > curHi) {
+      if (open) total += curHi - curLo;
+      curLo = c.lo;
+      curHi = c.hi;
+      open = true;
+    } else {
+      curHi = std::max(curHi, c.hi);
+    }
+  }
+  if (open) total += curHi - curLo;
+  return total;
+}
+
+/// The parts of `domain` not covered by `claimed` that are longer than `minLength`.
+std::vector<Interval> uncovered(const std::vector<Interval>& claimed, const Interval& domain, double minLength) {
+  std::vector<Interval> c = claimed;
+  std::sort(c.begin(), c.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+  std::vector<Interval> out;
+  double cur = domain.lo;
+  for (const Interval& x : c) {
+    if (x.lo - cur > minLength) out.push_back({cur, x.lo});
+    cur = std::max(cur, x.hi);
+  }
+  if (domain.hi - cur > minLength) out.push_back({cur, domain.hi});
+  return out;
+}
+
+/// Candidate pairs from a uniform grid over the inflated edge boxes: sorted (cell, edge) keys, then every two edges
+/// that share a cell. Edge i's box is inflated by inflate[i]; two edges within inflate[i] + inflate[j] of each other
+/// always share a cell. Edges covering too many cells are compared with every edge by box.
+std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf) {
+  std::vector<int> active;
+  std::vector<double> sizes;
+  for (int i = 0; i < static_cast<int>(edges.size()); ++i) {
+    if (edges[static_cast<size_t>(i)].collapsed) continue;
+    active.push_back(i);
+    const BoundingBox& b = edges[static_cast<size_t>(i)].box;
+    sizes.push_back((b.max - b.min).maxCoeff() + 2.0 * inflateOf[static_cast<size_t>(i)]);
+  }
+  std::vector<std::pair<int, int>> out;
+  if (active.size() < 2) return out;
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
+  double h = sizes[sizes.size() / 2];
+  if (!(h > 0.0) || !std::isfinite(h)) h = 1.0;
+  struct Key {
+    std::array<long, 3> cell;
+    int edge;
+    bool operator<(const Key& o) const { return cell != o.cell ? cell < o.cell : edge < o.edge; }
+  };
+  std::vector<Key> keys;
+  std::vector<int> oversize;
+  for (int i : active) {
+    const BoundingBox& b = edges[static_cast<size_t>(i)].box;
+    const double inflate = inflateOf[static_cast<size_t>(i)];
+    std::array<long, 3> lo{}, hi{};
+    long count = 1;
+    for (int k = 0; k < 3; ++k) {
+      lo[static_cast<size_t>(k)] = static_cast<long>(std::floor((b.min[k] - inflate) / h));
+      hi[static_cast<size_t>(k)] = static_cast<long>(std::floor((b.max[k] + inflate) / h));
+      count *= hi[static_cast<size_t>(k)] - lo[static_cast<size_t>(k)] + 1;
+    }
+    if (count > kMaxCellsPerEdge) {
+      oversize.push_back(i);
+      continue;
+    }
+    for (long x = lo[0]; x <= hi[0]; ++x)
+      for (long y = lo[1]; y <= hi[1]; ++y)
+        for (long z = lo[2]; z <= hi[2]; ++z) keys.push_back({{x, y, z}, i});
+  }
+  std::sort(keys.begin(), keys.end());
+  for (size_t s = 0; s < keys.size();) {
+    size_t e = s;
+    while (e < keys.size() && keys[e].cell == keys[s].cell) ++e;
+    for (size_t x = s; x < e; ++x)
+      for (size_t y = x + 1; y < e; ++y) out.emplace_back(keys[x].edge, keys[y].edge);
+    s = e;
+  }
+  for (int i : oversize)
+    for (int j : active)
+      if (j != i) out.emplace_back(std::min(i, j), std::max(i, j));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  // Exact box test (both inflations).
+  std::erase_if(out, [&](const std::pair<int, int>& p) {
+    const BoundingBox& a = edges[static_cast<size_t>(p.first)].box;
+    const BoundingBox& b = edges[static_cast<size_t>(p.second)].box;
+    const double r = inflateOf[static_cast<size_t>(p.first)] + inflateOf[static_cast<size_t>(p.second)];
+    return ((a.min.array() - r) > b.max.array()).any() || ((b.min.array() - r) > a.max.array()).any();
+  });
+  return out;
+}
+
+struct Pairing {
+  std::vector<EdgeInfo> edges;  // 4 per patch, index 4 * patch + edge
+  EdgePairing result;
+  std::vector<std::vector<Interval>> claimed;  // per edge
+};
+
+Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const ModelCheckOptions& options) {
+  Pairing P;
+  const double diagonal = model.boundingBox().diagonal();
+  const double tau = std::max(tol.distance, options.pairingRelTol * (std::isfinite(diagonal) ? diagonal : 0.0));
+  P.result.pairingTolerance = tau;
+  P.edges.reserve(model.patches.size() * 4);
+  for (int i = 0; i < static_cast<int>(model.patches.size()); ++i) {
+    const Patch& patch = model.patches[static_cast<size_t>(i)];
+    if (patch.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", patch.name));
+    for (Edge e : kAllEdges) P.edges.push_back(makeEdge(patch, i, e, tol.distance));
+    const size_t base = P.edges.size() - 4;  // kAllEdges order: U0, U1, V0, V1
+    setWidths(P.edges[base], P.edges[base + 1]);
+    setWidths(P.edges[base + 2], P.edges[base + 3]);
+  }
+  for (const EdgeInfo& e : P.edges)
+    if (e.collapsed) P.result.degenerateEdges.push_back({e.ref, e.start});
+
+  std::vector<EdgePair> accepted;
+  std::vector<EdgePair> candidates;
+  // A pair of different patches is kept only with a gap below min(tau, maxGapToWidth x both widths), a pair within one
+  // patch only when exact: inflating each box by half of its own bound finds every such pair.
+  std::vector<double> inflate(P.edges.size());
+  for (size_t k = 0; k < P.edges.size(); ++k)
+    inflate[k] = 0.5 * std::min(tau, std::max(tol.distance, options.maxGapToWidth * P.edges[k].width));
+  for (const auto& [i, j] : candidatePairs(P.edges, inflate)) {
+    EdgeInfo& a = P.edges[static_cast<size_t>(i)];
+    EdgeInfo& b = P.edges[static_cast<size_t>(j)];
+    const bool samePatch = a.ref.patch == b.ref.patch;
+    std::optional<EdgePair> p = identicalPolygons(a, b, tau);
+    if (p) {
+      snapOverlap(*p, a, b);
+    } else {
+      // Two passes: the cheap polyline pass rejects most candidates (edges that only touch at a corner, parallel
+      // edges across a patch), the exact pass (Newton projections) measures the survivors.
+      auto accept = [&](EdgePair& q, bool exact) {
+        snapOverlap(q, a, b);
+        if (!endsExplained(q, a, b)) return false;
+        // The polyline pass cannot tell an exact pair from one with a gap below the polyline's sag: it only rejects
+        // what is far beyond the rules.
+        if (!exact || q.distance > tol.distance) {
+          if (samePatch && exact) return false;
+          if (q.distance > options.maxGapToWidth * std::min(a.width, b.width)) return false;
+          if (!plausibleGappedSeam(q, a, b)) return false;
+        }
+        return true;
+      };
+      // Gapped pairs must have a gap below maxGapToWidth x the patch widths, and a patch meets itself only exactly:
+      // the sampled test never needs a larger tolerance than that.
+      const double tauPair =
+          samePatch ? tol.distance : std::min(tau, std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width)));
+      if (!mayOverlap(a, b, tauPair)) continue;
+      p = sampledOverlap(a, b, tauPair, options, false);
+      if (!p || !accept(*p, false)) continue;
+      p = sampledOverlap(a, b, tauPair, options, true);
+      if (!p || !accept(*p, true)) continue;
+    }
+    if (p->distance > tol.distance) {
+      if (samePatch) continue;  // a patch meets itself only exactly (closed surfaces)
+      if (p->distance > options.maxGapToWidth * std::min(a.width, b.width)) continue;
+      if (!plausibleGappedSeam(*p, a, b)) continue;
+    }
+    candidates.push_back(*p);
+  }
+  // Closest partners first; a candidate whose shared part is mostly claimed already (on either edge) is dropped.
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const EdgePair& x, const EdgePair& y) { return x.distance < y.distance; });
+  P.claimed.assign(P.edges.size(), {});
+  for (const EdgePair& c : candidates) {
+    const size_t ia = static_cast<size_t>(4 * c.a.patch + static_cast<int>(c.a.edge));
+    const size_t ib = static_cast<size_t>(4 * c.b.patch + static_cast<int>(c.b.edge));
+    const double fa = claimedLength(P.claimed[ia], c.overlapA) / c.overlapA.length();
+    const double fb = claimedLength(P.claimed[ib], c.overlapB) / c.overlapB.length();
+    if (fa > kMaxClaimedFraction || fb > kMaxClaimedFraction) continue;
+    P.claimed[ia].push_back(c.overlapA);
+    P.claimed[ib].push_back(c.overlapB);
+    accepted.push_back(c);
+  }
+  std::sort(accepted.begin(), accepted.end(), [](const EdgePair& x, const EdgePair& y) {
+    return std::tie(x.a, x.b, x.overlapA.lo) < std::tie(y.a, y.b, y.overlapA.lo);
+  });
+  P.result.pairs = std::move(accepted);
+  for (size_t k = 0; k < P.edges.size(); ++k) {
+    const EdgeInfo& e = P.edges[k];
+    if (e.collapsed) continue;
+    const double minLength = options.minOverlapFraction * e.domain.length();
+    const std::vector<Interval> free = uncovered(P.claimed[k], e.domain, minLength);
+    for (const Interval& f : free)
+      P.result.freeEdges.push_back({e.ref, f, !(f.lo == e.domain.lo && f.hi == e.domain.hi)});
+  }
+  return P;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Corners
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[static_cast<size_t>(x)] != x) {
+      parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+      x = parent[static_cast<size_t>(x)];
+    }
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+/// Corner id: 4 * patch + 2 * uMax + vMax.
+int cornerId(int patch, bool uMax, bool vMax) { return 4 * patch + 2 * (uMax ? 1 : 0) + (vMax ? 1 : 0); }
+PatchCorner cornerOf(int id) { return {id / 4, ((id % 4) / 2) == 1, (id % 2) == 1}; }
+
+/// The corner at the start (t = lo) or end of edge e.
+int edgeEndCorner(int patch, Edge e, bool atEnd) {
+  switch (e) {
+    case Edge::U0: return cornerId(patch, false, atEnd);
+    case Edge::U1: return cornerId(patch, true, atEnd);
+    case Edge::V0: return cornerId(patch, atEnd, false);
+    case Edge::V1: return cornerId(patch, atEnd, true);
+  }
+  return 0;
+}
+
+struct CornerLinkGlobal {
+  int a;
+  Edge aEdge;
+  int b;
+  Edge bEdge;
+};
+
+std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeInfo>& edges,
+                                     const std::vector<EdgePair>& pairs, double cornerTol,
+                                     const CornerOptions& cornerOptions, bool analyze) {
+  const int np = static_cast<int>(model.patches.size());
+  const int nc = 4 * np;
+  std::vector<Vec3> points(static_cast<size_t>(nc));
+  for (int p = 0; p < np; ++p) {
+    // Corner points from the edges' end points (already evaluated).
+    const EdgeInfo& u0 = edges[static_cast<size_t>(4 * p)];
+    const EdgeInfo& u1 = edges[static_cast<size_t>(4 * p + 1)];
+    points[static_cast<size_t>(cornerId(p, false, false))] = u0.start;
+    points[static_cast<size_t>(cornerId(p, false, true))] = u0.end;
+    points[static_cast<size_t>(cornerId(p, true, false))] = u1.start;
+    points[static_cast<size_t>(cornerId(p, true, true))] = u1.end;
+  }
+  UnionFind uf(nc);
+  std::vector<CornerLinkGlobal> links;
+  // Collapsed edges join their two corners.
+  for (const EdgeInfo& e : edges) {
+    if (!e.collapsed) continue;
+    const int a = edgeEndCorner(e.ref.patch, e.ref.edge, false), b = edgeEndCorner(e.ref.patch, e.ref.edge, true);
+    uf.unite(a, b);
+    links.push_back({a, e.ref.edge, b, e.ref.edge});
+  }
+  // Paired edges join the corners at the ends they share.
+  for (const EdgePair& p : pairs) {
+    const EdgeInfo& ea = edges[static_cast<size_t>(4 * p.a.patch + static_cast<int>(p.a.edge))];
+    const EdgeInfo& eb = edges[static_cast<size_t>(4 * p.b.patch + static_cast<int>(p.b.edge))];
+    for (bool aEnd : {false, true}) {
+      const bool aAtEnd = aEnd ? p.overlapA.hi == ea.domain.hi : p.overlapA.lo == ea.domain.lo;
+      const bool bEndSide = aEnd != p.reversed;  // the end of B that meets this end of A
+      const bool bAtEnd = bEndSide ? p.overlapB.hi == eb.domain.hi : p.overlapB.lo == eb.domain.lo;
+      if (!aAtEnd || !bAtEnd) continue;
+      const int ca = edgeEndCorner(p.a.patch, p.a.edge, aEnd), cb = edgeEndCorner(p.b.patch, p.b.edge, bEndSide);
+      if (ca == cb) continue;
+      uf.unite(ca, cb);
+      links.push_back({ca, p.a.edge, cb, p.b.edge});
+    }
+  }
+  // Proximity: a uniform grid of cell cornerTol, each corner compared with the corners in its 27 neighbouring cells.
+  if (cornerTol > 0.0) {
+    struct Key {
+      std::array<long, 3> cell;
+      int corner;
+      bool operator<(const Key& o) const { return cell != o.cell ? cell < o.cell : corner < o.corner; }
+    };
+    std::vector<Key> keys;
+    keys.reserve(static_cast<size_t>(nc));
+    for (int c = 0; c < nc; ++c) {
+      const Vec3& q = points[static_cast<size_t>(c)];
+      keys.push_back({{static_cast<long>(std::floor(q.x() / cornerTol)), static_cast<long>(std::floor(q.y() / cornerTol)),
+                       static_cast<long>(std::floor(q.z() / cornerTol))},
+                      c});
+    }
+    std::sort(keys.begin(), keys.end());
+    for (const Key& k : keys) {
+      for (long dx = -1; dx <= 1; ++dx)
+        for (long dy = -1; dy <= 1; ++dy)
+          for (long dz = -1; dz <= 1; ++dz) {
+            const std::array<long, 3> cell{k.cell[0] + dx, k.cell[1] + dy, k.cell[2] + dz};
+            auto it = std::lower_bound(keys.begin(), keys.end(), Key{cell, -1});
+            for (; it != keys.end() && it->cell == cell; ++it) {
+              if (it->corner <= k.corner) continue;
+              if ((points[static_cast<size_t>(it->corner)] - points[static_cast<size_t>(k.corner)]).norm() <= cornerTol)
+                uf.unite(k.corner, it->corner);
+            }
+          }
+    }
+  }
+  std::map<int, std::vector<int>> clusters;
+  for (int c = 0; c < nc; ++c) clusters[uf.find(c)].push_back(c);
+  std::map<int, std::vector<CornerLinkGlobal>> clusterLinks;
+  for (const CornerLinkGlobal& l : links) clusterLinks[uf.find(l.a)].push_back(l);
+
+  std::vector<ModelCorner> out;
+  const std::span<const Patch> patches(model.patches);
+  for (const auto& [root, members] : clusters) {
+    if (members.size() < 2) continue;
+    std::vector<PatchCorner> corners;
+    std::map<int, int> local;
+    for (int c : members) {
+      local[c] = static_cast<int>(corners.size());
+      corners.push_back(cornerOf(c));
+    }
+    std::vector<CornerLink> cl;
+    for (const CornerLinkGlobal& l : clusterLinks[root]) cl.push_back({local[l.a], l.aEdge, local[l.b], l.bEdge});
+    Result<CornerReport> r = analyzeCorner(patches, corners, cl, cornerOptions);
+    if (!r) continue;  // cannot happen for valid indices and 3-D patches (checked before)
+    ModelCorner mc{std::move(r).value()};
+    if (!analyze) mc.report.fourPatch.reset();
+    out.push_back(std::move(mc));
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& options) {
+  if (model.patches.empty()) return invalidInput("the model has no patches");
+  const Tolerances tol = options.tolerances.value_or(Tolerances::forModelSize(model.boundingBox().diagonal()));
+  Result<Pairing> p = runPairing(model, tol, options);
+  if (!p) return p.status();
+  return std::move(p->result);
+}
+
+Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options) {
+  if (model.patches.empty()) return invalidInput("the model has no patches");
+  ModelCheckReport report;
+  report.tolerances = options.tolerances.value_or(Tolerances::forModelSize(model.boundingBox().diagonal()));
+  const Tolerances& tol = report.tolerances;
+  Result<Pairing> pairing = runPairing(model, tol, options);
+  if (!pairing) return pairing.status();
+  Pairing& P = pairing.value();
+  report.pairingTolerance = P.result.pairingTolerance;
+  report.freeEdges = P.result.freeEdges;
+  report.degenerateEdges = P.result.degenerateEdges;
+
+  // Seams (serial: TBB is not linked into the library yet).
+  SeamOptions seamOptions = options.seam;
+  seamOptions.tol = tol;
+  ModelCheckSummary& S = report.summary;
+  for (const EdgePair& p : P.result.pairs) {
+    ModelSeam ms;
+    ms.pair = p;
+    if (options.analyzeSeams) {
+      const Patch& a = model.patches[static_cast<size_t>(p.a.patch)];
+      const Patch& b = model.patches[static_cast<size_t>(p.b.patch)];
+      const std::optional<Interval> range = p.fullA ? std::nullopt : std::optional<Interval>(p.overlapA);
+      Result<SeamReport> r = analyzeSeam(a, p.a.edge, b, p.b.edge, seamOptions, range);
+      if (r) {
+        ms.report = std::move(r).value();
+      } else {
+        ms.error = r.status();
+      }
+    }
+    report.seams.push_back(std::move(ms));
+  }
+
+  CornerOptions co;
+  co.tol = tol;
+  const double cornerTol = options.cornerTolerance.value_or(tol.distance);
+  for (ModelCorner& c : findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners))
+    report.corners.push_back(std::move(c));
+
+  // Summary.
+  S.seams = static_cast<int>(report.seams.size());
+  S.corners = static_cast<int>(report.corners.size());
+  S.freeEdges = static_cast<int>(report.freeEdges.size());
+  S.degenerateEdges = static_cast<int>(report.degenerateEdges.size());
+  for (int k = 0; k < S.seams; ++k) {
+    const ModelSeam& ms = report.seams[static_cast<size_t>(k)];
+    if (!ms.report) {
+      if (options.analyzeSeams) {
+        ++S.failedSeams;
+        S.worstGeometric = GeometricClass::kNone;
+        S.worstParametric = ParametricClass::kNone;
+        if (options.require) ++S.belowRequired;
+      }
+      continue;
+    }
+    const SeamReport& r = *ms.report;
+    ++S.geometric[static_cast<size_t>(r.geometric)];
+    ++S.parametric[static_cast<size_t>(r.parametric)];
+    if (r.certified) ++S.certifiedSeams;
+    S.worstGeometric = std::min(S.worstGeometric, r.geometric);
+    S.worstParametric = std::min(S.worstParametric, r.parametric);
+    if (S.g0Seam < 0 || r.g0Max > S.g0Max) S.g0Max = r.g0Max, S.g0Seam = k;
+    if (S.g1Seam < 0 || r.g1MaxDeg > S.g1MaxDeg) S.g1MaxDeg = r.g1MaxDeg, S.g1Seam = k;
+    if (S.g2Seam < 0 || r.g2Max > S.g2Max) S.g2Max = r.g2Max, S.g2Seam = k;
+    S.g2RelMax = std::max(S.g2RelMax, r.g2RelMax);
+    if (options.require && !meets(r.geometric, *options.require)) ++S.belowRequired;
+  }
+  for (const ModelCorner& c : report.corners) {
+    const CornerReport& r = c.report;
+    if (r.degenerate) ++S.degenerateCorners;
+    if (r.normalSpreadDeg) S.normalSpreadMaxDeg = std::max(S.normalSpreadMaxDeg, *r.normalSpreadDeg);
+    if (r.fourPatch) {
+      ++S.fourValentCorners;
+      S.cornerG1ResidualMax = std::max(S.cornerG1ResidualMax, r.fourPatch->g1Residual);
+      if (r.fourPatch->g2Residual)
+        S.cornerG2ResidualMax = std::max(S.cornerG2ResidualMax.value_or(0.0), *r.fourPatch->g2Residual);
+    }
+  }
+  return report;
+}
+
+}  // namespace seam

@@ -1,0 +1,745 @@
+#include "seam/io/json.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "seam/core/tolerances.h"
+#include "seam/io/file.h"
+
+namespace seam::io {
+
+namespace {
+
+using Json = nlohmann::json;
+
+// ---------------------------------------------------------------------------------------------------------------
+// Small formatting helpers for messages.
+
+/// A name in double quotes with JSON escapes (names may hold quotes or control characters).
+std::string quote(const std::string& s) {
+  return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+/// Compact JSON text of a value, shortened for messages.
+std::string brief(const Json& j) {
+  constexpr size_t kMaxChars = 40;
+  std::string s = j.dump(-1, ' ', false, Json::error_handler_t::replace);
+  if (s.size() > kMaxChars) s = s.substr(0, kMaxChars) + "...";
+  return s;
+}
+
+/// Shortest text that reads back as the same double ("0.5", "1e+300", "inf").
+std::string num(double x) { return fmt::format("{}", x); }
+
+const char* axisName(int k) {
+  static const char* const kNames[] = {"x", "y", "z"};
+  return k >= 0 && k < 3 ? kNames[k] : "w";
+}
+
+/// 1-based line and column of a byte offset.
+std::string lineColumn(std::string_view text, size_t offset) {
+  size_t line = 1;
+  size_t column = 1;
+  for (size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return fmt::format("line {}, column {}", line, column);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Number literals that overflow a double (1e999). nlohmann rejects them without saying where; we rewrite each
+// into a marker string so that the model reader can report the object and the field that holds it.
+
+/// Prefix of the decoded marker string that replaces an overflowing number literal (a control character
+/// cannot appear unescaped in JSON text, so no real string starts with it).
+constexpr std::string_view kOverflowMarker = "\x01overflow:";
+
+struct OverflowScan {
+  std::string text;          ///< the rewritten text
+  size_t count = 0;          ///< how many literals were rewritten
+  size_t firstOffset = 0;    ///< byte offset of the first one in the original text
+  std::string firstLiteral;  ///< the first one
+};
+
+OverflowScan rewriteOverflowingNumbers(std::string_view text) {
+  OverflowScan scan;
+  scan.text.reserve(text.size());
+  bool inString = false;
+  size_t i = 0;
+  while (i < text.size()) {
+    const char c = text[i];
+    if (inString) {
+      scan.text += c;
+      if (c == '\\' && i + 1 < text.size()) {
+        scan.text += text[i + 1];
+        i += 2;
+        continue;
+      }
+      if (c == '"') inString = false;
+      ++i;
+      continue;
+    }
+    if (c == '"') {
+      inString = true;
+      scan.text += c;
+      ++i;
+      continue;
+    }
+    if (c == '-' || (c >= '0' && c <= '9')) {
+      size_t end = i + 1;
+      while (end < text.size() &&
+             ((text[end] >= '0' && text[end] <= '9') || text[end] == '.' || text[end] == 'e' ||
+              text[end] == 'E' || text[end] == '+' || text[end] == '-')) {
+        ++end;
+      }
+      const std::string literal(text.substr(i, end - i));
+      const double value = std::strtod(literal.c_str(), nullptr);
+      if (std::isinf(value)) {
+        if (scan.count++ == 0) {
+          scan.firstOffset = i;
+          scan.firstLiteral = literal;
+        }
+        scan.text += "\"\\u0001overflow:" + literal + "\"";
+      } else {
+        scan.text += literal;
+      }
+      i = end;
+      continue;
+    }
+    scan.text += c;
+    ++i;
+  }
+  return scan;
+}
+
+/// "[json.exception.parse_error.101] parse error at ..." -> "parse error at ...".
+std::string withoutExceptionId(const char* what) {
+  std::string s(what);
+  if (!s.empty() && s[0] == '[') {
+    const size_t close = s.find("] ");
+    if (close != std::string::npos) s = s.substr(close + 2);
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Reading.
+
+std::optional<long long> asInteger(const Json& j) {
+  if (j.is_number_unsigned()) {
+    const auto v = j.get<std::uint64_t>();
+    return v > static_cast<std::uint64_t>(std::numeric_limits<long long>::max())
+               ? std::numeric_limits<long long>::max()
+               : static_cast<long long>(v);
+  }
+  if (j.is_number_integer()) return j.get<std::int64_t>();
+  return std::nullopt;
+}
+
+/// Pieces of a patch or curve as read from the file, before building the spline.
+struct PointGrid {
+  int nu = 0;  ///< rows (along u)
+  int nv = 0;  ///< points per row (along v); 1 for curves
+  int dim = 0;
+  Matrix points;  ///< row i * nv + j
+  VecX weights;   ///< empty or nu * nv
+};
+
+class ModelReader {
+ public:
+  explicit ModelReader(std::string source) : src_(std::move(source)) {}
+
+  Result<Model> read(const Json& root) {
+    if (!root.is_object()) {
+      return top(std::string("the top level must be an object with \"patches\" and/or \"curves\", found ") +
+                 root.type_name());
+    }
+    for (const auto& [key, value] : root.items()) {
+      if (key != "patches" && key != "curves" && key != "$schema") {
+        return top("unknown top-level key " + quote(key) + " (expected \"patches\" and/or \"curves\")");
+      }
+    }
+    if (!root.contains("patches") && !root.contains("curves")) {
+      return top("no \"patches\" or \"curves\" array at the top level");
+    }
+    Model model;
+    if (root.contains("patches")) {
+      const Json& patches = root["patches"];
+      if (!patches.is_array())
+        return top(std::string("\"patches\" must be an array, found ") + patches.type_name());
+      for (size_t index = 0; index < patches.size(); ++index) {
+        Result<Patch> patch = readPatch(patches[index], index);
+        if (!patch) return patch.status();
+        model.patches.push_back(std::move(patch).value());
+      }
+    }
+    if (root.contains("curves")) {
+      const Json& curves = root["curves"];
+      if (!curves.is_array())
+        return top(std::string("\"curves\" must be an array, found ") + curves.type_name());
+      for (size_t index = 0; index < curves.size(); ++index) {
+        Result<Curve> curve = readCurve(curves[index], index);
+        if (!curve) return curve.status();
+        model.curves.push_back(std::move(curve).value());
+      }
+    }
+    return model;
+  }
+
+ private:
+  Status top(const std::string& problem) const { return invalidInput(src_ + ": " + problem); }
+  Status fail(const std::string& where, const std::string& problem) const {
+    return invalidInput(src_ + ": " + where + ": " + problem);
+  }
+
+  /// Reads "name" of element `index` of the "patches"/"curves" array and checks it is unique. On success
+  /// `where` becomes `patch "S1"` / `curve "C1"`.
+  Status readName(const Json& j, const char* kind, const char* array, size_t index, std::string& name,
+                  std::string& where) {
+    where = fmt::format("{}[{}]", array, index);
+    if (!j.is_object()) return fail(where, std::string("must be an object, found ") + j.type_name());
+    if (!j.contains("name")) return fail(where, "missing \"name\"");
+    const Json& n = j["name"];
+    if (!n.is_string() || n.get_ref<const std::string&>().empty()) {
+      return fail(where, "\"name\" must be a non-empty string, found " + brief(n));
+    }
+    name = n.get<std::string>();
+    where = std::string(kind) + " " + quote(name);
+    const auto [it, inserted] = usedNames_.emplace(name, where);
+    if (!inserted) return fail(where, "duplicate name (already used by " + it->second + ")");
+    return Status::ok();
+  }
+
+  /// Reads "type": "bspline" or "bezier" and rejects keys that the type does not have.
+  Status readType(const Json& j, const std::string& where, const char* kind, bool& bezier) {
+    if (!j.contains("type")) return fail(where, "missing \"type\" (\"bspline\" or \"bezier\")");
+    const Json& t = j["type"];
+    if (!t.is_string())
+      return fail(where, "\"type\" must be the string \"bspline\" or \"bezier\", found " + brief(t));
+    const std::string& type = t.get_ref<const std::string&>();
+    if (type != "bspline" && type != "bezier") {
+      return fail(where, "unknown type " + quote(type) + " (expected \"bspline\" or \"bezier\")");
+    }
+    bezier = type == "bezier";
+    for (const auto& [key, value] : j.items()) {
+      if (key == "name" || key == "type" || key == "points" || key == "weights" || key == "degree") continue;
+      if (key == "knots" && !bezier) continue;
+      if (key == "knots") {
+        return fail(where, std::string("a bezier ") + kind +
+                               " has no \"knots\" (its degree is the number of points minus 1; use type "
+                               "\"bspline\" to give knots)");
+      }
+      return fail(where, "unknown key " + quote(key));
+    }
+    return Status::ok();
+  }
+
+  /// A finite number, or a message naming `what` (e.g. `point [1][2]: z`, `u knot 3`).
+  Status readNumber(const Json& j, const std::string& where, const std::string& what, double& out) const {
+    if (j.is_string()) {
+      const std::string& s = j.get_ref<const std::string&>();
+      if (s.compare(0, kOverflowMarker.size(), kOverflowMarker) == 0) {
+        return fail(where, what + " = " + s.substr(kOverflowMarker.size()) +
+                               " is not a finite number (it overflows a double)");
+      }
+    }
+    if (!j.is_number()) return fail(where, what + " is not a number (found " + brief(j) + ")");
+    out = j.get<double>();
+    if (!std::isfinite(out)) return fail(where, what + " = " + num(out) + " is not a finite number");
+    return Status::ok();
+  }
+
+  Status readWeight(const Json& j, const std::string& where, const std::string& what, double& out) const {
+    if (Status s = readNumber(j, where, what, out); !s) return s;
+    if (!(out > 0.0)) return fail(where, what + " = " + num(out) + " is not positive (weights must be > 0)");
+    return Status::ok();
+  }
+
+  /// One point: an array of numbers with `dim` entries (dim = 0: take 2 or 3 from this point).
+  Status readPoint(const Json& j, const std::string& where, const std::string& what, int& dim,
+                   double* out) const {
+    const char* expected = dim == 0 ? "2 or 3" : (dim == 2 ? "2" : "3");
+    if (!j.is_array()) {
+      return fail(where, what + " must be an array of " + expected + " numbers, found " + brief(j));
+    }
+    const int count = static_cast<int>(j.size());
+    if (dim == 0) {
+      if (count != 2 && count != 3)
+        return fail(where, fmt::format("{} has {} coordinates, expected 2 or 3", what, count));
+      dim = count;
+    } else if (count != dim) {
+      return fail(where, fmt::format("{} has {} coordinates, expected {}", what, count, dim));
+    }
+    for (int k = 0; k < count; ++k) {
+      if (Status s = readNumber(j[static_cast<size_t>(k)], where, what + ": " + axisName(k), out[k]); !s)
+        return s;
+    }
+    return Status::ok();
+  }
+
+  /// "points" (and "weights") of a patch: points[i][j] = [x, y, z], i along u.
+  Status readPatchGrid(const Json& j, const std::string& where, PointGrid& grid) const {
+    if (!j.contains("points")) return fail(where, "missing \"points\"");
+    const Json& rows = j["points"];
+    if (!rows.is_array() || rows.empty()) {
+      return fail(where,
+                  "\"points\" must be a non-empty array of rows of points [[[x, y, z], ...], ...], found " +
+                      brief(rows));
+    }
+    for (size_t i = 0; i < rows.size(); ++i) {
+      if (!rows[i].is_array() || rows[i].empty()) {
+        return fail(where, fmt::format("\"points\"[{}] must be a non-empty array of points [[x, y, z], ...], "
+                                       "found {}",
+                                       i, brief(rows[i])));
+      }
+      if (rows[i].size() != rows[0].size()) {
+        return fail(where, fmt::format("ragged point grid: row {} has {} points, row 0 has {}", i,
+                                       rows[i].size(), rows[0].size()));
+      }
+    }
+    grid.nu = static_cast<int>(rows.size());
+    grid.nv = static_cast<int>(rows[0].size());
+    grid.dim = 3;
+    grid.points.resize(static_cast<Eigen::Index>(grid.nu) * grid.nv, 3);
+    for (int i = 0; i < grid.nu; ++i) {
+      for (int k = 0; k < grid.nv; ++k) {
+        const Eigen::Index row = static_cast<Eigen::Index>(i) * grid.nv + k;
+        if (Status s = readPoint(rows[static_cast<size_t>(i)][static_cast<size_t>(k)], where,
+                                 fmt::format("point [{}][{}]", i, k), grid.dim, grid.points.row(row).data());
+            !s) {
+          return s;
+        }
+      }
+    }
+    if (!j.contains("weights")) return Status::ok();
+    const Json& w = j["weights"];
+    if (!w.is_array()) {
+      return fail(
+          where, "\"weights\" must be an array of rows of numbers shaped like \"points\", found " + brief(w));
+    }
+    if (static_cast<int>(w.size()) != grid.nu) {
+      return fail(where,
+                  fmt::format("\"weights\" has {} rows, expected {} like \"points\"", w.size(), grid.nu));
+    }
+    grid.weights.resize(static_cast<Eigen::Index>(grid.nu) * grid.nv);
+    for (int i = 0; i < grid.nu; ++i) {
+      const Json& row = w[static_cast<size_t>(i)];
+      if (!row.is_array() || static_cast<int>(row.size()) != grid.nv) {
+        return fail(
+            where, fmt::format("\"weights\"[{}] must be an array of {} numbers like \"points\"[{}], found {}",
+                               i, grid.nv, i, brief(row)));
+      }
+      for (int k = 0; k < grid.nv; ++k) {
+        if (Status s = readWeight(row[static_cast<size_t>(k)], where, fmt::format("weight [{}][{}]", i, k),
+                                  grid.weights[static_cast<Eigen::Index>(i) * grid.nv + k]);
+            !s) {
+          return s;
+        }
+      }
+    }
+    return Status::ok();
+  }
+
+  /// "points" (and "weights") of a curve: points[i] = [x, y, z] or [x, y] (all the same dimension).
+  Status readCurvePoints(const Json& j, const std::string& where, PointGrid& grid) const {
+    if (!j.contains("points")) return fail(where, "missing \"points\"");
+    const Json& pts = j["points"];
+    if (!pts.is_array() || pts.empty()) {
+      return fail(where,
+                  "\"points\" must be a non-empty array of points [[x, y, z], ...], found " + brief(pts));
+    }
+    grid.nu = static_cast<int>(pts.size());
+    grid.nv = 1;
+    grid.dim = 0;
+    std::vector<double> values(3 * pts.size());
+    for (int i = 0; i < grid.nu; ++i) {
+      const std::string what = fmt::format("point {}", i);
+      const int before = grid.dim;
+      if (Status s = readPoint(pts[static_cast<size_t>(i)], where, what, grid.dim, values.data() + 3 * i);
+          !s) {
+        if (before != 0 && pts[static_cast<size_t>(i)].is_array() &&
+            static_cast<int>(pts[static_cast<size_t>(i)].size()) != before) {
+          return fail(where, fmt::format("{} has {} coordinates, expected {} like point 0", what,
+                                         pts[static_cast<size_t>(i)].size(), before));
+        }
+        return s;
+      }
+    }
+    grid.points.resize(grid.nu, grid.dim);
+    for (int i = 0; i < grid.nu; ++i) {
+      for (int k = 0; k < grid.dim; ++k) grid.points(i, k) = values[static_cast<size_t>(3 * i + k)];
+    }
+    if (!j.contains("weights")) return Status::ok();
+    const Json& w = j["weights"];
+    if (!w.is_array()) return fail(where, "\"weights\" must be an array of numbers, found " + brief(w));
+    if (static_cast<int>(w.size()) != grid.nu) {
+      return fail(where,
+                  fmt::format("\"weights\" has {} entries, expected {} (one per point)", w.size(), grid.nu));
+    }
+    grid.weights.resize(grid.nu);
+    for (int i = 0; i < grid.nu; ++i) {
+      if (Status s =
+              readWeight(w[static_cast<size_t>(i)], where, fmt::format("weight {}", i), grid.weights[i]);
+          !s) {
+        return s;
+      }
+    }
+    return Status::ok();
+  }
+
+  /// Checks a degree read from the file against the number of control points in that direction.
+  Status checkDegree(long long degree, int numPoints, const std::string& where,
+                     const std::string& dir) const {
+    if (degree < 1) return fail(where, fmt::format("{}degree is {}, must be at least 1", dir, degree));
+    if (degree > numPoints - 1) {
+      return fail(where, fmt::format("{}degree {} needs at least {} control points{}, found {}", dir, degree,
+                                     degree + 1, dir.empty() ? "" : " in that direction", numPoints));
+    }
+    return Status::ok();
+  }
+
+  /// A knot vector: an array of finite numbers.
+  Status readKnotArray(const Json& j, const std::string& where, const std::string& dir,
+                       std::vector<double>& knots) const {
+    if (!j.is_array()) {
+      return fail(where, fmt::format("{}knot vector must be an array of numbers, found {}", dir, brief(j)));
+    }
+    knots.resize(j.size());
+    for (size_t k = 0; k < j.size(); ++k) {
+      if (Status s = readNumber(j[k], where, fmt::format("{}knot {}", dir, k), knots[k]); !s) return s;
+    }
+    return Status::ok();
+  }
+
+  /// The knot checks of KnotVector::validate, with messages that say which knot is wrong.
+  Status checkKnots(const std::vector<double>& t, int degree, int numPoints, const std::string& where,
+                    const std::string& dir) const {
+    const size_t expected = static_cast<size_t>(numPoints) + static_cast<size_t>(degree) + 1;
+    if (t.size() != expected) {
+      return fail(where,
+                  fmt::format("{}knot vector has {} entries, expected {} for {} control points of degree {}",
+                              dir, t.size(), expected, numPoints, degree));
+    }
+    for (size_t k = 1; k < t.size(); ++k) {
+      if (t[k] < t[k - 1]) {
+        return fail(where, fmt::format("{}knots must be non-decreasing, but knot {} ({}) < knot {} ({})", dir,
+                                       k, num(t[k]), k - 1, num(t[k - 1])));
+      }
+    }
+    // Knots closer than kKnotRelTol x (length of the knot vector) are the same knot, as in KnotVector.
+    const double tol = kKnotRelTol * (t.back() - t.front());
+    const double lo = t[static_cast<size_t>(degree)];
+    const double hi = t[static_cast<size_t>(numPoints)];
+    if (hi - lo <= tol) {
+      return fail(where, fmt::format("{}parameter domain [{}, {}] is empty (knots {} and {} are equal)", dir,
+                                     num(lo), num(hi), degree, numPoints));
+    }
+    size_t first = 0;
+    while (first < t.size()) {
+      size_t last = first;
+      while (last + 1 < t.size() && t[last + 1] - t[first] <= tol) ++last;
+      const int mult = static_cast<int>(last - first + 1);
+      const double value = t[first];
+      const bool interior = value - lo > tol && hi - value > tol;
+      if (interior && mult > degree) {
+        return fail(where,
+                    fmt::format("{}knot {} has multiplicity {} inside the domain, more than the degree {}",
+                                dir, num(value), mult, degree));
+      }
+      if (mult > degree + 1) {
+        return fail(where, fmt::format("{}knot {} has multiplicity {}, more than degree + 1 = {}", dir,
+                                       num(value), mult, degree + 1));
+      }
+      first = last + 1;
+    }
+    return Status::ok();
+  }
+
+  Result<Patch> readPatch(const Json& j, size_t index) {
+    Patch patch;
+    std::string where;
+    if (Status s = readName(j, "patch", "patches", index, patch.name, where); !s) return s;
+    bool bezier = false;
+    if (Status s = readType(j, where, "patch", bezier); !s) return s;
+    PointGrid grid;
+    if (Status s = readPatchGrid(j, where, grid); !s) return s;
+
+    long long pu = grid.nu - 1;
+    long long pv = grid.nv - 1;
+    std::vector<double> ku;
+    std::vector<double> kv;
+    if (bezier) {
+      if (Status s = checkBezierDegree(j, where, {grid.nu, grid.nv}); !s) return s;
+      ku = bezierKnots(static_cast<int>(pu));
+      kv = bezierKnots(static_cast<int>(pv));
+    } else {
+      if (!j.contains("degree")) return fail(where, "missing \"degree\" ([p, q] for a bspline patch)");
+      const Json& d = j["degree"];
+      if (!d.is_array() || d.size() != 2 || !asInteger(d[0]) || !asInteger(d[1])) {
+        return fail(where, "\"degree\" must be an array of two integers [p, q], found " + brief(d));
+      }
+      pu = *asInteger(d[0]);
+      pv = *asInteger(d[1]);
+      if (!j.contains("knots"))
+        return fail(where, "missing \"knots\" ([[u knots], [v knots]] for a bspline patch)");
+      const Json& k = j["knots"];
+      if (!k.is_array() || k.size() != 2) {
+        return fail(where, "\"knots\" must be an array of two knot vectors [[u knots], [v knots]], found " +
+                               brief(k));
+      }
+      if (Status s = readKnotArray(k[0], where, "u ", ku); !s) return s;
+      if (Status s = readKnotArray(k[1], where, "v ", kv); !s) return s;
+    }
+    if (Status s = checkDegree(pu, grid.nu, where, "u "); !s) return s;
+    if (Status s = checkDegree(pv, grid.nv, where, "v "); !s) return s;
+    if (Status s = checkKnots(ku, static_cast<int>(pu), grid.nu, where, "u "); !s) return s;
+    if (Status s = checkKnots(kv, static_cast<int>(pv), grid.nv, where, "v "); !s) return s;
+
+    Result<BSplineSurface> surface =
+        BSplineSurface::create(static_cast<int>(pu), static_cast<int>(pv), std::move(ku), std::move(kv),
+                               grid.nu, grid.nv, std::move(grid.points), std::move(grid.weights));
+    if (!surface) return surface.status().withContext(src_ + ": " + where);
+    patch.kind = bezier ? PatchKind::kBezier : PatchKind::kBSpline;
+    patch.surface = std::move(surface).value();
+    return patch;
+  }
+
+  /// A bezier object may repeat its degree; it must then be (number of points - 1) per direction.
+  Status checkBezierDegree(const Json& j, const std::string& where, std::vector<int> counts) const {
+    if (!j.contains("degree")) return Status::ok();
+    const Json& d = j["degree"];
+    bool matches = false;
+    if (counts.size() == 1) {
+      matches = asInteger(d) && *asInteger(d) == counts[0] - 1;
+    } else {
+      matches = d.is_array() && d.size() == 2 && asInteger(d[0]) && asInteger(d[1]) &&
+                *asInteger(d[0]) == counts[0] - 1 && *asInteger(d[1]) == counts[1] - 1;
+    }
+    if (matches) return Status::ok();
+    const std::string expected = counts.size() == 1 ? fmt::format("{}", counts[0] - 1)
+                                                    : fmt::format("[{}, {}]", counts[0] - 1, counts[1] - 1);
+    return fail(where, "\"degree\" " + brief(d) +
+                           " does not match the control points: a bezier degree is the "
+                           "number of points minus 1, here " +
+                           expected);
+  }
+
+  Result<Curve> readCurve(const Json& j, size_t index) {
+    Curve curve;
+    std::string where;
+    if (Status s = readName(j, "curve", "curves", index, curve.name, where); !s) return s;
+    bool bezier = false;
+    if (Status s = readType(j, where, "curve", bezier); !s) return s;
+    PointGrid grid;
+    if (Status s = readCurvePoints(j, where, grid); !s) return s;
+
+    long long p = grid.nu - 1;
+    std::vector<double> knots;
+    if (bezier) {
+      if (Status s = checkBezierDegree(j, where, {grid.nu}); !s) return s;
+      knots = bezierKnots(static_cast<int>(p));
+    } else {
+      if (!j.contains("degree")) return fail(where, "missing \"degree\" (an integer for a bspline curve)");
+      const std::optional<long long> d = asInteger(j["degree"]);
+      if (!d) return fail(where, "\"degree\" must be an integer, found " + brief(j["degree"]));
+      p = *d;
+      if (!j.contains("knots"))
+        return fail(where, "missing \"knots\" (an array of numbers for a bspline curve)");
+      if (Status s = readKnotArray(j["knots"], where, "", knots); !s) return s;
+    }
+    if (Status s = checkDegree(p, grid.nu, where, ""); !s) return s;
+    if (Status s = checkKnots(knots, static_cast<int>(p), grid.nu, where, ""); !s) return s;
+
+    Result<BSplineCurve> c = BSplineCurve::create(static_cast<int>(p), std::move(knots),
+                                                  std::move(grid.points), std::move(grid.weights));
+    if (!c) return c.status().withContext(src_ + ": " + where);
+    curve.curve = std::move(c).value();
+    return curve;
+  }
+
+  static std::vector<double> bezierKnots(int degree) {
+    std::vector<double> knots(static_cast<size_t>(2 * (degree + 1)), 0.0);
+    for (size_t k = knots.size() / 2; k < knots.size(); ++k) knots[k] = 1.0;
+    return knots;
+  }
+
+  std::string src_;
+  std::map<std::string, std::string> usedNames_;  ///< name -> `patch "S1"` / `curve "C1"`
+};
+
+// ---------------------------------------------------------------------------------------------------------------
+// Writing.
+
+/// JSON number text that reads back bit-identical (nlohmann's shortest round-trip form: "1.0", "-0.0",
+/// "1e+300").
+std::string jsonNumber(double x) { return Json(x).dump(); }
+
+/// True when the knots are exactly degree+1 zeros followed by degree+1 ones (the implied knots of a
+/// "bezier").
+bool isBezierKnots(const KnotVector& knots, int degree, int numPoints) {
+  if (numPoints != degree + 1 || knots.size() != 2 * (degree + 1)) return false;
+  for (int k = 0; k < knots.size(); ++k) {
+    const double expected = k <= degree ? 0.0 : 1.0;
+    if (knots[k] != expected || std::signbit(knots[k])) return false;
+  }
+  return true;
+}
+
+void appendNumbers(std::string& out, const double* values, Eigen::Index count) {
+  out += '[';
+  for (Eigen::Index k = 0; k < count; ++k) {
+    if (k > 0) out += ", ";
+    out += jsonNumber(values[k]);
+  }
+  out += ']';
+}
+
+void appendNumbers(std::string& out, const std::vector<double>& values) {
+  appendNumbers(out, values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+void appendPoint(std::string& out, const Matrix& points, Eigen::Index row) {
+  out += '[';
+  for (Eigen::Index k = 0; k < points.cols(); ++k) {
+    if (k > 0) out += ", ";
+    out += jsonNumber(points(row, k));
+  }
+  out += ']';
+}
+
+void appendPatch(std::string& out, const Patch& patch) {
+  const BSplineSurface& s = patch.surface;
+  const bool bezier = patch.kind == PatchKind::kBezier && isBezierKnots(s.knotsU(), s.degreeU(), s.numU()) &&
+                      isBezierKnots(s.knotsV(), s.degreeV(), s.numV());
+  out += "    {\n      \"name\": " + quote(patch.name) + ",\n";
+  out += std::string("      \"type\": \"") + (bezier ? "bezier" : "bspline") + "\",\n";
+  if (!bezier) {
+    out += fmt::format("      \"degree\": [{}, {}],\n", s.degreeU(), s.degreeV());
+    out += "      \"knots\": [\n        ";
+    appendNumbers(out, s.knotsU().values());
+    out += ",\n        ";
+    appendNumbers(out, s.knotsV().values());
+    out += "\n      ],\n";
+  }
+  out += "      \"points\": [\n";
+  for (int i = 0; i < s.numU(); ++i) {
+    out += "        [\n";
+    for (int j = 0; j < s.numV(); ++j) {
+      out += "          ";
+      appendPoint(out, s.points(), static_cast<Eigen::Index>(i) * s.numV() + j);
+      out += j + 1 < s.numV() ? ",\n" : "\n";
+    }
+    out += i + 1 < s.numU() ? "        ],\n" : "        ]\n";
+  }
+  out += "      ]";
+  if (s.isRational()) {
+    out += ",\n      \"weights\": [\n";
+    for (int i = 0; i < s.numU(); ++i) {
+      out += "        ";
+      appendNumbers(out, s.weights().data() + static_cast<Eigen::Index>(i) * s.numV(), s.numV());
+      out += i + 1 < s.numU() ? ",\n" : "\n";
+    }
+    out += "      ]";
+  }
+  out += "\n    }";
+}
+
+void appendCurve(std::string& out, const Curve& curve) {
+  const BSplineCurve& c = curve.curve;
+  const bool bezier = isBezierKnots(c.knots(), c.degree(), c.numPoints());
+  out += "    {\n      \"name\": " + quote(curve.name) + ",\n";
+  out += std::string("      \"type\": \"") + (bezier ? "bezier" : "bspline") + "\",\n";
+  if (!bezier) {
+    out += fmt::format("      \"degree\": {},\n", c.degree());
+    out += "      \"knots\": ";
+    appendNumbers(out, c.knots().values());
+    out += ",\n";
+  }
+  out += "      \"points\": [\n";
+  for (int i = 0; i < c.numPoints(); ++i) {
+    out += "        ";
+    appendPoint(out, c.points(), i);
+    out += i + 1 < c.numPoints() ? ",\n" : "\n";
+  }
+  out += "      ]";
+  if (c.isRational()) {
+    out += ",\n      \"weights\": ";
+    appendNumbers(out, c.weights().data(), c.weights().size());
+  }
+  out += "\n    }";
+}
+
+}  // namespace
+
+Result<Model> parseModelJson(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  Json root;
+  try {
+    root = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    return invalidInput(src + ": not valid JSON: " + withoutExceptionId(e.what()));
+  } catch (const Json::exception& e) {
+    // nlohmann rejects number literals that overflow a double (1e999) without a position: mark them and
+    // retry, so that the model reader names the object that holds the number.
+    const OverflowScan scan = rewriteOverflowingNumbers(text);
+    if (scan.count == 0) return invalidInput(src + ": not valid JSON: " + withoutExceptionId(e.what()));
+    try {
+      root = Json::parse(scan.text);
+    } catch (const Json::exception&) {
+      return invalidInput(src + ": not valid JSON: " + lineColumn(text, scan.firstOffset) + ": number " +
+                          scan.firstLiteral + " is not a finite number (it overflows a double)");
+    }
+  }
+  try {
+    return ModelReader(src).read(root);
+  } catch (const std::exception& e) {
+    // Not expected (every access is checked first); never let an exception leave the library.
+    return invalidInput(src + ": " + e.what());
+  }
+}
+
+Result<Model> readModelJson(const std::filesystem::path& file) {
+  Result<std::string> text = readFile(file);
+  if (!text) return text.status();
+  return parseModelJson(*text, file.string());
+}
+
+std::string modelToJson(const Model& model) {
+  std::string out = "{\n  \"patches\": [";
+  for (size_t k = 0; k < model.patches.size(); ++k) {
+    out += k == 0 ? "\n" : ",\n";
+    appendPatch(out, model.patches[k]);
+  }
+  out += model.patches.empty() ? "]" : "\n  ]";
+  if (!model.curves.empty()) {
+    out += ",\n  \"curves\": [";
+    for (size_t k = 0; k < model.curves.size(); ++k) {
+      out += k == 0 ? "\n" : ",\n";
+      appendCurve(out, model.curves[k]);
+    }
+    out += "\n  ]";
+  }
+  out += "\n}\n";
+  return out;
+}
+
+Status writeModelJson(const Model& model, const std::filesystem::path& file) {
+  return writeFileAtomically(file, modelToJson(model));
+}
+
+}  // namespace seam::io

@@ -1,0 +1,460 @@
+// Points with S_u x S_v = 0 and self-intersections of B-spline / NURBS surfaces by Bezier subdivision with hull
+// pruning and Newton refinement (see defect_search.h).
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "search_internal.h"
+#include "seam/core/bernstein.h"
+#include "seam/model/model.h"
+#include "seam/regularity/defect_search.h"
+
+namespace seam::regularity {
+
+namespace {
+
+using detail::Box3;
+
+BernsteinPatch columns(const BernsteinPatch& p, int from, int count) {
+  return BernsteinPatch(p.degreeU(), p.degreeV(), p.coeffs().middleCols(from, count));
+}
+
+BernsteinPatch minus(const BernsteinPatch& x, const BernsteinPatch& y) {
+  BernsteinPatch r = x;
+  r.coeffs() -= y.coeffs();
+  return r;
+}
+
+/// Numerators of S_u and S_v (positive multiples of the true partials: A_u w - A w_u, or A_u when polynomial).
+std::pair<BernsteinPatch, BernsteinPatch> partialNumerators(const BernsteinPatch& h, bool rational) {
+  const BernsteinPatch a = columns(h, 0, 3);
+  if (!rational) return {a.derivative(1, 0), a.derivative(0, 1)};
+  const BernsteinPatch w = columns(h, 3, 1);
+  return {minus(product(a.derivative(1, 0), w), product(a, w.derivative(1, 0))),
+          minus(product(a.derivative(0, 1), w), product(a, w.derivative(0, 1)))};
+}
+
+struct Piece {
+  Interval u, v;
+  bool rational = false;
+  BernsteinPatch h, hu, hv;  // homogeneous (dim 4) and its partials (local parameters)
+  BernsteinPatch n, nu, nv;  // normal numerator (dim 3) and its partials
+  double nScale = 0.0;
+};
+
+struct Part {
+  int piece = 0;
+  double u0 = 0.0, u1 = 1.0, v0 = 0.0, v1 = 1.0;  // local box of the piece
+};
+
+struct Region {
+  Interval u, v;  // global
+  std::vector<Part> parts;
+  Box3 box;
+  std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of every part
+  int simple = -1;
+  std::unique_ptr<Region> child[2];
+  [[nodiscard]] bool single() const { return parts.size() == 1; }
+  [[nodiscard]] double relWidth() const {
+    return single() ? std::max(parts[0].u1 - parts[0].u0, parts[0].v1 - parts[0].v0) : 2.0;
+  }
+};
+
+/// Injective-immersion test of a parameter rectangle (or of two touching rectangles): 0 outside conv(Du u Dv) and
+/// outside conv(Du u -Dv) (Theorem 3.7 in Bezier form, see the docs).
+bool conesSeparate(const std::vector<Vec3>& du, const std::vector<Vec3>& dv) {
+  thread_local std::vector<Vec3> all;
+  all.assign(du.begin(), du.end());
+  all.insert(all.end(), dv.begin(), dv.end());
+  if (!detail::positiveDirection(all)) return false;
+  all.resize(du.size());
+  for (const Vec3& x : dv) all.push_back(-x);
+  return detail::positiveDirection(all);
+}
+
+class SurfaceSearch {
+ public:
+  SurfaceSearch(const BSplineSurface& s, const SearchOptions& options) : opt_(options) {
+    const int dim = s.dim();
+    const std::vector<BezierPatchPiece> bps = s.bezierPatches();
+    for (const BezierPatchPiece& bp : bps) {
+      nu_ = std::max(nu_, bp.spanU + 1);
+      nv_ = std::max(nv_, bp.spanV + 1);
+    }
+    pieces_.resize(static_cast<size_t>(nu_) * nv_);
+    for (const BezierPatchPiece& bp : bps) {
+      Piece& p = pieces_[static_cast<size_t>(bp.spanU) * nv_ + bp.spanV];
+      p.u = bp.u;
+      p.v = bp.v;
+      p.rational = bp.patch.isRational();
+      const int du = bp.patch.degreeU();
+      const int dv = bp.patch.degreeV();
+      Matrix hc = Matrix::Zero((du + 1) * (dv + 1), 4);
+      for (int i = 0; i <= du; ++i) {
+        for (int j = 0; j <= dv; ++j) {
+          const int r = i * (dv + 1) + j;
+          const double w = bp.patch.weight(i, j);
+          for (int k = 0; k < dim; ++k) hc(r, k) = w * bp.patch.point(i, j)[k];
+          hc(r, 3) = w;
+        }
+      }
+      p.h = BernsteinPatch(du, dv, hc);
+      p.hu = p.h.derivative(1, 0);
+      p.hv = p.h.derivative(0, 1);
+      const auto [su, sv] = partialNumerators(p.h, p.rational);
+      p.n = cross(su, sv);
+      p.nu = p.n.derivative(1, 0);
+      p.nv = p.n.derivative(0, 1);
+      for (Eigen::Index r = 0; r < p.n.coeffs().rows(); ++r) {
+        p.nScale = std::max(p.nScale, p.n.coeffs().row(r).norm());
+      }
+    }
+    dist_ = options.distance.value_or(detail::defaultDistance(controlBox(s).diagonal()));
+    domU_ = {pieces_.front().u.lo, pieces_.back().u.hi};
+    domV_ = {pieces_.front().v.lo, pieces_.back().v.hi};
+    // Closed in u (v): the boundary curves u = lo and u = hi coincide (checked at a few parameters).
+    closedU_ = closedV_ = true;
+    for (int k = 0; k <= 8; ++k) {
+      const double t = k / 8.0;
+      const double v = domV_.lo + t * domV_.length();
+      const double u = domU_.lo + t * domU_.length();
+      closedU_ = closedU_ && (s.evaluate(domU_.lo, v) - s.evaluate(domU_.hi, v)).norm() <= dist_;
+      closedV_ = closedV_ && (s.evaluate(u, domV_.lo) - s.evaluate(u, domV_.hi)).norm() <= dist_;
+    }
+    result_.summary.resolution = options.resolution;
+    result_.summary.distance = dist_;
+  }
+
+  SurfaceSearchResult run() {
+    for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) {
+      if (!(pieces_[i].nScale > 0.0)) {
+        addCritical(i, 0.5, 0.5);
+        continue;
+      }
+      critical(i, 0.0, 1.0, 0.0, 1.0);
+    }
+    Region top;
+    top.u = domU_;
+    top.v = domV_;
+    for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) top.parts.push_back({i});
+    finish(top);
+    selfCheck(top);
+    return std::move(result_);
+  }
+
+ private:
+  // ---- evaluation ----
+  int pieceAt(double u, double v) const {
+    int iu = 0;
+    while (iu + 1 < nu_ && u >= pieces_[static_cast<size_t>(iu + 1) * nv_].u.lo) ++iu;
+    int iv = 0;
+    while (iv + 1 < nv_ && v >= pieces_[static_cast<size_t>(iv + 1)].v.lo) ++iv;
+    return iu * nv_ + iv;
+  }
+  void eval(double u, double v, Vec3& point, Vec3& su, Vec3& sv) const {
+    const Piece& p = pieces_[pieceAt(u, v)];
+    const double a = (u - p.u.lo) / p.u.length();
+    const double b = (v - p.v.lo) / p.v.length();
+    const VecX h = p.h(a, b);
+    const VecX hu = p.hu(a, b) / p.u.length();
+    const VecX hv = p.hv(a, b) / p.v.length();
+    const Vec3 x = h.head<3>();
+    point = x / h[3];
+    su = (Vec3(hu.head<3>()) * h[3] - x * hu[3]) / (h[3] * h[3]);
+    sv = (Vec3(hv.head<3>()) * h[3] - x * hv[3]) / (h[3] * h[3]);
+  }
+
+  bool spend() {
+    if (++result_.summary.work > opt_.maxWork) {
+      result_.summary.complete = false;
+      return false;
+    }
+    return true;
+  }
+
+  // ---- critical points ----
+  void critical(int i, double u0, double u1, double v0, double v1) {
+    if (!spend()) return;
+    const Piece& p = pieces_[i];
+    const BernsteinPatch sub = p.n.restricted(u0, u1, v0, v1);
+    thread_local std::vector<Vec3> vs;
+    vs.resize(static_cast<size_t>(sub.coeffs().rows()));
+    for (Eigen::Index k = 0; k < sub.coeffs().rows(); ++k) vs[k] = sub.coeffs().row(k).transpose();
+    if (detail::positiveDirection(vs)) return;
+    const double w = std::max(u1 - u0, v1 - v0);
+    if (w <= opt_.newtonWidth) {
+      Eigen::Vector2d x(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+      for (int it = 0; it < 40; ++it) {
+        const Vec3 f = p.n(x[0], x[1]);
+        Eigen::Matrix<double, 3, 2> j;
+        j.col(0) = p.nu(x[0], x[1]);
+        j.col(1) = p.nv(x[0], x[1]);
+        const Eigen::Matrix2d g = j.transpose() * j;
+        if (!(std::abs(g.determinant()) > 1e-300)) break;
+        const Eigen::Vector2d step = -g.ldlt().solve(j.transpose() * f);
+        if (!step.allFinite()) break;
+        x = (x + step).cwiseMax(0.0).cwiseMin(1.0);
+        if (step.norm() < 1e-15) break;
+      }
+      if (x[0] >= u0 - w && x[0] <= u1 + w && x[1] >= v0 - w && x[1] <= v1 + w &&
+          p.n(x[0], x[1]).norm() <= opt_.criticalRelTol * p.nScale) {
+        addCritical(i, x[0], x[1]);
+        return;
+      }
+    }
+    if (w <= opt_.resolution) {
+      ++result_.summary.unresolved;
+      return;
+    }
+    if (u1 - u0 >= v1 - v0) {
+      const double m = 0.5 * (u0 + u1);
+      critical(i, u0, m, v0, v1);
+      critical(i, m, u1, v0, v1);
+    } else {
+      const double m = 0.5 * (v0 + v1);
+      critical(i, u0, u1, v0, m);
+      critical(i, u0, u1, m, v1);
+    }
+  }
+  void addCritical(int i, double a, double b) {
+    const Piece& p = pieces_[i];
+    const double u = p.u.lo + a * p.u.length();
+    const double v = p.v.lo + b * p.v.length();
+    const double dedupe = 1e3 * opt_.resolution;
+    for (const SurfaceCriticalPoint& c : result_.criticalPoints) {
+      if (std::abs(c.u - u) <= dedupe * p.u.length() && std::abs(c.v - v) <= dedupe * p.v.length()) return;
+    }
+    if (static_cast<int>(result_.criticalPoints.size()) >= opt_.maxReported) {
+      result_.summary.truncated = true;
+      return;
+    }
+    SurfaceCriticalPoint c;
+    c.u = u;
+    c.v = v;
+    Vec3 su, sv;
+    eval(u, v, c.point, su, sv);
+    c.normalNorm = su.cross(sv).norm();
+    result_.criticalPoints.push_back(c);
+  }
+  /// The region grown by its size, or by the Newton width of a span, contains a found critical point.
+  /// S_u x S_v == 0 on a whole piece of the region (reported as one critical point; not searched further).
+  bool degenerate(const Region& r) const {
+    for (const Part& part : r.parts) {
+      if (!(pieces_[part.piece].nScale > 0.0)) return true;
+    }
+    return false;
+  }
+  bool nearCritical(const Region& r) const {
+    const double wu = std::max(r.u.length(), opt_.newtonWidth * domU_.length() / nu_);
+    const double wv = std::max(r.v.length(), opt_.newtonWidth * domV_.length() / nv_);
+    for (const SurfaceCriticalPoint& c : result_.criticalPoints) {
+      if (c.u >= r.u.lo - wu && c.u <= r.u.hi + wu && c.v >= r.v.lo - wv && c.v <= r.v.hi + wv) return true;
+    }
+    return false;
+  }
+
+  // ---- regions ----
+  void finish(Region& r) const {
+    for (const Part& part : r.parts) {
+      const Piece& p = pieces_[part.piece];
+      const bool whole = part.u0 == 0.0 && part.u1 == 1.0 && part.v0 == 0.0 && part.v1 == 1.0;
+      const BernsteinPatch h = whole ? p.h : p.h.restricted(part.u0, part.u1, part.v0, part.v1);
+      const Matrix& c = h.coeffs();
+      for (Eigen::Index k = 0; k < c.rows(); ++k) r.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
+      const auto [su, sv] = partialNumerators(h, p.rational);
+      for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) r.du.push_back(su.coeffs().row(k).transpose());
+      for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) r.dv.push_back(sv.coeffs().row(k).transpose());
+    }
+  }
+  bool isSimple(Region& r) const {
+    if (r.simple < 0) r.simple = conesSeparate(r.du, r.dv) ? 1 : 0;
+    return r.simple == 1;
+  }
+  Region& child(Region& r, int c) {
+    if (!r.child[0]) {
+      auto c0 = std::make_unique<Region>();
+      auto c1 = std::make_unique<Region>();
+      c0->u = c1->u = r.u;
+      c0->v = c1->v = r.v;
+      int puMin = nu_, puMax = -1, pvMin = nv_, pvMax = -1;
+      for (const Part& part : r.parts) {
+        puMin = std::min(puMin, part.piece / nv_);
+        puMax = std::max(puMax, part.piece / nv_);
+        pvMin = std::min(pvMin, part.piece % nv_);
+        pvMax = std::max(pvMax, part.piece % nv_);
+      }
+      if (puMax > puMin || pvMax > pvMin) {
+        const bool alongU = puMax - puMin >= pvMax - pvMin;
+        const int cut = alongU ? (puMin + puMax + 1) / 2 : (pvMin + pvMax + 1) / 2;
+        for (const Part& part : r.parts) {
+          const int index = alongU ? part.piece / nv_ : part.piece % nv_;
+          (index < cut ? c0 : c1)->parts.push_back(part);
+        }
+        const double mid = alongU ? pieces_[static_cast<size_t>(cut) * nv_].u.lo : pieces_[cut].v.lo;
+        (alongU ? c0->u.hi : c0->v.hi) = mid;
+        (alongU ? c1->u.lo : c1->v.lo) = mid;
+      } else {
+        const Part& part = r.parts[0];
+        const Piece& p = pieces_[part.piece];
+        Part a = part;
+        Part b = part;
+        if (part.u1 - part.u0 >= part.v1 - part.v0) {
+          a.u1 = b.u0 = 0.5 * (part.u0 + part.u1);
+          c0->u.hi = c1->u.lo = p.u.lo + a.u1 * p.u.length();
+        } else {
+          a.v1 = b.v0 = 0.5 * (part.v0 + part.v1);
+          c0->v.hi = c1->v.lo = p.v.lo + a.v1 * p.v.length();
+        }
+        c0->parts = {a};
+        c1->parts = {b};
+      }
+      finish(*c0);
+      finish(*c1);
+      r.child[0] = std::move(c0);
+      r.child[1] = std::move(c1);
+    }
+    return *r.child[c];
+  }
+
+  // ---- self-intersections ----
+  void selfCheck(Region& r) {
+    if (!spend() || isSimple(r)) return;
+    if (r.single() && (degenerate(r) || (r.relWidth() <= opt_.newtonWidth && nearCritical(r)))) return;
+    if (r.single() && r.relWidth() <= opt_.resolution) {
+      ++result_.summary.unresolved;
+      return;
+    }
+    selfCheck(child(r, 0));
+    selfCheck(child(r, 1));
+    pairCheck(child(r, 0), child(r, 1));
+  }
+  static bool meets(const Interval& a, const Interval& b) { return a.lo <= b.hi && b.lo <= a.hi; }
+  bool touching(const Region& x, const Region& y) const {
+    if (meets(x.u, y.u) && meets(x.v, y.v)) return true;
+    const bool acrossU = closedU_ && meets(x.v, y.v) &&
+                         ((x.u.lo == domU_.lo && y.u.hi == domU_.hi) || (y.u.lo == domU_.lo && x.u.hi == domU_.hi));
+    const bool acrossV = closedV_ && meets(x.u, y.u) &&
+                         ((x.v.lo == domV_.lo && y.v.hi == domV_.hi) || (y.v.lo == domV_.lo && x.v.hi == domV_.hi));
+    return acrossU || acrossV;
+  }
+  void pairCheck(Region& x, Region& y) {
+    if (!spend()) return;
+    if ((x.single() && degenerate(x)) || (y.single() && degenerate(y))) return;
+    const bool touch = touching(x, y);
+    if (!touch && !x.box.overlaps(y.box, dist_)) return;
+    if (touch) {
+      std::vector<Vec3> du = x.du;
+      du.insert(du.end(), y.du.begin(), y.du.end());
+      std::vector<Vec3> dv = x.dv;
+      dv.insert(dv.end(), y.dv.begin(), y.dv.end());
+      if (conesSeparate(du, dv)) return;
+    }
+    const bool small = x.single() && y.single() && x.relWidth() <= opt_.newtonWidth &&
+                       y.relWidth() <= opt_.newtonWidth;
+    if (small && newton(x, y)) return;
+    if (small && nearCritical(x) && nearCritical(y)) return;  // settled by the reported critical point
+    if (small && x.relWidth() <= opt_.resolution && y.relWidth() <= opt_.resolution) {
+      ++result_.summary.unresolved;
+      return;
+    }
+    if (x.relWidth() >= y.relWidth()) {
+      pairCheck(child(x, 0), y);
+      pairCheck(child(x, 1), y);
+    } else {
+      pairCheck(x, child(y, 0));
+      pairCheck(x, child(y, 1));
+    }
+  }
+  bool newton(const Region& x, const Region& y) {
+    Eigen::Vector4d q(0.5 * (x.u.lo + x.u.hi), 0.5 * (x.v.lo + x.v.hi), 0.5 * (y.u.lo + y.u.hi),
+                      0.5 * (y.v.lo + y.v.hi));
+    Vec3 p1, p2, su1, sv1, su2, sv2;
+    double err = INFINITY;
+    for (int it = 0; it < 40; ++it) {
+      eval(q[0], q[1], p1, su1, sv1);
+      eval(q[2], q[3], p2, su2, sv2);
+      const Vec3 f = p1 - p2;
+      err = f.norm();
+      if (err <= 1e-3 * dist_) break;
+      Eigen::Matrix<double, 3, 4> j;
+      j << su1, sv1, -su2, -sv2;
+      const Eigen::Matrix3d g = j * j.transpose();
+      Eigen::LDLT<Eigen::Matrix3d> ldlt(g);
+      if (ldlt.info() != Eigen::Success) break;
+      const Eigen::Vector4d step = -j.transpose() * ldlt.solve(f);
+      if (!step.allFinite()) break;
+      q += step;
+      q[0] = std::clamp(q[0], domU_.lo, domU_.hi);
+      q[2] = std::clamp(q[2], domU_.lo, domU_.hi);
+      q[1] = std::clamp(q[1], domV_.lo, domV_.hi);
+      q[3] = std::clamp(q[3], domV_.lo, domV_.hi);
+    }
+    eval(q[0], q[1], p1, su1, sv1);
+    eval(q[2], q[3], p2, su2, sv2);
+    err = (p1 - p2).norm();
+    if (!(err <= dist_)) return false;
+    const double wu = std::max(x.u.length(), y.u.length());
+    const double wv = std::max(x.v.length(), y.v.length());
+    if (q[0] < x.u.lo - wu || q[0] > x.u.hi + wu || q[1] < x.v.lo - wv || q[1] > x.v.hi + wv ||
+        q[2] < y.u.lo - wu || q[2] > y.u.hi + wu || q[3] < y.v.lo - wv || q[3] > y.v.hi + wv) {
+      return false;
+    }
+    const double sepU = 1e3 * opt_.resolution * domU_.length() / nu_;
+    const double sepV = 1e3 * opt_.resolution * domV_.length() / nv_;
+    const double du = std::abs(q[0] - q[2]);
+    const double dv = std::abs(q[1] - q[3]);
+    if (du <= sepU && dv <= sepV) return false;  // the trivial solution
+    if (closedU_ && dv <= sepV && domU_.length() - du <= sepU) return false;  // the seam of a closed surface
+    if (closedV_ && du <= sepU && domV_.length() - dv <= sepV) return false;
+    if ((q[0] > q[2]) || (q[0] == q[2] && q[1] > q[3])) {
+      std::swap(q[0], q[2]);
+      std::swap(q[1], q[3]);
+    }
+    for (const SurfaceSelfIntersection& c : result_.selfIntersections) {
+      if (std::abs(c.u1 - q[0]) <= wu && std::abs(c.v1 - q[1]) <= wv && std::abs(c.u2 - q[2]) <= wu &&
+          std::abs(c.v2 - q[3]) <= wv) {
+        return true;
+      }
+    }
+    if (static_cast<int>(result_.selfIntersections.size()) >= opt_.maxReported) {
+      result_.summary.truncated = true;
+      return true;
+    }
+    SurfaceSelfIntersection c;
+    c.u1 = q[0];
+    c.v1 = q[1];
+    c.u2 = q[2];
+    c.v2 = q[3];
+    c.point = 0.5 * (p1 + p2);
+    c.distance = err;
+    result_.selfIntersections.push_back(c);
+    return true;
+  }
+
+  SearchOptions opt_;
+  int nu_ = 0;
+  int nv_ = 0;
+  std::vector<Piece> pieces_;
+  double dist_ = 0.0;
+  Interval domU_, domV_;
+  bool closedU_ = false;
+  bool closedV_ = false;
+  SurfaceSearchResult result_;
+};
+
+}  // namespace
+
+Result<SurfaceSearchResult> searchSurfaceDefects(const BSplineSurface& surface, const SearchOptions& options) {
+  if (surface.dim() < 2 || surface.dim() > 3) {
+    return Status(ErrorCode::kUnsupported, "the surface has " + std::to_string(surface.dim()) +
+                                               " coordinates (2 or 3 are supported)");
+  }
+  if (!(options.resolution > 0.0 && options.resolution < 1.0) || !(options.newtonWidth > 0.0)) {
+    return invalidInput("search resolution must be in (0, 1) and the Newton width positive");
+  }
+  SurfaceSearch search(surface, options);
+  return search.run();
+}
+
+}  // namespace seam::regularity

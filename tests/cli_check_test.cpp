@@ -1,0 +1,166 @@
+// Runs the seam binary (SEAM_CLI_PATH): `seam check` on a small JSON model written here, checking the JSON
+// layout of issue 3, the table output and the exit codes (0 ok, 1 below --require, 2 bad input).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+
+#include "seam/io/json.h"
+#include "seam/model/model.h"
+#include "seam/spline/bspline_surface.h"
+
+namespace seam {
+namespace {
+
+struct CliRun {
+  int exitCode = -1;
+  std::string out;
+};
+
+/// Runs `seam <args>` with stdout captured (stderr discarded).
+CliRun runSeam(const std::string& args) {
+  const std::string cmd = std::string("\"") + SEAM_CLI_PATH + "\" " + args + " 2>/dev/null";
+  CliRun r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buffer[4096];
+  size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
+  const int status = pclose(pipe);
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+/// Two bicubic Bezier patches A (x in [0,1]) and B (x in [1,2]) over y in [0,1], z depending on x only. B
+/// continues A's last control-point difference (C1, hence G1) but its second difference has the opposite sign
+/// (-0.1 vs 0.1), so the normal curvature across the seam jumps: G1, not G2. The seam is A:u1 = B:u0.
+Model g1OnlyModel() {
+  const double za[4] = {0.0, 0.0, 0.1, 0.3};
+  const double zb[4] = {0.3, 0.5, 0.6, 0.6};
+  auto patch = [](const std::string& name, double x0, const double* z) {
+    Matrix pts(16, 3);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) pts.row(i * 4 + j) = Eigen::RowVector3d(x0 + i / 3.0, j / 3.0, z[i]);
+    return Patch{name, PatchKind::kBezier,
+                 BSplineSurface(3, 3, KnotVector::bezier(3), KnotVector::bezier(3), 4, 4, pts)};
+  };
+  Model m;
+  m.patches.push_back(patch("A", 0.0, za));
+  m.patches.push_back(patch("B", 1.0, zb));
+  return m;
+}
+
+class CliCheck : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::mt19937_64 rng(std::random_device{}());
+    dir_ = std::filesystem::temp_directory_path() / ("seam_cli_check_" + std::to_string(rng()));
+    std::filesystem::create_directories(dir_);
+    model_ = (dir_ / "g1.json").string();
+    ASSERT_TRUE(io::writeModelJson(g1OnlyModel(), model_).isOk());
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+  std::string model_;
+};
+
+TEST_F(CliCheck, JsonLayoutOfIssue3) {
+  const CliRun r = runSeam("check \"" + model_ + "\" --json");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("tolerances"));
+  // Default distance tolerance: 1e-6 x bounding-box diagonal of the control points ([0,2] x [0,1] x [0,0.6]).
+  EXPECT_NEAR(j["tolerances"]["distance"].get<double>(), 1e-6 * std::sqrt(4.0 + 1.0 + 0.36), 1e-15);
+  EXPECT_DOUBLE_EQ(j["tolerances"]["angle_deg"].get<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(j["tolerances"]["curvature_rel"].get<double>(), 0.01);
+  ASSERT_EQ(j["seams"].size(), 1u);
+  const nlohmann::json& s = j["seams"][0];
+  EXPECT_EQ(s["a"], "A");
+  EXPECT_EQ(s["a_edge"], "u1");
+  EXPECT_EQ(s["b"], "B");
+  EXPECT_EQ(s["b_edge"], "u0");
+  EXPECT_EQ(s["overlap"], nlohmann::json::array({0.0, 1.0}));
+  for (const char* key : {"g0_max", "g1_max_deg", "g2_max", "g2_rel_max"})
+    EXPECT_TRUE(s[key].is_number()) << key;
+  EXPECT_LT(s["g0_max"].get<double>(), 1e-12);
+  EXPECT_LT(s["g1_max_deg"].get<double>(), 1e-9);
+  EXPECT_GT(s["g2_rel_max"].get<double>(), 0.1);
+  EXPECT_EQ(s["lambda_range"].size(), 2u);
+  EXPECT_EQ(s["kappa_range"].size(), 2u);
+  EXPECT_NEAR(s["lambda_range"][0].get<double>(), 1.0, 1e-9);  // equal spacing on both sides: B_u = A_u
+  EXPECT_EQ(s["geometric"], "G1");
+  EXPECT_TRUE(s["parametric"].is_string());
+  EXPECT_TRUE(s["certified"].is_boolean());
+  for (const char* key : {"g0", "g1", "g2"}) {
+    EXPECT_TRUE(s["worst"][key]["t"].is_number()) << key;
+    EXPECT_EQ(s["worst"][key]["point"].size(), 3u) << key;
+  }
+  // Two vertices (the ends of the seam, 2 patch corners each), six free edges, no collapsed edge.
+  ASSERT_EQ(j["corners"].size(), 2u);
+  for (const nlohmann::json& c : j["corners"]) {
+    EXPECT_EQ(c["valence"], 2);
+    EXPECT_EQ(c["patches"], nlohmann::json::array({"A", "B"}));
+    EXPECT_EQ(c["point"].size(), 3u);
+    EXPECT_NEAR(c["normal_spread_deg"].get<double>(), 0.0, 1e-9);
+    EXPECT_TRUE(c["g1_residual"].is_null());  // only 4-valent vertices have Theorem 1 residuals
+    EXPECT_TRUE(c["g2_residual"].is_null());
+  }
+  ASSERT_EQ(j["free_edges"].size(), 6u);
+  EXPECT_TRUE(j["free_edges"][0].contains("patch"));
+  EXPECT_TRUE(j["free_edges"][0].contains("edge"));
+  EXPECT_EQ(j["summary"]["seams"], 1);
+  EXPECT_EQ(j["summary"]["worst_geometric"], "G1");
+}
+
+TEST_F(CliCheck, ExitCodesOfRequire) {
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --require G2").exitCode, 1);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --require G1").exitCode, 0);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --require G0 --json").exitCode, 0);
+  // A looser curvature tolerance makes the jump acceptable.
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --require G2 --tol-curvature 1000").exitCode, 0);
+}
+
+TEST_F(CliCheck, SeamOptionAnalysesOnePair) {
+  const CliRun r = runSeam("check \"" + model_ + "\" --seam A:u1 B:u0 --json");
+  ASSERT_EQ(r.exitCode, 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["seams"].size(), 1u);
+  EXPECT_EQ(j["seams"][0]["geometric"], "G1");
+  EXPECT_TRUE(j["corners"].empty());
+  EXPECT_TRUE(j["free_edges"].empty());
+  const CliRun table = runSeam("check \"" + model_ + "\" --seam A:u1 B:u0");
+  EXPECT_EQ(table.exitCode, 0);
+  EXPECT_NE(table.out.find("G1"), std::string::npos);
+  EXPECT_NE(table.out.find("summary:"), std::string::npos);
+}
+
+TEST_F(CliCheck, TableOutput) {
+  const CliRun r = runSeam("check \"" + model_ + "\"");
+  ASSERT_EQ(r.exitCode, 0);
+  for (const char* text :
+       {"seams (1)", "corners (2)", "free edges (6)", "summary: 1 seams", "G0 gap", "certified"})
+    EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
+}
+
+TEST_F(CliCheck, BadInputExitsWith2) {
+  EXPECT_EQ(runSeam("check \"" + (dir_ / "missing.json").string() + "\"").exitCode, 2);
+  {
+    std::ofstream bad(dir_ / "bad.json");
+    bad << "{\"patches\": [ {\"name\": \"X\"";
+  }
+  EXPECT_EQ(runSeam("check \"" + (dir_ / "bad.json").string() + "\"").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --require G3").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --tol-angle -1").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --seam A:x9 B:u0").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --seam Nope:u1 B:u0").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --seam A:u1").exitCode, 2);
+  EXPECT_EQ(runSeam("check").exitCode, 2);
+}
+
+}  // namespace
+}  // namespace seam

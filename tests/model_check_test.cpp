@@ -1,0 +1,433 @@
+// Tests of the whole-model check (seam/continuity/model_check.h): pairing of boundary edges through the
+// spatial index against a brute-force N^2 search written here, T-junctions, free and collapsed edges,
+// vertices, and the Newell tea set end to end (expected counts from shared/data/README.md, which were found
+// independently by comparing control polygons and sampling normals in numpy).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "seam/continuity/corner.h"
+#include "seam/continuity/model_check.h"
+#include "seam/core/bernstein.h"
+#include "seam/io/file.h"
+#include "seam/spline/bezier.h"
+#include "seam/spline/bspline_surface.h"
+
+namespace seam {
+namespace {
+
+/// A wavy bicubic Bezier patch over [0,2] x [0,1.5] (the one surface the synthetic models are cut from).
+BezierPatch baseSurface() {
+  Matrix pts(16, 3);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      pts.row(i * 4 + j) =
+          Eigen::RowVector3d(2.0 * i / 3.0, 1.5 * j / 3.0, 0.3 * std::sin(1.1 * i + 0.6 * j * j));
+  return BezierPatch(3, 3, pts);
+}
+
+/// The piece of `p` over [u0,u1] x [v0,v1] (exact: Bernstein restriction), as a B-spline on [0,1]^2.
+BSplineSurface subPatch(const BezierPatch& p, double u0, double u1, double v0, double v1) {
+  const BernsteinPatch r = p.homogeneous().restricted(u0, u1, v0, v1);
+  return BezierPatch(p.degreeU(), p.degreeV(), r.coeffs()).toBSpline();
+}
+
+/// Random storage orientation (swap / reverse) that keeps the geometry.
+BSplineSurface randomlyOriented(const BSplineSurface& s, std::mt19937_64& rng) {
+  return applyLayout(s, PatchLayout{(rng() & 1) != 0, (rng() & 1) != 0, (rng() & 1) != 0});
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Brute-force reference pairing: every two edges (all N^2 pairs, no index), each sampled at kBruteSamples points and
+// measured against a dense polyline of the other (kBrutePolyline segments; the chord error of these smooth cubic
+// edges is ~1e-6, far below the gaps and widths the test data use). The synthetic models only have full overlaps and
+// T-junctions (a short edge lying inside a long one), so two edges are paired exactly when every sample of one of
+// them lies within the pairing tolerance of the other.
+
+constexpr int kBruteSamples = 33;
+constexpr int kBrutePolyline = 1000;
+
+double pointSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double t = d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - (a + t * d)).norm();
+}
+
+struct BruteEdge {
+  EdgeRef ref;
+  std::vector<Vec3> samples, polyline;
+  bool collapsed = false;
+};
+
+BruteEdge bruteEdge(const Model& m, int patch, Edge e, double collapseTol) {
+  BruteEdge b;
+  b.ref = {patch, e};
+  const BSplineCurve c = m.patches[static_cast<size_t>(patch)].surface.boundaryCurve(e);
+  const Interval d = c.domain();
+  for (int i = 0; i < kBruteSamples; ++i)
+    b.samples.push_back(c.evaluate(d.lo + d.length() * i / (kBruteSamples - 1)).head<3>());
+  for (int i = 0; i <= kBrutePolyline; ++i)
+    b.polyline.push_back(c.evaluate(d.lo + d.length() * i / kBrutePolyline).head<3>());
+  double extent = 0.0;
+  for (const Vec3& q : b.polyline) extent = std::max(extent, (q - b.polyline[0]).norm());
+  b.collapsed = extent <= collapseTol;
+  return b;
+}
+
+bool bruteInside(const BruteEdge& e, const BruteEdge& f, double tol) {
+  for (const Vec3& p : e.samples) {
+    double d = INFINITY;
+    for (size_t k = 0; k + 1 < f.polyline.size(); ++k) d = std::min(d, pointSegment(p, f.polyline[k], f.polyline[k + 1]));
+    if (d > tol) return false;
+  }
+  return true;
+}
+
+std::set<std::pair<EdgeRef, EdgeRef>> brutePairs(const Model& m, double tol, double collapseTol) {
+  std::vector<BruteEdge> edges;
+  for (int p = 0; p < static_cast<int>(m.patches.size()); ++p)
+    for (Edge e : kAllEdges) edges.push_back(bruteEdge(m, p, e, collapseTol));
+  std::set<std::pair<EdgeRef, EdgeRef>> out;
+  for (size_t i = 0; i < edges.size(); ++i)
+    for (size_t j = i + 1; j < edges.size(); ++j) {
+      if (edges[i].collapsed || edges[j].collapsed) continue;
+      if (bruteInside(edges[i], edges[j], tol) || bruteInside(edges[j], edges[i], tol))
+        out.insert({edges[i].ref, edges[j].ref});
+    }
+  return out;
+}
+
+std::set<std::pair<EdgeRef, EdgeRef>> pairSet(const std::vector<EdgePair>& pairs) {
+  std::set<std::pair<EdgeRef, EdgeRef>> out;
+  for (const EdgePair& p : pairs) out.insert({std::min(p.a, p.b), std::max(p.a, p.b)});
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Synthetic models.
+
+/// An nu x nv grid of pieces of baseSurface() with random storage orientations; column `split` (if >= 0) is
+/// cut in two along v, so its pieces meet each neighbouring column in T-junctions; patch `lifted` (if >= 0)
+/// is moved by `gap` along z (every seam of it gets a gap of that size).
+Model gridModel(int nu, int nv, int split, int lifted, double gap, std::mt19937_64& rng) {
+  const BezierPatch base = baseSurface();
+  Model m;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u0 = double(i) / nu, u1 = double(i + 1) / nu, v0 = double(j) / nv, v1 = double(j + 1) / nv;
+      std::vector<std::pair<double, double>> vs = {{v0, v1}};
+      if (i == split) vs = {{v0, 0.5 * (v0 + v1)}, {0.5 * (v0 + v1), v1}};
+      for (const auto& [a, b] : vs) {
+        Patch p{"P" + std::to_string(m.patches.size()), PatchKind::kBSpline, subPatch(base, u0, u1, a, b)};
+        p.surface = randomlyOriented(p.surface, rng);
+        m.patches.push_back(std::move(p));
+      }
+    }
+  if (lifted >= 0) {
+    BSplineSurface& s = m.patches[static_cast<size_t>(lifted)].surface;
+    Matrix pts = s.points();
+    pts.col(2).array() += gap;
+    s = BSplineSurface(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(), pts);
+  }
+  return m;
+}
+
+TEST(ModelCheck, GridPairingMatchesBruteForce) {
+  std::mt19937_64 rng(42);
+  for (const auto& [nu, nv, split, lifted] : std::vector<std::tuple<int, int, int, int>>{
+           {3, 3, -1, -1}, {4, 3, 1, -1}, {4, 4, 2, 5}, {5, 2, 0, 3}}) {
+    const Model m = gridModel(nu, nv, split, lifted, 1e-3, rng);
+    const Result<EdgePairing> r = pairEdges(m);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    const Tolerances tol = Tolerances::forModelSize(m.boundingBox().diagonal());
+    const auto expected = brutePairs(m, r->pairingTolerance, tol.distance);
+    EXPECT_EQ(pairSet(r->pairs), expected) << nu << "x" << nv << " split " << split;
+    // Counts from the construction: interior grid lines, plus one more seam inside the split column and one
+    // more T-junction partner on each side of it.
+    int seams = (nu - 1) * nv + nu * (nv - 1);
+    if (split >= 0) seams += nv + (split > 0 ? nv : 0) + (split < nu - 1 ? nv : 0);
+    EXPECT_EQ(static_cast<int>(r->pairs.size()), seams);
+    EXPECT_TRUE(r->degenerateEdges.empty());
+    for (const EdgePair& p : r->pairs) {
+      const bool touchesLifted = p.a.patch == lifted || p.b.patch == lifted;
+      EXPECT_NEAR(p.distance, touchesLifted ? 1e-3 : 0.0, 1e-9);
+    }
+  }
+}
+
+TEST(ModelCheck, TJunctionOverlapsAndFreeEdges) {
+  // Left: one patch over u in [0, 0.5]; right: two patches over v in [0, 0.5] and [0.5, 1]. The left patch's
+  // u1 edge is shared with both right u0 edges on exactly half of its parameter range each.
+  const BezierPatch base = baseSurface();
+  Model m;
+  m.patches.push_back({"L", PatchKind::kBSpline, subPatch(base, 0, 0.5, 0, 1)});
+  m.patches.push_back({"R0", PatchKind::kBSpline, subPatch(base, 0.5, 1, 0, 0.5)});
+  m.patches.push_back({"R1", PatchKind::kBSpline, subPatch(base, 0.5, 1, 0.5, 1)});
+  const Result<EdgePairing> r = pairEdges(m);
+  ASSERT_TRUE(r.isOk());
+  ASSERT_EQ(r->pairs.size(), 3u);
+  std::map<std::pair<int, int>, EdgePair> byPatches;
+  for (const EdgePair& p : r->pairs) byPatches[{p.a.patch, p.b.patch}] = p;
+  ASSERT_TRUE((byPatches.count({0, 1}) && byPatches.count({0, 2}) && byPatches.count({1, 2})));
+  const EdgePair& low = byPatches[{0, 1}];
+  const EdgePair& high = byPatches[{0, 2}];
+  EXPECT_EQ(low.a.edge, Edge::U1);
+  EXPECT_EQ(low.b.edge, Edge::U0);
+  EXPECT_FALSE(low.fullA);
+  EXPECT_TRUE(low.fullB);
+  EXPECT_NEAR(low.overlapA.lo, 0.0, 1e-12);
+  EXPECT_NEAR(low.overlapA.hi, 0.5, 1e-9);
+  EXPECT_NEAR(high.overlapA.lo, 0.5, 1e-9);
+  EXPECT_NEAR(high.overlapA.hi, 1.0, 1e-12);
+  EXPECT_FALSE(low.reversed);
+  const EdgePair& between = byPatches[{1, 2}];
+  EXPECT_TRUE(between.fullA && between.fullB);
+  // Free: L u0, v0, v1; R0 u1, v0; R1 u1, v1: 7 whole edges, none partial.
+  EXPECT_EQ(r->freeEdges.size(), 7u);
+  for (const FreeEdge& f : r->freeEdges) EXPECT_FALSE(f.partial);
+
+  // Drop R1: L's u1 edge is now only half shared; its other half is reported as a partial free edge.
+  m.patches.pop_back();
+  const Result<EdgePairing> r2 = pairEdges(m);
+  ASSERT_TRUE(r2.isOk());
+  ASSERT_EQ(r2->pairs.size(), 1u);
+  int partial = 0;
+  for (const FreeEdge& f : r2->freeEdges)
+    if (f.partial) {
+      ++partial;
+      EXPECT_EQ(f.edge, (EdgeRef{0, Edge::U1}));
+      EXPECT_NEAR(f.range.lo, 0.5, 1e-9);
+      EXPECT_NEAR(f.range.hi, 1.0, 1e-12);
+    }
+  EXPECT_EQ(partial, 1);
+}
+
+TEST(ModelCheck, CollapsedEdgesAreReportedAndNeverPaired) {
+  // Four bicubic patches around a pole (one boundary row collapsed), like the teapot's lid, plus their
+  // neighbours.
+  Model m;
+  for (int k = 0; k < 4; ++k) {
+    Matrix pts(16, 3);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const double r = i / 3.0, a = std::numbers::pi / 2 * (k + j / 3.0);
+        pts.row(i * 4 + j) = Eigen::RowVector3d(r * std::cos(a), r * std::sin(a), 1.0 - 0.5 * r * r);
+      }
+    m.patches.push_back({"T" + std::to_string(k), PatchKind::kBezier,
+                         BSplineSurface(3, 3, KnotVector::bezier(3), KnotVector::bezier(3), 4, 4, pts)});
+  }
+  const Result<EdgePairing> r = pairEdges(m);
+  ASSERT_TRUE(r.isOk());
+  ASSERT_EQ(r->degenerateEdges.size(), 4u);
+  for (const DegenerateEdge& d : r->degenerateEdges) {
+    EXPECT_EQ(d.edge.edge, Edge::U0);
+    EXPECT_NEAR((d.point - Vec3(0, 0, 1)).norm(), 0.0, 1e-12);
+  }
+  // The four radial seams (v1 of k with v0 of k+1); the rims (u1) are free. Note: the patches are not exact
+  // arcs, but neighbours share their boundary control polygons exactly.
+  EXPECT_EQ(r->pairs.size(), 4u);
+  EXPECT_EQ(r->freeEdges.size(), 4u);
+  for (const EdgePair& p : r->pairs) EXPECT_TRUE(p.identicalControlPolygons);
+
+  const Result<ModelCheckReport> full = checkModel(m);
+  ASSERT_TRUE(full.isOk());
+  // One vertex at the pole (valence 4, degenerate, no normal spread) and four rim vertices (valence 2, open).
+  int poles = 0, rim = 0;
+  for (const ModelCorner& c : full->corners) {
+    if (c.report.degenerate) {
+      ++poles;
+      EXPECT_EQ(c.report.valence, 4);
+      EXPECT_TRUE(c.report.closed);
+      EXPECT_FALSE(c.report.normalSpreadDeg.has_value());
+    } else {
+      ++rim;
+      EXPECT_EQ(c.report.valence, 2);
+      EXPECT_FALSE(c.report.closed);
+      // The quarter patches are not G1 across the radial seams (their control nets are not those of a surface of
+      // revolution), so the rim vertices show a real crease; it must be a number, not 180 (orientation) or NaN.
+      ASSERT_TRUE(c.report.normalSpreadDeg.has_value());
+      EXPECT_LT(*c.report.normalSpreadDeg, 90.0);
+    }
+  }
+  EXPECT_EQ(poles, 1);
+  EXPECT_EQ(rim, 4);
+}
+
+TEST(ModelCheck, SplitBSplineGridIsG2WithCompatibleVertices) {
+  // A C2 bicubic B-spline with 3 x 3 spans cut into its Bezier pieces, stored in random orientations: every
+  // seam is G2, every interior vertex is 4-valent with vanishing Theorem 1 and 2 residuals.
+  std::mt19937_64 rng(5);
+  Matrix pts(36, 3);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      pts.row(i * 6 + j) =
+          Eigen::RowVector3d(i * 0.4, j * 0.35 + 0.05 * i, 0.2 * std::cos(0.9 * i - 0.5 * j));
+  const BSplineSurface s = BSplineSurface::create(3, 3, {0, 0, 0, 0, 0.3, 0.65, 1, 1, 1, 1},
+                                                  {0, 0, 0, 0, 0.4, 0.7, 1, 1, 1, 1}, 6, 6, pts)
+                               .value();
+  Model m;
+  for (const BezierPatchPiece& piece : s.bezierPatches())
+    m.patches.push_back({"B" + std::to_string(piece.spanU) + std::to_string(piece.spanV), PatchKind::kBSpline,
+                         randomlyOriented(piece.patch.toBSpline(piece.u, piece.v), rng)});
+  const Result<ModelCheckReport> r = checkModel(m);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->summary.seams, 12);
+  EXPECT_EQ(r->summary.failedSeams, 0);
+  EXPECT_EQ(r->summary.geometric[static_cast<size_t>(GeometricClass::kG2)], 12);
+  EXPECT_EQ(r->summary.freeEdges, 12);
+  EXPECT_EQ(r->summary.fourValentCorners, 4);
+  EXPECT_LT(r->summary.cornerG1ResidualMax, 1e-9);
+  ASSERT_TRUE(r->summary.cornerG2ResidualMax.has_value());
+  EXPECT_LT(*r->summary.cornerG2ResidualMax, 1e-9);
+  EXPECT_LT(r->summary.normalSpreadMaxDeg, 1e-6);
+  // 16 vertices: 4 interior, 8 on the sides (valence 2), 4 outer corners with a single patch are not
+  // vertices.
+  EXPECT_EQ(r->summary.corners, 12);
+}
+
+TEST(ModelCheck, RequireCountsSeamsBelowTheClass) {
+  std::mt19937_64 rng(3);
+  const Model m = gridModel(2, 2, -1, 0, 1e-3, rng);  // patch 0 lifted: its two seams have a 1e-3 gap
+  ModelCheckOptions o;
+  o.require = GeometricClass::kG0;
+  const Result<ModelCheckReport> r = checkModel(m, o);
+  ASSERT_TRUE(r.isOk());
+  EXPECT_EQ(r->summary.seams, 4);
+  EXPECT_EQ(r->summary.belowRequired, 2);
+  EXPECT_EQ(r->summary.worstGeometric, GeometricClass::kNone);
+  EXPECT_NEAR(r->summary.g0Max, 1e-3, 1e-9);
+}
+
+TEST(ModelCheck, BadInputIsRejected) {
+  EXPECT_EQ(checkModel(Model{}).status().code(), ErrorCode::kInvalidInput);
+  EXPECT_EQ(pairEdges(Model{}).status().code(), ErrorCode::kInvalidInput);
+  Model m;
+  Matrix pts = Matrix::Zero(4, 2);
+  pts(1, 0) = pts(3, 0) = pts(2, 1) = pts(3, 1) = 1.0;
+  m.patches.push_back({"flat2d", PatchKind::kBSpline,
+                       BSplineSurface(1, 1, KnotVector::bezier(1), KnotVector::bezier(1), 2, 2, pts)});
+  EXPECT_EQ(checkModel(m).status().code(), ErrorCode::kInvalidInput);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The Newell tea set (shared/data/bezier, README.md there).
+
+Model readTea(const std::string& name) {
+  Result<Model> m = io::readModel(std::string(SEAM_SHARED_DATA_DIR) + "/bezier/" + name);
+  EXPECT_TRUE(m.isOk()) << m.status().message();
+  return m.isOk() ? std::move(m).value() : Model{};
+}
+
+TEST(TeaSet, TeapotSeamsFreeEdgesAndPoles) {
+  const Model m = readTea("teapot.bpt");
+  ASSERT_EQ(m.patches.size(), 32u);
+  const Result<ModelCheckReport> r = checkModel(m);
+  ASSERT_TRUE(r.isOk());
+  const ModelCheckSummary& s = r->summary;
+  // README: 52 patch-boundary pairs with identical control polygons, all tangent-plane continuous.
+  int identical = 0;
+  for (const ModelSeam& seam : r->seams) {
+    if (seam.pair.identicalControlPolygons && seam.pair.distance == 0.0) ++identical;
+    ASSERT_TRUE(seam.report.has_value()) << seam.error.message();
+    EXPECT_GE(static_cast<int>(seam.report->geometric), static_cast<int>(GeometricClass::kG1))
+        << seam.report->a << ":" << edgeName(seam.report->aEdge) << " " << seam.report->b << ":"
+        << edgeName(seam.report->bEdge) << " angle " << seam.report->g1MaxDeg;
+  }
+  EXPECT_EQ(identical, 52);
+  EXPECT_EQ(s.seams, 52);
+  // README: 8 degenerate patches (lid top 20-23 and bottom 28-31), each with one collapsed boundary row.
+  ASSERT_EQ(s.degenerateEdges, 8);
+  std::set<int> poles;
+  for (const DegenerateEdge& d : r->degenerateEdges) poles.insert(d.edge.patch);
+  EXPECT_EQ(poles, (std::set<int>{20, 21, 22, 23, 28, 29, 30, 31}));
+  // README: 16 non-degenerate boundaries without a partner.
+  EXPECT_EQ(s.freeEdges, 16);
+  for (const FreeEdge& f : r->freeEdges) EXPECT_FALSE(f.partial);
+  // Two pole vertices (lid knob top, bottom centre), degenerate, 4 sectors each.
+  int poleVertices = 0;
+  for (const ModelCorner& c : r->corners)
+    if (c.report.degenerate) {
+      ++poleVertices;
+      EXPECT_EQ(c.report.valence, 4);
+    }
+  EXPECT_EQ(poleVertices, 2);
+  // The handle's lower end touches the body exactly at a body vertex, (-2, 0, 0.9): two separate fans meet there, and
+  // their unrelated orientations must not be compared (the body and handle are each smooth at that point).
+  bool touching = false;
+  for (const ModelCorner& c : r->corners) {
+    EXPECT_LT(c.report.normalSpreadDeg.value_or(0.0), 1e-6) << c.report.point.transpose();
+    if ((c.report.point - Vec3(-2.0, 0.0, 0.9)).norm() < 1e-9) {
+      touching = true;
+      EXPECT_EQ(c.report.corners.size(), 6u);
+      EXPECT_FALSE(c.report.notes.empty());
+    }
+  }
+  EXPECT_TRUE(touching);
+  // Every 4-valent vertex satisfies Theorem 1 to round-off (the seams are G1), none has four G2 seams.
+  EXPECT_EQ(s.fourValentCorners, 19);
+  EXPECT_LT(s.cornerG1ResidualMax, 1e-12);
+  EXPECT_EQ(s.worstGeometric >= GeometricClass::kG1, true);
+}
+
+TEST(TeaSet, TeacupHasFourCreasesOfAbout59Degrees) {
+  const Model m = readTea("teacup.bpt");
+  ASSERT_EQ(m.patches.size(), 26u);
+  const Result<ModelCheckReport> r = checkModel(m);
+  ASSERT_TRUE(r.isOk());
+  EXPECT_EQ(r->summary.seams, 46);
+  int creases = 0;
+  for (const ModelSeam& seam : r->seams) {
+    ASSERT_TRUE(seam.report.has_value());
+    if (seam.report->geometric == GeometricClass::kG0) {
+      ++creases;
+      // The README's 59 degrees is the angle between UNSIGNED normals (min(a, 180 - a)); seam orients the normals
+      // consistently across the seam, so the cup wall turning outward into the saucer shows 180 - 59 = 121 degrees.
+      EXPECT_NEAR(180.0 - seam.report->g1MaxDeg, 59.0, 1.5);
+      const std::set<int> wallSaucer = {seam.pair.a.patch, seam.pair.b.patch};
+      EXPECT_TRUE(*wallSaucer.begin() >= 4 && *wallSaucer.begin() <= 7 && *wallSaucer.rbegin() >= 14 &&
+                  *wallSaucer.rbegin() <= 17);
+    } else {
+      EXPECT_GE(static_cast<int>(seam.report->geometric), static_cast<int>(GeometricClass::kG1));
+    }
+  }
+  EXPECT_EQ(creases, 4);
+  EXPECT_EQ(r->summary.freeEdges, 12);
+}
+
+TEST(TeaSet, TeaspoonHasThreeSmallGaps) {
+  const Model m = readTea("teaspoon.bpt");
+  ASSERT_EQ(m.patches.size(), 16u);
+  const Result<ModelCheckReport> r = checkModel(m);
+  ASSERT_TRUE(r.isOk());
+  std::map<std::pair<int, int>, double> gaps;
+  int exact = 0;
+  for (const ModelSeam& seam : r->seams) {
+    ASSERT_TRUE(seam.report.has_value());
+    if (seam.report->g0Max <= r->tolerances.distance) {
+      ++exact;
+    } else {
+      gaps[{seam.pair.a.patch, seam.pair.b.patch}] = seam.report->g0Max;
+    }
+  }
+  EXPECT_EQ(exact, 28);
+  ASSERT_EQ(gaps.size(), 3u);
+  ASSERT_TRUE((gaps.count({0, 2}) && gaps.count({1, 3}) && gaps.count({13, 15})));
+  // README: 0/2 and 1/3 are 0.0089 apart, 13/15 0.0007. Measured here: 0/2 0.0089 and 13/15 0.0007 as in the README,
+  // but 1/3 only ~0.0003: their control polygons differ by 0.0089 when compared in the same order and by 0.000314 in
+  // reversed order, and the edges run in opposite directions (the README's comparison evidently used one order).
+  // The analysed gap can only be below the control-point bound of the matched order.
+  EXPECT_NEAR((gaps[{0, 2}]), 0.0089, 0.0005);
+  EXPECT_GT((gaps[{1, 3}]), 1e-4);
+  EXPECT_LE((gaps[{1, 3}]), 0.000315);
+  EXPECT_NEAR((gaps[{13, 15}]), 0.0007, 0.0001);
+}
+
+}  // namespace
+}  // namespace seam

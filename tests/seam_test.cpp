@@ -1,0 +1,1234 @@
+// Tests of analyzeSeam (include/seam/continuity/seam.h), issue 3 section 7.
+//
+// Every expected value comes from an independent route: an exact construction whose answer is known by
+// construction (knot insertion and slicing, affine / polynomial reparametrisation, Johansson's Lemma 1 and 2
+// written as Bezier row formulas, planar patches at a known dihedral angle, rigid translations, weight
+// scaling), or a dense evaluation written in seam_test_support.h from the kernel's surface derivatives only.
+// analyzeSeam is never used to produce an expected value (the weight-scaling test compares two analyses, but
+// of the same geometry, which is the property under test).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "seam/continuity/seam.h"
+#include "seam/io/file.h"
+#include "seam_test_support.h"
+
+namespace seam {
+namespace {
+
+using namespace seamtest;  // NOLINT(google-build-using-namespace): test-only helpers
+
+// =====================================================================================================================
+// Named thresholds (why each bound).
+// =====================================================================================================================
+
+/// Exact constructions (knot insertion + slicing, Bernstein elevation/products, copies of control points)
+/// agree to a few ulps, ~1e-15 relative. The analysis adds elevation, products and a division by |n|; a few
+/// thousand ulps is the realistic worst case. 1e-10 relative to the patch size is far below the default
+/// distance tolerance (1e-6), so it proves "zero up to round-off", not just "within tolerance".
+constexpr double kExactDistanceRel = 1e-10;
+/// Angle of exact G1 constructions: normals agree to ~1e-14 relative, i.e. ~1e-12 degrees; 1e-6 degrees
+/// leaves a wide margin and is the accuracy the issue asks for known kink angles (item iv).
+constexpr double kExactAngleDeg = 1e-6;
+/// Known angles (items iv, vi) must be reproduced within 1e-6 degrees (brief, item iv).
+constexpr double kKnownAngleTolDeg = 1e-6;
+/// Curvature jump of exact G2 constructions, relative to the curvature scale: second derivatives lose ~2 more
+/// digits than first derivatives to round-off (differences of control points divided by squared knot spans).
+constexpr double kExactCurvatureRel = 1e-7;
+/// Connecting functions (lambda, kappa) of exact constructions: a 2x2 least-squares solve with condition
+/// number
+/// <= ~1e3 on data exact to ~1e-15 relative. Also allows for the sampled range being taken at the seam ends,
+/// where the extremes of linear lambda/kappa occur (the header calls the ranges "sampled").
+constexpr double kExactFunctionTol = 1e-8;
+/// Parametric mismatch of exact constructions: the header's relative c1/c2 mismatch is computed from the same
+/// data.
+constexpr double kExactMismatch = 1e-9;
+/// Overlap intervals of exact constructions (knot values copied exactly; found by projection of end points):
+/// the projection converges to ~1e-15 but is only as well-conditioned as the edge speed; 1e-9 of the edge
+/// length.
+constexpr double kOverlapTol = 1e-9;
+/// Overlap ends of gap cases (item v): the ends are found by closest-point projection of end points at a gap;
+/// the projection of a point at distance h from a straight edge is exact, so only round-off remains.
+constexpr double kGapOverlapTol = 1e-7;
+/// Certified bounds must be within 1 % of the sampled worst value (issue 3, section 3).
+constexpr double kBoundRelGap = 0.01;
+/// The test's own 10^4-point sampling can miss a smooth maximum by ~f'' h^2 / 8 relative, h = 1e-4 of the
+/// seam:
+/// <= 1e-6 for the polynomials here. 1e-4 also absorbs the O(eps^2) difference between a closest-point
+/// correspondence and a parametric one for the eps ~ 1e-4 edge perturbations of the bounds test.
+constexpr double kDenseSlackRel = 1e-4;
+/// Values the header calls "sampled" (64 points per span, refined) against the test's denser sampling: a
+/// smooth maximum is missed by ~ f'' h^2 / 8 relative, h = 1/64, i.e. a few 1e-3 for the degree <= 12 data
+/// here.
+constexpr double kSampledRel = 0.02;
+/// Round-off floors under which a measured value counts as zero in the bounds test (relative to patch size
+/// for g0, absolute degrees for g1, relative to the curvature scale for g2): the exact-G0 pairs there have g0
+/// ~ 1e-16.
+constexpr double kFloorDistanceRel = 1e-11;
+constexpr double kFloorAngleDeg = 1e-7;
+constexpr double kFloorCurvatureRel = 1e-8;
+/// A reference value this many times above a tolerance is unambiguously above it (and this many times below,
+/// unambiguously below), so an expected class does not hang on sampling details: the sampled maxima here (64 per span
+/// in the implementation, 400 or more in the test) agree to well under 1 %, far inside a factor 3.
+constexpr double kClearMargin = 3.0;
+
+// =====================================================================================================================
+// Small helpers.
+// =====================================================================================================================
+
+std::string describe(const SeamReport& r) {
+  std::ostringstream os;
+  os.precision(10);
+  os << "report: geometric " << toString(r.geometric) << ", parametric " << toString(r.parametric)
+     << ", certified " << r.certified << ", corr " << toString(r.correspondence) << " deg "
+     << r.correspondenceDegree << ", reversed " << r.reversed << ", overlapA [" << r.overlapA.lo << ", "
+     << r.overlapA.hi << "], overlapB [" << r.overlapB.lo << ", " << r.overlapB.hi << "], g0 " << r.g0Max
+     << " (" << r.g0Sampled << "), g1 " << r.g1MaxDeg << " (" << r.g1SampledDeg << "), g2 " << r.g2Max << " ("
+     << r.g2Sampled << "), g2rel " << r.g2RelMax << ", lambda [" << r.lambdaRange.lo << ", "
+     << r.lambdaRange.hi << "], kappa [" << r.kappaRange.lo << ", " << r.kappaRange.hi << "], c1 "
+     << r.c1Mismatch << ", c2 " << r.c2Mismatch << ", g1Id " << r.g1Identity << ", g2Id " << r.g2Identity;
+  for (const auto& n : r.notes) os << "\n  note: " << n;
+  return os.str();
+}
+
+/// Runs analyzeSeam on two unnamed patches; records a failure (and returns nullopt) on an error.
+std::optional<SeamReport> analyze(const BSplineSurface& a, Edge ea, const BSplineSurface& b, Edge eb,
+                                  const SeamOptions& opt = {},
+                                  std::optional<Interval> aRange = std::nullopt) {
+  const Patch pa = makePatch("A", a), pb = makePatch("B", b);
+  Result<SeamReport> r = aRange ? analyzeSeam(pa, ea, pb, eb, opt, aRange) : analyzeSeam(pa, ea, pb, eb, opt);
+  if (!r) {
+    ADD_FAILURE() << "analyzeSeam(A:" << edgeName(ea) << ", B:" << edgeName(eb)
+                  << ") failed: " << r.status().message();
+    return std::nullopt;
+  }
+  return std::move(r).value();
+}
+
+::testing::AssertionResult near(double expected, double actual, double tol, const char* what) {
+  if (std::abs(expected - actual) <= tol) return ::testing::AssertionSuccess();
+  std::ostringstream os;
+  os.precision(15);
+  os << what << ": expected " << expected << ", got " << actual << " (|diff| " << std::abs(expected - actual)
+     << " > " << tol << ")";
+  return ::testing::AssertionFailure() << os.str();
+}
+
+::testing::AssertionResult sameInterval(Interval expected, Interval actual, double tol, const char* what) {
+  if (std::abs(expected.lo - actual.lo) <= tol && std::abs(expected.hi - actual.hi) <= tol)
+    return ::testing::AssertionSuccess();
+  std::ostringstream os;
+  os.precision(15);
+  os << what << ": expected [" << expected.lo << ", " << expected.hi << "], got [" << actual.lo << ", "
+     << actual.hi << "] (tol " << tol << ")";
+  return ::testing::AssertionFailure() << os.str();
+}
+
+/// A certified angle bound for a seam of constant known angle theta: never below theta, and within the requested
+/// relative gap above it (issue 3 section 3: "subdivided until the bound is within 1 % of the best sampled value").
+::testing::AssertionResult certifiedAngleBound(double thetaDeg, double boundDeg, double relGap) {
+  if (boundDeg >= thetaDeg - kKnownAngleTolDeg && boundDeg <= thetaDeg * (1.0 + relGap) + kKnownAngleTolDeg)
+    return ::testing::AssertionSuccess();
+  std::ostringstream os;
+  os.precision(15);
+  os << "certified angle bound " << boundDeg << " outside [" << thetaDeg << ", " << thetaDeg * (1.0 + relGap)
+     << "] (+/- " << kKnownAngleTolDeg << ")";
+  return ::testing::AssertionFailure() << os.str();
+}
+
+bool atLeastC1(ParametricClass c) { return c == ParametricClass::kC1 || c == ParametricClass::kC2; }
+
+/// The expectations shared by every exact G2 construction: zero gap, angle and curvature jump to round-off,
+/// certified, proved as identities.
+void expectExactG2(const SeamReport& r, double scale, double curvScale) {
+  EXPECT_EQ(r.geometric, GeometricClass::kG2);
+  EXPECT_TRUE(r.certified);
+  EXPECT_TRUE(r.g1Identity);
+  EXPECT_TRUE(r.g2Identity);
+  EXPECT_LE(r.g0Max, kExactDistanceRel * scale);
+  EXPECT_LE(r.g1MaxDeg, kExactAngleDeg);
+  EXPECT_LE(r.g2Max, kExactCurvatureRel * curvScale);
+  EXPECT_LE(r.g2RelMax, kExactCurvatureRel);
+}
+
+// =====================================================================================================================
+// (i) A C2 bicubic B-spline split at an interior knot: G2 and C2, certified, in every edge pairing
+// orientation.
+// =====================================================================================================================
+
+struct SplitPair {
+  BSplineSurface s, a, b;  // a = part on [u_min, k], b = part on [k, u_max] (or in v)
+  double k = 0.0;
+};
+
+SplitPair randomSplitU(Rng& rng, int p, bool rational) {
+  const BSplineSurface s = randomGraphSurface(rng, p, p, p + 4, p + 3, rational);
+  const std::vector<double> ks = interiorKnots(s.knotsU(), p);
+  const double k = ks[static_cast<size_t>(irand(rng, 0, static_cast<int>(ks.size()) - 1))];
+  auto [a, b] = splitU(s, k);
+  return {s, a, b, k};
+}
+
+/// Construction self-check: both parts reproduce the surface (same parameter values), so the pair is C^(p-1).
+void checkSplitReproduces(const SplitPair& sp, bool inU) {
+  const double scale = patchScale(sp.s);
+  for (int i = 0; i <= 10; ++i)
+    for (int j = 0; j <= 10; ++j) {
+      const double f = i / 10.0, g = j / 10.0;
+      const Interval da = inU ? sp.a.domainU() : sp.a.domainV(), db = inU ? sp.b.domainU() : sp.b.domainV();
+      const Interval other = inU ? sp.s.domainV() : sp.s.domainU();
+      const double x = other.lo + g * other.length();
+      const double ua = da.lo + f * da.length(), ub = db.lo + f * db.length();
+      const VecX sa = inU ? sp.s.evaluate(ua, x) : sp.s.evaluate(x, ua);
+      const VecX sb = inU ? sp.s.evaluate(ub, x) : sp.s.evaluate(x, ub);
+      const VecX pa = inU ? sp.a.evaluate(ua, x) : sp.a.evaluate(x, ua);
+      const VecX pb = inU ? sp.b.evaluate(ub, x) : sp.b.evaluate(x, ub);
+      ASSERT_LE((sa - pa).norm(), 1e-12 * scale) << "split part A does not reproduce the surface";
+      ASSERT_LE((sb - pb).norm(), 1e-12 * scale) << "split part B does not reproduce the surface";
+    }
+}
+
+TEST(SeamSplit, BicubicSplitInUIsG2AndC2) {
+  Rng rng(3001);
+  for (int trial = 0; trial < 4; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, false);
+    checkSplitReproduces(sp, true);
+    const double scale = patchScale(sp.s);
+    const RefMeasures ref = denseReference(sp.a, Edge::U1, sp.b, Edge::U0, refOpts(200, identityMap, false));
+    auto r = analyze(sp.a, Edge::U1, sp.b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    expectExactG2(*r, scale, ref.curvScale);
+    EXPECT_EQ(r->parametric, ParametricClass::kC2);
+    EXPECT_LE(r->c1Mismatch, kExactMismatch);
+    EXPECT_LE(r->c2Mismatch, kExactMismatch);
+    EXPECT_FALSE(r->reversed);
+    EXPECT_EQ(r->correspondence, Correspondence::kAffine);
+    EXPECT_EQ(r->correspondenceDegree, 1);
+    EXPECT_TRUE(sameInterval(sp.a.domainV(), r->overlapA, kOverlapTol, "overlapA"));
+    EXPECT_TRUE(sameInterval(sp.b.domainV(), r->overlapB, kOverlapTol, "overlapB"));
+    // Same parametrisation on both sides: B_cross = B_u = A_u = A_out, so lambda == 1 and kappa == 0 exactly.
+    EXPECT_TRUE(sameInterval({1.0, 1.0}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+    EXPECT_LE(r->g2ResidualMax, kExactCurvatureRel * ref.secondScale);
+  }
+}
+
+TEST(SeamSplit, BicubicSplitInVIsG2AndC2) {
+  Rng rng(3002);
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const BSplineSurface s = randomGraphSurface(rng, 3, 3, 6, 7, false);
+    const std::vector<double> ks = interiorKnots(s.knotsV(), 3);
+    const double k = ks[static_cast<size_t>(irand(rng, 0, static_cast<int>(ks.size()) - 1))];
+    auto [a, b] = splitV(s, k);
+    const SplitPair sp{s, a, b, k};
+    checkSplitReproduces(sp, false);
+    const RefMeasures ref = denseReference(a, Edge::V1, b, Edge::V0, refOpts(200, identityMap, false));
+    auto r = analyze(a, Edge::V1, b, Edge::V0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    expectExactG2(*r, patchScale(s), ref.curvScale);
+    EXPECT_EQ(r->parametric, ParametricClass::kC2);
+    EXPECT_FALSE(r->reversed);
+    EXPECT_TRUE(sameInterval(a.domainU(), r->overlapA, kOverlapTol, "overlapA"));
+    EXPECT_TRUE(sameInterval(b.domainU(), r->overlapB, kOverlapTol, "overlapB"));
+    EXPECT_TRUE(sameInterval({1.0, 1.0}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+  }
+}
+
+// Every way of presenting the same split pair. Seen from their edges (seam.h: A' = A.orientedFrom(ea)) the
+// swapped and cross-reversed copies are the identical oriented surfaces, so everything is unchanged. A copy
+// reversed ALONG the edge is the same surface with its edge parameter run backwards (s = a + b - t):
+// `reversed` is set, the geometry is unchanged (G2), lambda stays 1 and kappa flips sign only if A's along
+// direction flips (it is 0 here). The header defines the parametric mismatch on the oriented cross
+// derivatives at corresponding points, max |B'_u^k - (-1)^k A'_u^k| / max |A'_u^k|, which is exactly 0 for
+// all of these; and a reversal is an isometry of the edge parameter (|phi'| = 1, knot values kept), so the
+// parametrisations match: C2 throughout.
+TEST(SeamSplit, EveryEdgePairingOrientationGivesTheSameClasses) {
+  Rng rng(3003);
+  const SplitPair sp = randomSplitU(rng, 3, false);
+  const BSplineSurface &a = sp.a, &b = sp.b;
+  struct Variant {
+    std::string name;
+    BSplineSurface a;
+    Edge ea;
+    BSplineSurface b;
+    Edge eb;
+    bool reversed;
+  };
+  // Where the shared edge goes: a's edge is u = max (U1); b's is u = min (U0).
+  //  swappedUV: u <-> v, so U1 -> V1 and U0 -> V0, along direction kept.
+  //  reversedU: u -> a + b - u, so U0 <-> U1, along direction (v) kept.
+  //  reversedV: the edge stays (U0/U1) but its parameter v runs backwards.
+  const std::vector<Variant> variants = {
+      {"base", a, Edge::U1, b, Edge::U0, false},
+      {"A swapped", a.swappedUV(), Edge::V1, b, Edge::U0, false},
+      {"B swapped", a, Edge::U1, b.swappedUV(), Edge::V0, false},
+      {"both swapped", a.swappedUV(), Edge::V1, b.swappedUV(), Edge::V0, false},
+      {"B reversed across", a, Edge::U1, b.reversedU(), Edge::U1, false},
+      {"A reversed across", a.reversedU(), Edge::U0, b, Edge::U0, false},
+      {"B reversed along", a, Edge::U1, b.reversedV(), Edge::U0, true},
+      {"A reversed along", a.reversedV(), Edge::U1, b, Edge::U0, true},
+      {"B swapped, reversed along", a, Edge::U1, b.swappedUV().reversedU(), Edge::V0, true},
+      {"B swapped, reversed across", a, Edge::U1, b.swappedUV().reversedV(), Edge::V1, false},
+      {"roles exchanged", b, Edge::U0, a, Edge::U1, false},
+      {"roles exchanged, A reversed along", b.reversedV(), Edge::U0, a, Edge::U1, true},
+  };
+  const double scale = patchScale(sp.s);
+  for (const Variant& v : variants) {
+    SCOPED_TRACE(v.name);
+    const RefMeasures ref =
+        denseReference(v.a, v.ea, v.b, v.eb, refOpts(100, nullptr, false));  // closest-point correspondence
+    ASSERT_LE(ref.g1Deg, kExactAngleDeg) << "construction: variant is not an exact G1 presentation";
+    ASSERT_LE(ref.g2Rel, kExactCurvatureRel) << "construction: variant is not an exact G2 presentation";
+    auto r = analyze(v.a, v.ea, v.b, v.eb);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    expectExactG2(*r, scale, ref.curvScale);
+    EXPECT_EQ(r->reversed, v.reversed);
+    EXPECT_EQ(r->correspondence, Correspondence::kAffine);
+    EXPECT_LE(r->c1Mismatch, kExactMismatch);
+    EXPECT_LE(r->c2Mismatch, kExactMismatch);
+    EXPECT_EQ(r->parametric, ParametricClass::kC2);
+    EXPECT_TRUE(sameInterval({1.0, 1.0}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+    const Interval ea = isUEdge(v.ea) ? v.a.domainV() : v.a.domainU();
+    const Interval eb = isUEdge(v.eb) ? v.b.domainV() : v.b.domainU();
+    EXPECT_TRUE(sameInterval(ea, r->overlapA, kOverlapTol, "overlapA"));
+    EXPECT_TRUE(sameInterval(eb, r->overlapB, kOverlapTol, "overlapB"));
+  }
+}
+
+// =====================================================================================================================
+// (ii) One side reparametrised: affine maps (along and/or across) and a monotone polynomial w(t) along the
+// edge.
+// =====================================================================================================================
+
+TEST(SeamReparametrised, AffineAcrossOnlyIsG2AndC0WithKnownLambdaAndMismatch) {
+  Rng rng(3101);
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, trial == 2);
+    const Interval du = sp.b.domainU();
+    const double c = factorAwayFromOne(rng, 0.3, 3.0, 1.3);  // new length / old length across
+    const double lo = urand(rng, -5.0, 5.0);
+    const BSplineSurface b2 = sp.b.reparametrized({lo, lo + c * du.length()}, sp.b.domainV());
+    // b2(u2, v) = b(u(u2), v) with du/du2 = 1/c: B_cross = B_u / c = A_out / c, B_uu = A_uu / c^2. Hence
+    // lambda = 1/c, kappa = 0, and the header's relative mismatches are exactly |1/c - 1| and |1/c^2 - 1|.
+    // The edge parameter is untouched, so the positions match parametrically: C0, and not C1.
+    auto r = analyze(sp.a, Edge::U1, b2, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    const RefMeasures ref = denseReference(sp.a, Edge::U1, b2, Edge::U0, refOpts(100, identityMap, false));
+    expectExactG2(*r, patchScale(sp.s), ref.curvScale);
+    EXPECT_EQ(r->parametric, ParametricClass::kC0);
+    EXPECT_TRUE(near(std::abs(1.0 / c - 1.0), r->c1Mismatch, kExactFunctionTol, "c1Mismatch"));
+    EXPECT_TRUE(near(std::abs(1.0 / (c * c) - 1.0), r->c2Mismatch, kExactFunctionTol, "c2Mismatch"));
+    EXPECT_TRUE(sameInterval({1.0 / c, 1.0 / c}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+    EXPECT_TRUE(near(1.0 / c, ref.lambdaMin, kExactFunctionTol, "reference lambda (construction check)"));
+  }
+}
+
+TEST(SeamReparametrised, AffineAlongTheEdgeIsG2ButNotC1) {
+  Rng rng(3102);
+  for (int trial = 0; trial < 6; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const bool rational = trial % 2 == 1;
+    const bool alsoAcross = trial >= 2;
+    const bool reverse = trial >= 4;
+    const SplitPair sp = randomSplitU(rng, 3, rational);
+    const Interval dv = sp.b.domainV(), du = sp.b.domainU();
+    const double alpha = factorAwayFromOne(rng, 0.25, 4.0, 1.3);
+    const double beta = urand(rng, -3.0, 3.0);
+    const double c = alsoAcross ? factorAwayFromOne(rng, 0.3, 3.0, 1.3) : 1.0;
+    const double ulo = urand(rng, -2.0, 2.0);
+    const BSplineSurface bBase = reverse ? sp.b.reversedV() : sp.b;
+    const BSplineSurface b2 =
+        bBase.reparametrized({ulo, ulo + c * du.length()}, {beta, beta + alpha * dv.length()});
+    // s = phi(t): t -> (t - v0) (reversed: v1 - t), then scaled by alpha and shifted to beta.
+    const auto phi = [&](double t) {
+      const double x = reverse ? dv.hi - t : t - dv.lo;
+      return beta + alpha * x;
+    };
+    auto r = analyze(sp.a, Edge::U1, b2, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    const RefMeasures ref = denseReference(sp.a, Edge::U1, b2, Edge::U0, refOpts(100, phi, false));
+    expectExactG2(*r, patchScale(sp.s), ref.curvScale);
+    // The issue (7.ii): an along-edge reparametrisation (|phi'| = alpha != 1) is G2 but never C1.
+    EXPECT_FALSE(atLeastC1(r->parametric)) << "parametric " << toString(r->parametric);
+    EXPECT_EQ(r->correspondence, Correspondence::kAffine);
+    EXPECT_EQ(r->correspondenceDegree, 1);
+    EXPECT_EQ(r->reversed, reverse);
+    EXPECT_TRUE(sameInterval(sp.a.domainV(), r->overlapA, kOverlapTol, "overlapA"));
+    EXPECT_TRUE(
+        sameInterval({beta, beta + alpha * dv.length()}, r->overlapB, kOverlapTol * alpha, "overlapB"));
+    // The cross derivative is untouched by the along map: lambda = 1/c, kappa = 0.
+    EXPECT_TRUE(sameInterval({1.0 / c, 1.0 / c}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+  }
+}
+
+struct BezierSplit {
+  BezierPatch p, a, b;  // a = p on u in [0, 1/2], b = p on [1/2, 1], both reparametrised to [0,1]^2
+};
+
+BezierSplit randomBezierSplit(Rng& rng, int n, int m, bool rational) {
+  const BezierPatch p = randomGraphBezier(rng, n, m, rational);
+  const BernsteinPatch h = p.homogeneous();
+  // a(u,v) = p(u/2, v), b(u,v) = p(1/2 + u/2, v): a_u = b_u = p_u / 2 on the shared edge, so the pair is
+  // C-infinity.
+  return {p, bezierFromHomogeneous(h.restricted(0.0, 0.5, 0.0, 1.0), rational),
+          bezierFromHomogeneous(h.restricted(0.5, 1.0, 0.0, 1.0), rational)};
+}
+
+TEST(SeamReparametrised, MonotonePolynomialAlongTheEdgeIsG2NotC1Certified) {
+  Rng rng(3103);
+  for (int trial = 0; trial < 6; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const bool rational = trial % 2 == 1;
+    const bool reverse = trial >= 4;
+    const int dw = 2 + trial / 2 % 2;  // 2, 2, 3, 3, 2, 2
+    const BezierSplit bs = randomBezierSplit(rng, 3, 3, rational);
+    BernsteinPoly w = randomMonotone(rng, dw);
+    if (reverse)
+      w = BernsteinPoly::constant(1.0, dw) - w;  // decreasing: the edges run in opposite directions
+    const BezierPatch bw = composedAlongV(bs.b, w);
+    ASSERT_EQ(bw.degreeV(), 3 * dw);
+    // Construction check: bw(u, s) == b(u, w(s)).
+    for (int i = 0; i <= 8; ++i)
+      for (int j = 0; j <= 8; ++j) {
+        const double u = i / 8.0, s = j / 8.0;
+        ASSERT_LE((bw.evaluate(u, s) - bs.b.evaluate(u, w.scalar(s))).norm(), 1e-13 * 10.0);
+      }
+    const BSplineSurface A = bs.a.toBSpline(), B = bw.toBSpline();
+    const double scale = patchScale(bs.p.toBSpline());
+    // Both directions of the analysis: A against B (t = w(s), phi = w^-1) and B against A (phi = w).
+    for (int dir = 0; dir < 2; ++dir) {
+      SCOPED_TRACE(dir == 0 ? "A vs B(w)" : "B(w) vs A");
+      auto r = dir == 0 ? analyze(A, Edge::U1, B, Edge::U0) : analyze(B, Edge::U0, A, Edge::U1);
+      ASSERT_TRUE(r);
+      SCOPED_TRACE(describe(*r));
+      const RefMeasures ref = dir == 0
+                                  ? denseReference(A, Edge::U1, B, Edge::U0, refOpts(100, nullptr, false))
+                                  : denseReference(B, Edge::U0, A, Edge::U1, refOpts(100, nullptr, false));
+      expectExactG2(*r, scale, ref.curvScale);
+      EXPECT_FALSE(atLeastC1(r->parametric)) << "parametric " << toString(r->parametric);
+      EXPECT_EQ(r->correspondence, Correspondence::kPolynomial);
+      EXPECT_EQ(r->correspondenceDegree, dw);
+      EXPECT_EQ(r->reversed, reverse);
+      EXPECT_TRUE(sameInterval({0.0, 1.0}, r->overlapA, kOverlapTol, "overlapA"));
+      EXPECT_TRUE(sameInterval({0.0, 1.0}, r->overlapB, kOverlapTol, "overlapB"));
+      // bw_u(0, s) = b_u(0, w(s)) = a_out at the same point: lambda = 1, kappa = 0 in both directions.
+      EXPECT_TRUE(sameInterval({1.0, 1.0}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+      EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+    }
+  }
+}
+
+// =====================================================================================================================
+// (iii) G1-but-not-G2 pairs from Johansson's Lemma 1 (and G2 pairs from Lemma 2).
+// =====================================================================================================================
+
+struct LambdaKappa {
+  BernsteinPoly lambda, kappa;
+  double l0, l1, k0, k1;  // values at t = 0 and t = 1
+};
+
+LambdaKappa randomLambdaKappa(Rng& rng, bool linearLambda, bool linearKappa) {
+  // lambda > 0 and clearly not 1 (so the pair is never C1); kappa of either sign.
+  const double l0 = factorAwayFromOne(rng, 0.3, 3.0, 1.25);
+  const double l1 = linearLambda ? factorAwayFromOne(rng, 0.3, 3.0, 1.25) : l0;
+  const double k0 = urand(rng, -1.0, 1.0);
+  const double k1 = linearKappa ? urand(rng, -1.0, 1.0) : k0;
+  return {BernsteinPoly::linear(l0, l1), BernsteinPoly::linear(k0, k1), l0, l1, k0, k1};
+}
+
+TEST(SeamLemma1, G1NotG2WithRandomLambdaAndKappa) {
+  Rng rng(3201);
+  SeamOptions opt;
+  for (int trial = 0; trial < 8; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const int n = irand(rng, 2, 4), m = irand(rng, 2, 4), nB = irand(rng, 2, 4);
+    const LambdaKappa lk = randomLambdaKappa(rng, trial % 2 == 1, trial % 4 >= 2);
+    const BezierPatch a0 = randomGraphBezier(rng, n, m, false);
+    const Lemma1Pair pr = lemma1Pair(rng, a0, lk.lambda, lk.kappa, nB, false, trial >= 4);
+    const BSplineSurface A = pr.a.toBSpline(), B = pr.b.toBSpline();
+    ASSERT_LE(lemma1Residual(A, B, lk.lambda, lk.kappa), 1e-12) << "construction: Lemma 1 relation not exact";
+    const RefMeasures ref = denseReference(A, Edge::U0, B, Edge::U0, refOpts(400, identityMap, false));
+    ASSERT_GE(ref.g2Rel, kClearMargin * opt.tol.curvatureRel) << "construction: pair happens to be near G2";
+    const double scale = patchScale(A);
+
+    // Exchanging roles: A_cross' = -A_out = lambda' B_out + kappa' B_t with B_out = -B_cross, B_t = A_t gives
+    // lambda' = 1/lambda and kappa' = kappa/lambda; both are monotone in t for linear lambda, kappa (a
+    // Moebius map and a reciprocal), so their ranges are spanned by the end values.
+    for (int dir = 0; dir < 2; ++dir) {
+      SCOPED_TRACE(dir == 0 ? "A vs B" : "B vs A");
+      auto r = dir == 0 ? analyze(A, Edge::U0, B, Edge::U0) : analyze(B, Edge::U0, A, Edge::U0);
+      ASSERT_TRUE(r);
+      SCOPED_TRACE(describe(*r));
+      EXPECT_EQ(r->geometric, GeometricClass::kG1);
+      EXPECT_TRUE(r->certified);
+      EXPECT_TRUE(r->g1Identity);
+      EXPECT_FALSE(r->g2Identity);
+      EXPECT_FALSE(atLeastC1(r->parametric));
+      EXPECT_EQ(r->correspondence, Correspondence::kAffine);
+      EXPECT_FALSE(r->reversed);
+      EXPECT_LE(r->g0Max, kExactDistanceRel * scale);
+      EXPECT_LE(r->g1MaxDeg, kExactAngleDeg);
+      EXPECT_GE(r->g2RelMax, ref.g2Rel * (1.0 - kDenseSlackRel));
+      EXPECT_GE(r->g2Max, ref.g2 * (1.0 - kDenseSlackRel));
+      if (dir == 0) {  // the Lemma 2 residual (sampled in the report): as measured densely here
+        EXPECT_TRUE(near(ref.g2Residual, r->g2ResidualMax, kSampledRel * ref.g2Residual, "g2ResidualMax"));
+      }
+      const double la = dir == 0 ? lk.l0 : 1.0 / lk.l0, lb = dir == 0 ? lk.l1 : 1.0 / lk.l1;
+      const double ka = dir == 0 ? lk.k0 : lk.k0 / lk.l0, kb = dir == 0 ? lk.k1 : lk.k1 / lk.l1;
+      EXPECT_TRUE(sameInterval({std::min(la, lb), std::max(la, lb)}, r->lambdaRange, kExactFunctionTol,
+                               "lambdaRange"));
+      EXPECT_TRUE(
+          sameInterval({std::min(ka, kb), std::max(ka, kb)}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+    }
+  }
+}
+
+// The same Lemma 1 pair presented with other orientations. Reversing A along its edge (t -> 1 - t) flips A_t,
+// so kappa changes sign: B_cross = lambda(1-t) A_out + (-kappa(1-t)) A_t.
+TEST(SeamLemma1, OrientationsMapLambdaAndKappaAsDerived) {
+  Rng rng(3202);
+  const LambdaKappa lk = randomLambdaKappa(rng, true, true);
+  const BezierPatch a0 = randomGraphBezier(rng, 3, 3, false);
+  const Lemma1Pair pr = lemma1Pair(rng, a0, lk.lambda, lk.kappa, 3, false, true);
+  const BSplineSurface A = pr.a.toBSpline(), B = pr.b.toBSpline();
+  struct Variant {
+    std::string name;
+    BSplineSurface a;
+    Edge ea;
+    BSplineSurface b;
+    Edge eb;
+    bool reversed;
+    double kappaSign;
+  };
+  const std::vector<Variant> variants = {
+      {"A swapped", A.swappedUV(), Edge::V0, B, Edge::U0, false, 1.0},
+      {"A reversed across", A.reversedU(), Edge::U1, B, Edge::U0, false, 1.0},
+      {"B swapped, reversed across", A, Edge::U0, B.swappedUV().reversedV(), Edge::V1, false, 1.0},
+      {"B reversed along", A, Edge::U0, B.reversedV(), Edge::U0, true, 1.0},
+      {"A reversed along", A.reversedV(), Edge::U0, B, Edge::U0, true, -1.0},
+      {"both reversed along", A.reversedV(), Edge::U0, B.reversedV(), Edge::U0, false, -1.0},
+  };
+  for (const Variant& v : variants) {
+    SCOPED_TRACE(v.name);
+    auto r = analyze(v.a, v.ea, v.b, v.eb);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_EQ(r->geometric, GeometricClass::kG1);
+    EXPECT_TRUE(r->certified);
+    EXPECT_EQ(r->reversed, v.reversed);
+    EXPECT_LE(r->g1MaxDeg, kExactAngleDeg);
+    EXPECT_TRUE(sameInterval({std::min(lk.l0, lk.l1), std::max(lk.l0, lk.l1)}, r->lambdaRange,
+                             kExactFunctionTol, "lambdaRange"));
+    const double ka = v.kappaSign * lk.k0, kb = v.kappaSign * lk.k1;
+    EXPECT_TRUE(
+        sameInterval({std::min(ka, kb), std::max(ka, kb)}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+  }
+}
+
+TEST(SeamLemma2, CurvatureConditionGivesG2ButNotC1) {
+  Rng rng(3203);
+  for (int trial = 0; trial < 4; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const LambdaKappa lk = randomLambdaKappa(rng, trial % 2 == 1, true);
+    const BernsteinPoly mu = BernsteinPoly::linear(urand(rng, -1, 1), urand(rng, -1, 1));
+    const BernsteinPoly nu = BernsteinPoly::constant(urand(rng, -1, 1));
+    const BezierPatch a0 = randomGraphBezier(rng, 3, irand(rng, 2, 3), false);
+    const Lemma1Pair pr = lemma1Pair(rng, a0, lk.lambda, lk.kappa, 3, true, trial >= 2, mu, nu);
+    const BSplineSurface A = pr.a.toBSpline(), B = pr.b.toBSpline();
+    ASSERT_LE(lemma1Residual(A, B, lk.lambda, lk.kappa), 1e-12);
+    const RefMeasures ref = denseReference(A, Edge::U0, B, Edge::U0, refOpts(400, identityMap, false));
+    ASSERT_LE(ref.g2Rel, kExactCurvatureRel) << "construction: Lemma 2 pair is not G2";
+    auto r = analyze(A, Edge::U0, B, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    expectExactG2(*r, patchScale(A), ref.curvScale);
+    EXPECT_FALSE(atLeastC1(r->parametric));
+    EXPECT_LE(r->g2ResidualMax, kExactCurvatureRel * ref.secondScale);
+    EXPECT_TRUE(sameInterval({std::min(lk.l0, lk.l1), std::max(lk.l0, lk.l1)}, r->lambdaRange,
+                             kExactFunctionTol, "lambdaRange"));
+  }
+}
+
+// =====================================================================================================================
+// (iv) Kinks of known angle: planar patches on two planes through a common straight edge.
+// =====================================================================================================================
+
+struct KinkPair {
+  BSplineSurface a, b;  // both with edge U0; edge parameter identical
+};
+
+/// A lies in the plane z = 0 on the side y <= 0 (control points (X_j, -Y_i, 0)); B is the half-plane y >= 0
+/// turned about the x axis by theta (control points (X_j, Y'_i cos theta, Y'_i sin theta)), with the same
+/// edge row. Seen from the edge, A_out = +y, A_t = +x, n_A = x X y = +z; B_cross ~ (0, cos, sin), n_B = (0,
+/// -sin, cos): the oriented normals make exactly the angle theta (180 = B folded back onto A). `uniformEdge`
+/// spaces the edge control points evenly, which makes the edge parametrisation linear (Bernstein linear
+/// precision).
+KinkPair planarKink(Rng& rng, double thetaDeg, int nA, int nB, int m, bool rational, bool uniformEdge,
+                    const Eigen::Matrix3d& rot, const Vec3& shift) {
+  const double th = radians(thetaDeg);
+  std::vector<double> x(static_cast<size_t>(m + 1));
+  double acc = 0.0;
+  for (int j = 0; j <= m; ++j)
+    x[static_cast<size_t>(j)] = (acc += uniformEdge ? 1.0 / m : urand(rng, 0.4, 1.6) / m);
+  auto rowsY = [&](int n) {
+    std::vector<double> y{0.0};
+    for (int i = 1; i <= n; ++i) y.push_back(y.back() + urand(rng, 0.4, 1.6) / n);
+    return y;
+  };
+  const std::vector<double> ya = rowsY(nA), yb = rowsY(nB);
+  Matrix pa((nA + 1) * (m + 1), 3), pb((nB + 1) * (m + 1), 3);
+  for (int i = 0; i <= nA; ++i)
+    for (int j = 0; j <= m; ++j) pa.row(i * (m + 1) + j) << x[j], -ya[i], 0.0;
+  for (int i = 0; i <= nB; ++i)
+    for (int j = 0; j <= m; ++j) pb.row(i * (m + 1) + j) << x[j], yb[i] * std::cos(th), yb[i] * std::sin(th);
+  VecX wa, wb;
+  if (rational) {
+    wa = randomWeights(rng, (nA + 1) * (m + 1));
+    wb = randomWeights(rng, (nB + 1) * (m + 1));
+    wb.head(m + 1) = wa.head(m + 1) * urand(rng, 0.5, 2.0);  // same edge curve, same parametrisation
+  }
+  const BSplineSurface a = BezierPatch(nA, m, pa, wa).toBSpline(), b = BezierPatch(nB, m, pb, wb).toBSpline();
+  return {transformed(a, rot, shift), transformed(b, rot, shift)};
+}
+
+TEST(SeamKink, DihedralAngleIsMeasuredExactly) {
+  Rng rng(3301);
+  for (const double theta : {0.02, 0.5, 7.0, 30.0, 90.0, 135.0, 170.0}) {
+    for (int variant = 0; variant < 3; ++variant) {
+      SCOPED_TRACE("theta " + std::to_string(theta) + " variant " + std::to_string(variant));
+      const KinkPair k =
+          planarKink(rng, theta, irand(rng, 1, 3), irand(rng, 1, 3), irand(rng, 1, 3), false, false,
+                     randomRotation(rng), Vec3(urand(rng, -3, 3), urand(rng, -3, 3), 0.5));
+      // variant 1: B reversed along the edge; variant 2: A swapped (edge V0).
+      const BSplineSurface a = variant == 2 ? k.a.swappedUV() : k.a;
+      const Edge ea = variant == 2 ? Edge::V0 : Edge::U0;
+      const BSplineSurface b = variant == 1 ? k.b.reversedV() : k.b;
+      auto r = analyze(a, ea, b, Edge::U0);
+      ASSERT_TRUE(r);
+      SCOPED_TRACE(describe(*r));
+      EXPECT_TRUE(near(theta, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
+      EXPECT_TRUE(certifiedAngleBound(theta, r->g1MaxDeg, SeamOptions{}.boundRelGap));
+      EXPECT_EQ(r->geometric, GeometricClass::kG0);  // every theta here is above the 0.01 degree default
+      EXPECT_FALSE(r->g1Identity);
+      EXPECT_TRUE(r->certified);
+      EXPECT_LE(r->g0Max, kExactDistanceRel * patchScale(a));
+      EXPECT_EQ(r->reversed, variant == 1);
+      // Where: a point on A's edge at A's own parameter.
+      EXPECT_TRUE(r->overlapA.contains(r->g1Worst.t));
+      const Vec3 at = v3(a.boundaryCurve(ea).evaluate(r->g1Worst.t));
+      EXPECT_LE((at - r->g1Worst.point).norm(), 1e-9 * patchScale(a))
+          << "g1Worst.point is not A's edge at g1Worst.t";
+    }
+  }
+}
+
+// The certified bound honours a tighter requested gap. (The brief asked for g1MaxDeg == theta within 1e-6 degrees;
+// the bound's cost grows like 1 / boundRelGap -- 0.03 s at 1e-3, 3 s at 1e-5 for one seam -- so 1e-6 degrees at
+// 30 degrees (gap 3e-8) is out of reach of a unit test; the sampled value is checked to 1e-6 degrees instead.)
+TEST(SeamKink, TighterBoundGapIsHonoured) {
+  Rng rng(3304);
+  constexpr double kTightGap = 1e-3;
+  for (const double theta : {0.5, 30.0, 150.0}) {
+    SCOPED_TRACE("theta " + std::to_string(theta));
+    const KinkPair k = planarKink(rng, theta, 2, 3, 3, theta > 100.0, false, randomRotation(rng), Vec3::Zero());
+    SeamOptions opt;
+    opt.boundRelGap = kTightGap;
+    auto r = analyze(k.a, Edge::U0, k.b, Edge::U0, opt);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_TRUE(near(theta, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
+    EXPECT_TRUE(certifiedAngleBound(theta, r->g1MaxDeg, kTightGap));
+  }
+}
+
+TEST(SeamKink, KeptSamplesLieOnTheOverlapAndShowTheAngle) {
+  Rng rng(3303);
+  const KinkPair k = planarKink(rng, 33.0, 2, 2, 3, false, false, randomRotation(rng), Vec3::Zero());
+  SeamOptions opt;
+  opt.keepSamples = true;
+  auto r = analyze(k.a, Edge::U0, k.b, Edge::U0, opt);
+  ASSERT_TRUE(r);
+  SCOPED_TRACE(describe(*r));
+  ASSERT_GE(r->samples.size(), static_cast<size_t>(opt.samplesPerSpan));
+  for (const SeamSample& s : r->samples) {
+    EXPECT_TRUE(r->overlapA.contains(s.t)) << s.t;
+    EXPECT_TRUE(near(33.0, s.g1Deg, kKnownAngleTolDeg, "sample g1Deg"));
+    EXPECT_LE(s.g0, kExactDistanceRel * patchScale(k.a));
+  }
+  auto r2 = analyze(k.a, Edge::U0, k.b, Edge::U0);  // default: no samples kept
+  ASSERT_TRUE(r2);
+  EXPECT_TRUE(r2->samples.empty());
+}
+
+TEST(SeamKink, AngleBelowTheToleranceCountsAsTangent) {
+  Rng rng(3302);
+  // 0.004 degrees is below the default 0.01 degree angle tolerance: G1 (both planes have zero curvature, so
+  // the curvature jump is 0 as well and G2 is also acceptable).
+  const KinkPair k = planarKink(rng, 0.004, 2, 3, 3, false, false, randomRotation(rng), Vec3::Zero());
+  auto r = analyze(k.a, Edge::U0, k.b, Edge::U0);
+  ASSERT_TRUE(r);
+  SCOPED_TRACE(describe(*r));
+  EXPECT_TRUE(near(0.004, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
+  EXPECT_TRUE(certifiedAngleBound(0.004, r->g1MaxDeg, SeamOptions{}.boundRelGap));
+  EXPECT_GE(static_cast<int>(r->geometric), static_cast<int>(GeometricClass::kG1));
+}
+
+// =====================================================================================================================
+// (v) Gaps of known size.
+// =====================================================================================================================
+
+/// A Lemma 1 (lambda = 1, kappa = 0: C1, not G2) pair whose shared edge lies in the plane z = 0 of the local
+/// frame. Translating B by d = h e_z moves B's edge perpendicular to that plane: |A(t) - B(s)|^2 = |A(t) -
+/// A(s)|^2 + h^2, so the closest-point distance is exactly h both ways (at s = t), everywhere along the seam.
+struct PlanarEdgePair {
+  BSplineSurface a, b;
+  Eigen::Matrix3d rot;
+  Vec3 shift;
+};
+PlanarEdgePair planarEdgeLemma1Pair(Rng& rng) {
+  const BSplineSurface s =
+      randomGraphSurface(rng, 3, 3, 4, 4, false);  // only for a random rigid motion below
+  Matrix net = graphNet(rng, 4, 4, 0.25);
+  for (int j = 0; j < 4; ++j) net(j, 2) = 0.0;  // edge row (u = 0) in the plane z = 0
+  const BezierPatch a0(3, 3, net);
+  const Lemma1Pair pr =
+      lemma1Pair(rng, a0, BernsteinPoly::constant(1.0), BernsteinPoly::constant(0.0), 3, false, false);
+  const Eigen::Matrix3d rot = randomRotation(rng);
+  const Vec3 shift(urand(rng, -2, 2), urand(rng, -2, 2), urand(rng, -2, 2));
+  return {transformed(pr.a.toBSpline(), rot, shift), transformed(pr.b.toBSpline(), rot, shift), rot, shift};
+}
+
+TEST(SeamGap, TranslationPerpendicularToAPlanarEdgeGivesTheGap) {
+  Rng rng(3401);
+  const SeamOptions opt;  // tol.distance = 1e-6
+  for (const double h : {1e-3, 0.1, 0.4e-6}) {
+    SCOPED_TRACE("h = " + std::to_string(h));
+    const PlanarEdgePair pp = planarEdgeLemma1Pair(rng);
+    const BSplineSurface b = translated(pp.b, pp.rot * Vec3(0, 0, h));
+    const RefMeasures ref = denseReference(pp.a, Edge::U0, b, Edge::U0, refOpts(300, nullptr, true));
+    ASSERT_TRUE(near(h, ref.g0, 1e-12, "reference gap (construction check)"));
+    auto r = analyze(pp.a, Edge::U0, b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_TRUE(near(h, r->g0Max, h * kBoundRelGap, "g0Max"));
+    EXPECT_GE(r->g0Max, h * (1.0 - 1e-9));
+    EXPECT_TRUE(near(h, r->g0Sampled, h * 1e-6, "g0Sampled"));
+    EXPECT_TRUE(sameInterval({0.0, 1.0}, r->overlapA, kGapOverlapTol, "overlapA"));
+    EXPECT_TRUE(sameInterval({0.0, 1.0}, r->overlapB, kGapOverlapTol, "overlapB"));
+    // A translation leaves the tangent planes parallel: the angle stays 0.
+    EXPECT_LE(r->g1MaxDeg, kExactAngleDeg);
+    if (h > opt.tol.distance) {
+      EXPECT_EQ(r->geometric, GeometricClass::kNone);
+    } else {
+      ASSERT_GE(ref.g2Rel, kClearMargin * opt.tol.curvatureRel);
+      EXPECT_EQ(r->geometric, GeometricClass::kG1);  // closed within tolerance, tangent, curvature jumps
+    }
+  }
+}
+
+TEST(SeamGap, KinkWithASubToleranceGapIsG0) {
+  Rng rng(3402);
+  const Eigen::Matrix3d rot = randomRotation(rng);
+  const KinkPair k = planarKink(rng, 25.0, 2, 2, 3, false, false, rot, Vec3(1, 2, 3));
+  // The edge is a straight line along the local x axis; moving B by d perpendicular to it (local (0, 0.3,
+  // 0.4) h) puts every point of B's edge at distance |d| = h/2 from A's edge line and vice versa.
+  const double h = 0.8e-6;
+  const BSplineSurface b = translated(k.b, rot * Vec3(0.0, 0.3, 0.4) * (h / 0.5));
+  auto r = analyze(k.a, Edge::U0, b, Edge::U0);
+  ASSERT_TRUE(r);
+  SCOPED_TRACE(describe(*r));
+  EXPECT_TRUE(near(h, r->g0Max, h * kBoundRelGap, "g0Max"));
+  EXPECT_TRUE(near(25.0, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
+  EXPECT_TRUE(certifiedAngleBound(25.0, r->g1MaxDeg, SeamOptions{}.boundRelGap));
+  EXPECT_EQ(r->geometric, GeometricClass::kG0);
+}
+
+// A translation with a component along a straight, uniformly parametrised edge (A(0,t) = P0 + t L e): the
+// closest point of A(t) on B's edge is B(t - dx/L), at distance |d_perp| (the component of d perpendicular to
+// the edge). So the edges overlap on A's [dx/L, 1] and B's [0, 1 - dx/L], and over that shared part the gap
+// is |d_perp|, not |d|
+// (|d| is only reached from A's end point to B's end point, which lie outside the overlap).
+TEST(SeamGap, TranslationAlongTheEdgeShortensTheOverlapAndLeavesThePerpendicularGap) {
+  Rng rng(3403);
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const Eigen::Matrix3d rot = randomRotation(rng);
+    const KinkPair k = planarKink(rng, 20.0, 2, 3, 3, trial == 2, true, rot, Vec3(0.5, -1, 2));
+    // Edge control points are x_j = (j+1)/m for j = 0..m, so L = 1 along the local x axis.
+    const double L = 1.0;
+    const double dx = urand(rng, 0.1, 0.3), dy = urand(rng, -1e-3, 1e-3), dz = urand(rng, 1e-3, 2e-3);
+    const double dPerp = std::hypot(dy, dz);
+    const BSplineSurface b = translated(k.b, rot * Vec3(dx, dy, dz));
+    // Overlap ends: A's parameter where the local x of A's edge is x0 + dx, and B's (untranslated) parameter
+    // where it is x1 - dx. Found by bisection on the kernel's evaluation of the (monotone) edge; for the
+    // polynomial pairs the edge is linear and this is exactly dx / L.
+    const BSplineCurve edge = k.a.boundaryCurve(Edge::U0);
+    const auto localX = [&](double t) {
+      return (rot.transpose() * (v3(edge.evaluate(t)) - Vec3(0.5, -1, 2)))[0];
+    };
+    const auto solve = [&](double x) {
+      double lo = 0.0, hi = 1.0;
+      for (int it = 0; it < 200; ++it) (localX(0.5 * (lo + hi)) < x ? lo : hi) = 0.5 * (lo + hi);
+      return 0.5 * (lo + hi);
+    };
+    const double tA = solve(localX(0.0) + dx), tB = solve(localX(1.0) - dx);
+    if (trial < 2) {
+      ASSERT_TRUE(near(dx / L, tA, 1e-12, "linear edge (construction check)"));
+    }
+    auto r = analyze(k.a, Edge::U0, b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_TRUE(sameInterval({tA, 1.0}, r->overlapA, kGapOverlapTol, "overlapA"));
+    EXPECT_TRUE(sameInterval({0.0, tB}, r->overlapB, kGapOverlapTol, "overlapB"));
+    EXPECT_TRUE(near(dPerp, r->g0Max, dPerp * kBoundRelGap, "g0Max"));
+    EXPECT_GE(r->g0Max, dPerp * (1.0 - 1e-9));
+    EXPECT_TRUE(near(20.0, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
+    EXPECT_EQ(r->geometric, GeometricClass::kNone);
+  }
+}
+
+// =====================================================================================================================
+// (vi) Fold-back: B lies back over A (lambda < 0), the oriented normals are opposite (180 degrees).
+// =====================================================================================================================
+
+TEST(SeamFold, PatchAgainstItselfIsAFoldWithNegativeLambda) {
+  Rng rng(3501);
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const BSplineSurface a = randomGraphSurface(rng, 3, 3, 5, 5, trial == 2);
+    // B = A with its cross parameter scaled: B(u, v) = A(u / c, v), so B'_u = A'_u / c = -A_out / c:
+    // lambda = -1/c, kappa = 0, n_B = A_t x (-A_out) = -n_A: 180 degrees. c = 1 is A itself.
+    const double c = trial == 0 ? 1.0 : urand(rng, 0.3, 3.0);
+    const BSplineSurface b = a.reparametrized({0.0, c}, a.domainV());
+    auto r = analyze(a, Edge::U0, b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_TRUE(near(180.0, r->g1MaxDeg, kKnownAngleTolDeg, "g1MaxDeg"));
+    EXPECT_TRUE(sameInterval({-1.0 / c, -1.0 / c}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+    EXPECT_LT(r->lambdaRange.hi, 0.0);
+    EXPECT_EQ(r->geometric, GeometricClass::kG0);
+    EXPECT_LE(r->g0Max, kExactDistanceRel * patchScale(a));
+  }
+}
+
+TEST(SeamFold, PlanarFoldAt180Degrees) {
+  Rng rng(3502);
+  const KinkPair k = planarKink(rng, 180.0, 2, 3, 2, false, false, randomRotation(rng), Vec3(0, 0, 1));
+  auto r = analyze(k.a, Edge::U0, k.b, Edge::U0);
+  ASSERT_TRUE(r);
+  SCOPED_TRACE(describe(*r));
+  EXPECT_TRUE(near(180.0, r->g1MaxDeg, kKnownAngleTolDeg, "g1MaxDeg"));
+  EXPECT_LT(r->lambdaRange.hi, 0.0);
+  EXPECT_EQ(r->geometric, GeometricClass::kG0);
+}
+
+// =====================================================================================================================
+// (vii) Rational pairs.
+// =====================================================================================================================
+
+TEST(SeamRational, RationalSurfaceSplitAtAKnotIsG2AndC2) {
+  Rng rng(3601);
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, true);
+    checkSplitReproduces(sp, true);
+    const RefMeasures ref = denseReference(sp.a, Edge::U1, sp.b, Edge::U0, refOpts(200, identityMap, false));
+    auto r = analyze(sp.a, Edge::U1, sp.b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    expectExactG2(*r, patchScale(sp.s), ref.curvScale);
+    EXPECT_EQ(r->parametric, ParametricClass::kC2);
+    EXPECT_TRUE(sameInterval({1.0, 1.0}, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+    EXPECT_TRUE(sameInterval({0.0, 0.0}, r->kappaRange, kExactFunctionTol, "kappaRange"));
+  }
+}
+
+TEST(SeamRational, RationalKinkOfKnownAngle) {
+  Rng rng(3602);
+  for (const double theta : {3.0, 60.0, 120.0}) {
+    SCOPED_TRACE("theta " + std::to_string(theta));
+    const KinkPair k = planarKink(rng, theta, 2, 2, 3, true, false, randomRotation(rng), Vec3(1, 1, 1));
+    auto r = analyze(k.a, Edge::U0, k.b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_TRUE(near(theta, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
+    EXPECT_TRUE(certifiedAngleBound(theta, r->g1MaxDeg, SeamOptions{}.boundRelGap));
+    EXPECT_EQ(r->geometric, GeometricClass::kG0);
+    EXPECT_TRUE(r->certified);
+  }
+}
+
+// Multiplying all of B's weights by a common factor changes no point of B: every verdict and value must be
+// the same as for the unscaled pair (compared field by field), and the same as known by construction.
+TEST(SeamRational, WeightsScaledByACommonFactorChangeNothing) {
+  Rng rng(3603);
+  const SplitPair sp = randomSplitU(rng, 3, true);
+  const KinkPair kink = planarKink(rng, 40.0, 2, 3, 3, true, false, randomRotation(rng), Vec3::Zero());
+  // A Lemma-1-like non-G2 rational pair: the split pair with B's second row moved (G1 kept: only row 2
+  // changes).
+  BSplineSurface bCurv = sp.b;
+  {
+    Matrix p = bCurv.points();
+    for (int j = 0; j < bCurv.numV(); ++j) p.row(2 * bCurv.numV() + j) += Vec3(0.05, -0.08, 0.1).transpose();
+    bCurv = BSplineSurface(bCurv.degreeU(), bCurv.degreeV(), bCurv.knotsU(), bCurv.knotsV(), bCurv.numU(),
+                           bCurv.numV(), p, bCurv.weights());
+  }
+  struct Case {
+    std::string name;
+    BSplineSurface a, b;
+    Edge ea, eb;
+  };
+  const std::vector<Case> cases = {{"split", sp.a, sp.b, Edge::U1, Edge::U0},
+                                   {"kink", kink.a, kink.b, Edge::U0, Edge::U0},
+                                   {"curvature jump", sp.a, bCurv, Edge::U1, Edge::U0}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    auto r0 = analyze(c.a, c.ea, c.b, c.eb);
+    ASSERT_TRUE(r0);
+    for (const double factor : {1e-3, 0.37, 5.0, 1e3}) {
+      SCOPED_TRACE("factor " + std::to_string(factor));
+      const BSplineSurface bs = weightsScaled(c.b, factor);
+      for (int i = 0; i < 5; ++i) {  // construction check: the same points
+        const double u = bs.domainU().lo + bs.domainU().length() * i / 4.0, v = bs.domainV().lo + 0.3;
+        ASSERT_LE((bs.evaluate(u, v) - c.b.evaluate(u, v)).norm(), 1e-13 * patchScale(c.b));
+      }
+      auto r = analyze(c.a, c.ea, bs, c.eb);
+      ASSERT_TRUE(r);
+      SCOPED_TRACE(describe(*r));
+      EXPECT_EQ(r->geometric, r0->geometric);
+      EXPECT_EQ(r->parametric, r0->parametric);
+      EXPECT_EQ(r->certified, r0->certified);
+      EXPECT_EQ(r->g1Identity, r0->g1Identity);
+      EXPECT_EQ(r->g2Identity, r0->g2Identity);
+      EXPECT_EQ(r->reversed, r0->reversed);
+      EXPECT_EQ(r->correspondence, r0->correspondence);
+      // Values: equal up to the round-off of the analysis (bounds of the same polynomials, rescaled).
+      const double s = patchScale(c.a);
+      EXPECT_TRUE(near(r0->g0Max, r->g0Max, kExactDistanceRel * s, "g0Max"));
+      EXPECT_TRUE(near(r0->g1MaxDeg, r->g1MaxDeg, kExactAngleDeg + 1e-9 * r0->g1MaxDeg, "g1MaxDeg"));
+      EXPECT_TRUE(near(r0->g2Max, r->g2Max, 1e-6 * std::max(1.0, r0->g2Max), "g2Max"));
+      EXPECT_TRUE(near(r0->g2RelMax, r->g2RelMax, 1e-6, "g2RelMax"));
+      EXPECT_TRUE(sameInterval(r0->lambdaRange, r->lambdaRange, kExactFunctionTol, "lambdaRange"));
+      EXPECT_TRUE(sameInterval(r0->kappaRange, r->kappaRange, kExactFunctionTol, "kappaRange"));
+      EXPECT_TRUE(sameInterval(r0->overlapA, r->overlapA, kOverlapTol, "overlapA"));
+      EXPECT_TRUE(sameInterval(r0->overlapB, r->overlapB, kOverlapTol, "overlapB"));
+    }
+  }
+  // And the verdicts known by construction.
+  auto rs = analyze(sp.a, Edge::U1, weightsScaled(sp.b, 7.0), Edge::U0);
+  ASSERT_TRUE(rs);
+  EXPECT_EQ(rs->geometric, GeometricClass::kG2);
+  EXPECT_EQ(rs->parametric, ParametricClass::kC2);
+  auto rk = analyze(kink.a, Edge::U0, weightsScaled(kink.b, 7.0), Edge::U0);
+  ASSERT_TRUE(rk);
+  EXPECT_TRUE(near(40.0, rk->g1SampledDeg, kKnownAngleTolDeg, "kink g1SampledDeg"));
+  auto rc = analyze(sp.a, Edge::U1, weightsScaled(bCurv, 7.0), Edge::U0);
+  ASSERT_TRUE(rc);
+  EXPECT_EQ(rc->geometric, GeometricClass::kG1);
+  EXPECT_TRUE(rc->g1Identity);
+}
+
+// =====================================================================================================================
+// (viii) T-junctions: one long edge against two short ones.
+// =====================================================================================================================
+
+TEST(SeamTJunction, EachShortEdgeGetsItsOverlapAndClass) {
+  Rng rng(3701);
+  for (int trial = 0; trial < 3; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, trial == 2);
+    // Split B along the edge at a value that is NOT a knot of A (inside one of A's spans).
+    const Interval dv = sp.b.domainV();
+    const double kv = dv.lo + dv.length() * urand(rng, 0.3, 0.7);
+    const auto [b1, b2] = splitV(sp.b, kv);
+    const std::vector<std::pair<BSplineSurface, Interval>> shorts = {{b1, {dv.lo, kv}}, {b2, {kv, dv.hi}}};
+    const double scale = patchScale(sp.s);
+    for (size_t i = 0; i < shorts.size(); ++i) {
+      const auto& [bi, part] = shorts[i];
+      SCOPED_TRACE("short edge " + std::to_string(i));
+      const RefMeasures ref =
+          denseReference(sp.a, Edge::U1, bi, Edge::U0, refOpts(100, identityMap, false, part));
+      // Found by overlap detection, and with A's range given explicitly.
+      for (int how = 0; how < 2; ++how) {
+        SCOPED_TRACE(how == 0 ? "overlap detection" : "aRange overload");
+        auto r = how == 0 ? analyze(sp.a, Edge::U1, bi, Edge::U0)
+                          : analyze(sp.a, Edge::U1, bi, Edge::U0, SeamOptions{}, part);
+        ASSERT_TRUE(r);
+        SCOPED_TRACE(describe(*r));
+        EXPECT_TRUE(sameInterval(part, r->overlapA, kOverlapTol, "overlapA"));
+        EXPECT_TRUE(sameInterval(part, r->overlapB, kOverlapTol, "overlapB"));  // knot values were kept
+        expectExactG2(*r, scale, ref.curvScale);
+        EXPECT_EQ(r->parametric, ParametricClass::kC2);
+        EXPECT_FALSE(r->reversed);
+      }
+      // The short edge against the long one: B's overlap is the part.
+      auto rr = analyze(bi, Edge::U0, sp.a, Edge::U1);
+      ASSERT_TRUE(rr);
+      SCOPED_TRACE(describe(*rr));
+      EXPECT_TRUE(sameInterval(part, rr->overlapA, kOverlapTol, "reverse overlapA"));
+      EXPECT_TRUE(sameInterval(part, rr->overlapB, kOverlapTol, "reverse overlapB"));
+      EXPECT_EQ(rr->geometric, GeometricClass::kG2);
+    }
+  }
+}
+
+TEST(SeamTJunction, KinkedTJunctionWithAReparametrisedShortEdge) {
+  Rng rng(3702);
+  const KinkPair k = planarKink(rng, 12.0, 2, 2, 3, false, false, randomRotation(rng), Vec3(0, 1, 0));
+  const double kv = 0.4;
+  const auto [b1, b2] = splitV(k.b, kv);
+  // b2 reparametrised along its edge to [10, 13] and reversed: overlap on B is all of [10, 13].
+  const BSplineSurface b2r = b2.reparametrized(b2.domainU(), {10.0, 13.0}).reversedV();
+  auto r1 = analyze(k.a, Edge::U0, b1, Edge::U0);
+  ASSERT_TRUE(r1);
+  SCOPED_TRACE(describe(*r1));
+  EXPECT_TRUE(sameInterval({0.0, kv}, r1->overlapA, kOverlapTol, "overlapA 1"));
+  EXPECT_TRUE(sameInterval({0.0, kv}, r1->overlapB, kOverlapTol, "overlapB 1"));
+  EXPECT_TRUE(near(12.0, r1->g1SampledDeg, kKnownAngleTolDeg, "g1 1"));
+  EXPECT_EQ(r1->geometric, GeometricClass::kG0);
+  auto r2 = analyze(k.a, Edge::U0, b2r, Edge::U0);
+  ASSERT_TRUE(r2);
+  SCOPED_TRACE(describe(*r2));
+  EXPECT_TRUE(sameInterval({kv, 1.0}, r2->overlapA, kOverlapTol, "overlapA 2"));
+  EXPECT_TRUE(sameInterval({10.0, 13.0}, r2->overlapB, kOverlapTol, "overlapB 2"));
+  EXPECT_TRUE(r2->reversed);
+  EXPECT_TRUE(near(12.0, r2->g1SampledDeg, kKnownAngleTolDeg, "g1 2"));
+  EXPECT_EQ(r2->geometric, GeometricClass::kG0);
+}
+
+// =====================================================================================================================
+// (ix) Certified bounds against the test's own 10^4-point dense sampling, on random perturbed pairs.
+// =====================================================================================================================
+
+/// bound >= dense maximum (never below the sampling), and bound <= (1 + 1 %) of it when it is above `floor`.
+::testing::AssertionResult boundMatchesDense(const char* what, double bound, double dense, double floor) {
+  std::ostringstream os;
+  os.precision(12);
+  if (bound < dense * (1.0 - kDenseSlackRel) - floor) {
+    os << what << ": certified bound " << bound << " is BELOW the dense sampled maximum " << dense;
+    return ::testing::AssertionFailure() << os.str();
+  }
+  if (dense > floor && bound > dense * (1.0 + kBoundRelGap + kDenseSlackRel) + floor) {
+    os << what << ": bound " << bound << " is not within 1 % of the dense maximum " << dense << " (ratio "
+       << bound / dense << ")";
+    return ::testing::AssertionFailure() << os.str();
+  }
+  if (dense <= floor && bound > 10.0 * floor) {
+    os << what << ": dense maximum " << dense << " is round-off but the bound is " << bound;
+    return ::testing::AssertionFailure() << os.str();
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(SeamBounds, CertifiedBoundsAgreeWithDenseSampling) {
+  Rng rng(3801);
+  constexpr int kNearG1Pairs = 16;  // exact G0, tiny or zero angle, curvature jump (g1 and g2 bounds)
+  constexpr int kGapPairs = 8;      // planar edge moved perpendicular to its plane, random kink (g0 and g1 bounds)
+  for (int pair = 0; pair < kNearG1Pairs + kGapPairs; ++pair) {
+    const BoundsPair bp = makeBoundsPair(rng, pair < kNearG1Pairs, pair % 2 == 1, pair / 2);
+    SCOPED_TRACE("pair " + std::to_string(pair) + ": " + bp.what);
+    const BSplineSurface &A = bp.a, &B = bp.b;
+    const Edge ea = bp.ea, eb = bp.eb;
+    const RefOptions& ro = bp.ref;
+    const RefMeasures ref = denseReference(A, ea, B, eb, ro);
+    auto r = analyze(A, ea, B, eb);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    const double scale = patchScale(A);
+    EXPECT_TRUE(boundMatchesDense("g0", r->g0Max, ref.g0, kFloorDistanceRel * scale));
+    EXPECT_TRUE(boundMatchesDense("g1", r->g1MaxDeg, ref.g1Deg, kFloorAngleDeg));
+    if (ro.g2) {
+      EXPECT_TRUE(boundMatchesDense("g2", r->g2Max, ref.g2, kFloorCurvatureRel * ref.curvScale));
+    }
+    // The reported sampled values never exceed the bounds.
+    EXPECT_LE(r->g0Sampled, r->g0Max * (1.0 + 1e-12) + kFloorDistanceRel * scale);
+    EXPECT_LE(r->g1SampledDeg, r->g1MaxDeg * (1.0 + 1e-12) + kFloorAngleDeg);
+    if (ro.g2) {
+      EXPECT_LE(r->g2Sampled, r->g2Max * (1.0 + 1e-12) + kFloorCurvatureRel * ref.curvScale);
+    }
+    if (pair < kNearG1Pairs) {
+      EXPECT_TRUE(r->certified);  // exact affine correspondence
+      EXPECT_EQ(r->g1Identity, bp.exactG1);
+    }
+    // Where the worst angle occurs: the reference angle at the reported parameter is the reported sampled
+    // value.
+    RefOptions at = ro;
+    at.samples = 2;
+    at.aRange = {r->g1Worst.t, r->g1Worst.t};
+    at.g0 = false;
+    at.g2 = false;
+    const RefMeasures there = denseReference(A, ea, B, eb, at);
+    EXPECT_TRUE(
+        near(r->g1SampledDeg, there.g1Deg, 1e-3 * r->g1SampledDeg + kFloorAngleDeg, "angle at g1Worst.t"));
+  }
+}
+
+// =====================================================================================================================
+// Errors.
+// =====================================================================================================================
+
+TEST(SeamErrors, EdgesThatDoNotOverlapAreNotFound) {
+  Rng rng(3901);
+  // The edge is the segment from local x = 1/3 to 4/3 (length 1). Moving B along it by 2 (also with a small
+  // offset off the line) makes the collinear segments disjoint: every end point projects onto an END of the
+  // other edge, so the overlap is empty.
+  for (const Vec3& d : {Vec3(2.0, 0, 0), Vec3(-1.5, 0, 0), Vec3(2.0, 1e-3, -1e-3)}) {
+    const Eigen::Matrix3d rot = randomRotation(rng);
+    const KinkPair k = planarKink(rng, 30.0, 2, 2, 3, false, true, rot, Vec3::Zero());
+    const BSplineSurface far = translated(k.b, rot * d);
+    const Result<SeamReport> r = analyzeSeam(makePatch("A", k.a), Edge::U0, makePatch("B", far), Edge::U0);
+    ASSERT_FALSE(r.isOk()) << describe(r.value());
+    EXPECT_EQ(r.status().code(), ErrorCode::kNotFound) << r.status().message();
+  }
+}
+
+TEST(SeamErrors, CollapsedEdgeIsDegenerate) {
+  Rng rng(3902);
+  Matrix na = graphNet(rng, 4, 4, 0.2);
+  for (int j = 1; j < 4; ++j) na.row(j) = na.row(0);  // the edge u = 0 collapses to one point (a pole)
+  const BSplineSurface a = BezierPatch(3, 3, na).toBSpline();
+  Matrix nb = graphNet(rng, 4, 4, 0.2);
+  for (int j = 0; j < 4; ++j) nb.row(j) = na.row(0);
+  const BSplineSurface b = BezierPatch(3, 3, nb).toBSpline();
+  for (int which = 0; which < 2; ++which) {
+    const Result<SeamReport> r = which == 0
+                                     ? analyzeSeam(makePatch("A", a), Edge::U0, makePatch("B", b), Edge::U0)
+                                     : analyzeSeam(makePatch("B", b), Edge::U0, makePatch("A", a), Edge::U0);
+    ASSERT_FALSE(r.isOk()) << describe(r.value());
+    EXPECT_EQ(r.status().code(), ErrorCode::kDegenerate) << r.status().message();
+  }
+}
+
+TEST(SeamErrors, NonSpatialPatchIsInvalidInput) {
+  Matrix p2(4, 2);
+  p2 << 0, 0, 0, 1, 1, 0, 1, 1;
+  const BSplineSurface flat = BezierPatch(1, 1, p2).toBSpline();
+  const Result<SeamReport> r = analyzeSeam(makePatch("A", flat), Edge::U0, makePatch("B", flat), Edge::U0);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput) << r.status().message();
+}
+
+// =====================================================================================================================
+// The teapot: its exact seams (identical boundary control polygons) found here by comparing control points.
+// =====================================================================================================================
+
+struct SharedEdge {
+  int a, b;
+  Edge ea, eb;
+  bool sameDirection;
+  bool degenerate;  // the boundary row collapses to one point
+};
+
+Matrix boundaryRow(const BSplineSurface& s, Edge e) {
+  const int nu = s.numU(), nv = s.numV();
+  const bool uEdge = isUEdge(e);
+  const int n = uEdge ? nv : nu;
+  Matrix r(n, 3);
+  for (int k = 0; k < n; ++k) {
+    const int i = uEdge ? (e == Edge::U0 ? 0 : nu - 1) : k;
+    const int j = uEdge ? k : (e == Edge::V0 ? 0 : nv - 1);
+    r.row(k) = s.point(i, j);
+  }
+  return r;
+}
+
+std::vector<SharedEdge> exactSharedEdges(const Model& m) {
+  std::vector<SharedEdge> out;
+  const int n = static_cast<int>(m.patches.size());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      for (Edge ea : kAllEdges)
+        for (Edge eb : kAllEdges) {
+          const Matrix ra = boundaryRow(m.patches[static_cast<size_t>(i)].surface, ea);
+          const Matrix rb = boundaryRow(m.patches[static_cast<size_t>(j)].surface, eb);
+          if (ra.rows() != rb.rows()) continue;
+          const bool same = ra == rb;
+          const bool rev = ra == rb.colwise().reverse();
+          if (!same && !rev) continue;
+          bool degenerate = true;
+          for (Eigen::Index k = 1; k < ra.rows(); ++k) degenerate = degenerate && ra.row(k) == ra.row(0);
+          out.push_back({i, j, ea, eb, same, degenerate});
+        }
+  return out;
+}
+
+TEST(SeamTeapot, ExactSeamsAreTangentContinuous) {
+  const Result<Model> model = io::readModel(std::string(SEAM_SHARED_DATA_DIR) + "/bezier/teapot.bpt");
+  ASSERT_TRUE(model.isOk()) << model.status().message();
+  ASSERT_EQ(model->patches.size(), 32U);
+  const std::vector<SharedEdge> shared = exactSharedEdges(*model);
+  const auto nondegenerate =
+      std::count_if(shared.begin(), shared.end(), [](const auto& e) { return !e.degenerate; });
+  // data/README.md: 52 boundary pairs with identical control polygons (plus the collapsed lid/bottom poles).
+  EXPECT_EQ(nondegenerate, 52);
+  // Patches 0 and 1 (rim) share a boundary: P0's v1 is P1's v0, in the same direction.
+  EXPECT_TRUE(std::any_of(shared.begin(), shared.end(), [](const SharedEdge& e) {
+    return e.a == 0 && e.b == 1 && e.ea == Edge::V1 && e.eb == Edge::V0 && e.sameDirection;
+  }));
+  SeamOptions opt;
+  opt.tol = Tolerances::forModelSize(model->boundingBox().diagonal());
+  const double scale = model->boundingBox().diagonal();
+  int checked = 0;
+  for (const SharedEdge& e : shared) {
+    const Patch& pa = model->patches[static_cast<size_t>(e.a)];
+    const Patch& pb = model->patches[static_cast<size_t>(e.b)];
+    SCOPED_TRACE(pa.name + ":" + std::string(edgeName(e.ea)) + " - " + pb.name + ":" +
+                 std::string(edgeName(e.eb)));
+    const Result<SeamReport> rr = analyzeSeam(pa, e.ea, pb, e.eb, opt);
+    if (e.degenerate) {  // a pole shared by several patches is a vertex, not a seam
+      ASSERT_FALSE(rr.isOk());
+      EXPECT_EQ(rr.status().code(), ErrorCode::kDegenerate) << rr.status().message();
+      continue;
+    }
+    ASSERT_TRUE(rr.isOk()) << rr.status().message();
+    const SeamReport& r = rr.value();
+    SCOPED_TRACE(describe(r));
+    ++checked;
+    EXPECT_EQ(r.a, pa.name);
+    EXPECT_EQ(r.b, pb.name);
+    EXPECT_EQ(r.reversed, !e.sameDirection);
+    EXPECT_TRUE(sameInterval({0.0, 1.0}, r.overlapA, kOverlapTol, "overlapA"));
+    EXPECT_TRUE(sameInterval({0.0, 1.0}, r.overlapB, kOverlapTol, "overlapB"));
+    EXPECT_LE(r.g0Max, kExactDistanceRel * scale);  // identical control polygons: identical curves
+    // Independent reference: 2000 samples (the seam ends at a pole are excluded by the reference's own
+    // normalisation only if the normal vanishes there; the README measured 0.000 degrees on 25 samples).
+    RefOptions ro;
+    ro.samples = 2000;
+    ro.g0 = false;
+    ro.phi = e.sameDirection ? std::function<double(double)>([](double t) { return t; })
+                             : std::function<double(double)>([](double t) { return 1.0 - t; });
+    const RefMeasures ref = denseReference(pa.surface, e.ea, pb.surface, e.eb, ro);
+    ASSERT_LE(ref.g1Deg, opt.tol.angleDeg / kClearMargin) << "reference: teapot seam not tangent";
+    EXPECT_GE(static_cast<int>(r.geometric), static_cast<int>(GeometricClass::kG1));
+    EXPECT_GE(r.g1MaxDeg, ref.g1Deg * (1.0 - kDenseSlackRel) - kFloorAngleDeg);
+    EXPECT_LE(r.g1MaxDeg, opt.tol.angleDeg);
+    if (ref.g2Rel >= kClearMargin * opt.tol.curvatureRel) {
+      EXPECT_EQ(r.geometric, GeometricClass::kG1);
+    } else if (ref.g2Rel <= opt.tol.curvatureRel / kClearMargin) {
+      EXPECT_EQ(r.geometric, GeometricClass::kG2);
+    }
+  }
+  EXPECT_EQ(checked, 52);
+}
+
+}  // namespace
+}  // namespace seam
