@@ -67,6 +67,9 @@ constexpr double kOverlapSnapFactor = 2.0;
 /// Absolute slack (radians) of the certified angle bound: far below any angle tolerance, above the round-off of
 /// normal directions.
 constexpr double kAngleBoundFloor = 1e-9;
+/// A closed certified bound within this factor of its round-off floor (kAngleBoundFloor for angles,
+/// kIdentityRelTol x curvature for G2) makes the condition an identity, as the coefficient tests do.
+constexpr double kIdentityBoundFactor = 2.0;
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
@@ -359,16 +362,18 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
   for (int i = 0; i < static_cast<int>(pieces.size()); ++i) stack.push_back({i, 0.0, 1.0, 0});
   double result = 0.0;
   ok = true;
+  long work = 0;
   while (!stack.empty()) {
     const Item it = stack.back();
     stack.pop_back();
     const Piece& pc = pieces[static_cast<size_t>(it.piece)];
     const double ub = bound(pc, it.x0, it.x1);
+    ++work;
     if (ub <= (1.0 + opt.boundRelGap) * best + floor) {
       result = std::max(result, ub);
       continue;
     }
-    if (it.depth >= opt.maxSubdivisionDepth) {
+    if (it.depth >= opt.maxSubdivisionDepth || work >= opt.maxBoundWork) {
       if (!std::isfinite(ub)) ok = false;
       result = std::max(result, ub);
       continue;
@@ -423,9 +428,17 @@ std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool maste
     }
     cuts.push_back(ms.sig1);
     std::sort(cuts.begin(), cuts.end());
+    // Knots of the two edges that agree to round-off (the same knot value seen through an affine map) must not
+    // leave a sliver piece: its polynomials vanish to round-off and no bound closes on it.
+    const double sliver = kKnotRelTol * master.domain().length() / msp.length();
+    std::vector<double> kept{cuts.front()};
+    for (size_t c = 1; c + 1 < cuts.size(); ++c)
+      if (cuts[c] - kept.back() > sliver && cuts.back() - cuts[c] > sliver) kept.push_back(cuts[c]);
+    kept.push_back(cuts.back());
+    cuts = std::move(kept);
     for (size_t c = 0; c + 1 < cuts.size(); ++c) {
       const double sa = cuts[c], sb = cuts[c + 1];
-      if (!(sb > sa)) continue;
+      if (!(sb - sa > sliver)) continue;
       // Master data restricted to [sa, sb] of its span.
       std::array<BernsteinPoly, 3> XM, XS;
       for (size_t k = 0; k < 3; ++k) XM[k] = master.h[k][static_cast<size_t>(ms.span)].restricted(sa, sb);
@@ -459,7 +472,7 @@ std::vector<MapSpan> affineMaps(const Side& A, Interval oa, Interval ob, bool re
   for (size_t k = 0; k < A.spans.size(); ++k) {
     const Interval sp = A.spans[k];
     const double lo = std::max(sp.lo, oa.lo), hi = std::min(sp.hi, oa.hi);
-    if (!(hi > lo)) continue;
+    if (!(hi - lo > kKnotRelTol * A.domain().length())) continue;  // no sliver spans (see buildPieces)
     const auto sOf = [&](double t) { return s0 + slope * (t - oa.lo); };
     maps.push_back({static_cast<int>(k), (lo - sp.lo) / sp.length(), (hi - sp.lo) / sp.length(),
                     BernsteinPoly::linear(sOf(sp.lo), sOf(sp.hi))});
@@ -477,7 +490,7 @@ std::vector<MapSpan> fittedMaps(const Side& master, const Side& slave, Interval 
   for (size_t k = 0; k < master.spans.size(); ++k) {
     const Interval sp = master.spans[k];
     const double lo = std::max(sp.lo, om.lo), hi = std::min(sp.hi, om.hi);
-    if (!(hi > lo)) continue;
+    if (!(hi - lo > kKnotRelTol * master.domain().length())) continue;  // no sliver spans (see buildPieces)
     Eigen::MatrixXd V(n, r + 1);
     Eigen::VectorXd y(n);
     for (int i = 0; i < n; ++i) {
@@ -822,6 +835,20 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   bool c1Identity = false, c2Identity = false;
   if (certified) {
     auto tAt = [&](int piece, double x) { return pieces[static_cast<size_t>(piece)].tOf.scalar(x); };
+    // G2 values that are not bounded: the sampled maximum refined by golden section, as for uncertified seams.
+    auto refineG2 = [&] {
+      std::vector<double> v(S.m.size());
+      for (size_t i = 0; i < v.size(); ++i) v[i] = S.m[i].normalsOk ? S.m[i].g2 : 0.0;
+      auto [tw, w] = refinedMaximum(S.t, v, [&](double t) {
+        const PointMeasures m = pointMeasure(t);
+        return m.normalsOk ? m.g2 : 0.0;
+      });
+      if (w > rep.g2Sampled) {
+        rep.g2Sampled = w;
+        rep.g2Worst = {tw, A.curve.evaluate(tw).head<3>()};
+      }
+      rep.g2Max = std::max(rep.g2Max, rep.g2Sampled);
+    };
     bool ok = true;
     {
       double best = 0.0, bx = 0.0;
@@ -845,13 +872,17 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
         rep.g1MaxDeg = std::max(rep.g1SampledDeg, rep.g1MaxDeg);
       }
     }
-    // G1 identity: NA x NB == 0 and no fold.
-    rep.g1Identity = true;
-    for (const Piece& pc : pieces)
-      if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale || detail::lowerBound(pc.P) < 0.0)
-        rep.g1Identity = false;
+    // G1 identity: NA x NB == 0 and no fold; or, where composition and elevation cost more digits than the
+    // coefficient test allows, a closed certified angle bound at the round-off floor of the subdivision.
+    bool coeffIdentity = true, fold = false;
+    for (const Piece& pc : pieces) {
+      if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
+      if (detail::lowerBound(pc.P) < 0.0) fold = true;
+    }
     for (const auto& m : S.m)
-      if (m.normalsOk && m.g1 > std::numbers::pi / 2) rep.g1Identity = false;
+      if (m.normalsOk && m.g1 > std::numbers::pi / 2) fold = true;
+    const bool angleAtRoundoff = ok && rep.g1MaxDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
+    rep.g1Identity = (coeffIdentity && !fold) || angleAtRoundoff;
     // G2: only meaningful for a G1 seam.
     bool g2Ready = rep.g1Identity;
     for (const Piece& pc : pieces) g2Ready = g2Ready && pc.g2Available;
@@ -863,18 +894,25 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       int bp = -1;
       bool g2ok = true;
       const double bound = certifyMax(pieces, g2Bound, g2Value, best, bx, bp, kIdentityRelTol * curvRef, opt, g2ok);
-      if (g2ok) {
-        rep.g2Max = std::max(bound, rep.g2Sampled);
-      } else {
-        rep.notes.push_back("G2 bound not closed near a vanishing normal: G2 values are sampled");
-      }
       if (bp >= 0 && best > rep.g2Sampled) {
         rep.g2Sampled = best;
         const double t = tAt(bp, bx);
         rep.g2Worst = {t, A.curve.evaluate(t).head<3>()};
       }
-    } else if (!rep.g1Identity) {
-      rep.notes.push_back("not exactly G1: the G2 jump is sampled");
+      if (g2ok) {
+        rep.g2Max = std::max(bound, rep.g2Sampled);
+        if (rep.g2Max <= kIdentityBoundFactor * kIdentityRelTol * curvRef) rep.g2Identity = true;
+      } else {
+        rep.notes.push_back("G2 bound not closed near a vanishing normal: G2 values are sampled");
+        refineG2();
+      }
+    } else {
+      if (!rep.g1Identity)
+        rep.notes.push_back("not exactly G1: the G2 jump is sampled (refined maximum)");
+      else
+        rep.notes.push_back(fmt::format("the G2 polynomial exceeds degree {} (maxCertifiedDegree): G2 is sampled",
+                                        opt.maxCertifiedDegree));
+      refineG2();
     }
     // Parametric identities: certified bounds of |B'_u - A_out| and |B'_uu - A'_uu| at round-off level.
     c1Identity = c2Identity = true;

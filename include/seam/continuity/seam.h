@@ -55,7 +55,11 @@ struct SeamOptions {
   int certifiedSamplesPerPiece = 16;  ///< start samples per piece of a certified seam (the bound subdivision refines)
   double boundRelGap = 0.01;      ///< subdivide until a certified bound is within 1 % of the sampled worst value
   int maxSubdivisionDepth = 30;   ///< per piece; a bound that is not tight by then is reported as it is
-  int maxCertifiedDegree = 160;   ///< polynomial data above this degree are sampled instead (certified = false)
+  /// Interval bounds evaluated per measure (all pieces together). When the budget is spent, the intervals still
+  /// open keep their (valid, looser) bounds instead of being split further: a bound that cannot close (a vanishing
+  /// normal) costs this much, never 2^maxSubdivisionDepth.
+  int maxBoundWork = 20000;
+  int maxCertifiedDegree = 256;   ///< polynomial data above this degree are sampled instead (certified = false)
   bool keepSamples = false;       ///< fill SeamReport::samples (for reports and plots)
 };
 
