@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <set>
@@ -42,14 +43,15 @@ Vec2 cornerUV(const BSplineSurface& s, const PatchCorner& c) {
 
 Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
   const Vec2 uv = cornerUV(s, c);
-  const std::vector<std::vector<VecX>> d = s.derivatives(uv.x(), uv.y(), 2);
+  std::array<Vec3, 6> d;
+  s.secondOrderDerivatives(uv.x(), uv.y(), d);  // allocation-free (3-D surfaces are checked before)
   Jet j;
-  j.p = d[0][0].head<3>();
-  j.u = d[1][0].head<3>();
-  j.v = d[0][1].head<3>();
-  j.uu = d[2][0].head<3>();
-  j.uv = d[1][1].head<3>();
-  j.vv = d[0][2].head<3>();
+  j.p = d[0];
+  j.u = d[1];
+  j.v = d[2];
+  j.uu = d[3];
+  j.uv = d[4];
+  j.vv = d[5];
   return j;
 }
 

@@ -1,11 +1,15 @@
 #include "seam/continuity/model_check.h"
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <tuple>
 
 #include "continuity/model_check_internal.h"
 
@@ -488,7 +492,13 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   struct Key {
     std::array<long, 3> cell;
     int edge;
-    bool operator<(const Key& o) const { return cell != o.cell ? cell < o.cell : edge < o.edge; }
+    // Element-wise (std::array's operators go through memcmp).
+    bool operator<(const Key& o) const {
+      return std::tie(cell[0], cell[1], cell[2], edge) < std::tie(o.cell[0], o.cell[1], o.cell[2], o.edge);
+    }
+    [[nodiscard]] bool sameCell(const Key& o) const {
+      return cell[0] == o.cell[0] && cell[1] == o.cell[1] && cell[2] == o.cell[2];
+    }
   };
   std::vector<Key> keys;
   std::vector<int> oversize;
@@ -513,7 +523,7 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   std::sort(keys.begin(), keys.end());
   for (size_t s = 0; s < keys.size();) {
     size_t e = s;
-    while (e < keys.size() && keys[e].cell == keys[s].cell) ++e;
+    while (e < keys.size() && keys[e].sameCell(keys[s])) ++e;
     for (size_t x = s; x < e; ++x)
       for (size_t y = x + 1; y < e; ++y) out.emplace_back(keys[x].edge, keys[y].edge);
     s = e;
@@ -717,7 +727,13 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     struct Key {
       std::array<long, 3> cell;
       int corner;
-      bool operator<(const Key& o) const { return cell != o.cell ? cell < o.cell : corner < o.corner; }
+      // Element-wise (std::array's operators go through memcmp, which dominated this loop).
+      bool operator<(const Key& o) const {
+        return std::tie(cell[0], cell[1], cell[2], corner) < std::tie(o.cell[0], o.cell[1], o.cell[2], o.corner);
+      }
+      [[nodiscard]] bool inCell(const std::array<long, 3>& c) const {
+        return cell[0] == c[0] && cell[1] == c[1] && cell[2] == c[2];
+      }
     };
     std::vector<Key> keys;
     keys.reserve(static_cast<size_t>(nc));
@@ -734,7 +750,7 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
           for (long dz = -1; dz <= 1; ++dz) {
             const std::array<long, 3> cell{k.cell[0] + dx, k.cell[1] + dy, k.cell[2] + dz};
             auto it = std::lower_bound(keys.begin(), keys.end(), Key{cell, -1});
-            for (; it != keys.end() && it->cell == cell; ++it) {
+            for (; it != keys.end() && it->inCell(cell); ++it) {
               if (it->corner <= k.corner) continue;
               if ((points[static_cast<size_t>(it->corner)] - points[static_cast<size_t>(k.corner)]).norm() <= cornerTol)
                 uf.unite(k.corner, it->corner);
@@ -790,25 +806,34 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   report.freeEdges = P.result.freeEdges;
   report.degenerateEdges = P.result.degenerateEdges;
 
-  // Seams (serial: TBB is not linked into the library yet).
+  // Seams: independent analyses, in parallel (TBB), stored in pairing order.
   SeamOptions seamOptions = options.seam;
   seamOptions.tol = tol;
   ModelCheckSummary& S = report.summary;
-  for (const EdgePair& p : P.result.pairs) {
-    ModelSeam ms;
+  report.seams.resize(P.result.pairs.size());
+  auto analyzeOne = [&](size_t k) {
+    const EdgePair& p = P.result.pairs[k];
+    ModelSeam& ms = report.seams[k];
     ms.pair = p;
-    if (options.analyzeSeams) {
-      const Patch& a = model.patches[static_cast<size_t>(p.a.patch)];
-      const Patch& b = model.patches[static_cast<size_t>(p.b.patch)];
-      const std::optional<Interval> range = p.fullA ? std::nullopt : std::optional<Interval>(p.overlapA);
-      Result<SeamReport> r = analyzeSeam(a, p.a.edge, b, p.b.edge, seamOptions, range);
-      if (r) {
-        ms.report = std::move(r).value();
-      } else {
-        ms.error = r.status();
-      }
-    }
-    report.seams.push_back(std::move(ms));
+    if (!options.analyzeSeams) return;
+    const Patch& a = model.patches[static_cast<size_t>(p.a.patch)];
+    const Patch& b = model.patches[static_cast<size_t>(p.b.patch)];
+    const std::optional<Interval> range = p.fullA ? std::nullopt : std::optional<Interval>(p.overlapA);
+    Result<SeamReport> r = analyzeSeam(a, p.a.edge, b, p.b.edge, seamOptions, range);
+    if (r)
+      ms.report = std::move(r).value();
+    else
+      ms.error = r.status();
+  };
+  if (options.threads == 1 || P.result.pairs.size() < 2) {
+    for (size_t k = 0; k < P.result.pairs.size(); ++k) analyzeOne(k);
+  } else {
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, P.result.pairs.size()), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t k = r.begin(); k != r.end(); ++k) analyzeOne(k);
+      });
+    });
   }
 
   CornerOptions co;

@@ -272,7 +272,9 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
   // Lemma 2 with lambda = L / D, kappa = K / D (D = (O x T).nA):  rho~ = nA . (D^2 Bcc - L^2 Aoo - 2 L K Aot - K^2 Att)
   const RationalPoly L = WeightContext::dot(WeightContext::cross(Bc, T), nA);
   const RationalPoly K = WeightContext::dot(WeightContext::cross(O, Bc), nA);
-  const RationalPoly D = WeightContext::dot(WeightContext::cross(O, T), nA);
+  // D = (O x T) . nA = -|nA|^2 since nA = T x O.
+  const RationalPoly nA2 = WeightContext::dot(nA, nA);
+  const RationalPoly D = WeightContext::scaled(nA2, -1.0);
   const int estimate = 2 * D.num.degree() + Bcc.num.degree() + nA.num.degree() + 2 * (pc.wa.degree() + pc.wb.degree());
   if (estimate <= maxDegree) {
     const RationalPoly t1 = WeightContext::mul(WeightContext::mul(D, D), Bcc);
@@ -285,7 +287,7 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
     pc.rhoScale = nA.num.maxCoeffNorm() * (sD * sD * Bcc.num.maxCoeffNorm() + sL * sL * Aoo.num.maxCoeffNorm() +
                                            2.0 * sL * sK * Aot.num.maxCoeffNorm() + sK * sK * Att.num.maxCoeffNorm());
     pc.T2 = WeightContext::dot(T, T);
-    pc.nA2 = WeightContext::dot(nA, nA);
+    pc.nA2 = nA2;
     const RationalPoly BcT = WeightContext::cross(Bc, T);
     pc.BcT2 = WeightContext::dot(BcT, BcT);
     pc.g2Available = true;
@@ -606,9 +608,11 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   // An end point whose partner edge's end is about as close as the partner curve itself (a gap, not a
   // T-junction) is snapped to that end, so that offset seams keep their exact end-to-end correspondence.
   auto project = [](const BSplineCurve& c, const Vec3& p, Interval range) {
-    const detail::CurvePoint cp = detail::closestPoint(c, p, range);
     const double dLo = (c.evaluate(range.lo).head<3>() - p).norm(), dHi = (c.evaluate(range.hi).head<3>() - p).norm();
-    const double slack = kOverlapSnapFactor * cp.distance + kRoundoff * controlBox(c).diagonal();
+    const double roundoff = kRoundoff * controlBox(c).diagonal();
+    if (std::min(dLo, dHi) <= roundoff) return dLo <= dHi ? range.lo : range.hi;  // shared end point
+    const detail::CurvePoint cp = detail::closestPoint(c, p, range);
+    const double slack = kOverlapSnapFactor * cp.distance + roundoff;
     if (std::min(dLo, dHi) <= slack) return dLo <= dHi ? range.lo : range.hi;
     return cp.t;
   };
@@ -706,7 +710,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   const int perSpan = std::max(opt.samplesPerSpan, 2);
   if (certified) {
     // Plots (keepSamples) get the dense sampling; otherwise the bound subdivision does the refining.
-    const int perPiece = std::max(opt.keepSamples ? opt.samplesPerSpan : opt.certifiedSamplesPerPiece, 2);
+    const int start = corrBound <= exactFloor ? opt.certifiedSamplesPerPiece : 2 * opt.certifiedSamplesPerPiece;
+    const int perPiece = std::max(opt.keepSamples ? opt.samplesPerSpan : start, 2);
     for (const Piece& pc : pieces)
       for (int i = 0; i <= perPiece; ++i) {
         const double x = static_cast<double>(i) / perPiece;
@@ -851,11 +856,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     };
     bool ok = true;
     {
-      double best = 0.0, bx = 0.0;
-      int bp = 0;
-      for (const Piece& pc : pieces)
-        for (int i = 0; i <= 4; ++i) best = std::max(best, g0Value(pc, i / 4.0));
-      rep.g0Max = std::max(certifyMax(pieces, g0Bound, g0Value, best, bx, bp, exactFloor, opt, ok), rep.g0Sampled);
+      // The correspondence search already certified the distance bound on these very pieces.
+      rep.g0Max = std::max(corrBound, rep.g0Sampled);
     }
     {
       double best = rep.g1SampledDeg / kRadToDeg, bx = 0.0;

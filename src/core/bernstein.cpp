@@ -1,6 +1,7 @@
 #include "seam/core/bernstein.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <vector>
@@ -10,9 +11,10 @@ namespace seam {
 namespace {
 // Pascal's triangle up to kBinomialTableSize - 1 (exact in double far beyond that size).
 constexpr int kBinomialTableSize = 128;
+/// Built at compile time (no function-local static guard on the hot path of every Bernstein product).
 struct BinomialTable {
-  std::vector<double> v;
-  BinomialTable() : v(static_cast<size_t>(kBinomialTableSize * kBinomialTableSize), 0.0) {
+  std::array<double, static_cast<size_t>(kBinomialTableSize * kBinomialTableSize)> v{};
+  constexpr BinomialTable() {
     for (int n = 0; n < kBinomialTableSize; ++n) {
       v[static_cast<size_t>(n * kBinomialTableSize)] = 1.0;
       for (int k = 1; k <= n; ++k)
@@ -22,13 +24,13 @@ struct BinomialTable {
     }
   }
 };
+constexpr BinomialTable kBinomials{};
 }  // namespace
 
 double binomial(int n, int k) {
   if (k < 0 || k > n) return 0.0;
   if (n < kBinomialTableSize) {
-    static const BinomialTable table;
-    return table.v[static_cast<size_t>(n * kBinomialTableSize + k)];
+    return kBinomials.v[static_cast<size_t>(n * kBinomialTableSize + k)];
   }
   k = std::min(k, n - k);
   double r = 1.0;
@@ -63,11 +65,33 @@ Eigen::RowVectorXd blossom(const Matrix& c, const std::vector<double>& args) {
 
 // Weighted Cauchy product of Bernstein coefficient rows: out_k = sum_{i+j=k} C(n,i)C(m,j)/C(n+m,k) a_i * b_j
 // where "*" is the elementwise product of the rows (a broadcast when one of them has one column).
+// Products with n + m above this use the per-term weights C(n,i) C(m,j) / C(n+m,i+j); below it the scaled form
+// (rows multiplied by C(n,i), C(m,j), convolved, divided by C(n+m,k)) is used: C(500,250) ~ 1e149, so the scaled
+// coefficients stay far inside the double range while saving the per-term divisions.
+constexpr int kScaledProductMaxDegree = 500;
+
 Matrix productRows(const Matrix& a, const Matrix& b) {
   const int n = static_cast<int>(a.rows()) - 1;
   const int m = static_cast<int>(b.rows()) - 1;
   const auto dim = std::max(a.cols(), b.cols());
   Matrix out = Matrix::Zero(n + m + 1, dim);
+  if (n + m <= kScaledProductMaxDegree) {
+    // Column by column through contiguous scaled copies (Matrix is row-major: a column is strided).
+    double sa[kScaledProductMaxDegree + 1], sb[kScaledProductMaxDegree + 1], so[kScaledProductMaxDegree + 1];
+    for (Eigen::Index c = 0; c < dim; ++c) {
+      const Eigen::Index ca = a.cols() == 1 ? 0 : c, cb = b.cols() == 1 ? 0 : c;
+      for (int i = 0; i <= n; ++i) sa[i] = a(i, ca) * binomial(n, i);
+      for (int j = 0; j <= m; ++j) sb[j] = b(j, cb) * binomial(m, j);
+      for (int k = 0; k <= n + m; ++k) so[k] = 0.0;
+      for (int i = 0; i <= n; ++i) {
+        const double x = sa[i];
+        for (int j = 0; j <= m; ++j) so[i + j] += x * sb[j];
+      }
+      for (int k = 0; k <= n + m; ++k) out(k, c) = so[k];
+    }
+    for (int k = 0; k <= n + m; ++k) out.row(k) /= binomial(n + m, k);
+    return out;
+  }
   for (int i = 0; i <= n; ++i) {
     const double bi = binomial(n, i);
     for (int j = 0; j <= m; ++j) {
@@ -285,14 +309,31 @@ BernsteinPoly dot(const BernsteinPoly& a, const BernsteinPoly& b) {
 
 BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
   assert(a.dim() == 3 && b.dim() == 3);
-  auto c = [&](int i, int j) { return product(a.component(i), b.component(j)); };
-  const BernsteinPoly x = c(1, 2) - c(2, 1);
-  const BernsteinPoly y = c(2, 0) - c(0, 2);
-  const BernsteinPoly z = c(0, 1) - c(1, 0);
-  Matrix out(x.coeffs().rows(), 3);
-  out.col(0) = x.coeffs().col(0);
-  out.col(1) = y.coeffs().col(0);
-  out.col(2) = z.coeffs().col(0);
+  const int n = a.degree(), m = b.degree();
+  if (n + m > kScaledProductMaxDegree) {
+    auto c = [&](int i, int j) { return product(a.component(i), b.component(j)); };
+    const BernsteinPoly x = c(1, 2) - c(2, 1);
+    const BernsteinPoly y = c(2, 0) - c(0, 2);
+    const BernsteinPoly z = c(0, 1) - c(1, 0);
+    Matrix out(x.coeffs().rows(), 3);
+    out.col(0) = x.coeffs().col(0);
+    out.col(1) = y.coeffs().col(0);
+    out.col(2) = z.coeffs().col(0);
+    return BernsteinPoly(std::move(out));
+  }
+  // One convolution of the binomially scaled rows (see productRows).
+  Matrix as = a.coeffs(), bs = b.coeffs();
+  for (int i = 0; i <= n; ++i) as.row(i) *= binomial(n, i);
+  for (int j = 0; j <= m; ++j) bs.row(j) *= binomial(m, j);
+  Matrix out = Matrix::Zero(n + m + 1, 3);
+  for (int i = 0; i <= n; ++i) {
+    const Eigen::Vector3d x = as.row(i).transpose();
+    for (int j = 0; j <= m; ++j) {
+      const Eigen::Vector3d y = bs.row(j).transpose();
+      out.row(i + j) += x.cross(y).transpose();
+    }
+  }
+  for (int k = 0; k <= n + m; ++k) out.row(k) /= binomial(n + m, k);
   return BernsteinPoly(std::move(out));
 }
 

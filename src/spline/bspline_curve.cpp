@@ -62,7 +62,44 @@ Matrix BSplineCurve::homogeneous() const {
   return h;
 }
 
-VecX BSplineCurve::evaluate(double t) const { return derivatives(t, 0).row(0).transpose(); }
+namespace {
+/// Degrees up to this use the allocation-free evaluation (stack arrays); higher degrees go through derivatives().
+constexpr int kMaxFastEvalDegree = 15;
+}  // namespace
+
+VecX BSplineCurve::evaluate(double t) const {
+  if (p_ > kMaxFastEvalDegree) return derivatives(t, 0).row(0).transpose();
+  // Basis functions by the triangular Cox-de Boor scheme (The NURBS Book A2.2), then the (weighted) sum.
+  const int span = knots_.findSpan(p_, t);
+  const std::vector<double>& U = knots_.values();
+  double N[kMaxFastEvalDegree + 1], left[kMaxFastEvalDegree + 1], right[kMaxFastEvalDegree + 1];
+  N[0] = 1.0;
+  for (int j = 1; j <= p_; ++j) {
+    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
+    right[j] = U[static_cast<size_t>(span + j)] - t;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      const double tmp = N[r] / (right[r + 1] + left[j - r]);
+      N[r] = saved + right[r + 1] * tmp;
+      saved = left[j - r] * tmp;
+    }
+    N[j] = saved;
+  }
+  const auto d = points_.cols();
+  VecX out = VecX::Zero(d);
+  if (!isRational()) {
+    for (int r = 0; r <= p_; ++r) out += N[r] * points_.row(span - p_ + r).transpose();
+    return out;
+  }
+  double w = 0.0;
+  for (int r = 0; r <= p_; ++r) {
+    const int i = span - p_ + r;
+    const double nw = N[r] * weights_[i];
+    out += nw * points_.row(i).transpose();
+    w += nw;
+  }
+  return out / w;
+}
 
 Matrix BSplineCurve::derivatives(double t, int order) const {
   assert(order >= 0);

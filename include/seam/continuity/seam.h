@@ -52,7 +52,9 @@ struct SeamSample {
 struct SeamOptions {
   Tolerances tol;                 ///< classification thresholds (defaults: Tolerances{}; scale them to the model)
   int samplesPerSpan = 64;        ///< dense samples per Bezier span where the seam cannot be certified
-  int certifiedSamplesPerPiece = 16;  ///< start samples per piece of a certified seam (the bound subdivision refines)
+  /// Start samples per piece of a certified seam whose edges coincide exactly (the bound subdivision refines);
+  /// certified seams with a gap use twice as many, since their sampled distance comes from projections.
+  int certifiedSamplesPerPiece = 8;
   double boundRelGap = 0.01;      ///< subdivide until a certified bound is within 1 % of the sampled worst value
   int maxSubdivisionDepth = 30;   ///< per piece; a bound that is not tight by then is reported as it is
   /// Interval bounds evaluated per measure (all pieces together). When the budget is spent, the intervals still
