@@ -77,7 +77,10 @@ struct SeamReport {
   double g0Max = 0.0, g0Sampled = 0.0;
   double g1MaxDeg = 0.0, g1SampledDeg = 0.0;
   double g2Max = 0.0, g2Sampled = 0.0;          ///< absolute (1/length)
-  double g2RelMax = 0.0, g2RelSampled = 0.0;    ///< relative to the larger curvature
+  /// g2Max / g2Sampled divided by the largest curvature (spectral norm of either shape operator) found anywhere on
+  /// the seam, floored at "flat" (1e-3 / patch size): a seam-global ratio, not the pointwise maximum of
+  /// jump(t) / curvature(t). Dividing by a value no larger than the true maximum keeps g2RelMax an upper bound.
+  double g2RelMax = 0.0, g2RelSampled = 0.0;
   double g2ResidualMax = 0.0;                    ///< |normal component of the Lemma 2 residual|, sampled
   WorstLocation g0Worst, g1Worst, g2Worst;
   Interval lambdaRange{0.0, 0.0}, kappaRange{0.0, 0.0};  ///< sampled ranges of the G1 connecting functions
