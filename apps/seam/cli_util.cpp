@@ -3,13 +3,23 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 
 #include "seam/io/file.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/cad_io.h"
+#endif
 
 namespace seam::cli {
+
+bool isCadFile(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs";
+}
 
 namespace {
 
@@ -70,6 +80,34 @@ void printError(std::string_view message) {
 }
 
 std::optional<Model> loadModel(const std::filesystem::path& file) {
+  if (isCadFile(file)) {
+#ifdef SEAM_HAVE_OCCT
+    Result<occt::CadImport> cad = occt::readCadFile(file);
+    if (!cad) {
+      printError(cad.status().message());
+      return std::nullopt;
+    }
+    for (const std::string& w : cad->warnings) std::cerr << "seam: warning: " << w << "\n";
+    int trimmed = 0, approximated = 0;
+    for (const occt::CadFace& f : cad->faces) {
+      trimmed += f.trimmed ? 1 : 0;
+      approximated += f.exact ? 0 : 1;
+    }
+    if (trimmed > 0)
+      std::cerr << fmt::format("seam: note: {}: {} of {} faces are trimmed; each is analysed as the patch of its "
+                               "parameter box\n",
+                               file.string(), trimmed, cad->faces.size());
+    if (approximated > 0)
+      std::cerr << fmt::format("seam: note: {}: {} faces were approximated (see `seam info`)\n", file.string(),
+                               approximated);
+    return std::move(cad->model);
+#else
+    printError(fmt::format("{}: STEP/IGES files need OpenCASCADE: rebuild with -DSEAM_WITH_OCCT=ON "
+                           "(scripts/setup.sh does)",
+                           file.string()));
+    return std::nullopt;
+#endif
+  }
   Result<Model> model = io::readModel(file);
   if (!model) {
     printError(model.status().message());

@@ -18,7 +18,10 @@ using OrderedJson = nlohmann::ordered_json;
 /// Prints "seam: error: <message>" on stderr.
 void printError(std::string_view message);
 
-/// Loads a model with io::readModel; on failure prints the message on stderr and returns nullopt
+/// True for .step/.stp/.iges/.igs (any case).
+bool isCadFile(const std::filesystem::path& file);
+
+/// Loads a model: STEP/IGES through seam::occt::readCadFile (when built with OpenCASCADE), else io::readModel; on failure prints the message on stderr and returns nullopt
 /// (the command then exits with kExitBadInput).
 std::optional<Model> loadModel(const std::filesystem::path& file);
 

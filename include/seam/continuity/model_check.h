@@ -126,8 +126,8 @@ struct ModelCheckReport {
   ModelCheckSummary summary;
 };
 
-/// Checks the whole model. Runs serially (one core). Errors: kInvalidInput for a model without patches or with a
-/// non-3-D patch.
+/// Checks the whole model (seams in parallel, see ModelCheckOptions::threads). Errors: kInvalidInput for a model
+/// without patches or with a non-3-D patch.
 Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options = {});
 
 /// The pairing step alone (spatial index + overlap test), for tests and benchmarks. `tolerances` as in

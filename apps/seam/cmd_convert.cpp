@@ -1,0 +1,83 @@
+// seam convert IN OUT: converts a model between JSON, .bpt (read only), STEP and IGES, by extension.
+// STEP/IGES need OpenCASCADE (SEAM_WITH_OCCT=ON). The input is never modified; the output is written atomically.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "cli_util.h"
+#include "command_registry.h"
+#include "seam/io/json.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/cad_io.h"
+#endif
+
+namespace seam::cli {
+
+namespace {
+
+std::string lowerExtension(const std::filesystem::path& p) {
+  std::string ext = p.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+void addConvert(CLI::App& app, int& exit) {
+  struct Options {
+    std::string in, out;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "convert", "Convert a model between .json, .bpt (input only), .step/.stp and .iges/.igs (by extension)");
+  cmd->add_option("IN", options->in, "Input model file")->required();
+  cmd->add_option("OUT", options->out, "Output file (.json, .step/.stp, .iges/.igs)")->required();
+  cmd->callback([options, &exit]() {
+    const std::filesystem::path in(options->in), out(options->out);
+    std::error_code ec;
+    if (std::filesystem::exists(out, ec) && std::filesystem::equivalent(in, out, ec)) {
+      printError(fmt::format("{}: the output would overwrite the input", out.string()));
+      exit = kExitBadInput;
+      return;
+    }
+    const std::string ext = lowerExtension(out);
+    if (ext != ".json" && !isCadFile(out)) {
+      printError(fmt::format("{}: unknown output format (use .json, .step/.stp or .iges/.igs)", out.string()));
+      exit = kExitBadInput;
+      return;
+    }
+#ifndef SEAM_HAVE_OCCT
+    if (isCadFile(out)) {
+      printError(fmt::format("{}: writing STEP/IGES needs OpenCASCADE: rebuild with -DSEAM_WITH_OCCT=ON", out.string()));
+      exit = kExitBadInput;
+      return;
+    }
+#endif
+    const std::optional<Model> model = loadModel(in);
+    if (!model) {
+      exit = kExitBadInput;
+      return;
+    }
+    Status st;
+    if (ext == ".json") {
+      st = io::writeModelJson(*model, out);
+    } else {
+#ifdef SEAM_HAVE_OCCT
+      st = occt::writeCadFile(*model, out, *occt::cadFormatOf(out));
+#endif
+    }
+    if (!st.isOk()) {
+      printError(st.message());
+      exit = kExitBadInput;
+      return;
+    }
+    fmt::print("wrote {} ({} patches, {} curves)\n", out.string(), model->patches.size(), model->curves.size());
+    exit = kExitOk;
+  });
+}
+
+}  // namespace
+
+static CommandRegistrar registerConvert("convert", addConvert);
+
+}  // namespace seam::cli

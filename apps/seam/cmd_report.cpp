@@ -1,0 +1,115 @@
+// seam report FILE -o report.html [--tol-distance D] [--tol-angle DEG] [--tol-curvature K]
+//   one self-contained HTML page: summary, model drawing coloured by seam class, sortable seam table, plots of
+//   G0/G1/G2 along every seam with the tolerances, corners, free and degenerate edges.
+// seam export-mesh FILE -o out.obj [--per-span N]
+//   the patches tessellated (Wavefront OBJ, per-vertex normals) for any mesh viewer.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "cli_util.h"
+#include "command_registry.h"
+#include "seam/continuity/model_check.h"
+#include "seam/report/report.h"
+
+namespace seam::cli {
+
+namespace {
+
+struct ReportOptions {
+  std::string file, out;
+  std::optional<double> tolDistance, tolAngle, tolCurvature;
+  int maxPlots = 400;
+};
+
+int runReport(const ReportOptions& o) {
+  for (const auto& [name, value] : {std::pair{"--tol-distance", o.tolDistance}, std::pair{"--tol-angle", o.tolAngle},
+                                    std::pair{"--tol-curvature", o.tolCurvature}}) {
+    if (value && !(std::isfinite(*value) && *value > 0.0)) {
+      printError(fmt::format("{} must be a positive number, got {}", name, *value));
+      return kExitBadInput;
+    }
+  }
+  const std::optional<Model> model = loadModel(o.file);
+  if (!model) return kExitBadInput;
+  if (model->patches.empty()) {
+    printError(fmt::format("{}: the model has no patches", o.file));
+    return kExitBadInput;
+  }
+  Tolerances tol = Tolerances::forModelSize(model->boundingBox().diagonal());
+  if (o.tolDistance) tol.distance = *o.tolDistance;
+  if (o.tolAngle) tol.angleDeg = *o.tolAngle;
+  if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
+  ModelCheckOptions mo;
+  mo.tolerances = tol;
+  mo.seam.keepSamples = true;
+  if (model->patches.size() > 300) std::cerr << fmt::format("seam: checking {} patches...\n", model->patches.size());
+  const Result<ModelCheckReport> report = checkModel(*model, mo);
+  if (!report) {
+    printError(fmt::format("{}: {}", o.file, report.status().message()));
+    return kExitBadInput;
+  }
+  report::HtmlReportOptions ro;
+  ro.title = "seam report: " + std::filesystem::path(o.file).filename().string();
+  ro.maxPlottedSeams = o.maxPlots;
+  if (!writeOutputFile(o.out, report::htmlReport(*model, *report, ro))) return kExitBadInput;
+  fmt::print("wrote {} ({} seams, worst {})\n", o.out, report->seams.size(), toString(report->summary.worstGeometric));
+  return kExitOk;
+}
+
+void addReport(CLI::App& app, int& exit) {
+  auto o = std::make_shared<ReportOptions>();
+  CLI::App* cmd = app.add_subcommand("report", "Write a self-contained HTML report of the continuity check");
+  cmd->add_option("FILE", o->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
+  cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
+  cmd->add_option("--tol-distance", o->tolDistance, "G0 tolerance (default 1e-6 x bounding-box diagonal)");
+  cmd->add_option("--tol-angle", o->tolAngle, "G1 tolerance in degrees (default 0.01)");
+  cmd->add_option("--tol-curvature", o->tolCurvature, "G2 tolerance, relative (default 0.01)");
+  cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::NonNegativeNumber);
+  cmd->callback([o, &exit]() { exit = runReport(*o); });
+}
+
+void addExportMesh(CLI::App& app, int& exit) {
+  struct Options {
+    std::string file, out;
+    int perSpan = 8;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("export-mesh", "Tessellate the patches into a Wavefront OBJ mesh with normals");
+  cmd->add_option("FILE", o->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
+  cmd->add_option("-o,--output", o->out, "OBJ file to write")->required();
+  cmd->add_option("--per-span", o->perSpan, "Grid cells per Bezier span and direction (default 8)")
+      ->check(CLI::Range(1, 1024));
+  cmd->callback([o, &exit]() {
+    const std::optional<Model> model = loadModel(o->file);
+    if (!model) {
+      exit = kExitBadInput;
+      return;
+    }
+    report::MeshOptions mo;
+    mo.samplesPerSpan = o->perSpan;
+    const Result<std::string> obj = report::objMesh(*model, mo);
+    if (!obj) {
+      printError(fmt::format("{}: {}", o->file, obj.status().message()));
+      exit = kExitBadInput;
+      return;
+    }
+    if (!writeOutputFile(o->out, *obj)) {
+      exit = kExitBadInput;
+      return;
+    }
+    fmt::print("wrote {} ({} patches)\n", o->out, model->patches.size());
+    exit = kExitOk;
+  });
+}
+
+}  // namespace
+
+static CommandRegistrar registerReport("report", addReport);
+static CommandRegistrar registerExportMesh("export-mesh", addExportMesh);
+
+}  // namespace seam::cli

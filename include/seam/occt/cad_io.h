@@ -1,0 +1,67 @@
+#pragma once
+// STEP and IGES import/export through OpenCASCADE (target seam::occt, built with SEAM_WITH_OCCT=ON).
+//
+// Import: every face of the file becomes a (rational) B-spline patch. B-spline faces keep their control points,
+// weights and knots exactly; Bezier and analytic faces (planes, cylinders, cones, spheres, tori, surfaces of
+// revolution and extrusion, offsets) are converted exactly where OpenCASCADE can (GeomConvert), else approximated
+// (GeomConvert_ApproxSurface) and the achieved error is reported. A face bounded by its natural edges (one wire of
+// iso-parameter edges on its parameter box) becomes a plain patch; a trimmed face becomes the patch of its
+// parameter box and is flagged `trimmed` (its trimming loop is listed in CadFace; seam analyses its patch edges).
+// Files holding bare surfaces without faces (a STEP file of B_SPLINE_SURFACE_WITH_KNOTS only) are read too.
+// Coordinates are in millimetres (OpenCASCADE's unit conversion on read and write).
+//
+// Export: B-spline faces (one per patch, knots and control points unchanged) sewn into a shell with the
+// distance tolerance, written as STEP (AP214) or IGES (5.3, B-rep mode); written atomically.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "seam/core/result.h"
+#include "seam/model/model.h"
+
+namespace seam::occt {
+
+enum class CadFormat { kStep, kIges };
+
+/// The CAD format named by a file extension (.step/.stp/.iges/.igs, any case), or nullopt.
+std::optional<CadFormat> cadFormatOf(const std::filesystem::path& file);
+
+struct CadReadOptions {
+  /// Tolerance of approximations for faces OpenCASCADE cannot convert exactly, relative to the model's
+  /// bounding-box diagonal (1e-6, the default distance tolerance of `seam check`).
+  double approximationRelTol = 1e-6;
+};
+
+/// What the reader did with one face.
+struct CadFace {
+  std::string patch;            ///< name of the patch made from it ("F<n>", 1-based in file order)
+  std::string surfaceType;      ///< OpenCASCADE surface type before conversion (e.g. "Geom_BSplineSurface")
+  bool exact = true;            ///< false: approximated, see approximationError
+  double approximationError = 0.0;
+  bool trimmed = false;         ///< not bounded by its natural (iso-parameter) edges
+  bool reversed = false;        ///< face orientation reversed with respect to its surface normal
+  int wires = 0;                ///< number of boundary loops (1 outer + holes)
+  int edges = 0;                ///< edges on the outer loop
+};
+
+struct CadImport {
+  Model model;
+  std::vector<CadFace> faces;  ///< one per patch, same order
+  std::vector<std::string> warnings;
+};
+
+/// Reads a STEP or IGES file. Errors (kIoError / kParseError / kInvalidInput) name the file and, where there is
+/// one, the face; a file with no faces or surfaces is an error.
+Result<CadImport> readCadFile(const std::filesystem::path& file, const CadReadOptions& options = {});
+
+struct CadWriteOptions {
+  /// Sewing tolerance; default 1e-6 x the model's bounding-box diagonal.
+  std::optional<double> sewingTolerance;
+};
+
+/// Writes the patches of `model` as B-spline faces sewn into a shell (STEP or IGES by `format`).
+Status writeCadFile(const Model& model, const std::filesystem::path& file, CadFormat format,
+                    const CadWriteOptions& options = {});
+
+}  // namespace seam::occt

@@ -1,0 +1,39 @@
+#pragma once
+// Visual reports of a whole-model check: a self-contained HTML file (no external resources, opens offline) and a
+// triangle mesh (Wavefront OBJ with per-vertex normals) for any mesh viewer.
+#include <string>
+
+#include "seam/continuity/model_check.h"
+#include "seam/core/result.h"
+#include "seam/model/model.h"
+
+namespace seam::report {
+
+struct HtmlReportOptions {
+  std::string title = "seam report";  ///< page title (the CLI uses the file name)
+  /// Seams with a plot of G0/G1/G2 along the seam; the worst seams (by geometric class, then angle) come first.
+  /// Every seam is in the table regardless.
+  int maxPlottedSeams = 400;
+  int plotWidth = 560, plotHeight = 130;  ///< pixels per plot
+  int overviewSize = 720;                 ///< pixels (square) of the model drawing
+  int samplesPerEdge = 24;                ///< polyline points per patch edge in the drawing
+};
+
+/// The HTML page for `report` (made by checkModel on `model`, ideally with SeamOptions::keepSamples so that the
+/// seams have samples to plot; seams without samples get no plot). Sections: summary, the model drawn in an
+/// axonometric view with every patch edge coloured by the class of its seam (free edges grey), a sortable seam table
+/// (click a header), per-seam plots of the G0 gap, G1 angle and relative G2 jump along A's edge parameter with the
+/// tolerance drawn as a dashed line, corners, free and degenerate edges.
+std::string htmlReport(const Model& model, const ModelCheckReport& report, const HtmlReportOptions& options = {});
+
+struct MeshOptions {
+  int samplesPerSpan = 8;   ///< grid cells per Bezier span in each direction
+  int maxSamplesPerPatch = 256;  ///< cap per direction
+};
+
+/// The patches as a Wavefront OBJ text: one object per patch, a grid of vertices with unit normals
+/// (S_u x S_v; at a pole, the normal of the nearest regular point inward), two triangles per cell.
+/// Errors: kInvalidInput for a non-3-D patch or option values below 1.
+Result<std::string> objMesh(const Model& model, const MeshOptions& options = {});
+
+}  // namespace seam::report

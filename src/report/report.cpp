@@ -1,0 +1,354 @@
+#include "seam/report/report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+namespace seam::report {
+
+namespace {
+
+std::string escape(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string num(double x) {
+  if (!std::isfinite(x)) return "-";
+  return fmt::format("{:.4g}", x);
+}
+
+/// Colours of the geometric classes (none, G0, G1, G2) and of free edges.
+constexpr std::array<const char*, 4> kClassColour{"#d62728", "#ff7f0e", "#1f77b4", "#2ca02c"};
+constexpr const char* kFreeColour = "#9a9a9a";
+
+const char* classColour(GeometricClass c) { return kClassColour[static_cast<size_t>(c)]; }
+
+/// Axonometric projection: view direction (1, 1, 1) (z up in the drawing unless the model is flat in z).
+struct View {
+  Vec3 e1, e2;
+  double x0 = 0, y0 = 0, scale = 1, padX = 10, padY = 10;  // padding centres the drawing
+  int size = 720;
+  [[nodiscard]] std::pair<double, double> map(const Vec3& p) const {
+    return {(p.dot(e1) - x0) * scale + padX, size - padY - (p.dot(e2) - y0) * scale};
+  }
+};
+
+View makeView(const Model& model, int size) {
+  View v;
+  v.size = size;
+  const Vec3 d = Vec3(1, 1, 1).normalized();
+  v.e1 = Vec3(0, 0, 1).cross(d).normalized();
+  v.e2 = d.cross(v.e1).normalized();
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  for (const Patch& p : model.patches)
+    for (Eigen::Index i = 0; i < p.surface.points().rows(); ++i) {
+      const Vec3 q = p.surface.points().row(i).head<3>().transpose();
+      xmin = std::min(xmin, q.dot(v.e1));
+      xmax = std::max(xmax, q.dot(v.e1));
+      ymin = std::min(ymin, q.dot(v.e2));
+      ymax = std::max(ymax, q.dot(v.e2));
+    }
+  const double ext = std::max({xmax - xmin, ymax - ymin, 1e-300});
+  v.x0 = xmin;
+  v.y0 = ymin;
+  v.scale = (size - 20.0) / ext;
+  v.padX = 10.0 + 0.5 * ((size - 20.0) - (xmax - xmin) * v.scale);
+  v.padY = 10.0 + 0.5 * ((size - 20.0) - (ymax - ymin) * v.scale);
+  return v;
+}
+
+/// One line plot (value against t) with a dashed tolerance line.
+std::string plot(const std::vector<double>& t, const std::vector<double>& y, double tol, const std::string& label,
+                 int w, int h) {
+  double ymax = tol;
+  for (double v : y)
+    if (std::isfinite(v)) ymax = std::max(ymax, v);
+  ymax = ymax > 0.0 ? 1.1 * ymax : 1.0;
+  const double t0 = t.front(), t1 = t.back() > t.front() ? t.back() : t.front() + 1.0;
+  const double left = 70, right = 10, top = 18, bottom = 22;
+  auto X = [&](double x) { return left + (x - t0) / (t1 - t0) * (w - left - right); };
+  auto Y = [&](double v) { return h - bottom - std::clamp(v / ymax, 0.0, 1.0) * (h - top - bottom); };
+  std::string pts;
+  for (size_t i = 0; i < t.size(); ++i)
+    if (std::isfinite(y[i])) pts += fmt::format("{:.1f},{:.1f} ", X(t[i]), Y(y[i]));
+  std::string s = fmt::format("<svg class=\"plot\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\">", w, h, w, h);
+  s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#fafafa\" stroke=\"#ccc\"/>", left, top,
+                   w - left - right, h - top - bottom);
+  s += fmt::format("<text x=\"{}\" y=\"12\" class=\"lbl\">{}</text>", left, escape(label));
+  s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" class=\"ax\" text-anchor=\"end\">{}</text>", left - 4, Y(ymax) + 4,
+                   num(ymax));
+  s += fmt::format("<text x=\"{}\" y=\"{:.1f}\" class=\"ax\" text-anchor=\"end\">0</text>", left - 4, Y(0.0) + 4);
+  s += fmt::format("<text x=\"{}\" y=\"{}\" class=\"ax\">t = {}</text>", left, h - 6, num(t0));
+  s += fmt::format("<text x=\"{}\" y=\"{}\" class=\"ax\" text-anchor=\"end\">{}</text>", w - right, h - 6, num(t1));
+  s += fmt::format(
+      "<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#d62728\" stroke-dasharray=\"5,4\"/>"
+      "<text x=\"{}\" y=\"{:.1f}\" class=\"ax\" fill=\"#d62728\" text-anchor=\"end\">tol {}</text>",
+      left, w - right, Y(tol), Y(tol), w - right - 2, Y(tol) - 3, num(tol));
+  s += fmt::format("<polyline fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"{}\"/>", pts);
+  s += "</svg>";
+  return s;
+}
+
+std::string seamLabel(const Model& m, const ModelSeam& s) {
+  return fmt::format("{}:{} / {}:{}", m.patches[static_cast<size_t>(s.pair.a.patch)].name, edgeName(s.pair.a.edge),
+                     m.patches[static_cast<size_t>(s.pair.b.patch)].name, edgeName(s.pair.b.edge));
+}
+
+constexpr const char* kStyle = R"(
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:24px;color:#222}
+h1{font-size:1.4em} h2{font-size:1.15em;margin-top:1.6em;border-bottom:1px solid #ddd}
+table{border-collapse:collapse;font-size:.85em} td,th{border:1px solid #ddd;padding:3px 7px;text-align:right}
+th{background:#f2f2f2;cursor:pointer;user-select:none} td.l,th.l{text-align:left}
+.c0{color:#d62728;font-weight:600}.c1{color:#ff7f0e;font-weight:600}.c2{color:#1f77b4}.c3{color:#2ca02c}
+.plot{margin:2px 8px 2px 0}.lbl{font-size:11px;fill:#333}.ax{font-size:10px;fill:#555}
+.seam{margin:10px 0 18px 0}.legend span{display:inline-block;margin-right:14px}
+.sw{display:inline-block;width:18px;height:4px;vertical-align:middle;margin-right:5px}
+)";
+
+constexpr const char* kScript = R"(
+document.querySelectorAll('table.sortable th').forEach(function(th, col){
+  th.addEventListener('click', function(){
+    var table = th.closest('table'), body = table.tBodies[0];
+    var rows = Array.prototype.slice.call(body.rows);
+    var asc = th.getAttribute('data-dir') !== 'asc';
+    table.querySelectorAll('th').forEach(function(h){ h.removeAttribute('data-dir'); });
+    th.setAttribute('data-dir', asc ? 'asc' : 'desc');
+    rows.sort(function(a, b){
+      var x = a.cells[col].getAttribute('data-v') || a.cells[col].textContent;
+      var y = b.cells[col].getAttribute('data-v') || b.cells[col].textContent;
+      var fx = parseFloat(x), fy = parseFloat(y);
+      var r = (!isNaN(fx) && !isNaN(fy)) ? fx - fy : x.localeCompare(y);
+      return asc ? r : -r;
+    });
+    rows.forEach(function(r){ body.appendChild(r); });
+  });
+});
+)";
+
+}  // namespace
+
+std::string htmlReport(const Model& model, const ModelCheckReport& report, const HtmlReportOptions& options) {
+  const Tolerances& tol = report.tolerances;
+  const ModelCheckSummary& S = report.summary;
+  std::string h;
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">";
+  h += fmt::format("<title>{}</title><style>{}</style></head><body>\n", escape(options.title), kStyle);
+  h += fmt::format("<h1>{}</h1>\n", escape(options.title));
+
+  // ---- summary
+  h += "<h2 id=\"summary\">Summary</h2>\n<table>";
+  auto row = [&](const std::string& k, const std::string& v) {
+    h += fmt::format("<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>", escape(k), v);
+  };
+  row("patches", std::to_string(model.patches.size()));
+  row("seams", fmt::format("{} ({} certified, {} failed)", S.seams, S.certifiedSeams, S.failedSeams));
+  row("by class", fmt::format("G2 {}, G1 {}, G0 {}, none {}", S.geometric[3], S.geometric[2], S.geometric[1],
+                              S.geometric[0]));
+  row("worst", fmt::format("<span class=\"c{}\">{}</span> / {}", static_cast<int>(S.worstGeometric),
+                           toString(S.worstGeometric), toString(S.worstParametric)));
+  row("largest gap (G0)", num(S.g0Max));
+  row("largest angle (G1, degrees)", num(S.g1MaxDeg));
+  row("largest curvature jump (G2)", fmt::format("{} (relative {})", num(S.g2Max), num(S.g2RelMax)));
+  row("corners", fmt::format("{} ({} 4-valent, {} degenerate)", S.corners, S.fourValentCorners, S.degenerateCorners));
+  row("free edges / degenerate edges", fmt::format("{} / {}", S.freeEdges, S.degenerateEdges));
+  row("tolerances", fmt::format("distance {}, angle {}&deg;, curvature {} relative", num(tol.distance),
+                                num(tol.angleDeg), num(tol.curvatureRel)));
+  h += "</table>\n";
+
+  // ---- overview drawing
+  h += "<h2 id=\"overview\">Model</h2>\n<div class=\"legend\">";
+  for (int c = 3; c >= 0; --c)
+    h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kClassColour[c],
+                     toString(static_cast<GeometricClass>(c)));
+  h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>free edge</span></div>\n", kFreeColour);
+  {
+    const View view = makeView(model, options.overviewSize);
+    // Worst class per (patch, edge) over its seams.
+    std::map<std::pair<int, int>, GeometricClass> edgeClass;
+    for (const ModelSeam& s : report.seams) {
+      const GeometricClass c = s.report ? s.report->geometric : GeometricClass::kNone;
+      for (const EdgeRef& e : {s.pair.a, s.pair.b}) {
+        const auto key = std::pair{e.patch, static_cast<int>(e.edge)};
+        auto it = edgeClass.find(key);
+        if (it == edgeClass.end() || c < it->second) edgeClass[key] = c;
+      }
+    }
+    h += fmt::format("<svg width=\"{0}\" height=\"{0}\" viewBox=\"0 0 {0} {0}\" style=\"border:1px solid #ddd\">",
+                     options.overviewSize);
+    for (size_t p = 0; p < model.patches.size(); ++p) {
+      const BSplineSurface& s = model.patches[p].surface;
+      for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
+        const BSplineCurve c = s.boundaryCurve(e);
+        const Interval d = c.domain();
+        std::string pts;
+        for (int i = 0; i <= options.samplesPerEdge; ++i) {
+          const auto [x, y] = view.map(c.evaluate(d.lo + d.length() * i / options.samplesPerEdge).head<3>());
+          pts += fmt::format("{:.1f},{:.1f} ", x, y);
+        }
+        auto it = edgeClass.find({static_cast<int>(p), static_cast<int>(e)});
+        const bool paired = it != edgeClass.end();
+        h += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" points=\"{}\"><title>{}:{}</title>"
+                         "</polyline>",
+                         paired ? classColour(it->second) : kFreeColour, paired ? 1.6 : 0.8, pts,
+                         escape(model.patches[p].name), edgeName(e));
+      }
+    }
+    h += "</svg>\n";
+  }
+
+  // ---- seam table
+  h += "<h2 id=\"seams\">Seams</h2>\n<p>Click a column header to sort. Values marked certified are upper bounds that "
+       "hold over the whole seam; the others are refined sampled maxima.</p>\n";
+  h += "<table class=\"sortable\"><thead><tr><th>#</th><th class=\"l\">A</th><th class=\"l\">edge</th>"
+       "<th class=\"l\">B</th><th class=\"l\">edge</th><th>G0 gap</th><th>G1 angle (&deg;)</th><th>G2 jump</th>"
+       "<th>G2 relative</th><th class=\"l\">geometric</th><th class=\"l\">parametric</th><th class=\"l\">certified</th>"
+       "</tr></thead><tbody>\n";
+  for (size_t k = 0; k < report.seams.size(); ++k) {
+    const ModelSeam& s = report.seams[k];
+    const std::string a = model.patches[static_cast<size_t>(s.pair.a.patch)].name;
+    const std::string b = model.patches[static_cast<size_t>(s.pair.b.patch)].name;
+    h += fmt::format("<tr><td><a href=\"#seam-{0}\">{0}</a></td><td class=\"l\">{1}</td><td class=\"l\">{2}</td>"
+                     "<td class=\"l\">{3}</td><td class=\"l\">{4}</td>",
+                     k, escape(a), edgeName(s.pair.a.edge), escape(b), edgeName(s.pair.b.edge));
+    if (!s.report) {
+      h += fmt::format("<td colspan=\"7\" class=\"l c0\">analysis failed: {}</td></tr>\n", escape(s.error.message()));
+      continue;
+    }
+    const SeamReport& r = *s.report;
+    const int gc = static_cast<int>(r.geometric);
+    h += fmt::format("<td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td>"
+                     "<td data-v=\"{:.17g}\">{}</td><td class=\"l c{}\" data-v=\"{}\">{}</td><td class=\"l\">{}</td>"
+                     "<td class=\"l\">{}</td></tr>\n",
+                     r.g0Max, num(r.g0Max), r.g1MaxDeg, num(r.g1MaxDeg), r.g2Max, num(r.g2Max), r.g2RelMax,
+                     num(r.g2RelMax), gc, gc, toString(r.geometric), toString(r.parametric),
+                     r.certified ? "yes" : "no");
+  }
+  h += "</tbody></table>\n";
+
+  // ---- per-seam plots, worst first
+  std::vector<size_t> order(report.seams.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  auto rank = [&](size_t k) {
+    const auto& r = report.seams[k].report;
+    return r ? std::pair{static_cast<int>(r->geometric), -r->g1MaxDeg} : std::pair{-1, 0.0};
+  };
+  std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return rank(x) < rank(y); });
+  h += "<h2 id=\"plots\">Along each seam</h2>\n";
+  if (static_cast<int>(order.size()) > options.maxPlottedSeams)
+    h += fmt::format("<p>The {} worst of {} seams are plotted.</p>\n", options.maxPlottedSeams, order.size());
+  int plotted = 0;
+  for (size_t k : order) {
+    if (plotted >= options.maxPlottedSeams) break;
+    const ModelSeam& s = report.seams[k];
+    if (!s.report || s.report->samples.size() < 2) continue;
+    ++plotted;
+    const SeamReport& r = *s.report;
+    std::vector<double> t, g0, g1, g2;
+    for (const SeamSample& x : r.samples) {
+      t.push_back(x.t);
+      g0.push_back(x.g0);
+      g1.push_back(x.g1Deg);
+      g2.push_back(x.g2Rel);
+    }
+    h += fmt::format("<div class=\"seam\" id=\"seam-{}\"><b>#{} {}</b> &mdash; <span class=\"c{}\">{}</span>, {}{}<br>",
+                     k, k, escape(seamLabel(model, s)), static_cast<int>(r.geometric), toString(r.geometric),
+                     toString(r.parametric), r.certified ? ", certified" : "");
+    h += plot(t, g0, tol.distance, "G0 gap", options.plotWidth, options.plotHeight);
+    h += plot(t, g1, tol.angleDeg, "G1 angle (degrees)", options.plotWidth, options.plotHeight);
+    h += plot(t, g2, tol.curvatureRel, "G2 jump (relative)", options.plotWidth, options.plotHeight);
+    h += "</div>\n";
+  }
+
+  // ---- corners, free and degenerate edges
+  h += fmt::format("<h2 id=\"corners\">Corners ({})</h2>\n", report.corners.size());
+  h += "<table class=\"sortable\"><thead><tr><th class=\"l\">point</th><th>valence</th><th class=\"l\">patches</th>"
+       "<th>normal spread (&deg;)</th><th>G1 residual</th><th>G2 residual</th></tr></thead><tbody>\n";
+  for (const ModelCorner& c : report.corners) {
+    const CornerReport& r = c.report;
+    std::string names;
+    for (const PatchCorner& pc : r.corners) names += model.patches[static_cast<size_t>(pc.patch)].name + " ";
+    h += fmt::format("<tr><td class=\"l\">[{}, {}, {}]</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
+                     "<td>{}</td></tr>\n",
+                     num(r.point.x()), num(r.point.y()), num(r.point.z()), r.valence, escape(names),
+                     r.normalSpreadDeg ? num(*r.normalSpreadDeg) : (r.degenerate ? "degenerate" : "-"),
+                     r.fourPatch ? num(r.fourPatch->g1Residual) : "-",
+                     r.fourPatch && r.fourPatch->g2Residual ? num(*r.fourPatch->g2Residual) : "-");
+  }
+  h += "</tbody></table>\n";
+  h += fmt::format("<h2 id=\"free\">Free edges ({})</h2>\n<p>", report.freeEdges.size());
+  for (const FreeEdge& f : report.freeEdges)
+    h += fmt::format("{}:{}{} &nbsp; ", escape(model.patches[static_cast<size_t>(f.edge.patch)].name),
+                     edgeName(f.edge.edge), f.partial ? fmt::format(" [{}, {}]", num(f.range.lo), num(f.range.hi)) : "");
+  h += "</p>\n";
+  h += fmt::format("<h2 id=\"degenerate\">Degenerate edges ({})</h2>\n<p>", report.degenerateEdges.size());
+  for (const DegenerateEdge& d : report.degenerateEdges)
+    h += fmt::format("{}:{} &nbsp; ", escape(model.patches[static_cast<size_t>(d.edge.patch)].name),
+                     edgeName(d.edge.edge));
+  h += "</p>\n";
+  h += fmt::format("<script>{}</script>\n</body></html>\n", kScript);
+  return h;
+}
+
+Result<std::string> objMesh(const Model& model, const MeshOptions& options) {
+  if (options.samplesPerSpan < 1 || options.maxSamplesPerPatch < 1)
+    return invalidInput("mesh: samplesPerSpan and maxSamplesPerPatch must be at least 1");
+  std::string out = "# seam mesh: one object per patch, per-vertex unit normals\n";
+  long base = 1;
+  for (const Patch& p : model.patches) {
+    const BSplineSurface& s = p.surface;
+    if (s.dim() != 3) return invalidInput(fmt::format("mesh: patch \"{}\" is not 3-D", p.name));
+    const int su = static_cast<int>(s.knotsU().interiorBreakpoints(s.degreeU()).size()) + 1;
+    const int sv = static_cast<int>(s.knotsV().interiorBreakpoints(s.degreeV()).size()) + 1;
+    const int nu = std::min(options.maxSamplesPerPatch, options.samplesPerSpan * su);
+    const int nv = std::min(options.maxSamplesPerPatch, options.samplesPerSpan * sv);
+    const Interval du = s.domainU(), dv = s.domainV();
+    out += fmt::format("o {}\n", p.name);
+    std::string normals;
+    for (int i = 0; i <= nu; ++i)
+      for (int j = 0; j <= nv; ++j) {
+        const double u = du.lo + du.length() * i / nu, v = dv.lo + dv.length() * j / nv;
+        Vec3 pt, su1, sv1;
+        s.pointAndFirstDerivatives(u, v, pt, su1, sv1);
+        Vec3 n = su1.cross(sv1);
+        // At a pole the normal vanishes: take it at points stepped inward (a pole's normal is their limit).
+        for (double step = 1e-6; !(n.norm() > 0.0) && step < 0.5; step *= 10.0) {
+          const double ui = u + (i == nu ? -1.0 : 1.0) * step * du.length();
+          const double vi = v + (j == nv ? -1.0 : 1.0) * step * dv.length();
+          Vec3 q, a, b;
+          s.pointAndFirstDerivatives(ui, vi, q, a, b);
+          n = a.cross(b);
+        }
+        n = n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3(0, 0, 1);
+        out += fmt::format("v {:.17g} {:.17g} {:.17g}\n", pt.x(), pt.y(), pt.z());
+        normals += fmt::format("vn {:.9g} {:.9g} {:.9g}\n", n.x(), n.y(), n.z());
+      }
+    out += normals;
+    auto id = [&](int i, int j) { return base + static_cast<long>(i) * (nv + 1) + j; };
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const long a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+        out += fmt::format("f {0}//{0} {1}//{1} {2}//{2}\nf {0}//{0} {2}//{2} {3}//{3}\n", a, b, c, d);
+      }
+    base += static_cast<long>(nu + 1) * (nv + 1);
+  }
+  return out;
+}
+
+}  // namespace seam::report

@@ -1,0 +1,228 @@
+// STEP/IGES through OpenCASCADE (src/occt/cad_io.cpp). Expected values come from independent routes: the control
+// points and knots written (round trips), counts read with OpenCASCADE's own topology tools on the same files, the
+// published description of the data (../shared/data/README.md), and OpenCASCADE's own continuity verdict
+// (BRepLib::ContinuityOfFaces) on the sewn shell.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepLib.hxx>
+#include <BRep_Tool.hxx>
+#include <STEPControl_Reader.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "seam/continuity/model_check.h"
+#include "seam/occt/cad_io.h"
+
+namespace seam {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kData = SEAM_SHARED_DATA_DIR;
+
+fs::path tempPath(const std::string& name) {
+  return fs::temp_directory_path() / ("seam_occt_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
+/// A random rational B-spline patch with non-uniform interior knots (double knot in u), and a Bezier patch.
+Model randomModel(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> coord(-10.0, 10.0), weight(0.5, 2.0);
+  Model m;
+  {
+    const int pu = 3, pv = 2, nu = 7, nv = 5;
+    std::vector<double> ku{0, 0, 0, 0, 0.3, 0.3, 0.71, 1, 1, 1, 1};
+    std::vector<double> kv{-2, -2, -2, -0.5, 1.25, 3, 3, 3};
+    Matrix pts(nu * nv, 3);
+    VecX w(nu * nv);
+    for (int i = 0; i < nu * nv; ++i) {
+      pts.row(i) << coord(rng), coord(rng), coord(rng);
+      w[i] = weight(rng);
+    }
+    m.patches.push_back({"R", PatchKind::kBSpline, BSplineSurface::create(pu, pv, ku, kv, nu, nv, pts, w).value()});
+  }
+  {
+    Matrix pts(16, 3);
+    for (int i = 0; i < 16; ++i) pts.row(i) << coord(rng), coord(rng), coord(rng);
+    std::vector<double> k{0, 0, 0, 0, 1, 1, 1, 1};
+    m.patches.push_back({"B", PatchKind::kBezier, BSplineSurface::create(3, 3, k, k, 4, 4, pts).value()});
+  }
+  return m;
+}
+
+void expectSameSurface(const BSplineSurface& a, const BSplineSurface& b, double relTol) {
+  ASSERT_EQ(a.degreeU(), b.degreeU());
+  ASSERT_EQ(a.degreeV(), b.degreeV());
+  ASSERT_EQ(a.numU(), b.numU());
+  ASSERT_EQ(a.numV(), b.numV());
+  ASSERT_EQ(a.isRational(), b.isRational());
+  ASSERT_EQ(a.knotsU().values().size(), b.knotsU().values().size());
+  ASSERT_EQ(a.knotsV().values().size(), b.knotsV().values().size());
+  for (size_t k = 0; k < a.knotsU().values().size(); ++k)
+    EXPECT_NEAR(a.knotsU().values()[k], b.knotsU().values()[k], relTol) << "u knot " << k;
+  for (size_t k = 0; k < a.knotsV().values().size(); ++k)
+    EXPECT_NEAR(a.knotsV().values()[k], b.knotsV().values()[k], relTol) << "v knot " << k;
+  const double scale = a.points().cwiseAbs().maxCoeff();
+  EXPECT_LE((a.points() - b.points()).cwiseAbs().maxCoeff(), relTol * scale);
+  if (a.isRational()) {
+    EXPECT_LE((a.weights() - b.weights()).cwiseAbs().maxCoeff(), relTol);
+  }
+}
+
+// Writing and reading back preserves every control point, weight and knot bit for bit (17 significant digits).
+TEST(OcctRoundTrip, StepPreservesControlPointsWeightsAndKnots) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Model m = randomModel(seed);
+    const fs::path file = tempPath("rt.step");
+    ASSERT_TRUE(occt::writeCadFile(m, file, occt::CadFormat::kStep).isOk());
+    const Result<occt::CadImport> r = occt::readCadFile(file);
+    fs::remove(file);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->model.patches.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) {
+      SCOPED_TRACE("seed " + std::to_string(seed) + " patch " + std::to_string(i));
+      expectSameSurface(m.patches[i].surface, r->model.patches[i].surface, 0.0);
+      EXPECT_TRUE(r->faces[i].exact);
+      EXPECT_FALSE(r->faces[i].trimmed);
+      EXPECT_EQ(r->faces[i].surfaceType, "Geom_BSplineSurface");
+    }
+  }
+}
+
+TEST(OcctRoundTrip, IgesPreservesControlPointsWeightsAndKnots) {
+  const Model m = randomModel(7);
+  const fs::path file = tempPath("rt.igs");
+  ASSERT_TRUE(occt::writeCadFile(m, file, occt::CadFormat::kIges).isOk());
+  const Result<occt::CadImport> r = occt::readCadFile(file);
+  fs::remove(file);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_EQ(r->model.patches.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) expectSameSurface(m.patches[i].surface, r->model.patches[i].surface, 0.0);
+}
+
+// The fuselage holds 8 bare bicubic B-spline surfaces (README: no faces or shells); sewn, 14 shared edges and
+// 4 collapsed edges (poles); 12 seams G1 with curvature continuity, 2 creases.
+TEST(OcctRealData, FuselageSeamsMatchTheDataDescriptionAndOpenCascade) {
+  const fs::path file = kData / "step" / "bug28366_fuselage.stp";
+  const Result<occt::CadImport> r = occt::readCadFile(file);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_EQ(r->model.patches.size(), 8u);
+  for (const Patch& p : r->model.patches) {
+    EXPECT_EQ(p.surface.degreeU(), 3);
+    EXPECT_EQ(p.surface.degreeV(), 3);
+    EXPECT_FALSE(p.surface.isRational());
+  }
+  const Result<ModelCheckReport> c = checkModel(r->model);
+  ASSERT_TRUE(c.isOk());
+  EXPECT_EQ(c->seams.size(), 14u);
+  EXPECT_EQ(c->degenerateEdges.size(), 4u);
+  EXPECT_EQ(c->freeEdges.size(), 0u);
+  int g2 = 0, creases = 0;
+  for (const ModelSeam& s : c->seams) {
+    ASSERT_TRUE(s.report.has_value());
+    EXPECT_TRUE(s.report->certified);
+    EXPECT_LE(s.report->g0Max, 1e-9 * 63585.0);  // README: gaps ~1e-11 (exact)
+    if (s.report->geometric == GeometricClass::kG2) ++g2;
+    if (s.report->geometric == GeometricClass::kG0) {
+      ++creases;
+      // A knife edge: the faces fold back (lambda < 0); 30 degrees between the faces at the corner end.
+      EXPECT_LT(s.report->lambdaRange.hi, 0.0);
+      EXPECT_NEAR(s.report->lambdaRange.hi, -std::cos(30.0 * M_PI / 180.0), 1e-6);
+    }
+  }
+  EXPECT_EQ(g2, 12);
+  EXPECT_EQ(creases, 2);
+
+  // OpenCASCADE's own verdict on the sewn shell: the same number of shared edges, and of those at least G1.
+  STEPControl_Reader reader;
+  ASSERT_EQ(reader.ReadFile(file.c_str()), IFSelect_RetDone);
+  reader.TransferRoots();
+  BRepBuilderAPI_Sewing sewing(1e-6 * 63585.0);
+  for (TopExp_Explorer ex(reader.OneShape(), TopAbs_FACE); ex.More(); ex.Next()) sewing.Add(ex.Current());
+  sewing.Perform();
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(sewing.SewedShape(), TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  int shared = 0, occtSmooth = 0;
+  for (int i = 1; i <= edgeFaces.Extent(); ++i) {
+    const TopTools_ListOfShape& faces = edgeFaces.FindFromIndex(i);
+    if (faces.Extent() != 2) continue;
+    const TopoDS_Edge e = TopoDS::Edge(edgeFaces.FindKey(i));
+    if (BRep_Tool::Degenerated(e)) continue;
+    ++shared;
+    const GeomAbs_Shape cont = BRepLib::ContinuityOfFaces(e, TopoDS::Face(faces.First()), TopoDS::Face(faces.Last()),
+                                                          0.01 * M_PI / 180.0);
+    if (cont != GeomAbs_C0) ++occtSmooth;
+  }
+  EXPECT_EQ(shared, 14);
+  EXPECT_EQ(occtSmooth, 12);
+}
+
+TEST(OcctErrors, MissingBrokenAndEmptyFilesAreClearErrors) {
+  {
+    const Result<occt::CadImport> r = occt::readCadFile(tempPath("missing.step"));
+    ASSERT_FALSE(r.isOk());
+    EXPECT_EQ(r.status().code(), ErrorCode::kIoError);
+    EXPECT_NE(r.status().message().find("missing.step"), std::string::npos);
+  }
+  {
+    const fs::path f = tempPath("broken.stp");
+    std::ofstream(f) << "ISO-10303-21;\nHEADER;\nthis is not STEP\n";
+    const Result<occt::CadImport> r = occt::readCadFile(f);
+    fs::remove(f);
+    ASSERT_FALSE(r.isOk());
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+    EXPECT_NE(r.status().message().find("broken.stp"), std::string::npos);
+  }
+  {
+    const fs::path f = tempPath("garbage.igs");
+    std::ofstream(f) << "not an IGES file at all\n";
+    const Result<occt::CadImport> r = occt::readCadFile(f);
+    fs::remove(f);
+    ASSERT_FALSE(r.isOk());
+    EXPECT_NE(r.status().message().find("garbage.igs"), std::string::npos);
+  }
+  {
+    const Result<occt::CadImport> r = occt::readCadFile(tempPath("model.json"));
+    ASSERT_FALSE(r.isOk());
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+  }
+  EXPECT_FALSE(occt::writeCadFile(Model{}, tempPath("empty.step"), occt::CadFormat::kStep).isOk());
+  EXPECT_FALSE(fs::exists(tempPath("empty.step")));
+}
+
+// Every real STEP/IGES file in ../shared/data reads, and the face counts agree with OpenCASCADE's own count.
+TEST(OcctRealData, EveryFileReadsWithOneExactPatchPerFace) {
+  for (const char* rel : {"step/bug28366_fuselage.stp", "step/trj3_s1-al-214.stp", "step/linkrods.step",
+                          "step/boxed_sphere.step", "iges/sunglasses_lens.igs", "iges/BUC50025.igs",
+                          "iges/occ22470.igs", "iges/bearing.iges"}) {
+    SCOPED_TRACE(rel);
+    const Result<occt::CadImport> r = occt::readCadFile(kData / rel);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_EQ(r->model.patches.size() + r->warnings.size(), r->faces.size() + r->warnings.size());
+    EXPECT_GT(r->model.patches.size(), 0u);
+    // Exact conversion, or an approximation within the default tolerance (1e-6 x diagonal) that is reported.
+    const double diag = r->model.boundingBox().diagonal();
+    int approximated = 0;
+    for (const occt::CadFace& f : r->faces)
+      if (!f.exact) {
+        ++approximated;
+        EXPECT_LE(f.approximationError, 1e-6 * diag) << f.patch << " " << f.surfaceType;
+      }
+    int approxWarnings = 0;
+    for (const std::string& w : r->warnings) approxWarnings += w.find("approximated") != std::string::npos ? 1 : 0;
+    EXPECT_EQ(approxWarnings, approximated);
+  }
+}
+
+}  // namespace
+}  // namespace seam

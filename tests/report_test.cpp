@@ -1,0 +1,231 @@
+// HTML report and OBJ mesh (src/report/report.cpp), and the `seam report` / `seam export-mesh` / `seam convert`
+// commands. Expected values: counts from the check report itself (one table row per seam), explicit Bernstein
+// sums for mesh vertices, the analytic normal of a plane, and files that must not change.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "seam/continuity/model_check.h"
+#include "seam/io/file.h"
+#include "seam/io/json.h"
+#include "seam/report/report.h"
+
+namespace seam {
+namespace {
+
+namespace fs = std::filesystem;
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + what.size())) ++n;
+  return n;
+}
+
+Model teapot() { return io::readModel(std::string(SEAM_SHARED_DATA_DIR) + "/bezier/teapot.bpt").value(); }
+
+TEST(HtmlReport, OneRowPerSeamAPlotPerSampledSeamAndNothingExternal) {
+  const Model m = teapot();
+  ModelCheckOptions o;
+  o.seam.keepSamples = true;
+  const ModelCheckReport r = checkModel(m, o).value();
+  ASSERT_EQ(r.seams.size(), 52u);  // README: 52 shared boundaries
+  const std::string h = report::htmlReport(m, r);
+  EXPECT_EQ(h.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(h.find("</html>"), std::string::npos);
+  EXPECT_EQ(count(h, "<tr><td><a href=\"#seam-"), r.seams.size());
+  EXPECT_EQ(count(h, "<div class=\"seam\" id=\"seam-"), r.seams.size());
+  EXPECT_EQ(count(h, "<svg class=\"plot\""), 3 * r.seams.size());
+  // The drawing: one polyline per patch edge.
+  EXPECT_GE(count(h, "<polyline"), 4 * m.patches.size() + 3 * r.seams.size());
+  // Self-contained: no external scripts, styles, images or links.
+  EXPECT_EQ(count(h, "http://"), 0u);
+  EXPECT_EQ(count(h, "https://"), 0u);
+  EXPECT_EQ(count(h, " src="), 0u);
+  EXPECT_EQ(count(h, "<link"), 0u);
+  // Balanced structure.
+  EXPECT_EQ(count(h, "<svg"), count(h, "</svg>"));
+  EXPECT_EQ(count(h, "<table"), count(h, "</table>"));
+  EXPECT_EQ(count(h, "<tr>"), count(h, "</tr>"));
+}
+
+TEST(HtmlReport, NamesAreEscapedAndThePlotLimitHolds) {
+  Model m = teapot();
+  m.patches[0].name = "<b>&\"rim\"";
+  ModelCheckOptions o;
+  o.seam.keepSamples = true;
+  const ModelCheckReport r = checkModel(m, o).value();
+  report::HtmlReportOptions ro;
+  ro.maxPlottedSeams = 5;
+  ro.title = "a < b";
+  const std::string h = report::htmlReport(m, r, ro);
+  EXPECT_EQ(count(h, "<b>&\"rim\""), 0u);
+  EXPECT_GT(count(h, "&lt;b&gt;&amp;&quot;rim&quot;"), 0u);
+  EXPECT_NE(h.find("<title>a &lt; b</title>"), std::string::npos);
+  EXPECT_EQ(count(h, "<div class=\"seam\" id=\"seam-"), 5u);
+}
+
+/// Bernstein polynomial B_i^n(t), written out.
+double bern(int n, int i, double t) {
+  double c = 1.0;
+  for (int k = 1; k <= i; ++k) c = c * (n - i + k) / k;
+  return c * std::pow(t, i) * std::pow(1.0 - t, n - i);
+}
+
+TEST(ObjMesh, VerticesLieOnTheSurfaceAndNormalsAreUnitAndOriented) {
+  std::mt19937 rng(71);
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  Matrix pts(16, 3);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) pts.row(i * 4 + j) << i + 0.2 * d(rng), j + 0.2 * d(rng), 0.3 * d(rng);
+  const std::vector<double> k{0, 0, 0, 0, 1, 1, 1, 1};
+  Model m;
+  m.patches.push_back({"P", PatchKind::kBezier, BSplineSurface::create(3, 3, k, k, 4, 4, pts).value()});
+  report::MeshOptions mo;
+  mo.samplesPerSpan = 6;
+  const std::string obj = report::objMesh(m, mo).value();
+  std::istringstream in(obj);
+  std::string tag;
+  std::vector<Vec3> v, vn;
+  int faces = 0;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    ls >> tag;
+    double x = 0, y = 0, z = 0;
+    if (tag == "v") {
+      ls >> x >> y >> z;
+      v.emplace_back(x, y, z);
+    } else if (tag == "vn") {
+      ls >> x >> y >> z;
+      vn.emplace_back(x, y, z);
+    } else if (tag == "f") {
+      ++faces;
+    }
+  }
+  ASSERT_EQ(v.size(), 49u);
+  ASSERT_EQ(vn.size(), 49u);
+  EXPECT_EQ(faces, 2 * 36);
+  for (int i = 0; i <= 6; ++i)
+    for (int j = 0; j <= 6; ++j) {
+      const double u = i / 6.0, w = j / 6.0;
+      Vec3 p = Vec3::Zero(), pu = Vec3::Zero(), pv = Vec3::Zero();
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          const Vec3 c = pts.row(a * 4 + b).transpose();
+          p += bern(3, a, u) * bern(3, b, w) * c;
+          // d/du B_a^3 = 3 (B_{a-1}^2 - B_a^2)
+          const double du = 3.0 * ((a > 0 ? bern(2, a - 1, u) : 0.0) - (a < 3 ? bern(2, a, u) : 0.0));
+          const double dv = 3.0 * ((b > 0 ? bern(2, b - 1, w) : 0.0) - (b < 3 ? bern(2, b, w) : 0.0));
+          pu += du * bern(3, b, w) * c;
+          pv += bern(3, a, u) * dv * c;
+        }
+      const size_t idx = static_cast<size_t>(i * 7 + j);
+      EXPECT_LE((v[idx] - p).norm(), 1e-12);
+      EXPECT_NEAR(vn[idx].norm(), 1.0, 1e-8);
+      EXPECT_GT(vn[idx].dot(pu.cross(pv).normalized()), 1.0 - 1e-8);
+    }
+}
+
+TEST(ObjMesh, PolesGetTheLimitNormal) {
+  const Model m = teapot();  // patches 20-23 and 28-31 collapse a boundary row to a point (README)
+  const std::string obj = report::objMesh(m).value();
+  std::istringstream in(obj);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("vn ", 0) != 0) continue;
+    std::istringstream ls(line.substr(3));
+    double x = 0, y = 0, z = 0;
+    ls >> x >> y >> z;
+    ASSERT_NEAR(std::sqrt(x * x + y * y + z * z), 1.0, 1e-6) << line;
+  }
+}
+
+// ---- the commands
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string readText(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+CliRun run(const std::string& args) {
+  static int n = 0;
+  const fs::path o = fs::temp_directory_path() / ("seam_report_test_" + std::to_string(::getpid()) + "_" +
+                                                  std::to_string(n) + ".out");
+  const fs::path e = fs::temp_directory_path() / ("seam_report_test_" + std::to_string(::getpid()) + "_" +
+                                                  std::to_string(n++) + ".err");
+  const std::string cmd = std::string("'") + SEAM_CLI_PATH + "' " + args + " >'" + o.string() + "' 2>'" + e.string() + "'";
+  const int st = std::system(cmd.c_str());
+  CliRun r;
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  r.out = readText(o);
+  r.err = readText(e);
+  fs::remove(o);
+  fs::remove(e);
+  return r;
+}
+
+TEST(ReportCli, ReportAndMeshAreWrittenAndBadInputIsExitTwo) {
+  const fs::path dir = fs::temp_directory_path() / ("seam_report_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string tea = std::string(SEAM_SHARED_DATA_DIR) + "/bezier/teapot.bpt";
+  const std::string before = readText(tea);
+  CliRun r = run("report '" + tea + "' -o '" + (dir / "t.html").string() + "'");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(readText(dir / "t.html").find("seam report: teapot.bpt"), std::string::npos);
+  r = run("export-mesh '" + tea + "' -o '" + (dir / "t.obj").string() + "' --per-span 4");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(count(readText(dir / "t.obj"), "\no "), 32u);  // one object per patch (after the header comment)
+  EXPECT_EQ(readText(tea), before);  // input untouched
+
+  std::ofstream(dir / "bad.json") << "{\"patches\": [ {\"name\": \"X\", \"type\": \"bezier\"} ]}";
+  r = run("report '" + (dir / "bad.json").string() + "' -o '" + (dir / "bad.html").string() + "'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("bad.json"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "bad.html"));
+  r = run("export-mesh '" + (dir / "missing.json").string() + "' -o '" + (dir / "m.obj").string() + "'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_FALSE(fs::exists(dir / "m.obj"));
+  fs::remove_all(dir);
+}
+
+TEST(ReportCli, ConvertJsonRoundTripIsBitExactAndRefusesUnknownFormats) {
+  const fs::path dir = fs::temp_directory_path() / ("seam_convert_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string src = std::string(SEAM_EXAMPLES_DIR) + "/models/two_patches.json";
+  CliRun r = run("convert '" + src + "' '" + (dir / "a.json").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model a = io::readModel(src).value(), b = io::readModel(dir / "a.json").value();
+  ASSERT_EQ(a.patches.size(), b.patches.size());
+  for (size_t i = 0; i < a.patches.size(); ++i) {
+    EXPECT_EQ(a.patches[i].surface.points(), b.patches[i].surface.points());
+    EXPECT_EQ(a.patches[i].surface.knotsU().values(), b.patches[i].surface.knotsU().values());
+  }
+#ifdef SEAM_HAVE_OCCT_CLI
+  r = run("convert '" + src + "' '" + (dir / "a.step").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("convert '" + (dir / "a.step").string() + "' '" + (dir / "b.json").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model c = io::readModel(dir / "b.json").value();
+  ASSERT_EQ(c.patches.size(), a.patches.size());
+  for (size_t i = 0; i < a.patches.size(); ++i) EXPECT_EQ(a.patches[i].surface.points(), c.patches[i].surface.points());
+#endif
+  r = run("convert '" + src + "' '" + (dir / "a.xyz").string() + "'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_FALSE(fs::exists(dir / "a.xyz"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace seam
