@@ -7,6 +7,9 @@
 
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepLib.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeWedge.hxx>
+#include <STEPControl_Writer.hxx>
 #include <BRep_Tool.hxx>
 #include <STEPControl_Reader.hxx>
 #include <TopExp.hxx>
@@ -21,6 +24,7 @@
 #include <string>
 
 #include "seam/continuity/model_check.h"
+#include "seam/occt/brep_check.h"
 #include "seam/occt/cad_io.h"
 
 namespace seam {
@@ -222,6 +226,87 @@ TEST(OcctRealData, EveryFileReadsWithOneExactPatchPerFace) {
     for (const std::string& w : r->warnings) approxWarnings += w.find("approximated") != std::string::npos ? 1 : 0;
     EXPECT_EQ(approxWarnings, approximated);
   }
+}
+
+// ---- B-rep check (trimmed faces, pcurves)
+
+fs::path writeStep(const TopoDS_Shape& shape, const std::string& name) {
+  const fs::path f = tempPath(name);
+  STEPControl_Writer w;
+  EXPECT_EQ(w.Transfer(shape, STEPControl_AsIs), IFSelect_RetDone);
+  EXPECT_EQ(w.Write(f.c_str()), IFSelect_RetDone);
+  return f;
+}
+
+// A cylinder (radius r, height h): lateral face + two planar discs. Exact answers: the two circles are 90 degree
+// creases (G0); the lateral face's own seam line is smooth (G1 and G2: the same surface on both sides).
+TEST(OcctBRep, CylinderHasTwoRightAngleCreasesAndASmoothSeamLine) {
+  const double r = 3.0, h = 7.0;
+  const fs::path f = writeStep(BRepPrimAPI_MakeCylinder(r, h).Shape(), "cyl.step");
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(f);
+  fs::remove(f);
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  ASSERT_EQ(rep->seams.size(), 3u);
+  int creases = 0, smooth = 0;
+  for (const occt::BRepSeam& s : rep->seams) {
+    SCOPED_TRACE("edge " + std::to_string(s.edge) + " " + s.a + "/" + s.b);
+    EXPECT_LE(s.report.g0Max, 1e-9 * h);
+    if (s.a == s.b) {
+      ++smooth;
+      EXPECT_LE(s.report.g1MaxDeg, 1e-9);
+      EXPECT_LE(s.report.g2Max, 1e-9 / r);
+      EXPECT_EQ(s.report.geometric, GeometricClass::kG2);
+    } else {
+      ++creases;
+      EXPECT_NEAR(s.report.g1MaxDeg, 90.0, 1e-9);
+      EXPECT_NEAR(s.report.g1SampledDeg, 90.0, 1e-9);
+      EXPECT_EQ(s.report.geometric, GeometricClass::kG0);
+      EXPECT_FALSE(s.report.certified);  // the discs are trimmed planes: sampled through the pcurves
+      EXPECT_EQ(s.occtContinuity, "C0");
+    }
+  }
+  EXPECT_EQ(creases, 2);
+  EXPECT_EQ(smooth, 1);
+  EXPECT_TRUE(rep->freeEdges.empty());
+}
+
+// A wedge (a box with a sloped top): every edge a crease of a known angle; the top slopes by atan(dx / dy).
+TEST(OcctBRep, WedgeEdgesAreCreasesOfTheKnownAngles) {
+  const double dx = 4.0, dy = 2.0, dz = 3.0, ltx = 1.0;
+  const fs::path f = writeStep(BRepPrimAPI_MakeWedge(dx, dy, dz, ltx).Shape(), "wedge.step");
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(f);
+  fs::remove(f);
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  ASSERT_EQ(rep->seams.size(), 12u);  // 6 faces, 12 edges, closed
+  // Face normals of the wedge: bottom (0,0,-1)... the dihedral angles between outward normals are either 90 degrees
+  // or involve the slanted face x-side: normal of the plane through x = dx at y = 0 and x = ltx at y = dy.
+  const Vec3 slant = Vec3(dy, dx - ltx, 0.0).normalized();
+  std::vector<double> expected;
+  for (const Vec3& n : {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(0, 0, -1), Vec3(0, 0, 1)})
+    expected.push_back(std::acos(std::clamp(slant.dot(n), -1.0, 1.0)) * 180.0 / M_PI);
+  for (const occt::BRepSeam& s : rep->seams) {
+    SCOPED_TRACE("edge " + std::to_string(s.edge));
+    const double a = s.report.g1SampledDeg;
+    bool known = std::abs(a - 90.0) <= 1e-9;
+    for (double e : expected) known = known || std::abs(a - e) <= 1e-9;
+    EXPECT_TRUE(known) << a;
+    EXPECT_EQ(s.report.geometric, GeometricClass::kG0);
+  }
+  EXPECT_EQ(rep->occtAgreement, 12);
+}
+
+// The fuselage through the B-rep route: every shared edge is a whole natural side, so every seam is certified and
+// the classes are those of the patch check (12 G2, 2 creases).
+TEST(OcctBRep, FuselageSeamsAreCertifiedThroughThePatchEdges) {
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "step" / "bug28366_fuselage.stp");
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  EXPECT_TRUE(rep->sewn);  // bare surfaces: no topology in the file
+  EXPECT_EQ(rep->seams.size(), 14u);
+  EXPECT_EQ(rep->certifiedSeams, 14);
+  EXPECT_EQ(rep->geometric[static_cast<size_t>(GeometricClass::kG2)], 12);
+  EXPECT_EQ(rep->geometric[static_cast<size_t>(GeometricClass::kG0)], 2);
+  EXPECT_EQ(rep->degenerateEdges, 4);
+  EXPECT_EQ(rep->occtAgreement, 14);
 }
 
 }  // namespace

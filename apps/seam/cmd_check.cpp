@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,9 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/brep_check.h"
+#endif
 #include "seam/continuity/model_check.h"
 #include "seam/continuity/seam.h"
 
@@ -25,6 +29,7 @@ struct CheckOptions {
   std::optional<double> tolDistance, tolAngle, tolCurvature;
   std::string require;
   bool json = false;
+  bool patches = false;  // STEP/IGES: check the faces' patches instead of the B-rep edges
 };
 
 std::optional<GeometricClass> parseClass(const std::string& s) {
@@ -259,6 +264,93 @@ std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, co
   return std::nullopt;
 }
 
+#ifdef SEAM_HAVE_OCCT
+/// STEP/IGES: every edge shared by two faces of the (sewn) B-rep, with OpenCASCADE's verdict next to seam's.
+int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require) {
+  occt::BRepCheckOptions bo;
+  if (o.tolDistance || o.tolAngle || o.tolCurvature) {
+    // Defaults from the model size need the model: read it once for its diagonal.
+    const Result<occt::CadImport> cad = occt::readCadFile(o.file);
+    if (!cad) {
+      printError(cad.status().message());
+      return kExitBadInput;
+    }
+    Tolerances tol = Tolerances::forModelSize(cad->model.boundingBox().diagonal());
+    if (o.tolDistance) tol.distance = *o.tolDistance;
+    if (o.tolAngle) tol.angleDeg = *o.tolAngle;
+    if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
+    bo.tolerances = tol;
+  }
+  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
+  if (!r) {
+    printError(r.status().message());
+    return kExitBadInput;
+  }
+  for (const std::string& w : r->import.warnings) std::cerr << "seam: warning: " << w << "\n";
+  int below = 0;
+  for (const occt::BRepSeam& s : r->seams)
+    if (require && s.report.geometric < *require) ++below;
+  const Tolerances& tol = r->tolerances;
+  if (o.json) {
+    OrderedJson seams = OrderedJson::array();
+    for (const occt::BRepSeam& s : r->seams) {
+      OrderedJson j = seamJson(s.report);
+      j.erase("a_edge");
+      j.erase("b_edge");
+      j["edge"] = s.edge;
+      j["route"] = s.viaPatchEdges ? "patch edges (Bernstein form)" : "pcurves (sampled)";
+      j["occt_continuity"] = s.occtContinuity;
+      seams.push_back(std::move(j));
+    }
+    OrderedJson free = OrderedJson::array();
+    for (const occt::BRepFreeEdge& f : r->freeEdges)
+      free.push_back({{"edge", f.edge}, {"face", f.face}, {"midpoint", point(f.midpoint)}});
+    OrderedJson nonManifold = OrderedJson::array();
+    for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges)
+      nonManifold.push_back({{"edge", e.edge}, {"faces", e.faces}, {"midpoint", point(e.midpoint)}});
+    OrderedJson out{{"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
+                                    {"curvature_rel", tol.curvatureRel}}},
+                    {"model", {{"faces", r->import.faces.size()}, {"sewn", r->sewn}}},
+                    {"seams", seams},
+                    {"free_edges", free},
+                    {"non_manifold_edges", nonManifold},
+                    {"summary", {{"seams", r->seams.size()},
+                                 {"certified", r->certifiedSeams},
+                                 {"worst_geometric", std::string(toString(r->worstGeometric))},
+                                 {"geometric", {{"none", r->geometric[0]}, {"G0", r->geometric[1]},
+                                                {"G1", r->geometric[2]}, {"G2", r->geometric[3]}}},
+                                 {"free_edges", r->freeEdges.size()},
+                                 {"non_manifold_edges", r->nonManifoldEdges.size()},
+                                 {"degenerate_edges", r->degenerateEdges},
+                                 {"agree_with_occt_g1", r->occtAgreement}}}};
+    if (require) out["summary"]["below_required"] = below;
+    printJson(out);
+  } else {
+    fmt::print("{}: B-rep of {} faces{}; tolerances distance {}, angle {} deg, curvature {} relative\n\n", o.file,
+               r->import.faces.size(), r->sewn ? " (sewn)" : "", formatNumber(tol.distance),
+               formatNumber(tol.angleDeg), formatNumber(tol.curvatureRel));
+    std::vector<std::vector<std::string>> rows;
+    for (const occt::BRepSeam& s : r->seams)
+      rows.push_back({std::to_string(s.edge), s.a, s.b, formatNumber(s.report.g0Max), formatNumber(s.report.g1MaxDeg),
+                      formatNumber(s.report.g2Max), std::string(toString(s.report.geometric)),
+                      s.report.certified ? "yes" : "no", s.occtContinuity});
+    fmt::print("seams ({})\n{}", r->seams.size(),
+               formatTable({"edge", "A", "B", "G0 gap", "G1 angle (deg)", "G2 jump", "geometric", "certified", "OCCT"},
+                           rows, {false, false, false, true, true, true, false, false, false}));
+    fmt::print("\nfree edges ({}):", r->freeEdges.size());
+    for (const occt::BRepFreeEdge& f : r->freeEdges) fmt::print(" {}@{}", f.edge, f.face);
+    fmt::print("\nnon-manifold edges ({}):", r->nonManifoldEdges.size());
+    for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges) fmt::print(" {}", e.edge);
+    fmt::print("\n\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}; {} free edges, {} "
+               "non-manifold, {} degenerate; OpenCASCADE agrees on G1-or-not for {} of {}\n",
+               r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
+               toString(r->worstGeometric), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
+               r->occtAgreement, r->seams.size());
+  }
+  return require && below > 0 ? kExitGeometryProblem : kExitOk;
+}
+#endif
+
 int runCheck(const CheckOptions& o) {
   std::optional<GeometricClass> require;
   if (!o.require.empty()) {
@@ -275,6 +367,9 @@ int runCheck(const CheckOptions& o) {
       return kExitBadInput;
     }
   }
+#ifdef SEAM_HAVE_OCCT
+  if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require);
+#endif
   const std::optional<Model> model = loadModel(o.file);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {
@@ -373,7 +468,7 @@ int runCheck(const CheckOptions& o) {
 void addCheck(CLI::App& app, int& exit) {
   auto options = std::make_shared<CheckOptions>();
   CLI::App* cmd = app.add_subcommand("check", "Continuity of every seam, vertex and free edge of a model");
-  cmd->add_option("FILE", options->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", options->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
   cmd->add_option("--seam", options->seam, "Analyse only this pair of edges, e.g. --seam S1:u1 S2:u0")
       ->expected(2)
       ->type_name("A:EDGE B:EDGE");
@@ -383,6 +478,8 @@ void addCheck(CLI::App& app, int& exit) {
   cmd->add_option("--tol-curvature", options->tolCurvature, "G2 tolerance, relative; default 0.01");
   cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
   cmd->add_flag("--json", options->json, "Print JSON instead of tables");
+  cmd->add_flag("--patches", options->patches,
+                "STEP/IGES: check the faces as patches (natural boundaries, certified) instead of the B-rep edges");
   cmd->footer("Exit codes: 0 ok, 1 some seam is below --require, 2 bad usage or input.");
   cmd->callback([options, &exit]() { exit = runCheck(*options); });
 }

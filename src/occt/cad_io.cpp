@@ -1,5 +1,7 @@
 #include "seam/occt/cad_io.h"
 
+#include "occt/cad_internal.h"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -180,6 +182,10 @@ bool naturallyBounded(const TopoDS_Face& face, double u0, double u1, double v0, 
   return natural;
 }
 
+}  // namespace
+
+namespace detail {
+
 /// Reads the file into one shape (STEP or IGES), with OpenCASCADE's errors turned into messages.
 Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format) {
   std::error_code ec;
@@ -209,7 +215,8 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format) {
   }
 }
 
-}  // namespace
+
+}  // namespace detail
 
 std::optional<CadFormat> cadFormatOf(const fs::path& file) {
   const std::string ext = lower(file.extension().string());
@@ -222,13 +229,18 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
   const std::optional<CadFormat> format = cadFormatOf(file);
   if (!format)
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
-  Result<TopoDS_Shape> shape = readShape(file, *format);
+  Result<TopoDS_Shape> shape = detail::readShape(file, *format);
   if (!shape) return shape.status();
-  CadImport out;
-  // Approximation tolerance from the model size (bounding box of the faces' control points is not known yet:
-  // use the shape's bounding box through the faces' surfaces after conversion; a first pass collects exact ones).
   std::vector<TopoDS_Face> faces;
   for (TopExp_Explorer ex(*shape, TopAbs_FACE); ex.More(); ex.Next()) faces.push_back(TopoDS::Face(ex.Current()));
+  return detail::convertFaces(file, faces, options);
+}
+
+namespace detail {
+
+Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Face>& faces,
+                               const CadReadOptions& options) {
+  CadImport out;
   if (faces.empty())
     return Status(ErrorCode::kInvalidInput, fmt::format("{}: the file contains no faces or surfaces", file.string()));
   // Model size for the approximation tolerance: the parameter-box corners of every face, evaluated.
@@ -255,6 +267,7 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
     const std::string name = fmt::format("F{}", index);
     CadFace info;
     info.patch = name;
+    info.faceIndex = index;
     info.reversed = face.Orientation() == TopAbs_REVERSED;
     try {
       const Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
@@ -326,6 +339,8 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
     return Status(ErrorCode::kInvalidInput, fmt::format("{}: no face could be read", file.string()));
   return out;
 }
+
+}  // namespace detail
 
 Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options) {
   if (model.patches.empty()) return invalidInput(fmt::format("{}: the model has no patches to write", file.string()));

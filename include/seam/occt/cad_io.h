@@ -36,6 +36,7 @@ struct CadReadOptions {
 /// What the reader did with one face.
 struct CadFace {
   std::string patch;            ///< name of the patch made from it ("F<n>", 1-based in file order)
+  int faceIndex = 0;            ///< n: the face's 1-based position in the file (faces that fail are skipped)
   std::string surfaceType;      ///< OpenCASCADE surface type before conversion (e.g. "Geom_BSplineSurface")
   bool exact = true;            ///< false: approximated, see approximationError
   double approximationError = 0.0;

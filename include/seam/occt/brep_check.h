@@ -1,0 +1,75 @@
+#pragma once
+// Continuity check of a trimmed B-rep model (STEP/IGES): every edge shared by two faces, evaluated on each face
+// through its pcurve, with the G0/G1/G2 measures of analyzeSeam (issue 8, section 2).
+//
+// Topology comes from OpenCASCADE. A file whose faces leave free edges is sewn first (BRepBuilderAPI_Sewing with
+// `sewingRelTol` x the model diagonal), so that files without topology (bare surfaces, IGES trimmed surfaces) get
+// their shared edges. For each shared edge:
+//  * when the edge is a whole natural side of both faces (untrimmed faces whose pcurve runs along a full side of
+//    the parameter box), the faces' patches are analysed by analyzeSeam: exact Bernstein data, certified bounds;
+//  * otherwise the seam is sampled along the edge (samplesPerSpan points per span of the edge's 3-D curve, at
+//    least 64, each local maximum refined by golden section) through the two pcurves, with the faces' own
+//    orientation giving the normals' sense, and `certified` is false.
+// OpenCASCADE's own verdict (BRepLib::ContinuityOfFaces with the angle tolerance) is recorded next to seam's.
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "seam/continuity/seam.h"
+#include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/occt/cad_io.h"
+
+namespace seam::occt {
+
+struct BRepCheckOptions {
+  /// Classification tolerances; default Tolerances::forModelSize(bounding-box diagonal).
+  std::optional<Tolerances> tolerances;
+  /// Analysis settings (samplesPerSpan, keepSamples, bounds); its `tol` is replaced by the tolerances.
+  SeamOptions seam;
+  /// Sewing tolerance relative to the model diagonal, used when the file leaves free edges (1e-4: gaps up to this
+  /// are sewn, then measured and classified with the distance tolerance).
+  double sewingRelTol = 1e-4;
+  CadReadOptions read;
+};
+
+struct BRepSeam {
+  int edge = 0;                 ///< 1-based index of the edge in the model's edge map
+  std::string a, b;             ///< patch (face) names, "F<n>"
+  SeamReport report;            ///< measures; t is A's patch-edge parameter (certified) or the edge parameter
+  bool viaPatchEdges = false;   ///< analysed as a patch seam (certified route)
+  std::string occtContinuity;   ///< BRepLib::ContinuityOfFaces: "C0", "G1", "C1", "G2", "C2", "C3" or "CN"
+};
+
+struct BRepFreeEdge {
+  int edge = 0;
+  std::string face;
+  Vec3 midpoint = Vec3::Zero();
+};
+
+struct BRepNonManifoldEdge {
+  int edge = 0;
+  std::vector<std::string> faces;
+  Vec3 midpoint = Vec3::Zero();
+};
+
+struct BRepCheckReport {
+  Tolerances tolerances;
+  bool sewn = false;          ///< the file was sewn before the check
+  CadImport import;           ///< the faces as patches (same names as in the seams)
+  std::vector<BRepSeam> seams;
+  std::vector<BRepFreeEdge> freeEdges;
+  std::vector<BRepNonManifoldEdge> nonManifoldEdges;
+  int degenerateEdges = 0;
+  int certifiedSeams = 0;
+  std::array<int, 4> geometric{};  ///< counts per GeometricClass
+  GeometricClass worstGeometric = GeometricClass::kG2;
+  int occtAgreement = 0;      ///< seams where "G1 or better" agrees between seam and OpenCASCADE
+};
+
+/// Reads and checks a STEP/IGES file. Errors as readCadFile.
+Result<BRepCheckReport> checkBRepFile(const std::filesystem::path& file, const BRepCheckOptions& options = {});
+
+}  // namespace seam::occt

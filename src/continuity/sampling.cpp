@@ -1,0 +1,85 @@
+#include "continuity/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace seam::detail {
+
+// Second fundamental form of a side in the orthonormal frame (e1, e2), with unit normal n.
+Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, const Vec3& suv, const Vec3& svv,
+                             const Vec3& n, const Vec3& e1, const Vec3& e2) {
+  Eigen::Matrix<double, 3, 2> J;
+  J << su, sv;
+  const Eigen::Matrix2d G = J.transpose() * J;
+  Eigen::Matrix2d II;
+  II << suu.dot(n), suv.dot(n), suv.dot(n), svv.dot(n);
+  Eigen::Matrix<double, 2, 2> C;
+  const Eigen::Matrix2d Ginv = G.inverse();
+  C.col(0) = Ginv * (J.transpose() * e1);
+  C.col(1) = Ginv * (J.transpose() * e2);
+  return C.transpose() * II * C;
+}
+
+double spectralNorm(const Eigen::Matrix2d& m) {
+  const Eigen::Matrix2d s = 0.5 * (m + m.transpose());
+  const double tr = 0.5 * (s(0, 0) + s(1, 1));
+  const double det = s(0, 0) * s(1, 1) - s(0, 1) * s(1, 0);
+  const double disc = std::sqrt(std::max(0.0, tr * tr - det));
+  return std::max(std::abs(tr + disc), std::abs(tr - disc));
+}
+
+// Golden-section refinement of a local maximum of f on [lo, hi].
+std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = lo, b = hi;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < kGoldenIterations; ++i) {
+    if (f1 < f2) {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      f2 = f(x2);
+    } else {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      f1 = f(x1);
+    }
+  }
+  return f1 > f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+}
+
+// Refines the kRefinedMaxima largest local maxima of values[i] (sampled at xs[i]) and returns the best (x, value).
+std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const std::vector<double>& values,
+                                         const std::function<double(double)>& f) {
+  std::vector<size_t> locals;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const bool leftOk = i == 0 || values[i] >= values[i - 1];
+    const bool rightOk = i + 1 == values.size() || values[i] >= values[i + 1];
+    if (leftOk && rightOk) locals.push_back(i);
+  }
+  std::sort(locals.begin(), locals.end(), [&](size_t a, size_t b) { return values[a] > values[b]; });
+  if (locals.size() > static_cast<size_t>(kRefinedMaxima)) locals.resize(kRefinedMaxima);
+  double bestX = xs.empty() ? 0.0 : xs[0], best = values.empty() ? 0.0 : values[0];
+  for (size_t i = 0; i < values.size(); ++i)
+    if (values[i] > best) {
+      best = values[i];
+      bestX = xs[i];
+    }
+  for (size_t i : locals) {
+    const double lo = xs[i == 0 ? 0 : i - 1], hi = xs[i + 1 == xs.size() ? i : i + 1];
+    if (!(hi > lo)) continue;
+    const auto [x, v] = refineMax(f, lo, hi);
+    if (v > best) {
+      best = v;
+      bestX = x;
+    }
+  }
+  return {bestX, best};
+}
+
+
+}  // namespace seam::detail

@@ -1,0 +1,357 @@
+#include "seam/occt/brep_check.h"
+
+#include <fmt/format.h>
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepLib.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <Geom2d_Curve.hxx>
+#include <Geom_Surface.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "continuity/sampling.h"
+#include "occt/cad_internal.h"
+
+namespace seam::occt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A pcurve end point lies on a side of the face's parameter box within this fraction of the box size, and covers
+/// the whole side when its two ends are this close to the side's corners.
+constexpr double kSideRelTol = 1e-7;
+/// Minimum samples along a sampled edge (issue: >= 64 per span).
+constexpr int kMinSamples = 64;
+/// A normal shorter than this fraction of |S_u| |S_v| is treated as vanishing (pole).
+constexpr double kVanishingNormalRel = 1e-12;
+/// Normal curvatures below this / (model size) count as flat when forming relative jumps (as in analyzeSeam).
+constexpr double kFlatCurvatureRatio = 1e-3;
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+Vec3 toVec(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
+Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+std::string continuityName(GeomAbs_Shape s) {
+  switch (s) {
+    case GeomAbs_C0: return "C0";
+    case GeomAbs_G1: return "G1";
+    case GeomAbs_C1: return "C1";
+    case GeomAbs_G2: return "G2";
+    case GeomAbs_C2: return "C2";
+    case GeomAbs_C3: return "C3";
+    case GeomAbs_CN: return "CN";
+  }
+  return "?";
+}
+
+/// The side of the face's parameter box that the edge's pcurve runs along from corner to corner, if any.
+std::optional<Edge> naturalSide(const TopoDS_Edge& e, const TopoDS_Face& f) {
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  BRepTools::UVBounds(f, u0, u1, v0, v1);
+  double a = 0, b = 0;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, f, a, b);
+  if (pc.IsNull()) return std::nullopt;
+  const gp_Pnt2d p = pc->Value(a), q = pc->Value(b), m = pc->Value(0.5 * (a + b));
+  const double tu = kSideRelTol * std::max(u1 - u0, 1e-300), tv = kSideRelTol * std::max(v1 - v0, 1e-300);
+  auto near = [](double x, double y, double t) { return std::abs(x - y) <= t; };
+  auto spans = [&](double x, double y, double lo, double hi, double t) {
+    return (near(x, lo, t) && near(y, hi, t)) || (near(x, hi, t) && near(y, lo, t));
+  };
+  for (const auto& [side, fixed, val] : {std::tuple{Edge::U0, 0, u0}, std::tuple{Edge::U1, 0, u1},
+                                         std::tuple{Edge::V0, 1, v0}, std::tuple{Edge::V1, 1, v1}}) {
+    if (fixed == 0 && near(p.X(), val, tu) && near(q.X(), val, tu) && near(m.X(), val, tu) &&
+        spans(p.Y(), q.Y(), v0, v1, tv))
+      return side;
+    if (fixed == 1 && near(p.Y(), val, tv) && near(q.Y(), val, tv) && near(m.Y(), val, tv) &&
+        spans(p.X(), q.X(), u0, u1, tu))
+      return side;
+  }
+  return std::nullopt;
+}
+
+/// One face seen from the shared edge: its surface, the edge's pcurve on it and the sense of its normal.
+struct FaceSide {
+  Handle(Geom_Surface) surface;
+  Handle(Geom2d_Curve) pcurve;
+  double first = 0, last = 0;  // pcurve parameter range
+  double sign = 1.0;           // -1 for a reversed face
+};
+
+struct PointData {
+  Vec3 point = Vec3::Zero();
+  double g0 = 0, g1 = 0, g2 = 0, curvature = 0;
+  bool normalsOk = true;
+};
+
+/// Measures at edge parameter t (A's pcurve parameter; B's is mapped affinely onto its own range).
+PointData measure(const FaceSide& A, const FaceSide& B, double t) {
+  PointData m;
+  const double s = B.first + (t - A.first) / (A.last - A.first) * (B.last - B.first);
+  gp_Pnt2d uvA, uvB;
+  gp_Vec2d dA, dB;
+  A.pcurve->D1(t, uvA, dA);
+  B.pcurve->D1(s, uvB, dB);
+  gp_Pnt pa, pb;
+  gp_Vec au, av, auu, avv, auv, bu, bv, buu, bvv, buv;
+  A.surface->D2(uvA.X(), uvA.Y(), pa, au, av, auu, avv, auv);
+  B.surface->D2(uvB.X(), uvB.Y(), pb, bu, bv, buu, bvv, buv);
+  m.point = toVec(pa);
+  m.g0 = (toVec(pa) - toVec(pb)).norm();
+  const Vec3 Au = toVec(au), Av = toVec(av), Bu = toVec(bu), Bv = toVec(bv);
+  const Vec3 nA = A.sign * Au.cross(Av), nB = B.sign * Bu.cross(Bv);
+  if (!(nA.norm() > kVanishingNormalRel * Au.norm() * Av.norm()) ||
+      !(nB.norm() > kVanishingNormalRel * Bu.norm() * Bv.norm())) {
+    m.normalsOk = false;
+    return m;
+  }
+  m.g1 = std::atan2(nA.cross(nB).norm(), nA.dot(nB));
+  const Vec3 T = Au * dA.X() + Av * dA.Y();
+  if (!(T.norm() > 0.0)) {
+    m.normalsOk = false;
+    return m;
+  }
+  const Vec3 nhA = nA.normalized(), nhB = nB.normalized();
+  const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
+  const Eigen::Matrix2d SA = seam::detail::shapeInFrame(Au, Av, toVec(auu), toVec(auv), toVec(avv), nhA, e1, e2);
+  const Eigen::Matrix2d SB = seam::detail::shapeInFrame(Bu, Bv, toVec(buu), toVec(buv), toVec(bvv), nhB, e1, e2);
+  m.g2 = seam::detail::spectralNorm(SB - SA);
+  m.curvature = std::max(seam::detail::spectralNorm(SA), seam::detail::spectralNorm(SB));
+  return m;
+}
+
+/// The sampled seam report through the pcurves (certified = false).
+SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSide& B, const std::string& a,
+                       const std::string& b, const SeamOptions& opt, double modelSize) {
+  SeamReport rep;
+  rep.a = a;
+  rep.b = b;
+  rep.overlapA = {A.first, A.last};
+  rep.overlapB = {B.first, B.last};
+  rep.correspondence = Correspondence::kProjection;
+  int spans = 1;
+  try {
+    spans = std::max(1, BRepAdaptor_Curve(edge).NbIntervals(GeomAbs_C2));
+  } catch (const Standard_Failure&) {
+  }
+  const int n = std::max(kMinSamples, std::max(opt.samplesPerSpan, 2) * spans);
+  std::vector<double> ts(static_cast<size_t>(n) + 1);
+  std::vector<PointData> ms(ts.size());
+  for (int i = 0; i <= n; ++i) {
+    ts[static_cast<size_t>(i)] = A.first + (A.last - A.first) * i / n;
+    ms[static_cast<size_t>(i)] = measure(A, B, ts[static_cast<size_t>(i)]);
+  }
+  const double flat = kFlatCurvatureRatio / std::max(modelSize, std::numeric_limits<double>::min());
+  double curvRef = flat;
+  bool degenerate = false;
+  for (const PointData& m : ms) {
+    curvRef = std::max(curvRef, m.curvature);
+    degenerate |= !m.normalsOk;
+  }
+  auto best = [&](auto get) {
+    std::vector<double> v(ms.size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = get(ms[i]);
+    return seam::detail::refinedMaximum(ts, v, [&](double t) { return get(measure(A, B, t)); });
+  };
+  auto at = [&](double t) { return WorstLocation{t, measure(A, B, t).point}; };
+  {
+    const auto [t, v] = best([](const PointData& m) { return m.g0; });
+    rep.g0Max = rep.g0Sampled = v;
+    rep.g0Worst = at(t);
+  }
+  {
+    const auto [t, v] = best([](const PointData& m) { return m.normalsOk ? m.g1 : 0.0; });
+    rep.g1MaxDeg = rep.g1SampledDeg = v * kRadToDeg;
+    rep.g1Worst = at(t);
+  }
+  {
+    const auto [t, v] = best([](const PointData& m) { return m.normalsOk ? m.g2 : 0.0; });
+    rep.g2Max = rep.g2Sampled = v;
+    rep.g2RelMax = rep.g2RelSampled = v / curvRef;
+    rep.g2Worst = at(t);
+  }
+  if (opt.keepSamples)
+    for (size_t i = 0; i < ts.size(); ++i)
+      rep.samples.push_back({ts[i], ms[i].g0, ms[i].g1 * kRadToDeg, ms[i].g2, ms[i].g2 / curvRef});
+  rep.certified = false;
+  rep.notes.push_back("sampled through the pcurves of the shared B-rep edge (trimmed faces): not certified");
+  rep.notes.push_back("faces of a B-rep have unrelated parametrisations: no C^k");
+  if (degenerate) rep.notes.push_back("the normal vanishes somewhere on the edge (pole or degenerate edge)");
+  const Tolerances& tol = opt.tol;
+  if (rep.g0Max <= tol.distance) {
+    rep.geometric = GeometricClass::kG0;
+    if (rep.g1MaxDeg <= tol.angleDeg) {
+      rep.geometric = GeometricClass::kG1;
+      if (rep.g2RelMax <= tol.curvatureRel) rep.geometric = GeometricClass::kG2;
+    }
+  }
+  return rep;
+}
+
+Vec3 edgeMidpoint(const TopoDS_Edge& e) {
+  try {
+    BRepAdaptor_Curve c(e);
+    return toVec(c.Value(0.5 * (c.FirstParameter() + c.LastParameter())));
+  } catch (const Standard_Failure&) {
+    return Vec3::Zero();
+  }
+}
+
+int countFreeEdges(const TopoDS_Shape& s) {
+  TopTools_IndexedDataMapOfShapeListOfShape m;
+  TopExp::MapShapesAndAncestors(s, TopAbs_EDGE, TopAbs_FACE, m);
+  int n = 0;
+  for (int i = 1; i <= m.Extent(); ++i)
+    if (m.FindFromIndex(i).Extent() == 1 && !BRep_Tool::Degenerated(TopoDS::Edge(m.FindKey(i))) &&
+        !BRep_Tool::IsClosed(TopoDS::Edge(m.FindKey(i)), TopoDS::Face(m.FindFromIndex(i).First())))
+      ++n;
+  return n;
+}
+
+}  // namespace
+
+Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptions& options) {
+  const std::optional<CadFormat> format = cadFormatOf(file);
+  if (!format)
+    return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
+  Result<TopoDS_Shape> read = detail::readShape(file, *format);
+  if (!read) return read.status();
+  BRepCheckReport out;
+  try {
+    TopoDS_Shape shape = *read;
+    Bnd_Box box;
+    BRepBndLib::Add(shape, box);
+    const double diag = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+    TopTools_IndexedMapOfShape faceMap;
+    TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
+    if (faceMap.Extent() > 1 && countFreeEdges(shape) > 0) {
+      BRepBuilderAPI_Sewing sewing(options.sewingRelTol * diag);
+      sewing.Add(shape);
+      sewing.Perform();
+      if (!sewing.SewedShape().IsNull()) {
+        shape = sewing.SewedShape();
+        out.sewn = true;
+      }
+      faceMap.Clear();
+      TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
+    }
+    std::vector<TopoDS_Face> faces;
+    for (int i = 1; i <= faceMap.Extent(); ++i) faces.push_back(TopoDS::Face(faceMap(i)));
+    Result<CadImport> imported = detail::convertFaces(file, faces, options.read);
+    if (!imported) return imported.status();
+    out.import = std::move(imported).value();
+    std::map<int, size_t> patchOfFace;  // 1-based face index -> patch index
+    for (size_t k = 0; k < out.import.faces.size(); ++k) patchOfFace[out.import.faces[k].faceIndex] = k;
+    out.tolerances = options.tolerances.value_or(Tolerances::forModelSize(out.import.model.boundingBox().diagonal()));
+    SeamOptions seamOpt = options.seam;
+    seamOpt.tol = out.tolerances;
+    const double size = out.import.model.boundingBox().diagonal();
+    auto faceName = [&](int fi) { return fmt::format("F{}", fi); };
+
+    TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+    TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+    for (int i = 1; i <= edgeFaces.Extent(); ++i) {
+      const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
+      if (BRep_Tool::Degenerated(edge)) {
+        ++out.degenerateEdges;
+        continue;
+      }
+      // Distinct faces around the edge (a periodic face's seam edge lists its face twice, or once when closed).
+      std::vector<TopoDS_Face> around;
+      for (TopTools_ListOfShape::Iterator it(edgeFaces.FindFromIndex(i)); it.More(); it.Next()) {
+        const TopoDS_Face f = TopoDS::Face(it.Value());
+        if (std::none_of(around.begin(), around.end(), [&](const TopoDS_Face& g) { return g.IsSame(f); }))
+          around.push_back(f);
+      }
+      if (around.size() > 2) {
+        BRepNonManifoldEdge nm{i, {}, edgeMidpoint(edge)};
+        for (const TopoDS_Face& f : around) nm.faces.push_back(faceName(faceMap.FindIndex(f)));
+        out.nonManifoldEdges.push_back(std::move(nm));
+        continue;
+      }
+      FaceSide A, B;
+      TopoDS_Face fa = around[0], fb;
+      TopoDS_Edge ea = edge, eb = edge;
+      if (around.size() == 1) {
+        if (!BRep_Tool::IsClosed(edge, fa)) {
+          out.freeEdges.push_back({i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge)});
+          continue;
+        }
+        fb = fa;  // the seam of a closed (periodic) face: its two pcurves
+        ea = TopoDS::Edge(edge.Oriented(TopAbs_FORWARD));
+        eb = TopoDS::Edge(edge.Oriented(TopAbs_REVERSED));
+      } else {
+        fb = around[1];
+      }
+      const int ia = faceMap.FindIndex(fa), ib = faceMap.FindIndex(fb);
+      BRepSeam seam;
+      seam.edge = i;
+      seam.a = faceName(ia);
+      seam.b = faceName(ib);
+      if (!patchOfFace.count(ia) || !patchOfFace.count(ib)) continue;  // a face that could not be read (warned)
+      const size_t pa = patchOfFace[ia], pb = patchOfFace[ib];
+      try {
+        seam.occtContinuity = continuityName(
+            BRepLib::ContinuityOfFaces(edge, fa, fb, out.tolerances.angleDeg * std::numbers::pi / 180.0));
+      } catch (const Standard_Failure&) {
+        seam.occtContinuity = "?";
+      }
+      // Certified route: both faces untrimmed and the edge a whole side of each.
+      const std::optional<Edge> sa = out.import.faces[pa].trimmed || ia == ib ? std::nullopt : naturalSide(ea, fa);
+      const std::optional<Edge> sb = out.import.faces[pb].trimmed || ia == ib ? std::nullopt : naturalSide(eb, fb);
+      bool done = false;
+      if (sa && sb) {
+        Result<SeamReport> r = analyzeSeam(out.import.model.patches[pa], *sa, out.import.model.patches[pb], *sb, seamOpt);
+        if (r) {
+          seam.report = std::move(r).value();
+          seam.viaPatchEdges = true;
+          done = true;
+        }
+      }
+      if (!done) {
+        A.surface = BRep_Tool::Surface(fa);
+        B.surface = BRep_Tool::Surface(fb);
+        A.pcurve = BRep_Tool::CurveOnSurface(ea, fa, A.first, A.last);
+        B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
+        if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
+            !(A.last > A.first) || !(B.last > B.first)) {
+          out.freeEdges.push_back({i, seam.a, edgeMidpoint(edge)});  // cannot be evaluated on both faces
+          continue;
+        }
+        A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+        B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+        seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
+      }
+      out.seams.push_back(std::move(seam));
+    }
+  } catch (const Standard_Failure& f) {
+    return Status(ErrorCode::kInvalidInput,
+                  fmt::format("{}: OpenCASCADE failed during the B-rep check: {}", file.string(), f.GetMessageString()));
+  }
+  for (const BRepSeam& s : out.seams) {
+    ++out.geometric[static_cast<size_t>(s.report.geometric)];
+    out.worstGeometric = std::min(out.worstGeometric, s.report.geometric);
+    if (s.report.certified) ++out.certifiedSeams;
+    const bool seamSmooth = s.report.geometric >= GeometricClass::kG1;
+    const bool occtSmooth = s.occtContinuity != "C0" && s.occtContinuity != "?";
+    if (seamSmooth == occtSmooth) ++out.occtAgreement;
+  }
+  return out;
+}
+
+}  // namespace seam::occt
