@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "seam/io/file.h"
+#include "seam/io/json.h"
 #ifdef SEAM_HAVE_OCCT
 #include "seam/occt/cad_io.h"
 #endif
@@ -102,8 +103,7 @@ std::optional<Model> loadModel(const std::filesystem::path& file) {
                                approximated);
     return std::move(cad->model);
 #else
-    printError(fmt::format("{}: STEP/IGES files need OpenCASCADE: rebuild with -DSEAM_WITH_OCCT=ON "
-                           "(scripts/setup.sh does)",
+    printError(fmt::format("{}: STEP/IGES support needs a build with SEAM_WITH_OCCT=ON (scripts/setup.sh does)",
                            file.string()));
     return std::nullopt;
 #endif
@@ -114,6 +114,29 @@ std::optional<Model> loadModel(const std::filesystem::path& file) {
     return std::nullopt;
   }
   return std::move(model).value();
+}
+
+bool saveModel(const Model& model, const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  Status st;
+  if (isCadFile(file)) {
+#ifdef SEAM_HAVE_OCCT
+    st = occt::writeCadFile(model, file, *occt::cadFormatOf(file));
+#else
+    st = Status(ErrorCode::kUnsupported, fmt::format("{}: writing STEP/IGES needs OpenCASCADE: rebuild with "
+                                                     "-DSEAM_WITH_OCCT=ON", file.string()));
+#endif
+  } else if (ext == ".json") {
+    st = io::writeModelJson(model, file);
+  } else {
+    st = invalidInput(fmt::format("{}: unknown output format (use .json, .step/.stp or .iges/.igs)", file.string()));
+  }
+  if (!st.isOk()) {
+    printError(st.message());
+    return false;
+  }
+  return true;
 }
 
 std::string jsonText(const OrderedJson& value) {

@@ -43,6 +43,10 @@ std::string formatTable(const std::vector<std::string>& header,
                         const std::vector<std::vector<std::string>>& rows,
                         const std::vector<bool>& rightAligned = {});
 
+/// Writes a model by extension (.json; .step/.stp/.iges/.igs when built with OpenCASCADE), atomically; on failure
+/// prints the message on stderr and returns false. Every command that writes a model uses it.
+bool saveModel(const Model& model, const std::filesystem::path& file);
+
 /// Writes `content` to `file` atomically; on failure prints the message on stderr and returns false.
 bool writeOutputFile(const std::filesystem::path& file, const std::string& content);
 

@@ -23,6 +23,9 @@ namespace seam::cli {
 
 namespace {
 
+/// Models with more patches than this get a progress line on stderr.
+constexpr size_t kProgressPatches = 300;
+
 struct CheckOptions {
   std::string file;
   std::vector<std::string> seam;
@@ -420,6 +423,9 @@ int runCheck(const CheckOptions& o) {
     ModelCheckOptions mo;
     mo.tolerances = tol;
     mo.require = require;
+    if (model->patches.size() > kProgressPatches)
+      std::cerr << fmt::format("seam: checking {} patches (pairing, seams in parallel, corners)...\n",
+                               model->patches.size());
     Result<ModelCheckReport> r = checkModel(*model, mo);
     if (!r) {
       printError(fmt::format("{}: {}", o.file, r.status().message()));

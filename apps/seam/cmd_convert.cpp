@@ -8,10 +8,6 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
-#include "seam/io/json.h"
-#ifdef SEAM_HAVE_OCCT
-#include "seam/occt/cad_io.h"
-#endif
 
 namespace seam::cli {
 
@@ -46,28 +42,12 @@ void addConvert(CLI::App& app, int& exit) {
       exit = kExitBadInput;
       return;
     }
-#ifndef SEAM_HAVE_OCCT
-    if (isCadFile(out)) {
-      printError(fmt::format("{}: writing STEP/IGES needs OpenCASCADE: rebuild with -DSEAM_WITH_OCCT=ON", out.string()));
-      exit = kExitBadInput;
-      return;
-    }
-#endif
     const std::optional<Model> model = loadModel(in);
     if (!model) {
       exit = kExitBadInput;
       return;
     }
-    Status st;
-    if (ext == ".json") {
-      st = io::writeModelJson(*model, out);
-    } else {
-#ifdef SEAM_HAVE_OCCT
-      st = occt::writeCadFile(*model, out, *occt::cadFormatOf(out));
-#endif
-    }
-    if (!st.isOk()) {
-      printError(st.message());
+    if (!saveModel(*model, out)) {
       exit = kExitBadInput;
       return;
     }

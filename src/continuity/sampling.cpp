@@ -29,12 +29,12 @@ double spectralNorm(const Eigen::Matrix2d& m) {
 }
 
 // Golden-section refinement of a local maximum of f on [lo, hi].
-std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi) {
+std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi, int iterations) {
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
   double a = lo, b = hi;
   double x1 = b - g * (b - a), x2 = a + g * (b - a);
   double f1 = f(x1), f2 = f(x2);
-  for (int i = 0; i < kGoldenIterations; ++i) {
+  for (int i = 0; i < iterations; ++i) {
     if (f1 < f2) {
       a = x1;
       x1 = x2;

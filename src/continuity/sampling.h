@@ -24,7 +24,8 @@ Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, co
 double spectralNorm(const Eigen::Matrix2d& m);
 
 /// Golden-section refinement of a local maximum of f on [lo, hi]: (x, f(x)).
-std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi);
+std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi,
+                                    int iterations = kGoldenIterations);
 
 /// Refines the kRefinedMaxima largest local maxima of values[i] (sampled at xs[i], increasing) between their
 /// neighbouring samples and returns the best (x, value), never below the best sample.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
@@ -48,6 +49,7 @@ namespace {
 
 using detail::RationalPoly;
 using detail::refinedMaximum;
+using detail::refineMax;
 using detail::shapeInFrame;
 using detail::spectralNorm;
 using detail::WeightContext;
@@ -73,6 +75,13 @@ constexpr double kAngleBoundFloor = 1e-9;
 constexpr double kIdentityBoundFactor = 2.0;
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+/// Samples per piece for the ranges of Johansson's connecting functions lambda, kappa on certified seams.
+constexpr int kLemma1Samples = 16;
+/// Golden-section steps per interior extreme: the bracket (1/16) shrinks to 4e-5 of the piece; at a smooth extreme
+/// the value error is quadratic in that (~1e-9 relative).
+constexpr int kLemma1GoldenIterations = 16;
+/// lambda or kappa varying by less than this (relative) over a piece is constant to round-off: not refined.
+constexpr double kLemma1ConstantRel = 1e-9;
 
 // ------------------------------------------------------------------------------------------------------------
 // One side of the seam, seen from its edge (edge = u 0 of `oriented`).
@@ -219,6 +228,7 @@ struct Piece {
   RationalPoly rho, T2, nA2, BcT2;
   double rhoScale = 0.0;
   RationalPoly c1, c2, O, Aoo;
+  RationalPoly L, K, D;     // Lemma 1: lambda = L / D, kappa = K / D (kappa per unit of the piece parameter)
 };
 
 Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
@@ -250,9 +260,12 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
   // Lemma 2 with lambda = L / D, kappa = K / D (D = (O x T).nA):  rho~ = nA . (D^2 Bcc - L^2 Aoo - 2 L K Aot - K^2 Att)
   const RationalPoly L = WeightContext::dot(WeightContext::cross(Bc, T), nA);
   const RationalPoly K = WeightContext::dot(WeightContext::cross(O, Bc), nA);
+  pc.L = L;
+  pc.K = K;
   // D = (O x T) . nA = -|nA|^2 since nA = T x O.
   const RationalPoly nA2 = WeightContext::dot(nA, nA);
   const RationalPoly D = WeightContext::scaled(nA2, -1.0);
+  pc.D = D;
   const int estimate = 2 * D.num.degree() + Bcc.num.degree() + nA.num.degree() + 2 * (pc.wa.degree() + pc.wb.degree());
   if (estimate <= maxDegree) {
     const RationalPoly t1 = WeightContext::mul(WeightContext::mul(D, D), Bcc);
@@ -325,6 +338,85 @@ double g2Value(const Piece& pc, double x) {
   const double n2 = val(pc.nA2), b2 = val(pc.BcT2);
   if (!(n2 > 0.0) || !(b2 > 0.0)) return 0.0;
   return std::abs(val(pc.rho)) * val(pc.T2) / (std::pow(n2, 2.5) * b2);
+}
+
+// Scalar Bernstein polynomial at x by de Casteljau on the stack (no allocation); coefficient column 0.
+double scalarAt(const BernsteinPoly& p, double x) {
+  constexpr int kStack = 256;
+  const int n = p.degree();
+  if (n >= kStack) return p.scalar(x);
+  double b[kStack];
+  for (int i = 0; i <= n; ++i) b[i] = p.coeffs()(i, 0);
+  for (int r = 1; r <= n; ++r)
+    for (int i = 0; i <= n - r; ++i) b[i] = (1.0 - x) * b[i] + x * b[i + 1];
+  return b[0];
+}
+
+// Lemma 1 connecting functions on a piece at x: lambda = L / D and kappa = (K / D) * dt/dx (K / D is per unit of
+// the piece parameter; the report gives kappa per unit of A's edge parameter t). nullopt where D vanishes (a pole).
+struct Lemma1Piece {
+  const Piece* pc;
+  BernsteinPoly dt;  // d tOf / dx
+  [[nodiscard]] std::optional<std::pair<double, double>> at(double x) const {
+    const double wa = scalarAt(pc->wa, x), wb = scalarAt(pc->wb, x);
+    auto val = [&](const RationalPoly& r) {
+      const double v = scalarAt(r.num, x);
+      return r.ea == 0 && r.eb == 0 ? v : v / (std::pow(wa, r.ea) * std::pow(wb, r.eb));
+    };
+    const double d = val(pc->D);
+    if (!(std::abs(d) > 0.0) || !std::isfinite(d)) return std::nullopt;
+    return std::pair{val(pc->L) / d, val(pc->K) / d * scalarAt(dt, x)};
+  }
+};
+
+// Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
+// section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).
+void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& kappa) {
+  double lmin = std::numeric_limits<double>::infinity(), lmax = -lmin, kmin = lmin, kmax = -lmin;
+  for (const Piece& pc : pieces) {
+    if (pc.D.num.coeffs().size() == 0) return;  // not built: keep the sampled ranges
+    const Lemma1Piece lp{&pc, pc.tOf.derivative()};
+    std::array<double, 4> best{-lmin, -lmin, -lmin, -lmin};  // -lambda, lambda, -kappa, kappa
+    std::array<double, 4> where{0, 0, 0, 0};
+    auto value = [&](int k, double x) {
+      const auto v = lp.at(x);
+      if (!v) return -std::numeric_limits<double>::infinity();
+      const double f = k < 2 ? v->first : v->second;
+      return k % 2 == 0 ? -f : f;
+    };
+    for (int i = 0; i <= kLemma1Samples; ++i) {
+      const double x = static_cast<double>(i) / kLemma1Samples;
+      const auto v = lp.at(x);
+      if (!v) continue;
+      for (int k = 0; k < 4; ++k) {
+        const double f = (k < 2 ? v->first : v->second) * (k % 2 == 0 ? -1.0 : 1.0);
+        if (f > best[static_cast<size_t>(k)]) {
+          best[static_cast<size_t>(k)] = f;
+          where[static_cast<size_t>(k)] = x;
+        }
+      }
+    }
+    for (int k = 0; k < 4; ++k) {
+      const double x = where[static_cast<size_t>(k)], h = 1.0 / kLemma1Samples;
+      if (x == 0.0 || x == 1.0) continue;  // extreme at a piece end: attained there (the end is sampled)
+      // Constant to round-off (the common case of exact G1 splits): nothing to refine.
+      const size_t pair = static_cast<size_t>(k / 2) * 2;  // (-f, f) slots of this function
+      const double spread = best[pair] + best[pair + 1], scale = std::max(std::abs(best[pair + 1]), 1.0);
+      if (spread <= kLemma1ConstantRel * scale) continue;
+      const auto [xr, fr] =
+          refineMax([&](double y) { return value(k, y); }, x - h, x + h, kLemma1GoldenIterations);
+      (void)xr;
+      best[static_cast<size_t>(k)] = std::max(best[static_cast<size_t>(k)], fr);
+    }
+    lmin = std::min(lmin, -best[0]);
+    lmax = std::max(lmax, best[1]);
+    kmin = std::min(kmin, -best[2]);
+    kmax = std::max(kmax, best[3]);
+  }
+  if (lmin <= lmax) {
+    lambda = {lmin, lmax};
+    kappa = {kmin, kmax};
+  }
 }
 
 // Certified maximum over all pieces: subdivides each piece until its bound is within the relative gap of the best
@@ -841,6 +933,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
                                         opt.maxCertifiedDegree));
       refineG2();
     }
+    // Connecting functions: from the exact Lemma 1 polynomials instead of the start samples.
+    if (rep.g1Identity) lemma1Ranges(pieces, rep.lambdaRange, rep.kappaRange);
     // Parametric identities: certified bounds of |B'_u - A_out| and |B'_uu - A'_uu| at round-off level.
     c1Identity = c2Identity = true;
     for (const Piece& pc : pieces) {

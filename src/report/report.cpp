@@ -50,21 +50,21 @@ struct View {
   }
 };
 
-View makeView(const Model& model, int size) {
+View makeView(const std::vector<std::vector<Vec3>>& curves, int size) {
   View v;
   v.size = size;
   const Vec3 d = Vec3(1, 1, 1).normalized();
   v.e1 = Vec3(0, 0, 1).cross(d).normalized();
   v.e2 = d.cross(v.e1).normalized();
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-  for (const Patch& p : model.patches)
-    for (Eigen::Index i = 0; i < p.surface.points().rows(); ++i) {
-      const Vec3 q = p.surface.points().row(i).head<3>().transpose();
+  for (const auto& c : curves)
+    for (const Vec3& q : c) {
       xmin = std::min(xmin, q.dot(v.e1));
       xmax = std::max(xmax, q.dot(v.e1));
       ymin = std::min(ymin, q.dot(v.e2));
       ymax = std::max(ymax, q.dot(v.e2));
     }
+  if (!(xmax >= xmin)) xmin = xmax = ymin = ymax = 0.0;
   const double ext = std::max({xmax - xmin, ymax - ymin, 1e-300});
   v.x0 = xmin;
   v.y0 = ymin;
@@ -72,6 +72,12 @@ View makeView(const Model& model, int size) {
   v.padX = 10.0 + 0.5 * ((size - 20.0) - (xmax - xmin) * v.scale);
   v.padY = 10.0 + 0.5 * ((size - 20.0) - (ymax - ymin) * v.scale);
   return v;
+}
+
+std::vector<Vec3> sampleCurve(const BSplineCurve& c, Interval d, int n) {
+  std::vector<Vec3> out;
+  for (int i = 0; i <= n; ++i) out.push_back(c.evaluate(d.lo + d.length() * i / n).head<3>());
+  return out;
 }
 
 /// One line plot (value against t) with a dashed tolerance line.
@@ -104,11 +110,6 @@ std::string plot(const std::vector<double>& t, const std::vector<double>& y, dou
   s += fmt::format("<polyline fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"{}\"/>", pts);
   s += "</svg>";
   return s;
-}
-
-std::string seamLabel(const Model& m, const ModelSeam& s) {
-  return fmt::format("{}:{} / {}:{}", m.patches[static_cast<size_t>(s.pair.a.patch)].name, edgeName(s.pair.a.edge),
-                     m.patches[static_cast<size_t>(s.pair.b.patch)].name, edgeName(s.pair.b.edge));
 }
 
 constexpr const char* kStyle = R"(
@@ -144,9 +145,69 @@ document.querySelectorAll('table.sortable th').forEach(function(th, col){
 
 }  // namespace
 
-std::string htmlReport(const Model& model, const ModelCheckReport& report, const HtmlReportOptions& options) {
-  const Tolerances& tol = report.tolerances;
+ReportData reportData(const Model& model, const ModelCheckReport& report, int samplesPerEdge) {
+  ReportData d;
+  d.tolerances = report.tolerances;
   const ModelCheckSummary& S = report.summary;
+  auto name = [&](int p) { return model.patches[static_cast<size_t>(p)].name; };
+  d.facts.emplace_back("patches", std::to_string(model.patches.size()));
+  d.facts.emplace_back("corners", fmt::format("{} ({} 4-valent, {} degenerate)", S.corners, S.fourValentCorners,
+                                              S.degenerateCorners));
+  for (const Patch& p : model.patches)
+    for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
+      const BSplineCurve c = p.surface.boundaryCurve(e);
+      d.outline.push_back(sampleCurve(c, c.domain(), samplesPerEdge));
+    }
+  for (const ModelSeam& s : report.seams) {
+    ReportSeam r;
+    r.a = name(s.pair.a.patch);
+    r.b = name(s.pair.b.patch);
+    r.aEdge = std::string(edgeName(s.pair.a.edge));
+    r.bEdge = std::string(edgeName(s.pair.b.edge));
+    r.report = s.report;
+    r.error = s.error.message();
+    const BSplineCurve c = model.patches[static_cast<size_t>(s.pair.a.patch)].surface.boundaryCurve(s.pair.a.edge);
+    r.curve = sampleCurve(c, s.pair.overlapA, samplesPerEdge);
+    d.seams.push_back(std::move(r));
+  }
+  for (const FreeEdge& f : report.freeEdges)
+    d.freeEdges.push_back(fmt::format("{}:{}{}", name(f.edge.patch), edgeName(f.edge.edge),
+                                      f.partial ? fmt::format(" [{}, {}]", num(f.range.lo), num(f.range.hi)) : ""));
+  for (const DegenerateEdge& g : report.degenerateEdges)
+    d.degenerateEdges.push_back(fmt::format("{}:{}", name(g.edge.patch), edgeName(g.edge.edge)));
+  for (const ModelCorner& c : report.corners) {
+    d.corners.push_back(&c.report);
+    std::string names;
+    for (const PatchCorner& pc : c.report.corners) names += name(pc.patch) + " ";
+    d.cornerPatchNames.push_back(names);
+  }
+  return d;
+}
+
+std::string htmlReport(const Model& model, const ModelCheckReport& report, const HtmlReportOptions& options) {
+  return htmlReport(reportData(model, report, options.samplesPerEdge), options);
+}
+
+std::string htmlReport(const ReportData& data, const HtmlReportOptions& options) {
+  const Tolerances& tol = data.tolerances;
+  std::array<int, 4> classes{};
+  int certified = 0, failed = 0;
+  GeometricClass worst = GeometricClass::kG2;
+  double g0 = 0, g1 = 0, g2 = 0, g2rel = 0;
+  for (const ReportSeam& s : data.seams) {
+    if (!s.report) {
+      ++failed;
+      worst = GeometricClass::kNone;
+      continue;
+    }
+    ++classes[static_cast<size_t>(s.report->geometric)];
+    certified += s.report->certified ? 1 : 0;
+    worst = std::min(worst, s.report->geometric);
+    g0 = std::max(g0, s.report->g0Max);
+    g1 = std::max(g1, s.report->g1MaxDeg);
+    g2 = std::max(g2, s.report->g2Max);
+    g2rel = std::max(g2rel, s.report->g2RelMax);
+  }
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">";
   h += fmt::format("<title>{}</title><style>{}</style></head><body>\n", escape(options.title), kStyle);
@@ -157,17 +218,14 @@ std::string htmlReport(const Model& model, const ModelCheckReport& report, const
   auto row = [&](const std::string& k, const std::string& v) {
     h += fmt::format("<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>", escape(k), v);
   };
-  row("patches", std::to_string(model.patches.size()));
-  row("seams", fmt::format("{} ({} certified, {} failed)", S.seams, S.certifiedSeams, S.failedSeams));
-  row("by class", fmt::format("G2 {}, G1 {}, G0 {}, none {}", S.geometric[3], S.geometric[2], S.geometric[1],
-                              S.geometric[0]));
-  row("worst", fmt::format("<span class=\"c{}\">{}</span> / {}", static_cast<int>(S.worstGeometric),
-                           toString(S.worstGeometric), toString(S.worstParametric)));
-  row("largest gap (G0)", num(S.g0Max));
-  row("largest angle (G1, degrees)", num(S.g1MaxDeg));
-  row("largest curvature jump (G2)", fmt::format("{} (relative {})", num(S.g2Max), num(S.g2RelMax)));
-  row("corners", fmt::format("{} ({} 4-valent, {} degenerate)", S.corners, S.fourValentCorners, S.degenerateCorners));
-  row("free edges / degenerate edges", fmt::format("{} / {}", S.freeEdges, S.degenerateEdges));
+  row("seams", fmt::format("{} ({} certified, {} failed)", data.seams.size(), certified, failed));
+  row("by class", fmt::format("G2 {}, G1 {}, G0 {}, none {}", classes[3], classes[2], classes[1], classes[0]));
+  row("worst", fmt::format("<span class=\"c{}\">{}</span>", static_cast<int>(worst), toString(worst)));
+  row("largest gap (G0)", num(g0));
+  row("largest angle (G1, degrees)", num(g1));
+  row("largest curvature jump (G2)", fmt::format("{} (relative {})", num(g2), num(g2rel)));
+  row("free edges / degenerate edges", fmt::format("{} / {}", data.freeEdges.size(), data.degenerateEdges.size()));
+  for (const auto& [k, v] : data.facts) row(k, escape(v));
   row("tolerances", fmt::format("distance {}, angle {}&deg;, curvature {} relative", num(tol.distance),
                                 num(tol.angleDeg), num(tol.curvatureRel)));
   h += "</table>\n";
@@ -177,76 +235,70 @@ std::string htmlReport(const Model& model, const ModelCheckReport& report, const
   for (int c = 3; c >= 0; --c)
     h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kClassColour[c],
                      toString(static_cast<GeometricClass>(c)));
-  h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>free edge</span></div>\n", kFreeColour);
+  h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>other boundary</span></div>\n",
+                   kFreeColour);
   {
-    const View view = makeView(model, options.overviewSize);
-    // Worst class per (patch, edge) over its seams.
-    std::map<std::pair<int, int>, GeometricClass> edgeClass;
-    for (const ModelSeam& s : report.seams) {
-      const GeometricClass c = s.report ? s.report->geometric : GeometricClass::kNone;
-      for (const EdgeRef& e : {s.pair.a, s.pair.b}) {
-        const auto key = std::pair{e.patch, static_cast<int>(e.edge)};
-        auto it = edgeClass.find(key);
-        if (it == edgeClass.end() || c < it->second) edgeClass[key] = c;
+    std::vector<std::vector<Vec3>> all = data.outline;
+    for (const ReportSeam& s : data.seams) all.push_back(s.curve);
+    const View view = makeView(all, options.overviewSize);
+    auto polyline = [&](const std::vector<Vec3>& c, const char* colour, double width, const std::string& title) {
+      std::string pts;
+      for (const Vec3& p : c) {
+        const auto [x, y] = view.map(p);
+        pts += fmt::format("{:.1f},{:.1f} ", x, y);
       }
-    }
+      h += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" points=\"{}\"><title>{}</title>"
+                       "</polyline>",
+                       colour, width, pts, escape(title));
+    };
     h += fmt::format("<svg width=\"{0}\" height=\"{0}\" viewBox=\"0 0 {0} {0}\" style=\"border:1px solid #ddd\">",
                      options.overviewSize);
-    for (size_t p = 0; p < model.patches.size(); ++p) {
-      const BSplineSurface& s = model.patches[p].surface;
-      for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
-        const BSplineCurve c = s.boundaryCurve(e);
-        const Interval d = c.domain();
-        std::string pts;
-        for (int i = 0; i <= options.samplesPerEdge; ++i) {
-          const auto [x, y] = view.map(c.evaluate(d.lo + d.length() * i / options.samplesPerEdge).head<3>());
-          pts += fmt::format("{:.1f},{:.1f} ", x, y);
-        }
-        auto it = edgeClass.find({static_cast<int>(p), static_cast<int>(e)});
-        const bool paired = it != edgeClass.end();
-        h += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" points=\"{}\"><title>{}:{}</title>"
-                         "</polyline>",
-                         paired ? classColour(it->second) : kFreeColour, paired ? 1.6 : 0.8, pts,
-                         escape(model.patches[p].name), edgeName(e));
-      }
+    for (const auto& c : data.outline) polyline(c, kFreeColour, 0.8, "boundary");
+    for (size_t k = 0; k < data.seams.size(); ++k) {
+      const ReportSeam& s = data.seams[k];
+      const GeometricClass c = s.report ? s.report->geometric : GeometricClass::kNone;
+      polyline(s.curve, classColour(c), 1.8, fmt::format("#{} {} / {}: {}", k, s.a, s.b, toString(c)));
     }
     h += "</svg>\n";
   }
 
   // ---- seam table
-  h += "<h2 id=\"seams\">Seams</h2>\n<p>Click a column header to sort. Values marked certified are upper bounds that "
+  const bool extra = !data.extraHeader.empty();
+  h += "<h2 id=\"seams\">Seams</h2>\n<p>Click a column header to sort. Values of certified seams are upper bounds that "
        "hold over the whole seam; the others are refined sampled maxima.</p>\n";
   h += "<table class=\"sortable\"><thead><tr><th>#</th><th class=\"l\">A</th><th class=\"l\">edge</th>"
        "<th class=\"l\">B</th><th class=\"l\">edge</th><th>G0 gap</th><th>G1 angle (&deg;)</th><th>G2 jump</th>"
-       "<th>G2 relative</th><th class=\"l\">geometric</th><th class=\"l\">parametric</th><th class=\"l\">certified</th>"
-       "</tr></thead><tbody>\n";
-  for (size_t k = 0; k < report.seams.size(); ++k) {
-    const ModelSeam& s = report.seams[k];
-    const std::string a = model.patches[static_cast<size_t>(s.pair.a.patch)].name;
-    const std::string b = model.patches[static_cast<size_t>(s.pair.b.patch)].name;
+       "<th>G2 relative</th><th class=\"l\">geometric</th><th class=\"l\">parametric</th><th class=\"l\">certified</th>";
+  if (extra) h += fmt::format("<th class=\"l\">{}</th>", escape(data.extraHeader));
+  h += "</tr></thead><tbody>\n";
+  for (size_t k = 0; k < data.seams.size(); ++k) {
+    const ReportSeam& s = data.seams[k];
     h += fmt::format("<tr><td><a href=\"#seam-{0}\">{0}</a></td><td class=\"l\">{1}</td><td class=\"l\">{2}</td>"
                      "<td class=\"l\">{3}</td><td class=\"l\">{4}</td>",
-                     k, escape(a), edgeName(s.pair.a.edge), escape(b), edgeName(s.pair.b.edge));
+                     k, escape(s.a), escape(s.aEdge), escape(s.b), escape(s.bEdge));
     if (!s.report) {
-      h += fmt::format("<td colspan=\"7\" class=\"l c0\">analysis failed: {}</td></tr>\n", escape(s.error.message()));
+      h += fmt::format("<td colspan=\"{}\" class=\"l c0\">analysis failed: {}</td></tr>\n", extra ? 8 : 7,
+                       escape(s.error));
       continue;
     }
     const SeamReport& r = *s.report;
     const int gc = static_cast<int>(r.geometric);
     h += fmt::format("<td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td>"
                      "<td data-v=\"{:.17g}\">{}</td><td class=\"l c{}\" data-v=\"{}\">{}</td><td class=\"l\">{}</td>"
-                     "<td class=\"l\">{}</td></tr>\n",
+                     "<td class=\"l\">{}</td>",
                      r.g0Max, num(r.g0Max), r.g1MaxDeg, num(r.g1MaxDeg), r.g2Max, num(r.g2Max), r.g2RelMax,
                      num(r.g2RelMax), gc, gc, toString(r.geometric), toString(r.parametric),
                      r.certified ? "yes" : "no");
+    if (extra) h += fmt::format("<td class=\"l\">{}</td>", escape(s.extra));
+    h += "</tr>\n";
   }
   h += "</tbody></table>\n";
 
   // ---- per-seam plots, worst first
-  std::vector<size_t> order(report.seams.size());
+  std::vector<size_t> order(data.seams.size());
   std::iota(order.begin(), order.end(), size_t{0});
   auto rank = [&](size_t k) {
-    const auto& r = report.seams[k].report;
+    const auto& r = data.seams[k].report;
     return r ? std::pair{static_cast<int>(r->geometric), -r->g1MaxDeg} : std::pair{-1, 0.0};
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return rank(x) < rank(y); });
@@ -256,51 +308,48 @@ std::string htmlReport(const Model& model, const ModelCheckReport& report, const
   int plotted = 0;
   for (size_t k : order) {
     if (plotted >= options.maxPlottedSeams) break;
-    const ModelSeam& s = report.seams[k];
+    const ReportSeam& s = data.seams[k];
     if (!s.report || s.report->samples.size() < 2) continue;
     ++plotted;
     const SeamReport& r = *s.report;
-    std::vector<double> t, g0, g1, g2;
+    std::vector<double> t, y0, y1, y2;
     for (const SeamSample& x : r.samples) {
       t.push_back(x.t);
-      g0.push_back(x.g0);
-      g1.push_back(x.g1Deg);
-      g2.push_back(x.g2Rel);
+      y0.push_back(x.g0);
+      y1.push_back(x.g1Deg);
+      y2.push_back(x.g2Rel);
     }
-    h += fmt::format("<div class=\"seam\" id=\"seam-{}\"><b>#{} {}</b> &mdash; <span class=\"c{}\">{}</span>, {}{}<br>",
-                     k, k, escape(seamLabel(model, s)), static_cast<int>(r.geometric), toString(r.geometric),
-                     toString(r.parametric), r.certified ? ", certified" : "");
-    h += plot(t, g0, tol.distance, "G0 gap", options.plotWidth, options.plotHeight);
-    h += plot(t, g1, tol.angleDeg, "G1 angle (degrees)", options.plotWidth, options.plotHeight);
-    h += plot(t, g2, tol.curvatureRel, "G2 jump (relative)", options.plotWidth, options.plotHeight);
+    h += fmt::format("<div class=\"seam\" id=\"seam-{}\"><b>#{} {}{} / {}{}</b> &mdash; <span class=\"c{}\">{}</span>, "
+                     "{}{}<br>",
+                     k, k, escape(s.a), s.aEdge.empty() ? "" : ":" + escape(s.aEdge), escape(s.b),
+                     s.bEdge.empty() ? "" : ":" + escape(s.bEdge), static_cast<int>(r.geometric),
+                     toString(r.geometric), toString(r.parametric), r.certified ? ", certified" : ", sampled");
+    h += plot(t, y0, tol.distance, "G0 gap", options.plotWidth, options.plotHeight);
+    h += plot(t, y1, tol.angleDeg, "G1 angle (degrees)", options.plotWidth, options.plotHeight);
+    h += plot(t, y2, tol.curvatureRel, "G2 jump (relative)", options.plotWidth, options.plotHeight);
     h += "</div>\n";
   }
 
   // ---- corners, free and degenerate edges
-  h += fmt::format("<h2 id=\"corners\">Corners ({})</h2>\n", report.corners.size());
+  h += fmt::format("<h2 id=\"corners\">Corners ({})</h2>\n", data.corners.size());
   h += "<table class=\"sortable\"><thead><tr><th class=\"l\">point</th><th>valence</th><th class=\"l\">patches</th>"
        "<th>normal spread (&deg;)</th><th>G1 residual</th><th>G2 residual</th></tr></thead><tbody>\n";
-  for (const ModelCorner& c : report.corners) {
-    const CornerReport& r = c.report;
-    std::string names;
-    for (const PatchCorner& pc : r.corners) names += model.patches[static_cast<size_t>(pc.patch)].name + " ";
+  for (size_t k = 0; k < data.corners.size(); ++k) {
+    const CornerReport& r = *data.corners[k];
     h += fmt::format("<tr><td class=\"l\">[{}, {}, {}]</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
                      "<td>{}</td></tr>\n",
-                     num(r.point.x()), num(r.point.y()), num(r.point.z()), r.valence, escape(names),
+                     num(r.point.x()), num(r.point.y()), num(r.point.z()), r.valence,
+                     escape(k < data.cornerPatchNames.size() ? data.cornerPatchNames[k] : ""),
                      r.normalSpreadDeg ? num(*r.normalSpreadDeg) : (r.degenerate ? "degenerate" : "-"),
                      r.fourPatch ? num(r.fourPatch->g1Residual) : "-",
                      r.fourPatch && r.fourPatch->g2Residual ? num(*r.fourPatch->g2Residual) : "-");
   }
   h += "</tbody></table>\n";
-  h += fmt::format("<h2 id=\"free\">Free edges ({})</h2>\n<p>", report.freeEdges.size());
-  for (const FreeEdge& f : report.freeEdges)
-    h += fmt::format("{}:{}{} &nbsp; ", escape(model.patches[static_cast<size_t>(f.edge.patch)].name),
-                     edgeName(f.edge.edge), f.partial ? fmt::format(" [{}, {}]", num(f.range.lo), num(f.range.hi)) : "");
+  h += fmt::format("<h2 id=\"free\">Free edges ({})</h2>\n<p>", data.freeEdges.size());
+  for (const std::string& f : data.freeEdges) h += escape(f) + " &nbsp; ";
   h += "</p>\n";
-  h += fmt::format("<h2 id=\"degenerate\">Degenerate edges ({})</h2>\n<p>", report.degenerateEdges.size());
-  for (const DegenerateEdge& d : report.degenerateEdges)
-    h += fmt::format("{}:{} &nbsp; ", escape(model.patches[static_cast<size_t>(d.edge.patch)].name),
-                     edgeName(d.edge.edge));
+  h += fmt::format("<h2 id=\"degenerate\">Degenerate edges ({})</h2>\n<p>", data.degenerateEdges.size());
+  for (const std::string& f : data.degenerateEdges) h += escape(f) + " &nbsp; ";
   h += "</p>\n";
   h += fmt::format("<script>{}</script>\n</body></html>\n", kScript);
   return h;

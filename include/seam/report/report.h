@@ -1,7 +1,10 @@
 #pragma once
 // Visual reports of a whole-model check: a self-contained HTML file (no external resources, opens offline) and a
 // triangle mesh (Wavefront OBJ with per-vertex normals) for any mesh viewer.
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "seam/continuity/model_check.h"
 #include "seam/core/result.h"
@@ -18,6 +21,36 @@ struct HtmlReportOptions {
   int overviewSize = 720;                 ///< pixels (square) of the model drawing
   int samplesPerEdge = 24;                ///< polyline points per patch edge in the drawing
 };
+
+/// One seam of the report: names, its analysis (or the error), and its curve for the drawing.
+struct ReportSeam {
+  std::string a, aEdge, b, bEdge;     ///< patch/face names and edge names (edge names may be empty)
+  std::optional<SeamReport> report;   ///< empty when the analysis failed
+  std::string error;                  ///< why it failed
+  std::string extra;                  ///< an extra column (e.g. OpenCASCADE's verdict); empty: no column
+  std::vector<Vec3> curve;            ///< points along the seam for the drawing
+};
+
+/// What a report shows, from either check (patch model or B-rep).
+struct ReportData {
+  Tolerances tolerances;
+  std::vector<std::pair<std::string, std::string>> facts;  ///< summary rows after the computed ones
+  std::string extraHeader;                                 ///< header of ReportSeam::extra ("" = none)
+  std::vector<ReportSeam> seams;
+  std::vector<std::vector<Vec3>> outline;       ///< every boundary curve (drawn thin grey under the seams)
+  std::vector<std::string> freeEdges, degenerateEdges;   ///< labels
+  std::vector<const CornerReport*> corners;     ///< not owned
+  std::vector<std::string> cornerPatchNames;    ///< per corner: the names of its patches, space separated
+};
+
+/// ReportData for a patch-model check.
+ReportData reportData(const Model& model, const ModelCheckReport& report, int samplesPerEdge = 24);
+
+/// The HTML page. Sections: summary, the model drawn in an axonometric view with every seam coloured by its class
+/// (other boundary curves thin grey), a sortable seam table (click a header), per-seam plots of the G0 gap, G1
+/// angle and relative G2 jump along the seam with the tolerance drawn as a dashed line, corners, free and
+/// degenerate edges.
+std::string htmlReport(const ReportData& data, const HtmlReportOptions& options = {});
 
 /// The HTML page for `report` (made by checkModel on `model`, ideally with SeamOptions::keepSamples so that the
 /// seams have samples to plot; seams without samples get no plot). Sections: summary, the model drawn in an

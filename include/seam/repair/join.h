@@ -1,0 +1,100 @@
+#pragma once
+// `seam join`: make two patches meet G0, G1 (or G2) along a seam by moving the fewest rows of control points of one
+// of them (or of both with `average`), keeping B-spline form, and report the continuity actually achieved with the
+// certified seam analysis (continuity/seam.h). Methods (docs/algorithms/lai-lian-cassidy.md):
+//  * bspline        Lai-Lian-Cassidy Theorem 1: C1 bicubic patches with proportional knots; rows d_{i,0}, d_{i,1} of
+//                   the moved patch are replaced, its knots are kept; the join is C1 after the reflection of v.
+//  * bezier-strip   Algorithm 3.3: C1 bicubic patches with arbitrary knots; the wrinkled knots of the moved patch are
+//                   raised to multiplicity 3 (exact), the strip is G1 inside, the rest stays C1.
+//  * least-squares  any degree, multiplicity, polynomial or rational: minimal displacement of rows 0..K (K = 0, 1, 2
+//                   for G0, G1, G2) subject to the linear seam equations with polynomial connecting functions;
+//                   knots are inserted (and degrees raised) only where the neighbour's edge does not fit otherwise.
+//  * auto           bspline when it applies (C1 bicubic, corresponding and proportional knots, G1), else
+//                   least-squares.
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "seam/continuity/seam.h"
+#include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/model/model.h"
+#include "seam/repair/gap_removal.h"
+
+namespace seam {
+
+enum class JoinMethod { kAuto, kBSpline, kBezierStrip, kLeastSquares };
+/// "auto", "bspline", "bezier-strip", "least-squares".
+std::string_view toString(JoinMethod m);
+Result<JoinMethod> parseJoinMethod(std::string_view name);
+/// "G0"/"G1"/"G2" (case-insensitive) for the requested continuity.
+Result<GeometricClass> parseContinuity(std::string_view name);
+
+/// Default largest gap that `join` and `heal` close: this fraction of the model's bounding-box diagonal (the same 1 %
+/// as the pairing tolerance of `seam check`, docs/tolerances.md).
+inline constexpr double kDefaultMaxGapRel = 0.01;
+
+struct JoinOptions {
+  JoinMethod method = JoinMethod::kAuto;
+  GeometricClass continuity = GeometricClass::kG1;  ///< G0, G1 or G2 (G2: least squares, polynomial patches)
+  /// Algorithm 3.3's l = xi_2 / xi_0 (bezier-strip only). Default: per junction, the l minimising the displacement.
+  std::optional<double> ell;
+  /// Move both patches onto a common middle edge and tangent plane (least squares only), like Rhino's MatchSrf
+  /// "average"; the default moves only the --move patch.
+  bool average = false;
+  /// Refuse to join edges farther apart than this (default kDefaultMaxGapRel x the model's bounding-box diagonal).
+  std::optional<double> maxGap;
+  /// Classification tolerances for the before/after analysis (default Tolerances::forModelSize(diagonal)).
+  std::optional<Tolerances> tolerances;
+  /// Settings of the before/after seam analysis (its `tol` is replaced by the tolerances above).
+  SeamOptions seam;
+};
+
+/// What a join did and what it achieved.
+struct JoinReport {
+  JoinMethod method = JoinMethod::kLeastSquares;  ///< the method used (never kAuto)
+  std::string reason;                             ///< why this method (and what made auto choose it)
+  /// Def. 3.1 for the two edges when both patches are C1 bicubic in the paper's sense; empty otherwise.
+  std::optional<bool> proportionalKnots;
+  SeamReport before, after;
+  GeometricClass requested = GeometricClass::kG1;
+  bool achieved = false;          ///< after.geometric meets the requested continuity
+  double maxDisplacement = 0.0;   ///< largest control-point displacement (against the input expressed in the new knots)
+  int movedPoints = 0;            ///< control points displaced by more than kRoundoff x the model size
+  std::vector<std::string> patchesChanged;
+  std::vector<double> insertedKnotsU, insertedKnotsV;  ///< knots inserted into the moved patch (its own parameters)
+  int elevatedU = 0, elevatedV = 0;                    ///< degree raised by
+  std::vector<StripJunction> junctions;                ///< bezier-strip: the junctions and their l
+  /// bezier-strip: the worst tangent-plane angle inside the strip across the wrinkled junctions (certified, degrees).
+  std::optional<double> stripInternalG1MaxDeg;
+  std::optional<double> lambdaMin;  ///< least squares: smallest value of the connecting function lambda
+  std::vector<std::string> notes;
+};
+
+struct JoinResult {
+  Model model;  ///< the input with the moved patch(es) replaced; every other patch bit-identical
+  JoinReport report;
+};
+
+/// Joins edge `moveEdge` of patch `moveName` to edge `toEdge` of patch `toName`. Errors: kNotFound (no such patch,
+/// or the edges do not overlap), kInvalidInput (the same edge twice, non-3-D patches, a gap above maxGap, options that
+/// the method does not take), kUnsupported (a method that does not apply to these patches, with the reason),
+/// kDegenerate (a collapsed edge). A join that runs but misses the requested continuity is not an error: see
+/// JoinReport::achieved.
+Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edge moveEdge, const std::string& toName,
+                            Edge toEdge, const JoinOptions& options = {});
+
+/// Control-point displacement of `after` against `before` expressed in after's knots and degrees (exact refinement).
+struct Displacement {
+  double max = 0.0;
+  int moved = 0;
+};
+Displacement controlPointDisplacement(const BSplineSurface& before, const BSplineSurface& after, double threshold);
+
+/// Seam analysis over consecutive sub-ranges of A's edge (A's own parameter), merged into one report: for a
+/// correspondence that is affine on each sub-range but not globally (the Bezier strip matches span i to span i).
+Result<SeamReport> analyzeSeamPiecewise(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options,
+                                        const std::vector<double>& breaks);
+
+}  // namespace seam

@@ -1,0 +1,428 @@
+// `seam join`: method selection, the paper's methods in edge frames, the least-squares join, before/after analysis.
+#include "seam/repair/join.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include "repair/frame_internal.h"
+#include "repair/join_internal.h"
+#include "seam/continuity/model_check.h"
+#include "seam/repair/bicubic.h"
+
+namespace seam {
+
+std::string_view toString(JoinMethod m) {
+  switch (m) {
+    case JoinMethod::kAuto: return "auto";
+    case JoinMethod::kBSpline: return "bspline";
+    case JoinMethod::kBezierStrip: return "bezier-strip";
+    case JoinMethod::kLeastSquares: return "least-squares";
+  }
+  return "?";
+}
+
+Result<JoinMethod> parseJoinMethod(std::string_view name) {
+  for (JoinMethod m : {JoinMethod::kAuto, JoinMethod::kBSpline, JoinMethod::kBezierStrip, JoinMethod::kLeastSquares})
+    if (name == toString(m)) return m;
+  return invalidInput(fmt::format("unknown method \"{}\" (expected auto, bspline, bezier-strip or least-squares)", name));
+}
+
+Result<GeometricClass> parseContinuity(std::string_view name) {
+  std::string s(name);
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  if (s == "G0") return GeometricClass::kG0;
+  if (s == "G1") return GeometricClass::kG1;
+  if (s == "G2") return GeometricClass::kG2;
+  return invalidInput(fmt::format("unknown continuity \"{}\" (expected G0, G1 or G2)", name));
+}
+
+Displacement controlPointDisplacement(const BSplineSurface& before, const BSplineSurface& after, double threshold) {
+  const BSplineSurface ref = detail::expressedLike(before, after);
+  Displacement d;
+  if (ref.numU() != after.numU() || ref.numV() != after.numV()) {
+    d.max = std::numeric_limits<double>::infinity();
+    d.moved = static_cast<int>(after.points().rows());
+    return d;
+  }
+  for (Eigen::Index r = 0; r < after.points().rows(); ++r) {
+    const double dist = (after.points().row(r) - ref.points().row(r)).norm();
+    const double dw = std::abs(after.weight(static_cast<int>(r) / after.numV(), static_cast<int>(r) % after.numV()) -
+                               ref.weight(static_cast<int>(r) / ref.numV(), static_cast<int>(r) % ref.numV()));
+    d.max = std::max(d.max, dist);
+    if (dist > threshold || dw > kRoundoff) ++d.moved;
+  }
+  return d;
+}
+
+namespace {
+
+SeamReport mergeReports(const std::vector<SeamReport>& parts) {
+  SeamReport r = parts.front();
+  r.notes.clear();
+  bool certified = true, g1Id = true, g2Id = true;
+  int geo = 3, par = 3;
+  for (const SeamReport& p : parts) {
+    r.overlapA.lo = std::min(r.overlapA.lo, p.overlapA.lo);
+    r.overlapA.hi = std::max(r.overlapA.hi, p.overlapA.hi);
+    r.overlapB.lo = std::min(r.overlapB.lo, p.overlapB.lo);
+    r.overlapB.hi = std::max(r.overlapB.hi, p.overlapB.hi);
+    if (p.g0Max > r.g0Max) { r.g0Max = p.g0Max; r.g0Worst = p.g0Worst; }
+    if (p.g1MaxDeg > r.g1MaxDeg) { r.g1MaxDeg = p.g1MaxDeg; r.g1Worst = p.g1Worst; }
+    if (p.g2Max > r.g2Max) { r.g2Max = p.g2Max; r.g2Worst = p.g2Worst; }
+    r.g0Sampled = std::max(r.g0Sampled, p.g0Sampled);
+    r.g1SampledDeg = std::max(r.g1SampledDeg, p.g1SampledDeg);
+    r.g2Sampled = std::max(r.g2Sampled, p.g2Sampled);
+    r.g2RelMax = std::max(r.g2RelMax, p.g2RelMax);
+    r.g2RelSampled = std::max(r.g2RelSampled, p.g2RelSampled);
+    r.g2ResidualMax = std::max(r.g2ResidualMax, p.g2ResidualMax);
+    r.c1Mismatch = std::max(r.c1Mismatch, p.c1Mismatch);
+    r.c2Mismatch = std::max(r.c2Mismatch, p.c2Mismatch);
+    r.lambdaRange.lo = std::min(r.lambdaRange.lo, p.lambdaRange.lo);
+    r.lambdaRange.hi = std::max(r.lambdaRange.hi, p.lambdaRange.hi);
+    r.kappaRange.lo = std::min(r.kappaRange.lo, p.kappaRange.lo);
+    r.kappaRange.hi = std::max(r.kappaRange.hi, p.kappaRange.hi);
+    certified = certified && p.certified;
+    g1Id = g1Id && p.g1Identity;
+    g2Id = g2Id && p.g2Identity;
+    geo = std::min(geo, static_cast<int>(p.geometric));
+    par = std::min(par, static_cast<int>(p.parametric));
+    if (p.correspondence == Correspondence::kProjection) r.correspondence = Correspondence::kProjection;
+    for (const std::string& n : p.notes)
+      if (std::find(r.notes.begin(), r.notes.end(), n) == r.notes.end()) r.notes.push_back(n);
+    r.samples.insert(r.samples.end(), p.samples.begin(), p.samples.end());
+  }
+  r.certified = certified;
+  r.g1Identity = g1Id;
+  r.g2Identity = g2Id;
+  r.geometric = static_cast<GeometricClass>(geo);
+  r.parametric = static_cast<ParametricClass>(par);
+  r.notes.push_back(fmt::format("analysed over {} sub-ranges of {}'s edge (correspondence affine on each)", parts.size(), r.a));
+  return r;
+}
+
+}  // namespace
+
+Result<SeamReport> analyzeSeamPiecewise(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options,
+                                        const std::vector<double>& breaks) {
+  if (breaks.size() < 2) return analyzeSeam(a, ea, b, eb, options);
+  std::vector<SeamReport> parts;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
+    auto r = analyzeSeam(a, ea, b, eb, options, Interval{breaks[k], breaks[k + 1]});
+    if (!r) return r.status();
+    parts.push_back(std::move(*r));
+  }
+  return mergeReports(parts);
+}
+
+namespace {
+
+// The seam seen from both sides in edge frames, and the affine correspondence.
+struct SeamSetup {
+  const Patch* S = nullptr;
+  const Patch* T = nullptr;
+  Edge es = Edge::V0, et = Edge::V0;
+  SeamReport before;
+  bool reversed = false;
+  Interval rangeS;          // S's own edge parameter
+  double c0 = 0.0, c1 = 1.0;  // T frame along = c0 + c1 (u - rangeS.lo)
+  BSplineSurface Sf, Tf;    // edge frames (T flipped when reversed)
+  double diag = 1.0;
+  Tolerances tol;
+  SeamOptions seamOpt;
+};
+
+// The paper's preconditions beyond C1 bicubic: the seam starts at both frames' first corner, and S's breakpoints
+// b_0..b_m^ lie on T's breakpoints b~_0..b~_m^ (span i of S corresponds to span i of T) within maxGap.
+Status paperCorrespondence(const SeamSetup& st, double maxGap) {
+  const double tolU = 1e3 * kKnotRelTol;
+  const Interval dS = st.Sf.domainU(), dT = st.Tf.domainU();
+  const double tStart = st.c0;
+  if (std::abs(st.rangeS.lo - dS.lo) > tolU * dS.length() || std::abs(tStart - dT.lo) > tolU * dT.length())
+    return {ErrorCode::kUnsupported,
+            "the paper's methods join edges from a common corner (span i of S against span i of S~); this seam "
+            "starts inside an edge: use least-squares"};
+  const std::vector<double> bS = st.Sf.knotsU().breakpoints(), bT = st.Tf.knotsU().breakpoints();
+  const size_t mh = std::min(bS.size(), bT.size()) - 1;
+  const double vS = st.Sf.domainV().lo, vT = st.Tf.domainV().lo;
+  for (size_t i = 0; i <= mh; ++i) {
+    const double d = (st.Sf.evaluate(bS[i], vS) - st.Tf.evaluate(bT[i], vT)).norm();
+    if (d > maxGap)
+      return {ErrorCode::kUnsupported,
+              fmt::format("the paper's methods pair span i of S with span i of S~, but breakpoint {} of S and of S~ "
+                          "are {:.6g} apart (above the gap limit {:.6g}): use least-squares",
+                          i, d, maxGap)};
+  }
+  return Status::ok();
+}
+
+Patch replaced(const Patch& p, BSplineSurface s) {
+  Patch out = p;
+  const bool sameKnots = s.knotsU().values() == p.surface.knotsU().values() &&
+                         s.knotsV().values() == p.surface.knotsV().values() && s.degreeU() == p.surface.degreeU() &&
+                         s.degreeV() == p.surface.degreeV();
+  if (!sameKnots) out.kind = PatchKind::kBSpline;
+  out.surface = std::move(s);
+  return out;
+}
+
+}  // namespace
+
+Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edge moveEdge, const std::string& toName,
+                            Edge toEdge, const JoinOptions& opt) {
+  const auto findIndex = [&](const std::string& name) -> int {
+    for (size_t i = 0; i < model.patches.size(); ++i)
+      if (model.patches[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  const int is = findIndex(moveName), it = findIndex(toName);
+  if (is < 0) return Status(ErrorCode::kNotFound, fmt::format("no patch named \"{}\"", moveName));
+  if (it < 0) return Status(ErrorCode::kNotFound, fmt::format("no patch named \"{}\"", toName));
+  if (is == it && moveEdge == toEdge) return invalidInput("an edge cannot be joined to itself");
+  if (opt.continuity == GeometricClass::kNone) return invalidInput("the requested continuity must be G0, G1 or G2");
+  if (opt.ell && opt.method != JoinMethod::kBezierStrip)
+    return invalidInput("--ell is the parameter of the Bezier strip (--method bezier-strip)");
+  if (opt.average && (opt.method == JoinMethod::kBSpline || opt.method == JoinMethod::kBezierStrip))
+    return invalidInput("--average moves both patches: only the least-squares method does that");
+  if (opt.average && is == it) return invalidInput("--average needs two different patches");
+  if (opt.average && opt.continuity == GeometricClass::kG2)
+    return Status(ErrorCode::kUnsupported, "--average is implemented for G0 and G1");
+
+  SeamSetup st;
+  st.S = &model.patches[static_cast<size_t>(is)];
+  st.T = &model.patches[static_cast<size_t>(it)];
+  st.es = moveEdge;
+  st.et = toEdge;
+  st.diag = model.boundingBox().diagonal();
+  if (!(st.diag > 0.0)) st.diag = 1.0;
+  st.tol = opt.tolerances ? *opt.tolerances : Tolerances::forModelSize(st.diag);
+  st.seamOpt = opt.seam;
+  st.seamOpt.tol = st.tol;
+  const double maxGap = opt.maxGap ? *opt.maxGap : kDefaultMaxGapRel * st.diag;
+
+  auto before = analyzeSeam(*st.S, moveEdge, *st.T, toEdge, st.seamOpt);
+  if (!before) return before.status();
+  st.before = *before;
+  if (st.before.g0Max > maxGap)
+    return invalidInput(fmt::format("the edges {}:{} and {}:{} are {:.6g} apart, above the gap limit {:.6g} "
+                                    "(--max-gap)",
+                                    moveName, edgeName(moveEdge), toName, edgeName(toEdge), st.before.g0Max, maxGap));
+  st.reversed = st.before.reversed;
+  const detail::JoinOverlap ov = detail::cornerSnappedOverlap(st.S->surface, moveEdge, st.T->surface, toEdge,
+                                                             st.before.overlapA, st.before.overlapB, st.reversed,
+                                                             maxGap);
+  st.rangeS = ov.s;
+  const Interval oB = ov.t;
+  st.c1 = oB.length() / st.rangeS.length();
+  st.c0 = st.reversed ? -oB.hi : oB.lo;
+  st.Sf = detail::toEdgeFrame(st.S->surface, moveEdge, false);
+  st.Tf = detail::toEdgeFrame(st.T->surface, toEdge, st.reversed);
+
+  JoinResult res;
+  res.model = model;
+  JoinReport& rep = res.report;
+  rep.before = st.before;
+  rep.requested = opt.continuity;
+
+  // ---- method selection.
+  const Status paperS = checkC1Bicubic(st.S->surface), paperT = checkC1Bicubic(st.T->surface);
+  const bool paperClass = paperS.isOk() && paperT.isOk();
+  std::optional<KnotProportionality> prop;
+  if (paperClass) {
+    auto pr = proportionalKnots(st.Sf.knotsU(), st.Tf.knotsU());
+    if (pr) {
+      prop = *pr;
+      rep.proportionalKnots = pr->proportional;
+    }
+  }
+  const Status corr = paperClass ? paperCorrespondence(st, maxGap) : Status::ok();
+  JoinMethod method = opt.method;
+  if (method == JoinMethod::kAuto) {
+    if (opt.average) {
+      method = JoinMethod::kLeastSquares;
+      rep.reason = "auto: --average moves both patches, which only the least-squares join does";
+    } else if (!paperClass) {
+      method = JoinMethod::kLeastSquares;
+      rep.reason = fmt::format("auto: not two C1 bicubic B-splines in the paper's sense ({}), so the general "
+                               "least-squares join",
+                               paperS.isOk() ? "S~: " + paperT.message() : "S: " + paperS.message());
+    } else if (!corr.isOk()) {
+      method = JoinMethod::kLeastSquares;
+      rep.reason = "auto: C1 bicubic, but " + corr.message();
+    } else if (opt.continuity == GeometricClass::kG2) {
+      method = JoinMethod::kLeastSquares;
+      rep.reason = "auto: G2 requested; the paper's methods give G1, so the least-squares join with second-order rows";
+    } else if (prop && prop->proportional) {
+      method = JoinMethod::kBSpline;
+      rep.reason = "auto: C1 bicubic B-splines with proportional knots (Def. 3.1): Theorem 1 keeps the knots and gives "
+                   "a C1 join after the reflection of v";
+    } else {
+      method = JoinMethod::kLeastSquares;
+      rep.reason = "auto: C1 bicubic but the knots are not proportional; the least-squares join inserts the "
+                   "neighbour's knots and keeps S a C1 B-spline (the Bezier strip of Algorithm 3.3, --method "
+                   "bezier-strip, would leave S only G1 inside the strip)";
+    }
+  } else {
+    rep.reason = fmt::format("requested with --method {}", toString(method));
+  }
+  if (method == JoinMethod::kBSpline || method == JoinMethod::kBezierStrip) {
+    if (!paperClass)
+      return Status(ErrorCode::kUnsupported,
+                    fmt::format("--method {} needs two C1 bicubic B-splines (double interior knots, 4-fold ends): {}",
+                                toString(method), paperS.isOk() ? "S~: " + paperT.message() : "S: " + paperS.message()));
+    if (!corr) return corr;
+    if (opt.continuity == GeometricClass::kG2)
+      return Status(ErrorCode::kUnsupported, fmt::format("--method {} joins G1; use least-squares for G2", toString(method)));
+  }
+  rep.method = method;
+
+  const double moveThreshold = kRoundoff * st.diag;
+  std::vector<double> pieceBreaks;  // for the piecewise analysis of the strip
+  if (method == JoinMethod::kBSpline) {
+    auto r = theorem1Join(st.Sf, st.Tf);
+    if (!r) return r.status();
+    rep.reason += fmt::format(" [Theorem 1, case {}]", toString(r->spanCase));
+    res.model.patches[static_cast<size_t>(is)] =
+        replaced(*st.S, detail::fromEdgeFrame(r->surface, moveEdge, false));
+  } else if (method == JoinMethod::kBezierStrip) {
+    BezierStripOptions so;
+    so.ell = opt.ell;
+    auto r = bezierStripJoin(st.Sf, st.Tf, so);
+    if (!r) return r.status();
+    rep.junctions = r->junctions;
+    for (const std::string& n : r->notes) rep.notes.push_back(n);
+    rep.reason += fmt::format(" [Algorithm 3.3, case {}, {} wrinkled junction{}]", toString(r->spanCase),
+                              r->raisedKnots.size(), r->raisedKnots.size() == 1 ? "" : "s");
+    (isUEdge(moveEdge) ? rep.insertedKnotsV : rep.insertedKnotsU) = r->raisedKnots;
+    res.model.patches[static_cast<size_t>(is)] = replaced(*st.S, detail::fromEdgeFrame(r->surface, moveEdge, false));
+    const std::vector<double> bS = st.Sf.knotsU().breakpoints();
+    for (size_t i = 0; i < bS.size() && i <= static_cast<size_t>(r->mHat); ++i) pieceBreaks.push_back(bS[i]);
+    // Internal G1 of the strip across the wrinkled junctions: the two Bezier patches on either side, certified.
+    const BSplineSurface& Sstar = r->surface;
+    const std::vector<BezierPatchPiece> pcs = Sstar.bezierPatches();
+    double worst = 0.0;
+    bool allCert = true;
+    for (const StripJunction& J : r->junctions) {
+      if (!J.wrinkled) continue;
+      const BezierPatchPiece *left = nullptr, *right = nullptr;
+      for (const BezierPatchPiece& pc : pcs) {
+        if (pc.spanV != 0) continue;
+        if (std::abs(pc.u.hi - J.u) <= kKnotRelTol * st.Sf.domainU().length()) left = &pc;
+        if (std::abs(pc.u.lo - J.u) <= kKnotRelTol * st.Sf.domainU().length()) right = &pc;
+      }
+      if (!left || !right) continue;
+      const Patch L{"strip-left", PatchKind::kBezier, left->patch.toBSpline(left->u, left->v)};
+      const Patch R{"strip-right", PatchKind::kBezier, right->patch.toBSpline(right->u, right->v)};
+      auto a = analyzeSeam(L, Edge::U1, R, Edge::U0, st.seamOpt);
+      if (!a) continue;
+      worst = std::max(worst, a->g1MaxDeg);
+      allCert = allCert && a->certified;
+    }
+    rep.stripInternalG1MaxDeg = worst;
+    if (!allCert) rep.notes.push_back("the strip's internal G1 check was not certified at every junction");
+  } else {
+    // ---- least squares.
+    detail::LsJoinOptions lo;
+    lo.continuity = opt.continuity;
+    lo.scale = st.diag;
+    const int order = opt.continuity == GeometricClass::kG2 ? 2 : 1;
+    if (!opt.average) {
+      detail::EdgeConstraint c;
+      c.edge = moveEdge;
+      c.target = detail::targetFromFrame(st.Tf, st.rangeS, st.c0, st.c1, order);
+      auto r = detail::leastSquaresJoin(st.S->surface, {c}, lo);
+      if (!r) return r.status();
+      rep.insertedKnotsU = r->insertedKnotsU;
+      rep.insertedKnotsV = r->insertedKnotsV;
+      rep.elevatedU = r->elevatedU;
+      rep.elevatedV = r->elevatedV;
+      for (const std::string& n : r->notes) rep.notes.push_back(n);
+      if (order >= 1 && !r->lambda.empty()) rep.lambdaMin = r->lambdaMin;
+      res.model.patches[static_cast<size_t>(is)] = replaced(*st.S, r->surface);
+    } else {
+      // Both sides move onto the common middle: S's own data and T's data over S's edge parameter.
+      const detail::SeamTarget own = detail::targetFromFrame(st.Sf, st.rangeS, st.rangeS.lo, 1.0, 1);
+      const detail::SeamTarget other = detail::targetFromFrame(st.Tf, st.rangeS, st.c0, st.c1, 1);
+      double ns = 0.0, nt = 0.0;
+      for (int k = 0; k <= 32; ++k) {
+        const double u = st.rangeS.lo + st.rangeS.length() * k / 32.0;
+        auto val = [&](const detail::SeamTarget& t) {
+          for (const detail::TargetPiece& p : t.pieces)
+            if (u >= p.u.lo && u <= p.u.hi) {
+              const VecX v = p.cross1((u - p.u.lo) / p.u.length());
+              const VecX w = p.point((u - p.u.lo) / p.u.length());
+              if (!t.rational) return v.norm();
+              const int d = static_cast<int>(v.size()) - 1;
+              return ((w[d] * v.head(d) - v[d] * w.head(d)) / (w[d] * w[d])).norm();
+            }
+          return 0.0;
+        };
+        ns += val(own);
+        nt += val(other);
+      }
+      const double lambda0 = nt > 0.0 ? ns / nt : 1.0;
+      detail::SeamTarget mid = detail::averagedTarget(own, other, lambda0);
+      detail::EdgeConstraint cs;
+      cs.edge = moveEdge;
+      cs.target = mid;
+      auto rs = detail::leastSquaresJoin(st.S->surface, {cs}, lo);
+      if (!rs) return rs.status();
+      // T's view: the middle lies on S's side; T's own edge parameter is oB.lo + c1 (u - lo) (or reversed).
+      detail::SeamTarget midT = mid;
+      for (detail::TargetPiece& p : midT.pieces) p.cross1 = -1.0 * p.cross1;
+      const double a = st.reversed ? oB.hi + st.c1 * st.rangeS.lo : oB.lo - st.c1 * st.rangeS.lo;
+      const double b = st.reversed ? -st.c1 : st.c1;
+      detail::EdgeConstraint ct;
+      ct.edge = toEdge;
+      ct.target = detail::mappedTarget(midT, a, b);
+      auto rt = detail::leastSquaresJoin(st.T->surface, {ct}, lo);
+      if (!rt) return rt.status();
+      rep.insertedKnotsU = rs->insertedKnotsU;
+      rep.insertedKnotsV = rs->insertedKnotsV;
+      rep.elevatedU = rs->elevatedU;
+      rep.elevatedV = rs->elevatedV;
+      for (const std::string& n : rs->notes) rep.notes.push_back(fmt::format("{}: {}", moveName, n));
+      for (const std::string& n : rt->notes) rep.notes.push_back(fmt::format("{}: {}", toName, n));
+      rep.lambdaMin = std::min(rs->lambdaMin, rt->lambdaMin);
+      rep.notes.push_back(fmt::format("average: both edges moved onto their middle; cross derivatives balanced with "
+                                      "lambda0 = {:.6g}",
+                                      lambda0));
+      res.model.patches[static_cast<size_t>(is)] = replaced(*st.S, rs->surface);
+      res.model.patches[static_cast<size_t>(it)] = replaced(*st.T, rt->surface);
+    }
+  }
+
+  // ---- what changed, and the referee's verdict.
+  for (int idx : {is, it}) {
+    const Patch& before0 = model.patches[static_cast<size_t>(idx)];
+    const Patch& after0 = res.model.patches[static_cast<size_t>(idx)];
+    const Displacement d = controlPointDisplacement(before0.surface, after0.surface, moveThreshold);
+    const bool sameRep = before0.surface.knotsU().values() == after0.surface.knotsU().values() &&
+                         before0.surface.knotsV().values() == after0.surface.knotsV().values() &&
+                         before0.surface.points() == after0.surface.points();
+    if (d.moved > 0 || !sameRep) {
+      if (std::find(rep.patchesChanged.begin(), rep.patchesChanged.end(), after0.name) == rep.patchesChanged.end())
+        rep.patchesChanged.push_back(after0.name);
+      rep.maxDisplacement = std::max(rep.maxDisplacement, d.max);
+      rep.movedPoints += d.moved;
+    }
+    if (is == it) break;
+  }
+  const Patch& Sa = res.model.patches[static_cast<size_t>(is)];
+  const Patch& Ta = res.model.patches[static_cast<size_t>(it)];
+  auto after = pieceBreaks.size() >= 3 ? analyzeSeamPiecewise(Sa, moveEdge, Ta, toEdge, st.seamOpt, pieceBreaks)
+                                       : analyzeSeam(Sa, moveEdge, Ta, toEdge, st.seamOpt);
+  if (!after) return after.status().withContext("after the join");
+  rep.after = *after;
+  rep.achieved = meets(rep.after.geometric, opt.continuity);
+  if (!rep.achieved)
+    rep.notes.push_back(fmt::format("requested {} not achieved: the seam is {} after the join",
+                                    toString(opt.continuity), toString(rep.after.geometric)));
+  if (!rep.after.certified) rep.notes.push_back("the after-analysis is sampled, not certified");
+  return res;
+}
+
+}  // namespace seam

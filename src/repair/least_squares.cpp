@@ -1,0 +1,715 @@
+// The general least-squares join (see join_internal.h and docs/algorithms/lai-lian-cassidy.md).
+#include <fmt/format.h>
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <limits>
+#include <map>
+
+#include "repair/frame_internal.h"
+#include "repair/join_internal.h"
+#include "seam/core/tolerances.h"
+
+namespace seam::detail {
+
+int SeamTarget::degree() const {
+  int d = 0;
+  for (const TargetPiece& p : pieces) d = std::max(d, p.point.degree());
+  return d;
+}
+int SeamTarget::degreeCross1() const {
+  int d = -1;
+  for (const TargetPiece& p : pieces)
+    if (!p.cross1.empty()) d = std::max(d, p.cross1.degree());
+  return d;
+}
+int SeamTarget::degreeCross2() const {
+  int d = -1;
+  for (const TargetPiece& p : pieces)
+    if (!p.cross2.empty()) d = std::max(d, p.cross2.degree());
+  return d;
+}
+
+BernsteinPoly reducedToEffectiveDegree(const BernsteinPoly& p) {
+  if (p.empty()) return p;
+  BernsteinPoly cur = p;
+  const double scale = std::max(p.maxAbsCoeff(), std::numeric_limits<double>::min());
+  while (cur.degree() >= 1) {
+    const int n = cur.degree();
+    const Matrix& c = cur.coeffs();
+    // n-th forward difference: the coefficient of t^n is C(n,n) times it; zero iff the degree is below n.
+    Eigen::RowVectorXd diff = Eigen::RowVectorXd::Zero(c.cols());
+    double mag = 0.0;
+    for (int k = 0; k <= n; ++k) {
+      const double b = binomial(n, k) * (((n - k) % 2) ? -1.0 : 1.0);
+      diff += b * c.row(k);
+      mag += std::abs(b);
+    }
+    if (diff.cwiseAbs().maxCoeff() > kIdentityRelTol * mag * scale) break;
+    // c_i = (i/n) r_{i-1} + (1 - i/n) r_i  =>  r_i = (n c_i - i r_{i-1}) / (n - i), from both ends for stability.
+    Matrix r(n, c.cols());
+    const int half = n / 2;
+    r.row(0) = c.row(0);
+    for (int i = 1; i < half; ++i) r.row(i) = (n * c.row(i) - i * r.row(i - 1)) / static_cast<double>(n - i);
+    r.row(n - 1) = c.row(n);
+    for (int i = n - 2; i >= half; --i)  // c_{i+1} = ((i+1)/n) r_i + (1 - (i+1)/n) r_{i+1}
+      r.row(i) = (n * c.row(i + 1) - (n - i - 1) * r.row(i + 1)) / static_cast<double>(i + 1);
+    cur = BernsteinPoly(std::move(r));
+  }
+  return cur;
+}
+
+namespace {
+
+/// The Bezier pieces of a polynomial B-spline curve (homogeneous coefficients stay as they are).
+std::vector<std::pair<Interval, BernsteinPoly>> piecesOf(const BSplineCurve& c) {
+  std::vector<double> k = c.knots().values();
+  Matrix rows = c.points();
+  const std::vector<Interval> spans = decompose(c.degree(), k, rows);
+  std::vector<std::pair<Interval, BernsteinPoly>> out;
+  for (size_t s = 0; s < spans.size(); ++s)
+    out.emplace_back(spans[s], BernsteinPoly(Matrix(rows.middleRows(static_cast<Eigen::Index>(s) * c.degree(),
+                                                                    c.degree() + 1))));
+  return out;
+}
+
+BernsteinPoly restrictedTo(const BernsteinPoly& p, Interval whole, double lo, double hi) {
+  const double L = whole.length();
+  return p.restricted((lo - whole.lo) / L, (hi - whole.lo) / L);
+}
+
+/// Adds a zero (or one, for the point) weight column: a polynomial target seen in homogeneous coordinates.
+BernsteinPoly homogenizedPoly(const BernsteinPoly& p, double w) {
+  if (p.empty()) return p;
+  Matrix c(p.coeffs().rows(), p.coeffs().cols() + 1);
+  c.leftCols(p.coeffs().cols()) = p.coeffs();
+  c.col(p.coeffs().cols()).setConstant(w);
+  return BernsteinPoly(std::move(c));
+}
+
+SeamTarget homogenized(const SeamTarget& t) {
+  if (t.rational) return t;
+  SeamTarget h = t;
+  h.rational = true;
+  h.dimH = t.dimH + 1;
+  for (TargetPiece& p : h.pieces) {
+    p.point = homogenizedPoly(p.point, 1.0);
+    p.cross1 = homogenizedPoly(p.cross1, 0.0);
+    p.cross2 = homogenizedPoly(p.cross2, 0.0);
+  }
+  return h;
+}
+
+/// The local Bernstein coefficients of a global polynomial of degree d on [range] restricted to [lo, hi], as a
+/// (d+1) x (d+1) matrix acting on the global coefficient vector.
+Eigen::MatrixXd restrictionMatrix(int d, Interval range, double lo, double hi) {
+  Eigen::MatrixXd R(d + 1, d + 1);
+  for (int k = 0; k <= d; ++k) {
+    Matrix e = Matrix::Zero(d + 1, 1);
+    e(k, 0) = 1.0;
+    const BernsteinPoly loc = restrictedTo(BernsteinPoly(std::move(e)), range, lo, hi);
+    R.col(k) = loc.coeffs().col(0);
+  }
+  return R;
+}
+
+BernsteinPoly polyFromCoeffs(const Eigen::VectorXd& c) {
+  Matrix m(c.size(), 1);
+  m.col(0) = c;
+  return BernsteinPoly(std::move(m));
+}
+
+/// Derivative weights w[k][j] = d^k N_j / dv^k at the edge v = v_min of a frame's across knot vector, j = 0..K.
+Result<std::vector<std::vector<double>>> acrossWeights(const BSplineSurface& frame, int K) {
+  const KnotVector& kv = frame.knotsV();
+  const int q = frame.degreeV();
+  const double v0 = kv.domain(q).lo;
+  if (kv.multiplicity(v0) < q + 1)
+    return Status(ErrorCode::kUnsupported, "the edge's across knot vector is not clamped at the edge");
+  const int span = kv.findSpan(q, v0);
+  const Matrix N = basisFunctionDerivatives(kv, q, span, v0, std::min(K, q));
+  std::vector<std::vector<double>> w(static_cast<size_t>(K) + 1, std::vector<double>(static_cast<size_t>(K) + 1, 0.0));
+  const int first = span - q;  // index of the first non-zero function: 0 for a clamped edge
+  if (first != 0) return Status(ErrorCode::kUnsupported, "the edge's across knot vector is not clamped at the edge");
+  for (int k = 0; k <= std::min(K, q); ++k)
+    for (int j = 0; j <= q; ++j) {
+      if (j <= K) {
+        w[static_cast<size_t>(k)][static_cast<size_t>(j)] = N(k, j);
+      } else if (std::abs(N(k, j)) > kRoundoff * N.row(k).cwiseAbs().maxCoeff()) {
+        return Status(ErrorCode::kUnsupported, "the edge's across knot vector is not clamped at the edge");
+      }
+    }
+  return w;
+}
+
+// Dense linear constraint system: rows of coefficients over the unknowns, and right-hand sides.
+struct System {
+  int n = 0;  // unknowns
+  std::vector<Eigen::VectorXd> rows;
+  std::vector<double> rhs;
+  void add(Eigen::VectorXd row, double r) {
+    const double s = row.cwiseAbs().maxCoeff();
+    if (!(s > 0.0)) {
+      row.setZero();
+      rows.push_back(std::move(row));
+      rhs.push_back(r);
+      return;
+    }
+    rows.push_back(row / s);
+    rhs.push_back(r / s);
+  }
+};
+
+struct Solution {
+  Eigen::VectorXd x;
+  double residual = 0.0;
+};
+
+/// min sum_k weight_k^2 (x_k - x0_k)^2 subject to C x = d (weight 0: free), by the nullspace method.
+Solution solveConstrained(const System& sys, const Eigen::VectorXd& x0, const Eigen::VectorXd& weight) {
+  const auto m = static_cast<Eigen::Index>(sys.rows.size());
+  const Eigen::Index n = sys.n;
+  Solution sol;
+  if (m == 0) {
+    sol.x = x0;
+    return sol;
+  }
+  Eigen::MatrixXd C(m, n);
+  Eigen::VectorXd d(m);
+  for (Eigen::Index r = 0; r < m; ++r) {
+    C.row(r) = sys.rows[static_cast<size_t>(r)].transpose();
+    d[r] = sys.rhs[static_cast<size_t>(r)];
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
+  qr.setThreshold(kIdentityRelTol);
+  const Eigen::Index rank = qr.rank();
+  const Eigen::MatrixXd Q = qr.householderQ();
+  const Eigen::MatrixXd Z = Q.rightCols(n - rank);
+  const Eigen::VectorXd xp = C.completeOrthogonalDecomposition().solve(d);
+  Eigen::VectorXd x = xp;
+  if (n - rank > 0) {
+    const Eigen::MatrixXd A = weight.asDiagonal() * Z;
+    const Eigen::VectorXd b = weight.asDiagonal() * (x0 - xp);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+    cod.setThreshold(kIdentityRelTol);
+    x += Z * cod.solve(b);
+  }
+  sol.x = x;
+  sol.residual = (C * x - d).cwiseAbs().maxCoeff();
+  return sol;
+}
+
+// ------------------------------------------------------------------------------------------------------------------
+// The moving patch during the solve.
+struct Mover {
+  BSplineSurface s;
+  bool rational = false;
+  int dimH = 3;
+  Matrix H;  // homogeneous (or plain) control points, row i * numV + j
+};
+
+/// Grid index of frame point (a along, b across) of edge e (own along direction).
+int gridIndex(const BSplineSurface& s, Edge e, int a, int b) { return originalIndex(s, e, false, a, b); }
+
+struct ScalarBlock {
+  int offset = 0;
+  int degree = -1;  // -1: absent
+  [[nodiscard]] int size() const { return degree + 1; }
+};
+
+}  // namespace
+
+SeamTarget targetFromFrame(const BSplineSurface& tf, Interval range, double c0, double c1, int order) {
+  SeamTarget t;
+  t.rational = tf.isRational();
+  t.dimH = tf.dim() + (t.rational ? 1 : 0);
+  const auto P = piecesOf(tf.homogeneousCrossDerivative(Edge::V0, 0));
+  const auto N1 = piecesOf(tf.homogeneousCrossDerivative(Edge::V0, 1));
+  const auto N2 = order >= 2 ? piecesOf(tf.homogeneousCrossDerivative(Edge::V0, 2)) : decltype(P){};
+  const double tLo = c0, tHi = c0 + c1 * range.length();
+  const double tol = kKnotRelTol * (tf.knotsU().values().back() - tf.knotsU().values().front());
+  auto uOf = [&](double s) { return range.lo + (s - c0) / c1; };
+  for (size_t k = 0; k < P.size(); ++k) {
+    const Interval sp = P[k].first;
+    const double lo = std::max(sp.lo, tLo), hi = std::min(sp.hi, tHi);
+    if (!(hi - lo > tol)) continue;
+    TargetPiece piece;
+    piece.u = {uOf(lo), uOf(hi)};
+    piece.point = reducedToEffectiveDegree(restrictedTo(P[k].second, sp, lo, hi));
+    piece.cross1 = reducedToEffectiveDegree(restrictedTo(N1[k].second, sp, lo, hi));
+    if (!N2.empty()) piece.cross2 = reducedToEffectiveDegree(restrictedTo(N2[k].second, sp, lo, hi));
+    if (!t.pieces.empty()) {
+      const int c = tf.degreeU() - tf.knotsU().multiplicity(lo);
+      t.breaks.emplace_back(piece.u.lo, c);
+      piece.u.lo = t.pieces.back().u.hi;
+    }
+    t.pieces.push_back(std::move(piece));
+  }
+  if (!t.pieces.empty()) {
+    t.pieces.front().u.lo = range.lo;
+    t.pieces.back().u.hi = range.hi;
+  }
+  return t;
+}
+
+SeamTarget mappedTarget(const SeamTarget& t, double a, double b) {
+  SeamTarget r = t;
+  r.pieces.clear();
+  r.breaks.clear();
+  for (const TargetPiece& p : t.pieces) {
+    TargetPiece q = p;
+    const double x0 = a + b * p.u.lo, x1 = a + b * p.u.hi;
+    q.u = {std::min(x0, x1), std::max(x0, x1)};
+    if (b < 0.0) {
+      q.point = p.point.reversed();
+      q.cross1 = p.cross1.reversed();
+      if (!p.cross2.empty()) q.cross2 = p.cross2.reversed();
+    }
+    r.pieces.push_back(std::move(q));
+  }
+  for (const auto& [u, c] : t.breaks) r.breaks.emplace_back(a + b * u, c);
+  if (b < 0.0) {
+    std::reverse(r.pieces.begin(), r.pieces.end());
+    std::reverse(r.breaks.begin(), r.breaks.end());
+  }
+  return r;
+}
+
+SeamTarget averagedTarget(const SeamTarget& own0, const SeamTarget& other0, double lambda0) {
+  const bool rational = own0.rational || other0.rational;
+  const SeamTarget own = rational ? homogenized(own0) : own0;
+  const SeamTarget other = rational ? homogenized(other0) : other0;
+  // Union of the breakpoints, with the smaller continuity where both break.
+  std::map<double, int> br;
+  for (const auto& [u, c] : own.breaks) br[u] = c;
+  const double tol = kKnotRelTol * std::max(own.range().length(), 1.0) * 1e3;
+  for (const auto& [u, c] : other.breaks) {
+    auto it = br.lower_bound(u - tol);
+    if (it != br.end() && std::abs(it->first - u) <= tol) it->second = std::min(it->second, c);
+    else br[u] = c;
+  }
+  SeamTarget r;
+  r.rational = rational;
+  r.dimH = own.dimH;
+  std::vector<double> cuts{own.range().lo};
+  for (const auto& [u, c] : br) {
+    cuts.push_back(u);
+    r.breaks.emplace_back(u, c);
+  }
+  cuts.push_back(own.range().hi);
+  auto pieceAt = [](const SeamTarget& t, double mid) -> const TargetPiece& {
+    for (const TargetPiece& p : t.pieces)
+      if (mid >= p.u.lo && mid <= p.u.hi) return p;
+    return mid < t.pieces.front().u.lo ? t.pieces.front() : t.pieces.back();
+  };
+  for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+    const double lo = cuts[k], hi = cuts[k + 1], mid = 0.5 * (lo + hi);
+    const TargetPiece& a = pieceAt(own, mid);
+    const TargetPiece& b = pieceAt(other, mid);
+    TargetPiece p;
+    p.u = {lo, hi};
+    p.point = reducedToEffectiveDegree(0.5 * (restrictedTo(a.point, a.u, lo, hi) + restrictedTo(b.point, b.u, lo, hi)));
+    p.cross1 = reducedToEffectiveDegree(
+        0.5 * (lambda0 * restrictedTo(b.cross1, b.u, lo, hi) - restrictedTo(a.cross1, a.u, lo, hi)));
+    r.pieces.push_back(std::move(p));
+  }
+  return r;
+}
+
+JoinOverlap cornerSnappedOverlap(const BSplineSurface& s, Edge es, const BSplineSurface& t, Edge et, Interval overlapS,
+                                 Interval overlapT, bool reversed, double maxGap) {
+  const Interval ds = isUEdge(es) ? s.domainV() : s.domainU();
+  const Interval dt = isUEdge(et) ? t.domainV() : t.domainU();
+  auto corner = [](const BSplineSurface& x, Edge e, double along) -> Vec3 {
+    switch (e) {
+      case Edge::U0: return x.evaluate(x.domainU().lo, along).head<3>();
+      case Edge::U1: return x.evaluate(x.domainU().hi, along).head<3>();
+      case Edge::V0: return x.evaluate(along, x.domainV().lo).head<3>();
+      case Edge::V1: return x.evaluate(along, x.domainV().hi).head<3>();
+    }
+    return Vec3::Zero();
+  };
+  JoinOverlap o{overlapS, overlapT};
+  // S's start pairs with T's start (T's end when the seam is reversed), S's end with the other one.
+  const double tAtSLo = reversed ? dt.hi : dt.lo, tAtSHi = reversed ? dt.lo : dt.hi;
+  if ((corner(s, es, ds.lo) - corner(t, et, tAtSLo)).norm() <= maxGap) {
+    o.s.lo = ds.lo;
+    (reversed ? o.t.hi : o.t.lo) = tAtSLo;
+  }
+  if ((corner(s, es, ds.hi) - corner(t, et, tAtSHi)).norm() <= maxGap) {
+    o.s.hi = ds.hi;
+    (reversed ? o.t.lo : o.t.hi) = tAtSHi;
+  }
+  return o;
+}
+
+BSplineSurface expressedLike(const BSplineSurface& s, const BSplineSurface& like) {
+  BSplineSurface r = s.degreeElevated(like.degreeU() - s.degreeU(), like.degreeV() - s.degreeV());
+  auto missing = [](const KnotVector& have, const KnotVector& want) {
+    std::vector<double> out;
+    std::map<double, int> cnt;
+    for (double t : have.values()) ++cnt[t];
+    std::map<double, int> wc;
+    for (double t : want.values()) ++wc[t];
+    for (const auto& [t, c] : wc) {
+      const int h = cnt.count(t) ? cnt[t] : 0;
+      for (int i = h; i < c; ++i) out.push_back(t);
+    }
+    return out;
+  };
+  const auto mu = missing(r.knotsU(), like.knotsU());
+  if (!mu.empty()) r = r.refinedU(mu);
+  const auto mv = missing(r.knotsV(), like.knotsV());
+  if (!mv.empty()) r = r.refinedV(mv);
+  return r;
+}
+
+Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vector<EdgeConstraint>& constraints,
+                                       const LsJoinOptions& opt) {
+  if (constraints.empty()) return invalidInput("no edge to join");
+  for (const EdgeConstraint& c : constraints)
+    if (c.target.pieces.empty()) return invalidInput(fmt::format("edge {}: the seam is empty", edgeName(c.edge)));
+  const int K = opt.continuity == GeometricClass::kG2 ? 2 : (opt.continuity == GeometricClass::kG1 ? 1 : 0);
+  LsJoinOutcome out;
+  bool rational = s0.isRational();
+  for (const EdgeConstraint& c : constraints) rational = rational || c.target.rational;
+  if (rational && K == 2)
+    return Status(ErrorCode::kUnsupported, "G2 joins of rational patches are not implemented (use G1)");
+
+  // ---- degree elevation and knot refinement so that the target data lie in the patch's spline space.
+  BSplineSurface s = s0;
+  {
+    int needU = s.degreeU() + std::max(opt.elevate, 0), needV = s.degreeV() + std::max(opt.elevate, 0);
+    for (const EdgeConstraint& c : constraints) {
+      int q = c.target.degree();
+      if (K >= 1) q = std::max(q, c.target.degreeCross1());
+      if (K >= 2) q = std::max(q, c.target.degreeCross2());
+      if (isUEdge(c.edge)) needV = std::max(needV, q);
+      else needU = std::max(needU, q);
+    }
+    out.elevatedU = needU - s.degreeU();
+    out.elevatedV = needV - s.degreeV();
+    if (out.elevatedU > 0 || out.elevatedV > 0) {
+      s = s.degreeElevated(out.elevatedU, out.elevatedV);
+      out.notes.push_back(fmt::format("degree raised by ({}, {}) so that the target edge fits (exact)", out.elevatedU,
+                                      out.elevatedV));
+    }
+  }
+  for (const EdgeConstraint& c : constraints) {
+    const bool alongV = isUEdge(c.edge);
+    const KnotVector& kn = alongV ? s.knotsV() : s.knotsU();
+    const int p = alongV ? s.degreeV() : s.degreeU();
+    const Interval dom = kn.domain(p);
+    std::vector<std::pair<double, int>> need;  // (u, multiplicity)
+    for (const auto& [u, cont] : c.target.breaks) need.emplace_back(u, p - cont);
+    const Interval rg = c.target.range();
+    need.emplace_back(rg.lo, 1);
+    need.emplace_back(rg.hi, 1);
+    std::vector<double> ins;
+    for (auto [u, mult] : need) {
+      const double us = snapToKnot(kn, u);
+      if (!(us > dom.lo && us < dom.hi)) continue;  // the domain ends are knots already
+      const int have = static_cast<int>(std::count(kn.values().begin(), kn.values().end(), us));
+      for (int i = have; i < std::min(mult, p); ++i) ins.push_back(us);
+    }
+    std::sort(ins.begin(), ins.end());
+    if (!ins.empty()) {
+      s = alongV ? s.refinedV(ins) : s.refinedU(ins);
+      auto& dst = alongV ? out.insertedKnotsV : out.insertedKnotsU;
+      dst.insert(dst.end(), ins.begin(), ins.end());
+    }
+  }
+  // Enough rows across each edge that the opposite edge stays put: insert knots in the first across span.
+  for (const EdgeConstraint& c : constraints) {
+    for (int guard = 0; guard < 8; ++guard) {
+      const bool acrossU = isUEdge(c.edge);
+      const int rows = acrossU ? s.numU() : s.numV();
+      if (rows - 1 > K) break;
+      const KnotVector& kn = acrossU ? s.knotsU() : s.knotsV();
+      const int q = acrossU ? s.degreeU() : s.degreeV();
+      const Interval dom = kn.domain(q);
+      const std::vector<double> bp = kn.breakpoints();
+      const bool atLo = c.edge == Edge::U0 || c.edge == Edge::V0;
+      double t;
+      if (atLo) {
+        const auto it = std::upper_bound(bp.begin(), bp.end(), dom.lo);
+        t = 0.5 * (dom.lo + *it);
+      } else {
+        const auto it = std::lower_bound(bp.begin(), bp.end(), dom.hi);
+        t = 0.5 * (*(it - 1) + dom.hi);
+      }
+      s = acrossU ? s.withKnotInsertedU(t) : s.withKnotInsertedV(t);
+      (acrossU ? out.insertedKnotsU : out.insertedKnotsV).push_back(t);
+      out.notes.push_back(fmt::format("knot {} inserted across edge {} so that the opposite edge keeps its place", t,
+                                      edgeName(c.edge)));
+    }
+  }
+
+  Mover mv;
+  mv.s = s;
+  mv.rational = rational;
+  mv.dimH = s.dim() + (rational ? 1 : 0);
+  mv.H = rational ? s.homogeneous() : s.points();
+  if (rational && !s.isRational()) {
+    mv.H.conservativeResize(mv.H.rows(), s.dim() + 1);
+    mv.H.col(s.dim()).setOnes();
+  }
+  const int dimH = mv.dimH;
+  std::vector<SeamTarget> targets;
+  for (const EdgeConstraint& c : constraints) targets.push_back(rational ? homogenized(c.target) : c.target);
+
+  // Frames (for the along knots and the across weights) and the extraction operators.
+  struct EdgeData {
+    BSplineSurface frame;
+    int p = 0, q = 0;  // along degree of the patch, target degree (point)
+    int qn = 0, qnn = 0;  // target degrees of T_n, T_nn
+    std::vector<std::vector<double>> w;
+    std::vector<std::pair<Interval, Matrix>> spans;  // the patch's Bezier spans inside the seam range, extraction
+    std::vector<int> alongPoints;                    // frame along indices whose support meets the range
+  };
+  std::vector<EdgeData> ed(constraints.size());
+  for (size_t c = 0; c < constraints.size(); ++c) {
+    EdgeData& e = ed[c];
+    e.frame = toEdgeFrame(s, constraints[c].edge, false);
+    e.p = e.frame.degreeU();
+    e.q = targets[c].degree();
+    e.qn = std::max(targets[c].degreeCross1(), 0);
+    e.qnn = std::max(targets[c].degreeCross2(), 0);
+    auto w = acrossWeights(e.frame, K);
+    if (!w) return w.status().withContext(fmt::format("edge {}", edgeName(constraints[c].edge)));
+    e.w = *w;
+    const int na = e.frame.numU();
+    const BSplineCurve basis(e.p, e.frame.knotsU(), Matrix::Identity(na, na));
+    const Interval rg = targets[c].range();
+    const double tol = kKnotRelTol * (e.frame.knotsU().values().back() - e.frame.knotsU().values().front());
+    for (const BezierCurvePiece& pc : basis.bezierPieces())
+      if (pc.interval.lo >= rg.lo - tol && pc.interval.hi <= rg.hi + tol) e.spans.emplace_back(pc.interval, pc.curve.points());
+    const std::vector<double>& U = e.frame.knotsU().values();
+    for (int a = 0; a < na; ++a)
+      if (U[static_cast<size_t>(a)] < rg.hi - tol && U[static_cast<size_t>(a + e.p + 1)] > rg.lo + tol)
+        e.alongPoints.push_back(a);
+  }
+
+  // Locked points.
+  std::vector<char> locked(static_cast<size_t>(mv.H.rows()), 0);
+  for (Edge le : opt.lockedEdges) {
+    const BSplineSurface f = toEdgeFrame(s, le, false);
+    for (int a = 0; a < f.numU(); ++a)
+      for (int b = 0; b < std::min(opt.lockedRows, f.numV()); ++b) locked[static_cast<size_t>(gridIndex(s, le, a, b))] = 1;
+  }
+
+  auto targetPieceFor = [](const SeamTarget& t, const Interval& sp) -> const TargetPiece& {
+    const double mid = 0.5 * (sp.lo + sp.hi);
+    for (const TargetPiece& p : t.pieces)
+      if (mid >= p.u.lo && mid <= p.u.hi) return p;
+    return mid < t.pieces.front().u.lo ? t.pieces.front() : t.pieces.back();
+  };
+
+  // ---- one stage: rows [rowLo, rowHi] of every edge are unknown; order-k equations for k in [kLo, kHi].
+  std::vector<Eigen::VectorXd> lambdaC(constraints.size()), kappaC(constraints.size());
+  auto stage = [&](int rowLo, int rowHi, int kLo, int kHi, std::vector<char> fixedMask) -> Result<double> {
+    std::vector<int> slot(static_cast<size_t>(mv.H.rows()), -1);
+    std::vector<int> points;
+    for (size_t c = 0; c < constraints.size(); ++c)
+      for (int a : ed[c].alongPoints)
+        for (int b = rowLo; b <= rowHi; ++b) {
+          const int g = gridIndex(s, constraints[c].edge, a, b);
+          if (locked[static_cast<size_t>(g)] || fixedMask[static_cast<size_t>(g)] || slot[static_cast<size_t>(g)] >= 0)
+            continue;
+          slot[static_cast<size_t>(g)] = static_cast<int>(points.size());
+          points.push_back(g);
+        }
+    int n = static_cast<int>(points.size()) * dimH;
+    // Scalar blocks per constraint: 0 rho, 1 lambda, 2 kappa, 3 nu (stage G0/G1); 4 mu, 5 nu2 (G2).
+    std::vector<std::array<ScalarBlock, 6>> sb(constraints.size());
+    for (size_t c = 0; c < constraints.size(); ++c) {
+      // Degrees of the connecting functions: as high as the patch's degree p allows for each product term
+      // (T of degree q, T_t of q - 1, T_n of qn; G2 adds lambda^2 T_nn, lambda kappa T_nt, kappa^2 T_tt).
+      const int p = ed[c].p, q = ed[c].q, qn = ed[c].qn, qnn = ed[c].qnn;
+      auto& b = sb[c];
+      if (kLo == 0 && rational) b[0].degree = p - q;
+      if (kHi >= 1 && kLo <= 1) {
+        int dl = p - qn, dk = p - (q - 1);
+        if (K == 2) {
+          dl = std::min(dl, (p - qnn) / 2);
+          dk = std::min({dk, (p - q + 2) / 2, p - (qn - 1) - dl});
+        }
+        b[1].degree = std::max(dl, 0);
+        b[2].degree = std::max(dk, 0);
+        if (rational) b[3].degree = std::max(p - q, 0);
+      }
+      if (kHi >= 2) {
+        b[4].degree = std::max(p - qn, 0);
+        b[5].degree = std::max(p - q + 1, 0);
+      }
+      for (auto& blk : b)
+        if (blk.degree >= 0) {
+          blk.offset = n;
+          n += blk.size();
+        }
+    }
+    System sys;
+    sys.n = n;
+    for (size_t c = 0; c < constraints.size(); ++c) {
+      const EdgeData& e = ed[c];
+      const SeamTarget& T = targets[c];
+      const Interval rg = T.range();
+      const Edge edge = constraints[c].edge;
+      for (const auto& [sp, E] : e.spans) {
+        const TargetPiece& tp = targetPieceFor(T, sp);
+        const double h = sp.length();
+        const BernsteinPoly Tp = restrictedTo(tp.point, tp.u, sp.lo, sp.hi);
+        const BernsteinPoly Tn = restrictedTo(tp.cross1, tp.u, sp.lo, sp.hi);
+        const BernsteinPoly Tt = (1.0 / h) * Tp.derivative();
+        for (int k = kLo; k <= kHi; ++k) {
+          // Known right-hand side polynomial (degree <= p) and the scalar-unknown terms.
+          BernsteinPoly known = BernsteinPoly::zero(e.p, dimH);
+          struct Term {
+            const ScalarBlock* blk;
+            BernsteinPoly factor;
+            double sign;
+          };
+          std::vector<Term> terms;
+          if (k == 0) {
+            if (rational) terms.push_back({&sb[c][0], Tp, -1.0});
+            else known = known + Tp;  // S = T
+          } else if (k == 1) {
+            terms.push_back({&sb[c][1], Tn, +1.0});
+            terms.push_back({&sb[c][2], Tt, -1.0});
+            if (rational) terms.push_back({&sb[c][3], Tp, -1.0});
+          } else {
+            const BernsteinPoly Tnn = restrictedTo(tp.cross2, tp.u, sp.lo, sp.hi);
+            const BernsteinPoly Tnt = (1.0 / h) * Tn.derivative();
+            const BernsteinPoly Ttt = (1.0 / (h * h)) * Tp.derivative(2);
+            const Eigen::MatrixXd Rl = restrictionMatrix(static_cast<int>(lambdaC[c].size()) - 1, rg, sp.lo, sp.hi);
+            const Eigen::MatrixXd Rk = restrictionMatrix(static_cast<int>(kappaC[c].size()) - 1, rg, sp.lo, sp.hi);
+            const BernsteinPoly lam = polyFromCoeffs(Rl * lambdaC[c]), kap = polyFromCoeffs(Rk * kappaC[c]);
+            // S_nn = lam^2 Tnn - 2 lam kap Tnt + kap^2 Ttt - mu Tn + nu2 Tt
+            known = known + product(product(lam, lam), Tnn) - 2.0 * product(product(lam, kap), Tnt) +
+                    product(product(kap, kap), Ttt);
+            terms.push_back({&sb[c][4], Tn, +1.0});
+            terms.push_back({&sb[c][5], Tt, -1.0});
+          }
+          if (known.degree() > e.p)
+            return Status(ErrorCode::kNoSolution,
+                          fmt::format("edge {}: the G{} terms have degree {} > {}", edgeName(edge), k, known.degree(), e.p));
+          known = known.elevatedTo(e.p);
+          // Scalar-term columns: for each global coefficient g, (restricted unit) * factor, elevated to p.
+          std::vector<std::pair<int, Matrix>> scalarCols;
+          for (const Term& t : terms) {
+            if (t.blk->degree < 0) continue;
+            const Eigen::MatrixXd R = restrictionMatrix(t.blk->degree, rg, sp.lo, sp.hi);
+            for (int g = 0; g < t.blk->size(); ++g) {
+              BernsteinPoly prod = product(polyFromCoeffs(R.col(g)), t.factor);
+              if (prod.degree() > e.p)
+                return Status(ErrorCode::kNoSolution, fmt::format("edge {}: connecting-function degree too high", edgeName(edge)));
+              scalarCols.emplace_back(t.blk->offset + g, t.sign * prod.elevatedTo(e.p).coeffs());
+            }
+          }
+          for (int r = 0; r <= e.p; ++r)
+            for (int cc = 0; cc < dimH; ++cc) {
+              Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+              double rhs = known.coeffs()(r, cc);
+              for (size_t ai = 0; ai < static_cast<size_t>(E.cols()); ++ai) {
+                const double ea = E(r, static_cast<Eigen::Index>(ai));
+                if (ea == 0.0) continue;
+                for (int j = 0; j <= k; ++j) {
+                  const double wj = e.w[static_cast<size_t>(k)][static_cast<size_t>(j)];
+                  if (wj == 0.0) continue;
+                  const int g = gridIndex(s, edge, static_cast<int>(ai), j);
+                  const int sl = slot[static_cast<size_t>(g)];
+                  if (sl >= 0) row[sl * dimH + cc] += ea * wj;
+                  else rhs -= ea * wj * mv.H(g, cc);
+                }
+              }
+              for (const auto& [col, coeffs] : scalarCols) row[col] += coeffs(r, cc);
+              sys.add(std::move(row), rhs);
+            }
+        }
+      }
+      if (kLo <= 1 && kHi >= 1) {
+        // kappa = 0 at the ends where asked (Bernstein end coefficients).
+        const ScalarBlock& kb = sb[c][2];
+        if (constraints[c].kappaZeroAtStart && kb.degree >= 0) {
+          Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+          row[kb.offset] = 1.0;
+          sys.add(std::move(row), 0.0);
+        }
+        if (constraints[c].kappaZeroAtEnd && kb.degree >= 0) {
+          Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+          row[kb.offset + kb.degree] = 1.0;
+          sys.add(std::move(row), 0.0);
+        }
+      }
+    }
+    // Objective: displacement of the points (weights scaled by the model size), nothing on the scalars.
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n), wgt = Eigen::VectorXd::Zero(n);
+    for (size_t i = 0; i < points.size(); ++i)
+      for (int cc = 0; cc < dimH; ++cc) {
+        x0[static_cast<Eigen::Index>(i) * dimH + cc] = mv.H(points[i], cc);
+        wgt[static_cast<Eigen::Index>(i) * dimH + cc] = (rational && cc == dimH - 1) ? opt.scale : 1.0;
+      }
+    const Solution sol = solveConstrained(sys, x0, wgt);
+    for (size_t i = 0; i < points.size(); ++i)
+      for (int cc = 0; cc < dimH; ++cc) mv.H(points[i], cc) = sol.x[static_cast<Eigen::Index>(i) * dimH + cc];
+    if (kLo <= 1 && kHi >= 1)
+      for (size_t c = 0; c < constraints.size(); ++c) {
+        lambdaC[c] = sol.x.segment(sb[c][1].offset, sb[c][1].size());
+        kappaC[c] = sol.x.segment(sb[c][2].offset, sb[c][2].size());
+      }
+    double dataScale = opt.scale;
+    for (double r : sys.rhs) dataScale = std::max(dataScale, std::abs(r));
+    return sol.residual / dataScale;
+  };
+
+  std::vector<char> none(static_cast<size_t>(mv.H.rows()), 0);
+  auto r1 = stage(0, std::min(K, 1), 0, std::min(K, 1), none);
+  if (!r1) return r1.status();
+  out.residual = *r1;
+  if (K == 2) {
+    // Rows 0 and 1 of every constrained edge are final; row 2 and the second-order functions are solved next.
+    std::vector<char> fixedMask(static_cast<size_t>(mv.H.rows()), 0);
+    for (size_t c = 0; c < constraints.size(); ++c) {
+      const BSplineSurface f = toEdgeFrame(s, constraints[c].edge, false);
+      for (int a = 0; a < f.numU(); ++a)
+        for (int b = 0; b <= 1; ++b) fixedMask[static_cast<size_t>(gridIndex(s, constraints[c].edge, a, b))] = 1;
+    }
+    auto r2 = stage(2, 2, 2, 2, fixedMask);
+    if (!r2) return r2.status();
+    out.residual = std::max(out.residual, *r2);
+  }
+  out.feasible = out.residual <= kConstraintRelTol;
+
+  // Connecting functions and the fold test.
+  out.lambdaMin = std::numeric_limits<double>::infinity();
+  for (size_t c = 0; c < constraints.size() && K >= 1; ++c) {
+    const BernsteinPoly lam = polyFromCoeffs(lambdaC[c]), kap = polyFromCoeffs(kappaC[c]);
+    out.lambda.push_back(lam);
+    out.kappa.push_back(kap);
+    double mn = lam.coeffs().minCoeff();
+    if (!(mn > 0.0))
+      for (int i = 0; i <= 64; ++i) mn = std::min(mn, lam.scalar(i / 64.0));
+    out.lambdaMin = std::min(out.lambdaMin, mn);
+  }
+  if (K >= 1 && !(out.lambdaMin > 0.0))
+    out.notes.push_back(fmt::format("lambda reaches {:.3g}: the join folds the patch back over its neighbour", out.lambdaMin));
+
+  if (rational) {
+    for (Eigen::Index i = 0; i < mv.H.rows(); ++i)
+      if (!(mv.H(i, dimH - 1) > 0.0)) {
+        out.feasible = false;
+        out.notes.push_back("a weight became non-positive: no valid rational solution with these rows");
+        for (Eigen::Index j = 0; j < mv.H.rows(); ++j) mv.H(j, dimH - 1) = std::max(mv.H(j, dimH - 1), kRoundoff);
+        break;
+      }
+  }
+  out.surface = BSplineSurface::fromHomogeneous(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(),
+                                                mv.H, rational);
+  if (!out.feasible && out.residual > kConstraintRelTol)
+    out.notes.push_back(fmt::format("the constraints cannot be met with these rows (residual {:.3g})", out.residual));
+  return out;
+}
+
+}  // namespace seam::detail

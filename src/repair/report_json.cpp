@@ -1,0 +1,119 @@
+#include "seam/repair/report_json.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace seam {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json num(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+Json pair(double a, double b) { return Json::array({num(a), num(b)}); }
+Json point(const Vec3& p) { return Json::array({num(p.x()), num(p.y()), num(p.z())}); }
+Json worst(const WorstLocation& w) { return Json{{"t", num(w.t)}, {"point", point(w.point)}}; }
+
+Json seamJson(const SeamReport& r) {
+  Json j{{"a", r.a},
+         {"a_edge", std::string(edgeName(r.aEdge))},
+         {"b", r.b},
+         {"b_edge", std::string(edgeName(r.bEdge))},
+         {"overlap", pair(r.overlapA.lo, r.overlapA.hi)},
+         {"g0_max", num(r.g0Max)},
+         {"g1_max_deg", num(r.g1MaxDeg)},
+         {"g2_max", num(r.g2Max)},
+         {"g2_rel_max", num(r.g2RelMax)},
+         {"lambda_range", pair(r.lambdaRange.lo, r.lambdaRange.hi)},
+         {"kappa_range", pair(r.kappaRange.lo, r.kappaRange.hi)},
+         {"geometric", std::string(toString(r.geometric))},
+         {"parametric", std::string(toString(r.parametric))},
+         {"certified", r.certified},
+         {"worst", Json{{"g0", worst(r.g0Worst)}, {"g1", worst(r.g1Worst)}, {"g2", worst(r.g2Worst)}}}};
+  // The further keys `seam check --json` writes (apps/seam/cmd_check.cpp), in the same order.
+  j["overlap_b"] = pair(r.overlapB.lo, r.overlapB.hi);
+  j["reversed"] = r.reversed;
+  j["correspondence"] = std::string(toString(r.correspondence));
+  j["g0_sampled"] = num(r.g0Sampled);
+  j["g1_sampled_deg"] = num(r.g1SampledDeg);
+  j["g2_sampled"] = num(r.g2Sampled);
+  j["g2_rel_sampled"] = num(r.g2RelSampled);
+  j["g2_residual_max"] = num(r.g2ResidualMax);
+  j["c1_mismatch"] = num(r.c1Mismatch);
+  j["c2_mismatch"] = num(r.c2Mismatch);
+  Json notes = Json::array();
+  for (const std::string& n : r.notes) notes.push_back(n);
+  j["notes"] = notes;
+  return j;
+}
+
+Json strings(const std::vector<std::string>& v) {
+  Json a = Json::array();
+  for (const std::string& s : v) a.push_back(s);
+  return a;
+}
+Json numbers(const std::vector<double>& v) {
+  Json a = Json::array();
+  for (double x : v) a.push_back(num(x));
+  return a;
+}
+
+}  // namespace
+
+std::string seamRecordJson(const SeamReport& report) { return seamJson(report).dump(); }
+
+std::string joinReportJson(const JoinReport& r) {
+  Json j;
+  j["method"] = std::string(toString(r.method));
+  j["reason"] = r.reason;
+  j["proportional_knots"] = r.proportionalKnots ? Json(*r.proportionalKnots) : Json(nullptr);
+  j["requested"] = std::string(toString(r.requested));
+  j["achieved"] = r.achieved;
+  j["before"] = seamJson(r.before);
+  j["after"] = seamJson(r.after);
+  j["max_displacement"] = num(r.maxDisplacement);
+  j["moved_points"] = r.movedPoints;
+  j["patches_changed"] = strings(r.patchesChanged);
+  j["inserted_knots"] = Json{{"u", numbers(r.insertedKnotsU)}, {"v", numbers(r.insertedKnotsV)}};
+  j["elevated"] = Json::array({r.elevatedU, r.elevatedV});
+  j["lambda_min"] = r.lambdaMin ? num(*r.lambdaMin) : Json(nullptr);
+  if (r.method == JoinMethod::kBezierStrip) {
+    Json js = Json::array();
+    for (const StripJunction& J : r.junctions)
+      js.push_back(Json{{"index", J.index},
+                        {"u", num(J.u)},
+                        {"wrinkled", J.wrinkled},
+                        {"ell", num(J.ell)},
+                        {"displacement", num(J.displacement)}});
+    j["strip"] = Json{{"junctions", js},
+                      {"internal_g1_max_deg", r.stripInternalG1MaxDeg ? num(*r.stripInternalG1MaxDeg) : Json(nullptr)}};
+  }
+  j["notes"] = strings(r.notes);
+  return j.dump();
+}
+
+std::string healReportJson(const HealReport& r) {
+  Json j;
+  j["requested"] = std::string(toString(r.requested));
+  j["max_gap"] = num(r.maxGap);
+  Json seams = Json::array();
+  for (const HealSeam& s : r.seams)
+    seams.push_back(Json{{"before", seamJson(s.before)},
+                         {"after", s.after ? seamJson(*s.after) : Json(nullptr)},
+                         {"action", s.action},
+                         {"moved", s.moved.empty() ? Json(nullptr) : Json(s.moved)},
+                         {"achieved", s.achieved},
+                         {"notes", strings(s.notes)}});
+  j["seams"] = seams;
+  j["order"] = strings(r.order);
+  j["patches_changed"] = strings(r.patchesChanged);
+  j["max_displacement"] = num(r.maxDisplacement);
+  j["moved_points"] = r.movedPoints;
+  j["worst"] = Json{{"geometric", std::string(toString(r.worst))}, {"g0_max", num(r.worstG0)},
+                    {"g1_max_deg", num(r.worstG1Deg)}};
+  j["achieved"] = r.achieved;
+  j["notes"] = strings(r.notes);
+  return j.dump();
+}
+
+}  // namespace seam
