@@ -221,6 +221,21 @@ TEST(ReportCli, ConvertJsonRoundTripIsBitExactAndRefusesUnknownFormats) {
   ASSERT_EQ(c.patches.size(), a.patches.size());
   for (size_t i = 0; i < a.patches.size(); ++i) EXPECT_EQ(a.patches[i].surface.points(), c.patches[i].surface.points());
 #endif
+#ifdef SEAM_HAVE_OCCT_CLI
+  {  // STEP -> JSON -> STEP -> JSON: the second JSON equals the first (the round trip preserves every number)
+    const std::string fus = std::string(SEAM_SHARED_DATA_DIR) + "/step/bug28366_fuselage.stp";
+    ASSERT_EQ(run("convert '" + fus + "' '" + (dir / "f1.json").string() + "'").code, 0);
+    ASSERT_EQ(run("convert '" + (dir / "f1.json").string() + "' '" + (dir / "f2.step").string() + "'").code, 0);
+    ASSERT_EQ(run("convert '" + (dir / "f2.step").string() + "' '" + (dir / "f3.json").string() + "'").code, 0);
+    EXPECT_EQ(readText(dir / "f1.json"), readText(dir / "f3.json"));
+    // The report of a STEP file is the B-rep check, with OpenCASCADE's verdict as a column.
+    const CliRun rep = run("report '" + fus + "' -o '" + (dir / "f.html").string() + "'");
+    ASSERT_EQ(rep.code, 0) << rep.err;
+    const std::string h = readText(dir / "f.html");
+    EXPECT_EQ(count(h, "<tr><td><a href=\"#seam-"), 14u);  // README: 14 shared edges
+    EXPECT_NE(h.find("<th class=\"l\">OpenCASCADE</th>"), std::string::npos);
+  }
+#endif
   r = run("convert '" + src + "' '" + (dir / "a.xyz").string() + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_FALSE(fs::exists(dir / "a.xyz"));

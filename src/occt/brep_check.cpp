@@ -43,6 +43,8 @@ constexpr double kVanishingNormalRel = 1e-12;
 /// Normal curvatures below this / (model size) count as flat when forming relative jumps (as in analyzeSeam).
 constexpr double kFlatCurvatureRatio = 1e-3;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+/// Points per edge polyline (drawings in reports).
+constexpr int kPolylinePoints = 24;
 
 Vec3 toVec(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
 Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
@@ -212,6 +214,19 @@ Vec3 edgeMidpoint(const TopoDS_Edge& e) {
   }
 }
 
+/// Points along the edge's 3-D curve (empty when it has none).
+std::vector<Vec3> edgePolyline(const TopoDS_Edge& e) {
+  std::vector<Vec3> out;
+  try {
+    BRepAdaptor_Curve c(e);
+    const double a = c.FirstParameter(), b = c.LastParameter();
+    for (int i = 0; i <= kPolylinePoints; ++i) out.push_back(toVec(c.Value(a + (b - a) * i / kPolylinePoints)));
+  } catch (const Standard_Failure&) {
+    out.clear();
+  }
+  return out;
+}
+
 int countFreeEdges(const TopoDS_Shape& s) {
   TopTools_IndexedDataMapOfShapeListOfShape m;
   TopExp::MapShapesAndAncestors(s, TopAbs_EDGE, TopAbs_FACE, m);
@@ -289,7 +304,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       TopoDS_Edge ea = edge, eb = edge;
       if (around.size() == 1) {
         if (!BRep_Tool::IsClosed(edge, fa)) {
-          out.freeEdges.push_back({i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge)});
+          out.freeEdges.push_back({i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge), edgePolyline(edge)});
           continue;
         }
         fb = fa;  // the seam of a closed (periodic) face: its two pcurves
@@ -330,13 +345,14 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
         B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
         if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
             !(A.last > A.first) || !(B.last > B.first)) {
-          out.freeEdges.push_back({i, seam.a, edgeMidpoint(edge)});  // cannot be evaluated on both faces
+          out.freeEdges.push_back({i, seam.a, edgeMidpoint(edge), edgePolyline(edge)});  // not on both faces
           continue;
         }
         A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
         B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
         seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
       }
+      seam.curve = edgePolyline(edge);
       out.seams.push_back(std::move(seam));
     }
   } catch (const Standard_Failure& f) {

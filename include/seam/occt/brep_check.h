@@ -41,12 +41,14 @@ struct BRepSeam {
   SeamReport report;            ///< measures; t is A's patch-edge parameter (certified) or the edge parameter
   bool viaPatchEdges = false;   ///< analysed as a patch seam (certified route)
   std::string occtContinuity;   ///< BRepLib::ContinuityOfFaces: "C0", "G1", "C1", "G2", "C2", "C3" or "CN"
+  std::vector<Vec3> curve;      ///< points along the 3-D edge (for drawings)
 };
 
 struct BRepFreeEdge {
   int edge = 0;
   std::string face;
   Vec3 midpoint = Vec3::Zero();
+  std::vector<Vec3> curve;  ///< points along the 3-D edge (for drawings)
 };
 
 struct BRepNonManifoldEdge {
