@@ -16,10 +16,33 @@
 
 namespace seam::cli {
 
-bool isCadFile(const std::filesystem::path& file) {
+std::string lowerExtension(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+bool isCadFile(const std::filesystem::path& file) {
+  const std::string ext = lowerExtension(file);
   return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs";
+}
+
+void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
+  cmd.add_option("--tol-distance", overrides.distance, "G0 tolerance (length); default 1e-6 x bounding-box diagonal");
+  cmd.add_option("--tol-angle", overrides.angleDeg, "G1 tolerance in degrees; default 0.01");
+  cmd.add_option("--tol-curvature", overrides.curvatureRel, "G2 tolerance, relative; default 0.01");
+}
+
+bool validToleranceOptions(const ToleranceOverrides& overrides) {
+  for (const auto& [name, value] : {std::pair{"--tol-distance", overrides.distance},
+                                    std::pair{"--tol-angle", overrides.angleDeg},
+                                    std::pair{"--tol-curvature", overrides.curvatureRel}}) {
+    if (value && !(std::isfinite(*value) && *value > 0.0)) {
+      printError(fmt::format("{} must be a positive number, got {}", name, *value));
+      return false;
+    }
+  }
+  return true;
 }
 
 namespace {
@@ -117,8 +140,7 @@ std::optional<Model> loadModel(const std::filesystem::path& file) {
 }
 
 bool saveModel(const Model& model, const std::filesystem::path& file) {
-  std::string ext = file.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lowerExtension(file);
   Status st;
   if (isCadFile(file)) {
 #ifdef SEAM_HAVE_OCCT

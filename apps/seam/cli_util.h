@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the seam subcommands: loading a model with errors on stderr, printing JSON and
 // fixed-width tables, formatting numbers, writing output files atomically.
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -8,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "seam/core/tolerances.h"
 #include "seam/model/model.h"
 
 namespace seam::cli {
@@ -18,8 +20,16 @@ using OrderedJson = nlohmann::ordered_json;
 /// Prints "seam: error: <message>" on stderr.
 void printError(std::string_view message);
 
+/// The file's extension in lower case (".json", ".step", ...; "" when it has none).
+std::string lowerExtension(const std::filesystem::path& file);
+
 /// True for .step/.stp/.iges/.igs (any case).
 bool isCadFile(const std::filesystem::path& file);
+
+/// The --tol-distance / --tol-angle / --tol-curvature options shared by the commands that classify seams.
+void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides);
+/// False (with a message on stderr) when a given tolerance is not a positive finite number.
+bool validToleranceOptions(const ToleranceOverrides& overrides);
 
 /// Loads a model: STEP/IGES through seam::occt::readCadFile (when built with OpenCASCADE), else io::readModel; on failure prints the message on stderr and returns nullopt
 /// (the command then exits with kExitBadInput).

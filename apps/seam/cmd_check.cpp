@@ -29,7 +29,7 @@ constexpr size_t kProgressPatches = 300;
 struct CheckOptions {
   std::string file;
   std::vector<std::string> seam;
-  std::optional<double> tolDistance, tolAngle, tolCurvature;
+  ToleranceOverrides tol;
   std::string require;
   bool json = false;
   bool patches = false;  // STEP/IGES: check the faces' patches instead of the B-rep edges
@@ -271,19 +271,7 @@ std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, co
 /// STEP/IGES: every edge shared by two faces of the (sewn) B-rep, with OpenCASCADE's verdict next to seam's.
 int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require) {
   occt::BRepCheckOptions bo;
-  if (o.tolDistance || o.tolAngle || o.tolCurvature) {
-    // Defaults from the model size need the model: read it once for its diagonal.
-    const Result<occt::CadImport> cad = occt::readCadFile(o.file);
-    if (!cad) {
-      printError(cad.status().message());
-      return kExitBadInput;
-    }
-    Tolerances tol = Tolerances::forModelSize(cad->model.boundingBox().diagonal());
-    if (o.tolDistance) tol.distance = *o.tolDistance;
-    if (o.tolAngle) tol.angleDeg = *o.tolAngle;
-    if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
-    bo.tolerances = tol;
-  }
+  bo.tolerances = o.tol;
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
   if (!r) {
     printError(r.status().message());
@@ -363,13 +351,7 @@ int runCheck(const CheckOptions& o) {
       return kExitBadInput;
     }
   }
-  for (const auto& [name, value] : {std::pair{"--tol-distance", o.tolDistance}, std::pair{"--tol-angle", o.tolAngle},
-                                    std::pair{"--tol-curvature", o.tolCurvature}}) {
-    if (value && !(std::isfinite(*value) && *value > 0.0)) {
-      printError(fmt::format("{} must be a positive number, got {}", name, *value));
-      return kExitBadInput;
-    }
-  }
+  if (!validToleranceOptions(o.tol)) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
   if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require);
 #endif
@@ -379,10 +361,7 @@ int runCheck(const CheckOptions& o) {
     printError(fmt::format("{}: the model has no patches", o.file));
     return kExitBadInput;
   }
-  Tolerances tol = Tolerances::forModelSize(model->boundingBox().diagonal());
-  if (o.tolDistance) tol.distance = *o.tolDistance;
-  if (o.tolAngle) tol.angleDeg = *o.tolAngle;
-  if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
+  const Tolerances tol = o.tol.appliedTo(Tolerances::forModelSize(model->boundingBox().diagonal()));
 
   ModelCheckReport report;
   std::optional<double> pairing;
@@ -478,10 +457,7 @@ void addCheck(CLI::App& app, int& exit) {
   cmd->add_option("--seam", options->seam, "Analyse only this pair of edges, e.g. --seam S1:u1 S2:u0")
       ->expected(2)
       ->type_name("A:EDGE B:EDGE");
-  cmd->add_option("--tol-distance", options->tolDistance,
-                  "G0 tolerance (length); default 1e-6 x bounding-box diagonal");
-  cmd->add_option("--tol-angle", options->tolAngle, "G1 tolerance in degrees; default 0.01");
-  cmd->add_option("--tol-curvature", options->tolCurvature, "G2 tolerance, relative; default 0.01");
+  addToleranceOptions(*cmd, options->tol);
   cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
   cmd->add_flag("--json", options->json, "Print JSON instead of tables");
   cmd->add_flag("--patches", options->patches,

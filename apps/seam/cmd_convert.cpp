@@ -13,12 +13,6 @@ namespace seam::cli {
 
 namespace {
 
-std::string lowerExtension(const std::filesystem::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 void addConvert(CLI::App& app, int& exit) {
   struct Options {
     std::string in, out;

@@ -24,9 +24,12 @@ namespace seam::cli {
 
 namespace {
 
+/// Models with more patches than this get a progress line on stderr (as in `seam check`).
+constexpr size_t kProgressPatches = 300;
+
 struct ReportOptions {
   std::string file, out;
-  std::optional<double> tolDistance, tolAngle, tolCurvature;
+  ToleranceOverrides tol;
   int maxPlots = 400;
 };
 
@@ -35,18 +38,7 @@ struct ReportOptions {
 int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
   occt::BRepCheckOptions bo;
   bo.seam.keepSamples = true;
-  if (o.tolDistance || o.tolAngle || o.tolCurvature) {
-    const Result<occt::CadImport> cad = occt::readCadFile(o.file);
-    if (!cad) {
-      printError(cad.status().message());
-      return kExitBadInput;
-    }
-    Tolerances tol = Tolerances::forModelSize(cad->model.boundingBox().diagonal());
-    if (o.tolDistance) tol.distance = *o.tolDistance;
-    if (o.tolAngle) tol.angleDeg = *o.tolAngle;
-    if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
-    bo.tolerances = tol;
-  }
+  bo.tolerances = o.tol;
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
   if (!r) {
     printError(r.status().message());
@@ -81,13 +73,7 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
 #endif
 
 int runReport(const ReportOptions& o) {
-  for (const auto& [name, value] : {std::pair{"--tol-distance", o.tolDistance}, std::pair{"--tol-angle", o.tolAngle},
-                                    std::pair{"--tol-curvature", o.tolCurvature}}) {
-    if (value && !(std::isfinite(*value) && *value > 0.0)) {
-      printError(fmt::format("{} must be a positive number, got {}", name, *value));
-      return kExitBadInput;
-    }
-  }
+  if (!validToleranceOptions(o.tol)) return kExitBadInput;
   report::HtmlReportOptions ro;
   ro.title = "seam report: " + std::filesystem::path(o.file).filename().string();
   ro.maxPlottedSeams = o.maxPlots;
@@ -100,14 +86,10 @@ int runReport(const ReportOptions& o) {
     printError(fmt::format("{}: the model has no patches", o.file));
     return kExitBadInput;
   }
-  Tolerances tol = Tolerances::forModelSize(model->boundingBox().diagonal());
-  if (o.tolDistance) tol.distance = *o.tolDistance;
-  if (o.tolAngle) tol.angleDeg = *o.tolAngle;
-  if (o.tolCurvature) tol.curvatureRel = *o.tolCurvature;
   ModelCheckOptions mo;
-  mo.tolerances = tol;
+  mo.tolerances = o.tol.appliedTo(Tolerances::forModelSize(model->boundingBox().diagonal()));
   mo.seam.keepSamples = true;
-  if (model->patches.size() > 300) std::cerr << fmt::format("seam: checking {} patches...\n", model->patches.size());
+  if (model->patches.size() > kProgressPatches) std::cerr << fmt::format("seam: checking {} patches...\n", model->patches.size());
   const Result<ModelCheckReport> report = checkModel(*model, mo);
   if (!report) {
     printError(fmt::format("{}: {}", o.file, report.status().message()));
@@ -123,9 +105,7 @@ void addReport(CLI::App& app, int& exit) {
   CLI::App* cmd = app.add_subcommand("report", "Write a self-contained HTML report of the continuity check");
   cmd->add_option("FILE", o->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
   cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
-  cmd->add_option("--tol-distance", o->tolDistance, "G0 tolerance (default 1e-6 x bounding-box diagonal)");
-  cmd->add_option("--tol-angle", o->tolAngle, "G1 tolerance in degrees (default 0.01)");
-  cmd->add_option("--tol-curvature", o->tolCurvature, "G2 tolerance, relative (default 0.01)");
+  addToleranceOptions(*cmd, o->tol);
   cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::NonNegativeNumber);
   cmd->callback([o, &exit]() { exit = runReport(*o); });
 }

@@ -593,6 +593,13 @@ double controlDiagonal(const BSplineSurface& s) { return controlBox(s).diagonal(
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------------
+GeometricClass classifyGeometric(const SeamReport& r, const Tolerances& tol) {
+  if (!(r.g0Max <= tol.distance)) return GeometricClass::kNone;
+  if (!(r.g1MaxDeg <= tol.angleDeg || r.g1Identity)) return GeometricClass::kG0;
+  if (!(r.g2Identity || r.g2RelMax <= tol.curvatureRel)) return GeometricClass::kG1;
+  return GeometricClass::kG2;
+}
+
 Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options) {
   return analyzeSeam(a, ea, b, eb, options, std::nullopt);
 }
@@ -948,13 +955,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
 
   // ---- classification.
   const auto& tol = opt.tol;
-  if (rep.g0Max <= tol.distance) {
-    rep.geometric = GeometricClass::kG0;
-    if (rep.g1MaxDeg <= tol.angleDeg || rep.g1Identity) {
-      rep.geometric = GeometricClass::kG1;
-      if (rep.g2Identity || rep.g2RelMax <= tol.curvatureRel) rep.geometric = GeometricClass::kG2;
-    }
-  }
+  rep.geometric = classifyGeometric(rep, tol);
   // Parametric continuity only where the parametrisations match: affine correspondence with |slope| = 1.
   const double slope = rep.overlapB.length() / rep.overlapA.length();
   const bool matching = rep.correspondence == Correspondence::kAffine && std::abs(slope - 1.0) <= kMatchingSlopeTol;

@@ -33,9 +33,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A pcurve end point lies on a side of the face's parameter box within this fraction of the box size, and covers
-/// the whole side when its two ends are this close to the side's corners.
-constexpr double kSideRelTol = 1e-7;
 /// Minimum samples along a sampled edge (issue: >= 64 per span).
 constexpr int kMinSamples = 64;
 /// A normal shorter than this fraction of |S_u| |S_v| is treated as vanishing (pole).
@@ -64,27 +61,9 @@ std::string continuityName(GeomAbs_Shape s) {
 
 /// The side of the face's parameter box that the edge's pcurve runs along from corner to corner, if any.
 std::optional<Edge> naturalSide(const TopoDS_Edge& e, const TopoDS_Face& f) {
-  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
-  BRepTools::UVBounds(f, u0, u1, v0, v1);
-  double a = 0, b = 0;
-  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, f, a, b);
-  if (pc.IsNull()) return std::nullopt;
-  const gp_Pnt2d p = pc->Value(a), q = pc->Value(b), m = pc->Value(0.5 * (a + b));
-  const double tu = kSideRelTol * std::max(u1 - u0, 1e-300), tv = kSideRelTol * std::max(v1 - v0, 1e-300);
-  auto near = [](double x, double y, double t) { return std::abs(x - y) <= t; };
-  auto spans = [&](double x, double y, double lo, double hi, double t) {
-    return (near(x, lo, t) && near(y, hi, t)) || (near(x, hi, t) && near(y, lo, t));
-  };
-  for (const auto& [side, fixed, val] : {std::tuple{Edge::U0, 0, u0}, std::tuple{Edge::U1, 0, u1},
-                                         std::tuple{Edge::V0, 1, v0}, std::tuple{Edge::V1, 1, v1}}) {
-    if (fixed == 0 && near(p.X(), val, tu) && near(q.X(), val, tu) && near(m.X(), val, tu) &&
-        spans(p.Y(), q.Y(), v0, v1, tv))
-      return side;
-    if (fixed == 1 && near(p.Y(), val, tv) && near(q.Y(), val, tv) && near(m.Y(), val, tv) &&
-        spans(p.X(), q.X(), u0, u1, tu))
-      return side;
-  }
-  return std::nullopt;
+  detail::ParamBox box;
+  BRepTools::UVBounds(f, box.u0, box.u1, box.v0, box.v1);
+  return detail::boxSideOf(e, f, box, true);
 }
 
 /// One face seen from the shared edge: its surface, the edge's pcurve on it and the sense of its normal.
@@ -194,14 +173,7 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   rep.notes.push_back("sampled through the pcurves of the shared B-rep edge (trimmed faces): not certified");
   rep.notes.push_back("faces of a B-rep have unrelated parametrisations: no C^k");
   if (degenerate) rep.notes.push_back("the normal vanishes somewhere on the edge (pole or degenerate edge)");
-  const Tolerances& tol = opt.tol;
-  if (rep.g0Max <= tol.distance) {
-    rep.geometric = GeometricClass::kG0;
-    if (rep.g1MaxDeg <= tol.angleDeg) {
-      rep.geometric = GeometricClass::kG1;
-      if (rep.g2RelMax <= tol.curvatureRel) rep.geometric = GeometricClass::kG2;
-    }
-  }
+  rep.geometric = classifyGeometric(rep, opt.tol);  // sampled: no identities
   return rep;
 }
 
@@ -272,7 +244,8 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     out.import = std::move(imported).value();
     std::map<int, size_t> patchOfFace;  // 1-based face index -> patch index
     for (size_t k = 0; k < out.import.faces.size(); ++k) patchOfFace[out.import.faces[k].faceIndex] = k;
-    out.tolerances = options.tolerances.value_or(Tolerances::forModelSize(out.import.model.boundingBox().diagonal()));
+    out.tolerances =
+        options.tolerances.appliedTo(Tolerances::forModelSize(out.import.model.boundingBox().diagonal()));
     SeamOptions seamOpt = options.seam;
     seamOpt.tol = out.tolerances;
     const double size = out.import.model.boundingBox().diagonal();

@@ -45,6 +45,7 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Wire.hxx>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -152,32 +153,15 @@ Handle(Geom_BSplineSurface) toOcct(const BSplineSurface& s) {
 }
 
 /// True when every edge of the face's only wire runs along a side of its parameter box (a natural boundary).
-bool naturallyBounded(const TopoDS_Face& face, double u0, double u1, double v0, double v1, int& wires, int& edges) {
+bool naturallyBounded(const TopoDS_Face& face, const detail::ParamBox& box, int& wires, int& edges) {
   wires = 0;
   edges = 0;
   for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) ++wires;
   const TopoDS_Wire outer = BRepTools::OuterWire(face);
   bool natural = wires == 1 && !outer.IsNull();
-  const double tu = kIsoEdgeRelTol * std::max(u1 - u0, Precision::PConfusion());
-  const double tv = kIsoEdgeRelTol * std::max(v1 - v0, Precision::PConfusion());
   for (TopExp_Explorer e(outer, TopAbs_EDGE); e.More(); e.Next()) {
     ++edges;
-    const TopoDS_Edge edge = TopoDS::Edge(e.Current());
-    double f = 0.0, l = 0.0;
-    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, face, f, l);
-    if (pc.IsNull()) {
-      natural = false;
-      continue;
-    }
-    bool onU0 = true, onU1 = true, onV0 = true, onV1 = true;
-    for (int i = 0; i < kIsoEdgeSamples; ++i) {
-      const gp_Pnt2d q = pc->Value(f + (l - f) * i / (kIsoEdgeSamples - 1));
-      onU0 = onU0 && std::abs(q.X() - u0) <= tu;
-      onU1 = onU1 && std::abs(q.X() - u1) <= tu;
-      onV0 = onV0 && std::abs(q.Y() - v0) <= tv;
-      onV1 = onV1 && std::abs(q.Y() - v1) <= tv;
-    }
-    if (!(onU0 || onU1 || onV0 || onV1)) natural = false;
+    if (!detail::boxSideOf(TopoDS::Edge(e.Current()), face, box, false)) natural = false;
   }
   return natural;
 }
@@ -185,6 +169,33 @@ bool naturallyBounded(const TopoDS_Face& face, double u0, double u1, double v0, 
 }  // namespace
 
 namespace detail {
+
+std::optional<Edge> boxSideOf(const TopoDS_Edge& edge, const TopoDS_Face& face, const ParamBox& box, bool wholeSide) {
+  double f = 0.0, l = 0.0;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, face, f, l);
+  if (pc.IsNull()) return std::nullopt;
+  const double tu = kIsoEdgeRelTol * std::max(box.u1 - box.u0, Precision::PConfusion());
+  const double tv = kIsoEdgeRelTol * std::max(box.v1 - box.v0, Precision::PConfusion());
+  bool onSide[4] = {true, true, true, true};  // U0, U1, V0, V1
+  for (int i = 0; i < kIsoEdgeSamples; ++i) {
+    const gp_Pnt2d q = pc->Value(f + (l - f) * i / (kIsoEdgeSamples - 1));
+    onSide[0] = onSide[0] && std::abs(q.X() - box.u0) <= tu;
+    onSide[1] = onSide[1] && std::abs(q.X() - box.u1) <= tu;
+    onSide[2] = onSide[2] && std::abs(q.Y() - box.v0) <= tv;
+    onSide[3] = onSide[3] && std::abs(q.Y() - box.v1) <= tv;
+  }
+  const gp_Pnt2d a = pc->Value(f), b = pc->Value(l);
+  // The side's running coordinate at the two ends covers [lo, hi] (either way round).
+  auto covers = [](double x, double y, double lo, double hi, double t) {
+    return (std::abs(x - lo) <= t && std::abs(y - hi) <= t) || (std::abs(x - hi) <= t && std::abs(y - lo) <= t);
+  };
+  for (int k = 0; k < 4; ++k) {
+    if (!onSide[k]) continue;
+    const bool full = k < 2 ? covers(a.Y(), b.Y(), box.v0, box.v1, tv) : covers(a.X(), b.X(), box.u0, box.u1, tu);
+    if (!wholeSide || full) return std::array{Edge::U0, Edge::U1, Edge::V0, Edge::V1}[static_cast<size_t>(k)];
+  }
+  return std::nullopt;
+}
 
 /// Reads the file into one shape (STEP or IGES), with OpenCASCADE's errors turned into messages.
 Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format) {
@@ -282,7 +293,7 @@ Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Fa
         return Status(ErrorCode::kInvalidInput,
                       fmt::format("{}: face {} ({}): empty parameter box [{}, {}] x [{}, {}]", file.string(), index,
                                   info.surfaceType, u0, u1, v0, v1));
-      info.trimmed = !naturallyBounded(face, u0, u1, v0, v1, info.wires, info.edges);
+      info.trimmed = !naturallyBounded(face, {u0, u1, v0, v1}, info.wires, info.edges);
       {  // pcurves may overshoot a bounded surface's domain by their tolerance: clamp the box into it
         double su0 = 0, su1 = 0, sv0 = 0, sv1 = 0;
         surf->Bounds(su0, su1, sv0, sv1);

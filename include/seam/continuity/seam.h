@@ -95,6 +95,11 @@ struct SeamReport {
   std::vector<SeamSample> samples;    ///< only with SeamOptions::keepSamples
 };
 
+/// The geometric class of a seam from its worst values (and exact identities, which override the tolerances):
+/// G0 when the gap is within tol.distance, G1 when also the angle is within tol.angleDeg (or G1 is an identity),
+/// G2 when also the relative curvature jump is within tol.curvatureRel (or G2 is an identity).
+GeometricClass classifyGeometric(const SeamReport& report, const Tolerances& tol);
+
 /// Analyses the seam between edge `ea` of `a` and edge `eb` of `b`. The edges must overlap (within
 /// options.tol.distance, or with a gap: the overlap is found by closest-point projection of the end points).
 /// Errors: kInvalidInput for non-3-D patches, kNotFound when the edges do not overlap at all, kDegenerate when an

@@ -3,6 +3,7 @@
 // docs/tolerances.md for what each means, its default and how it scales with the model.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace seam {
 
@@ -32,6 +33,17 @@ struct Tolerances {
     Tolerances t;
     const double d = (std::isfinite(diagonal) && diagonal > 0.0) ? diagonal : 1.0;
     t.distance = 1e-6 * d;
+    return t;
+  }
+};
+
+/// User choices (e.g. the CLI's --tol-* options) that replace single fields of the model-size defaults.
+struct ToleranceOverrides {
+  std::optional<double> distance, angleDeg, curvatureRel;
+  [[nodiscard]] Tolerances appliedTo(Tolerances t) const {
+    if (distance) t.distance = *distance;
+    if (angleDeg) t.angleDeg = *angleDeg;
+    if (curvatureRel) t.curvatureRel = *curvatureRel;
     return t;
   }
 };

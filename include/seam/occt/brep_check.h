@@ -25,8 +25,8 @@
 namespace seam::occt {
 
 struct BRepCheckOptions {
-  /// Classification tolerances; default Tolerances::forModelSize(bounding-box diagonal).
-  std::optional<Tolerances> tolerances;
+  /// Classification tolerances: Tolerances::forModelSize(bounding-box diagonal) with these fields replaced.
+  ToleranceOverrides tolerances;
   /// Analysis settings (samplesPerSpan, keepSamples, bounds); its `tol` is replaced by the tolerances.
   SeamOptions seam;
   /// Sewing tolerance relative to the model diagonal, used when the file leaves free edges (1e-4: gaps up to this
