@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -144,6 +145,33 @@ TEST(BSplineCurve, DerivativesMatchRecursiveFormula) {
                   << describe(c) << " t " << t << " order " << k;
           }
         }
+}
+
+TEST(BSplineCurve, AllocationFreePathsMatchTheRecursiveFormula) {
+  // point3 and derivatives2 (the projection and seam fast paths) against the brute-force recursion, degrees up to
+  // 16 (one above the stack path, which then falls back to the general algorithm), at knots too.
+  std::mt19937_64 rng(406);
+  for (int p : {1, 2, 3, 5, 9, 15, 16})
+    for (bool rational : {false, true})
+      for (bool clamped : {true, false}) {
+        const BSplineCurve c = randomCurve(rng, p, 3, {.rational = rational, .clamped = clamped});
+        std::vector<double> ts = test::sampleParams(rng, c.domain(), 20);
+        for (const auto& [b, m] : interiorKnots(c)) ts.push_back(b);
+        for (double t : ts) {
+          const Matrix expected = refCurveDerivs(c, t, 2);
+          const VecX magnitude = refCurveDerivMagnitudes(c, t, 2);
+          Vec3 x, d1, d2;
+          c.derivatives2(t, x, d1, d2);
+          const std::array<Vec3, 3> got{x, d1, d2};
+          for (int k = 0; k <= 2; ++k)
+            ASSERT_TRUE(closeTo(expected.row(k).transpose(), got[static_cast<size_t>(k)],
+                                test::kRoundoffTol * magnitude[k] + test::kExactZeroFloor))
+                << describe(c) << " t " << t << " order " << k;
+          ASSERT_TRUE(closeTo(expected.row(0).transpose(), c.point3(t),
+                              test::kRoundoffTol * magnitude[0] + test::kExactZeroFloor))
+              << describe(c) << " t " << t;
+        }
+      }
 }
 
 TEST(BSplineCurve, DerivativesMatchFiniteDifferencesOfTheQuotient) {

@@ -554,6 +554,40 @@ TEST(BSplineSurface, HomogeneousCrossDerivativeIsPolynomial) {
       }
 }
 
+TEST(BSplineSurface, CrossDerivativeRowsAreTheInwardDerivativesOfTheOrientedSurface) {
+  // Block k of crossDerivativeRows(e, 3) against the brute-force tensor sum of the oriented surface's k-th
+  // u-derivative at u' = start (orientedFrom is itself checked against the original surface above); orders above
+  // the cross degree are zero.
+  std::mt19937_64 rng(556);
+  constexpr int kMaxOrder = 3;
+  for (const auto& [s, samples] : geometryCases(rng))
+    for (Edge e : kAllEdges) {
+      const Matrix rows = s.crossDerivativeRows(e, kMaxOrder);
+      const BSplineSurface o = s.orientedFrom(e);
+      const Eigen::Index hd = s.isRational() ? s.dim() + 1 : s.dim();
+      ASSERT_EQ(rows.cols(), (kMaxOrder + 1) * hd);
+      ASSERT_EQ(rows.rows(), o.numV());
+      const Matrix h = test::refHomogeneous(o.points(), o.weights());
+      for (int k = 0; k <= kMaxOrder; ++k) {
+        const BSplineCurve c(o.degreeV(), o.knotsV(), Matrix(rows.middleCols(k * hd, hd)));
+        for (double t : test::sampleParams(rng, o.domainV(), 20)) {
+          const double u0 = o.domainU().lo;
+          const auto expected = test::refTensorSum(o.degreeU(), o.degreeV(), o.knotsU().values(),
+                                                   o.knotsV().values(), o.numV(), h, u0, t, std::min(kMaxOrder, o.degreeU()));
+          const auto magnitude = test::refTensorSum(o.degreeU(), o.degreeV(), o.knotsU().values(),
+                                                    o.knotsV().values(), o.numV(), h, u0, t, std::min(kMaxOrder, o.degreeU()), true);
+          const VecX want = k <= o.degreeU() ? VecX(expected[static_cast<size_t>(k)][0]) : VecX::Zero(hd);
+          const double bound = test::kRoundoffTol * (magnitude[static_cast<size_t>(std::min(k, o.degreeU()))][0]
+                                                         .maxCoeff() +
+                                                     test::refCurveDerivMagnitudes(c, t, 0)[0]) +
+                               test::kExactZeroFloor;
+          ASSERT_TRUE(closeTo(want, test::refCurvePoint(c, t), bound))
+              << describe(s) << " edge " << edgeName(e) << " order " << k << " t " << t;
+        }
+      }
+    }
+}
+
 TEST(BSplineSurface, OrientedFromMakesTheEdgeU0) {
   std::mt19937_64 rng(555);
   for (const auto& [s, samples] : geometryCases(rng)) {

@@ -208,7 +208,7 @@ std::vector<CornerLink> findCornerLinks(std::span<const Patch> patches, std::spa
       // The corner is at the start of the edge when the other parameter is at its minimum.
       const bool atStart = isUEdge(e) ? !c.vMax : !c.uMax;
       const double t = atStart ? d.lo + kLinkSampleFraction * d.length() : d.hi - kLinkSampleFraction * d.length();
-      es.point = es.curve.evaluate(t).head<3>();
+      es.point = es.curve.point3(t);
       es.valid = true;
       samples.push_back(std::move(es));
     }
@@ -223,8 +223,8 @@ std::vector<CornerLink> findCornerLinks(std::span<const Patch> patches, std::spa
       if (cp.patch == cq.patch && p.node.edge == q.node.edge) {
         // Both ends of one edge at the vertex: a collapsed edge when its middle is there too.
         const Interval d = p.curve.domain();
-        const Vec3 mid = p.curve.evaluate(0.5 * (d.lo + d.hi)).head<3>();
-        if ((mid - p.curve.evaluate(d.lo).head<3>()).norm() <= tolerance &&
+        const Vec3 mid = p.curve.point3(0.5 * (d.lo + d.hi));
+        if ((mid - p.curve.point3(d.lo)).norm() <= tolerance &&
             detail::controlExtent(p.curve) <= tolerance) {
           links.push_back({p.node.corner, p.node.edge, q.node.corner, q.node.edge});
         }

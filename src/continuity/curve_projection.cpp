@@ -13,9 +13,9 @@ constexpr int kNewtonIterations = 12;
 
 double newton(const BSplineCurve& c, const Vec3& p, double t, Interval r) {
   for (int it = 0; it < kNewtonIterations; ++it) {
-    const Matrix d = c.derivatives(t, 2);
-    const Vec3 diff = d.row(0).transpose() - p;
-    const Vec3 d1 = d.row(1).transpose(), d2 = d.row(2).transpose();
+    Vec3 x, d1, d2;
+    c.derivatives2(t, x, d1, d2);
+    const Vec3 diff = x - p;
     const double f = diff.dot(d1);
     const double fp = d1.squaredNorm() + diff.dot(d2);
     if (!(fp > 0.0)) break;
@@ -33,19 +33,19 @@ double newton(const BSplineCurve& c, const Vec3& p, double t, Interval r) {
 CurvePoint closestPoint(const BSplineCurve& curve, const Vec3& p, std::optional<Interval> range,
                         std::optional<double> guess) {
   const Interval r = range.value_or(curve.domain());
-  auto distAt = [&](double t) { return (curve.evaluate(t).head<3>() - p).norm(); };
+  auto distAt = [&](double t) { return (curve.point3(t) - p).norm(); };
   if (guess) {
     const double g = std::clamp(*guess, r.lo, r.hi);
     const double t = newton(curve, p, g, r);
     const double d = distAt(t);
     if (d <= distAt(g)) {
       // Accept when the projection is locally optimal (Newton converged or hit the range boundary).
-      const Matrix der = curve.derivatives(t, 1);
-      const Vec3 diff = der.row(0).transpose() - p;
-      const double grad = diff.dot(Vec3(der.row(1).transpose()));
+      Vec3 x, d1, d2;
+      curve.derivatives2(t, x, d1, d2);
+      const Vec3 diff = x - p;
+      const double grad = diff.dot(d1);
       const bool boundary = (t == r.lo && grad >= 0.0) || (t == r.hi && grad <= 0.0);
-      if (boundary || std::abs(grad) <= 1e-9 * (diff.norm() + 1e-300) * Vec3(der.row(1).transpose()).norm() ||
-          d == 0.0)
+      if (boundary || std::abs(grad) <= 1e-9 * (diff.norm() + 1e-300) * d1.norm() || d == 0.0)
         return {t, d};
     }
   }

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <tuple>
@@ -33,7 +35,7 @@ EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::o
   for (double b : curve.knots().interiorBreakpoints(curve.degree()))
     if (b > r.lo && b < r.hi) cuts.push_back(b);
   cuts.push_back(r.hi);
-  auto dist2 = [&](double t) { return (curve.evaluate(t).head<3>() - p).squaredNorm(); };
+  auto dist2 = [&](double t) { return (curve.point3(t) - p).squaredNorm(); };
   double bestT = r.lo, bestD = dist2(r.lo);
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
     for (int i = 1; i <= kProjectionSamplesPerSpan; ++i) {
@@ -48,9 +50,9 @@ EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::o
   // Safeguarded Newton on f(t) = (C - p) . C'; accept only steps that do not increase the distance.
   double t = bestT;
   for (int it = 0; it < kProjectionNewtonIterations; ++it) {
-    const Matrix d = curve.derivatives(t, 2);
-    const Vec3 diff = d.row(0).head<3>().transpose() - p;
-    const Vec3 d1 = d.row(1).head<3>().transpose(), d2 = d.row(2).head<3>().transpose();
+    Vec3 x, d1, d2;
+    curve.derivatives2(t, x, d1, d2);
+    const Vec3 diff = x - p;
     const double f = diff.dot(d1);
     const double fp = d1.squaredNorm() + diff.dot(d2);
     if (!(fp > 0.0)) break;
@@ -128,6 +130,7 @@ struct EdgeInfo {
   /// Unit directions in which the edge leaves its start and its end point (chords to the points at 1/64 of the
   /// domain from each end, robust where the first derivative vanishes).
   Vec3 startDir = Vec3::Zero(), endDir = Vec3::Zero();
+  std::vector<double> unitKnots;  ///< the curve's knots mapped affinely onto [0, 1]
   // Samples for the general overlap test (filled on demand).
   std::vector<double> sampleT;
   std::vector<Vec3> sampleP;
@@ -136,6 +139,14 @@ struct EdgeInfo {
   std::vector<Vec3> polyP;
 };
 
+/// Knot vector of the curve mapped affinely onto [0, 1].
+std::vector<double> normalizedKnots(const BSplineCurve& c) {
+  std::vector<double> k = c.knots().values();
+  const Interval d = c.domain();
+  for (double& x : k) x = (x - d.lo) / d.length();
+  return k;
+}
+
 EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
   EdgeInfo info;
   info.ref = {index, e};
@@ -143,14 +154,15 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
   info.curve = s.boundaryCurve(e);
   info.domain = info.curve.domain();
   info.box = controlBox(info.curve);
+  info.unitKnots = normalizedKnots(info.curve);
   const Matrix& P = info.curve.points();
   for (Eigen::Index i = 1; i < P.rows(); ++i) info.length += (P.row(i) - P.row(i - 1)).head<3>().norm();
   info.collapsed = detail::controlExtent(info.curve) <= collapseTol;
-  info.start = info.curve.evaluate(info.domain.lo).head<3>();
-  info.end = info.curve.evaluate(info.domain.hi).head<3>();
+  info.start = info.curve.point3(info.domain.lo);
+  info.end = info.curve.point3(info.domain.hi);
   const double step = info.domain.length() / kDepartureDivisor;
-  info.startDir = (info.curve.evaluate(info.domain.lo + step).head<3>() - info.start).normalized();
-  info.endDir = (info.curve.evaluate(info.domain.hi - step).head<3>() - info.end).normalized();
+  info.startDir = (info.curve.point3(info.domain.lo + step) - info.start).normalized();
+  info.endDir = (info.curve.point3(info.domain.hi - step) - info.end).normalized();
   return info;
 }
 
@@ -160,7 +172,7 @@ void setWidths(EdgeInfo& e0, EdgeInfo& e1) {
   double w = 0.0;
   for (double f : {0.25, 0.5, 0.75}) {
     const double t = e0.domain.lo + f * e0.domain.length();
-    w = std::max(w, (e0.curve.evaluate(t) - e1.curve.evaluate(t)).head<3>().norm());
+    w = std::max(w, (e0.curve.point3(t) - e1.curve.point3(t)).norm());
   }
   e0.width = e1.width = w;
 }
@@ -175,12 +187,12 @@ void ensureSamples(EdgeInfo& e) {
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= perSpan; ++i)
       e.sampleT.push_back(cuts[static_cast<size_t>(k)] + (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / perSpan);
-  for (double t : e.sampleT) e.sampleP.push_back(e.curve.evaluate(t).head<3>());
+  for (double t : e.sampleT) e.sampleP.push_back(e.curve.point3(t));
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= kPolylinePerSpan; ++i)
       e.polyT.push_back(cuts[static_cast<size_t>(k)] +
                         (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / kPolylinePerSpan);
-  for (double t : e.polyT) e.polyP.push_back(e.curve.evaluate(t).head<3>());
+  for (double t : e.polyT) e.polyP.push_back(e.curve.point3(t));
 }
 
 /// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
@@ -197,14 +209,6 @@ detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
   return best;
 }
 
-/// Knot vector of the curve mapped affinely onto [0, 1].
-std::vector<double> normalizedKnots(const BSplineCurve& c) {
-  std::vector<double> k = c.knots().values();
-  const Interval d = c.domain();
-  for (double& x : k) x = (x - d.lo) / d.length();
-  return k;
-}
-
 /// Fast path: control polygons that agree point by point within `tol` (in the same or reversed order, the closer of
 /// the two) with equivalent knots and weights. Then the edges are the same parametrised curve up to the largest
 /// control-point distance (partition of unity).
@@ -213,7 +217,8 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
   const BSplineCurve& cb = b.curve;
   if (ca.degree() != cb.degree() || ca.numPoints() != cb.numPoints() || ca.isRational() != cb.isRational())
     return std::nullopt;
-  const std::vector<double> ka = normalizedKnots(ca), kb = normalizedKnots(cb);
+  const std::vector<double>& ka = a.unitKnots;
+  const std::vector<double>& kb = b.unitKnots;
   const int n = ca.numPoints();
   std::optional<EdgePair> best;
   for (bool reversed : {false, true}) {
@@ -489,50 +494,74 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
   double h = sizes[sizes.size() / 2];
   if (!(h > 0.0) || !std::isfinite(h)) h = 1.0;
-  struct Key {
-    std::array<long, 3> cell;
-    int edge;
-    // Element-wise (std::array's operators go through memcmp).
-    bool operator<(const Key& o) const {
-      return std::tie(cell[0], cell[1], cell[2], edge) < std::tie(o.cell[0], o.cell[1], o.cell[2], o.edge);
-    }
-    [[nodiscard]] bool sameCell(const Key& o) const {
-      return cell[0] == o.cell[0] && cell[1] == o.cell[1] && cell[2] == o.cell[2];
-    }
-  };
-  std::vector<Key> keys;
-  std::vector<int> oversize;
+  // Cells are counted from the low corner of all inflated boxes, kCellBits per axis packed into one 64-bit code;
+  // a model wider than 2^kCellBits cells gets coarser cells (more candidates, the same result).
+  constexpr int kCellBits = 21;
+  constexpr double kMaxCellsPerAxis = static_cast<double>((1L << kCellBits) - 2);
+  Vec3 gmin = Vec3::Constant(std::numeric_limits<double>::infinity()), gmax = -gmin;
   for (int i : active) {
     const BoundingBox& b = edges[static_cast<size_t>(i)].box;
     const double inflate = inflateOf[static_cast<size_t>(i)];
-    std::array<long, 3> lo{}, hi{};
+    gmin = gmin.cwiseMin(b.min - Vec3::Constant(inflate));
+    gmax = gmax.cwiseMax(b.max + Vec3::Constant(inflate));
+  }
+  h = std::max(h, (gmax - gmin).maxCoeff() / kMaxCellsPerAxis);
+  using Cell = std::array<std::uint64_t, 3>;
+  auto code = [](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+    return (x << (2 * kCellBits)) | (y << kCellBits) | z;
+  };
+  std::vector<std::pair<std::uint64_t, int>> keys;  // (cell code, edge), sorted
+  std::vector<int> oversize;
+  std::vector<std::array<Cell, 2>> cellRange(edges.size());  // lo, hi cell of each keyed edge
+  for (int i : active) {
+    const BoundingBox& b = edges[static_cast<size_t>(i)].box;
+    const double inflate = inflateOf[static_cast<size_t>(i)];
+    Cell lo{}, hi{};
     long count = 1;
     for (int k = 0; k < 3; ++k) {
-      lo[static_cast<size_t>(k)] = static_cast<long>(std::floor((b.min[k] - inflate) / h));
-      hi[static_cast<size_t>(k)] = static_cast<long>(std::floor((b.max[k] + inflate) / h));
-      count *= hi[static_cast<size_t>(k)] - lo[static_cast<size_t>(k)] + 1;
+      const auto cellOf = [&](double x) {
+        return static_cast<std::uint64_t>(std::clamp(std::floor((x - gmin[k]) / h), 0.0, kMaxCellsPerAxis));
+      };
+      lo[static_cast<size_t>(k)] = cellOf(b.min[k] - inflate);
+      hi[static_cast<size_t>(k)] = cellOf(b.max[k] + inflate);
+      count *= static_cast<long>(hi[static_cast<size_t>(k)] - lo[static_cast<size_t>(k)] + 1);
     }
     if (count > kMaxCellsPerEdge) {
       oversize.push_back(i);
       continue;
     }
-    for (long x = lo[0]; x <= hi[0]; ++x)
-      for (long y = lo[1]; y <= hi[1]; ++y)
-        for (long z = lo[2]; z <= hi[2]; ++z) keys.push_back({{x, y, z}, i});
+    cellRange[static_cast<size_t>(i)] = {lo, hi};
+    for (std::uint64_t x = lo[0]; x <= hi[0]; ++x)
+      for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) keys.emplace_back(code(x, y, z), i);
   }
   std::sort(keys.begin(), keys.end());
-  for (size_t s = 0; s < keys.size();) {
-    size_t e = s;
-    while (e < keys.size() && keys[e].sameCell(keys[s])) ++e;
-    for (size_t x = s; x < e; ++x)
-      for (size_t y = x + 1; y < e; ++y) out.emplace_back(keys[x].edge, keys[y].edge);
-    s = e;
+  // Pairs (i, j), i < j, in increasing order without a global sort: each edge gathers the higher-numbered edges of
+  // its own cells (plus the oversize ones), and only that short list is sorted.
+  std::vector<char> isOversize(edges.size(), 0);
+  for (int i : oversize) isOversize[static_cast<size_t>(i)] = 1;
+  std::vector<int> partners;
+  for (int i : active) {
+    partners.clear();
+    if (isOversize[static_cast<size_t>(i)]) {
+      for (int j : active)
+        if (j > i) partners.push_back(j);
+    } else {
+      const auto& [lo, hi] = cellRange[static_cast<size_t>(i)];
+      for (std::uint64_t x = lo[0]; x <= hi[0]; ++x)
+        for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
+          for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) {
+            const std::uint64_t c = code(x, y, z);
+            auto it = std::upper_bound(keys.begin(), keys.end(), std::pair{c, i});  // this cell's edges above i
+            for (; it != keys.end() && it->first == c; ++it) partners.push_back(it->second);
+          }
+      for (int j : oversize)
+        if (j > i) partners.push_back(j);
+    }
+    std::sort(partners.begin(), partners.end());
+    partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
+    for (int j : partners) out.emplace_back(i, j);
   }
-  for (int i : oversize)
-    for (int j : active)
-      if (j != i) out.emplace_back(std::min(i, j), std::max(i, j));
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
   // Exact box test (both inflations).
   std::erase_if(out, [&](const std::pair<int, int>& p) {
     const BoundingBox& a = edges[static_cast<size_t>(p.first)].box;
@@ -745,27 +774,32 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     }
     std::sort(keys.begin(), keys.end());
     for (const Key& k : keys) {
-      for (long dx = -1; dx <= 1; ++dx)
-        for (long dy = -1; dy <= 1; ++dy)
-          for (long dz = -1; dz <= 1; ++dz) {
+      // Each pair of cells is visited once: the same cell (pairs with a higher corner index), and the 13
+      // neighbouring cells that come after it in lexicographic order (all their corners).
+      for (long dx = 0; dx <= 1; ++dx)
+        for (long dy = dx == 0 ? 0 : -1; dy <= 1; ++dy)
+          for (long dz = (dx == 0 && dy == 0) ? 0 : -1; dz <= 1; ++dz) {
+            const bool same = dx == 0 && dy == 0 && dz == 0;
             const std::array<long, 3> cell{k.cell[0] + dx, k.cell[1] + dy, k.cell[2] + dz};
             auto it = std::lower_bound(keys.begin(), keys.end(), Key{cell, -1});
             for (; it != keys.end() && it->inCell(cell); ++it) {
-              if (it->corner <= k.corner) continue;
+              if (same && it->corner <= k.corner) continue;
               if ((points[static_cast<size_t>(it->corner)] - points[static_cast<size_t>(k.corner)]).norm() <= cornerTol)
                 uf.unite(k.corner, it->corner);
             }
           }
     }
   }
-  std::map<int, std::vector<int>> clusters;
-  for (int c = 0; c < nc; ++c) clusters[uf.find(c)].push_back(c);
-  std::map<int, std::vector<CornerLinkGlobal>> clusterLinks;
-  for (const CornerLinkGlobal& l : links) clusterLinks[uf.find(l.a)].push_back(l);
+  // Clusters by root (the smallest member), in increasing order of root.
+  std::vector<std::vector<int>> clusters(static_cast<size_t>(nc));
+  for (int c = 0; c < nc; ++c) clusters[static_cast<size_t>(uf.find(c))].push_back(c);
+  std::vector<std::vector<CornerLinkGlobal>> clusterLinks(static_cast<size_t>(nc));
+  for (const CornerLinkGlobal& l : links) clusterLinks[static_cast<size_t>(uf.find(l.a))].push_back(l);
 
   std::vector<ModelCorner> out;
   const std::span<const Patch> patches(model.patches);
-  for (const auto& [root, members] : clusters) {
+  for (size_t root = 0; root < clusters.size(); ++root) {
+    const std::vector<int>& members = clusters[root];
     if (members.size() < 2) continue;
     std::vector<PatchCorner> corners;
     std::map<int, int> local;

@@ -84,40 +84,112 @@ constexpr int kLemma1GoldenIterations = 16;
 constexpr double kLemma1ConstantRel = 1e-9;
 
 // ------------------------------------------------------------------------------------------------------------
-// One side of the seam, seen from its edge (edge = u 0 of `oriented`).
+// One side of the seam, seen from its edge as by BSplineSurface::orientedFrom (the edge becomes u = 0, v runs along
+// it, u into the surface).
 struct Side {
   const Patch* patch = nullptr;
   Edge edge = Edge::U0;
-  BSplineSurface oriented;
   bool rational = false;
+  int degree = 0;                               // degree along the edge
+  Interval dom;                                 // parameter domain along the edge
   BSplineCurve curve;                           // Cartesian boundary curve
   std::vector<Interval> spans;                  // Bezier spans along the edge
   std::array<std::vector<BernsteinPoly>, 3> h;  // homogeneous k-th cross derivative, per span
-  [[nodiscard]] Interval domain() const { return oriented.domainV(); }
+  [[nodiscard]] Interval domain() const { return dom; }
 };
 
 Side makeSide(const Patch& p, Edge e) {
   Side s;
   s.patch = &p;
   s.edge = e;
-  s.oriented = p.surface.orientedFrom(e);
-  s.rational = p.surface.isRational();
-  s.curve = s.oriented.boundaryCurve(Edge::U0);
-  for (int k = 0; k < 3; ++k) {
-    const BSplineCurve hk = s.oriented.homogeneousCrossDerivative(Edge::U0, k);
-    const auto pieces = hk.bezierPieces();
-    if (k == 0)
-      for (const auto& pc : pieces) s.spans.push_back(pc.interval);
-    for (const auto& pc : pieces) s.h[static_cast<size_t>(k)].emplace_back(pc.curve.points());
-  }
+  const BSplineSurface& surf = p.surface;
+  s.rational = surf.isRational();
+  const bool uEdge = isUEdge(e);
+  s.degree = uEdge ? surf.degreeV() : surf.degreeU();
+  const KnotVector& along = uEdge ? surf.knotsV() : surf.knotsU();
+  s.dom = along.domain(s.degree);
+  // All three cross-derivative rows at once, decomposed into Bezier pieces in one pass.
+  Matrix rows = surf.crossDerivativeRows(e, 2);
+  const Eigen::Index hd = rows.cols() / 3;
+  s.curve = BSplineCurve::fromHomogeneous(s.degree, along, rows.leftCols(hd), s.rational);
+  std::vector<double> knots = along.values();
+  s.spans = detail::decompose(s.degree, knots, rows);
+  for (size_t k = 0; k < 3; ++k)
+    for (size_t i = 0; i < s.spans.size(); ++i)
+      s.h[k].emplace_back(Matrix(rows.block(static_cast<Eigen::Index>(i) * s.degree, static_cast<Eigen::Index>(k) * hd,
+                                            s.degree + 1, hd)));
   return s;
 }
 
 int spanIndex(const Side& s, double t) {
   const auto& sp = s.spans;
-  for (size_t i = 0; i < sp.size(); ++i)
-    if (t <= sp[i].hi) return static_cast<int>(i);
-  return static_cast<int>(sp.size()) - 1;
+  const auto it = std::lower_bound(sp.begin(), sp.end(), t, [](const Interval& i, double x) { return i.hi < x; });
+  return it == sp.end() ? static_cast<int>(sp.size()) - 1 : static_cast<int>(it - sp.begin());
+}
+
+/// Largest Bezier degree evaluated by edgeJet on the stack (higher degrees use a heap buffer).
+constexpr int kJetStackDegree = 15;
+
+/// Value and first two derivatives (order <= 2) with respect to x of a Bernstein polynomial with up to 4
+/// components (rows = coefficients), by de Casteljau down to the last three points.
+void bernsteinJet(const Matrix& c, double x, int order, std::array<Eigen::Vector4d, 3>& out) {
+  const int n = static_cast<int>(c.rows()) - 1, dim = static_cast<int>(c.cols());
+  std::array<Eigen::Vector4d, kJetStackDegree + 1> stack;
+  std::vector<Eigen::Vector4d> heap;
+  Eigen::Vector4d* b = stack.data();
+  if (n > kJetStackDegree) {
+    heap.resize(static_cast<size_t>(n) + 1);
+    b = heap.data();
+  }
+  for (int i = 0; i <= n; ++i) {
+    b[i].setZero();
+    for (int k = 0; k < dim; ++k) b[i][k] = c(i, k);
+  }
+  const int keep = std::min(n, 2);  // stop with keep + 1 points: the last de Casteljau levels give the derivatives
+  for (int r = 1; r <= n - keep; ++r)
+    for (int i = 0; i <= n - r; ++i) b[i] = (1.0 - x) * b[i] + x * b[i + 1];
+  out[1].setZero();
+  out[2].setZero();
+  if (keep == 0) {
+    out[0] = b[0];
+  } else if (keep == 1) {
+    out[0] = (1.0 - x) * b[0] + x * b[1];
+    out[1] = n * (b[1] - b[0]);
+  } else {
+    const Eigen::Vector4d q0 = (1.0 - x) * b[0] + x * b[1], q1 = (1.0 - x) * b[1] + x * b[2];
+    out[0] = (1.0 - x) * q0 + x * q1;
+    if (order >= 1) out[1] = n * (q1 - q0);
+    if (order >= 2) out[2] = n * (n - 1) * (b[2] - 2.0 * b[1] + b[0]);
+  }
+}
+
+/// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
+/// of the side (homogeneous; the quotient rule for rational sides). The same values as the surface's own evaluator
+/// to round-off, at a fraction of its cost. Spans are non-empty (decompose drops empty ones).
+void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out) {
+  const size_t k = static_cast<size_t>(spanIndex(s, t));
+  const Interval span = s.spans[k];
+  const double x = (t - span.lo) / span.length(), dx = 1.0 / span.length();
+  std::array<Eigen::Vector4d, 3> j0, j1, j2;
+  bernsteinJet(s.h[0][k].coeffs(), x, 2, j0);
+  bernsteinJet(s.h[1][k].coeffs(), x, 1, j1);
+  bernsteinJet(s.h[2][k].coeffs(), x, 0, j2);
+  // Homogeneous (x, w): value, d/du, d/dv, d2/du2, d2/dudv, d2/dv2.
+  const std::array<Eigen::Vector4d, 6> H{j0[0], j1[0], dx * j0[1], j2[0], dx * j1[1], dx * dx * j0[2]};
+  if (!s.rational) {
+    for (size_t i = 0; i < 6; ++i) out[i] = H[i].head<3>();
+    return;
+  }
+  // x = w S differentiated: S_a = (x_a - w_a S) / w, S_ab = (x_ab - w_ab S - w_a S_b - w_b S_a) / w.
+  const double w = H[0][3];
+  const Vec3 S = H[0].head<3>() / w;
+  const Vec3 Su = (H[1].head<3>() - H[1][3] * S) / w, Sv = (H[2].head<3>() - H[2][3] * S) / w;
+  out[0] = S;
+  out[1] = Su;
+  out[2] = Sv;
+  out[3] = (H[3].head<3>() - H[3][3] * S - 2.0 * H[1][3] * Su) / w;
+  out[4] = (H[4].head<3>() - H[4][3] * S - H[1][3] * Sv - H[2][3] * Su) / w;
+  out[5] = (H[5].head<3>() - H[5][3] * S - 2.0 * H[2][3] * Sv) / w;
 }
 
 // ------------------------------------------------------------------------------------------------------------
@@ -137,8 +209,8 @@ struct PointMeasures {
 // sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise.
 PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
   std::array<Vec3, 6> da, db;  // S, S_u, S_v, S_uu, S_uv, S_vv
-  A.oriented.secondOrderDerivatives(A.oriented.domainU().lo, t, da);
-  B.oriented.secondOrderDerivatives(B.oriented.domainU().lo, s, db);
+  edgeJet(A, t, da);
+  edgeJet(B, s, db);
   PointMeasures m;
   const Vec3 a = da[0], T = da[2], O = -da[1];
   const Vec3 Aoo = da[3], Aot = -da[4], Att = da[5];
@@ -340,16 +412,24 @@ double g2Value(const Piece& pc, double x) {
   return std::abs(val(pc.rho)) * val(pc.T2) / (std::pow(n2, 2.5) * b2);
 }
 
-// Scalar Bernstein polynomial at x by de Casteljau on the stack (no allocation); coefficient column 0.
+// Scalar Bernstein polynomial at x in [0, 1] (coefficient column 0) in O(n), no allocation: Horner's scheme in
+// s = x / (1 - x) (or, mirrored, in (1 - x) / x for x > 1/2, so that |s| <= 1), times (1 - x)^n. For the samples
+// of the connecting functions only (bounds never use it).
 double scalarAt(const BernsteinPoly& p, double x) {
-  constexpr int kStack = 256;
   const int n = p.degree();
-  if (n >= kStack) return p.scalar(x);
-  double b[kStack];
-  for (int i = 0; i <= n; ++i) b[i] = p.coeffs()(i, 0);
-  for (int r = 1; r <= n; ++r)
-    for (int i = 0; i <= n - r; ++i) b[i] = (1.0 - x) * b[i] + x * b[i + 1];
-  return b[0];
+  const double* c = p.coeffs().data();
+  if (n <= 0) return n == 0 ? c[0] : 0.0;
+  if (x <= 0.0) return c[0];
+  if (x >= 1.0) return c[n];
+  const bool mirror = x > 0.5;
+  const double y = mirror ? 1.0 - x : x, s = y / (1.0 - y);
+  // sum_i c_i C(n, i) s^i from the top: C(n, i - 1) = C(n, i) i / (n - i + 1).
+  double acc = mirror ? c[0] : c[n], binom = 1.0;
+  for (int i = n; i >= 1; --i) {
+    binom = binom * i / (n - i + 1);
+    acc = acc * s + binom * (mirror ? c[n - i + 1] : c[i - 1]);
+  }
+  return acc * std::pow(1.0 - y, n);
 }
 
 // Lemma 1 connecting functions on a piece at x: lambda = L / D and kappa = (K / D) * dt/dx (K / D is per unit of
@@ -568,7 +648,7 @@ std::vector<MapSpan> fittedMaps(const Side& master, const Side& slave, Interval 
     for (int i = 0; i < n; ++i) {
       const double sigma = (static_cast<double>(i) + 0.5) / n;
       const double tm = sp.lo + sp.length() * sigma;
-      const Vec3 p = master.curve.evaluate(tm).head<3>();
+      const Vec3 p = master.curve.point3(tm);
       const auto cp = first ? detail::closestPoint(slave.curve, p) : detail::closestPoint(slave.curve, p, {}, guess);
       first = false;
       guess = cp.t;
@@ -627,12 +707,12 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   // ---- overlap: project each edge's end points onto the other edge.
   Interval da = A.domain(), db = B.domain();
   if (aRange) da = {std::max(da.lo, aRange->lo), std::min(da.hi, aRange->hi)};
-  const Vec3 a0 = A.curve.evaluate(da.lo).head<3>(), a1 = A.curve.evaluate(da.hi).head<3>();
-  const Vec3 b0 = B.curve.evaluate(db.lo).head<3>(), b1 = B.curve.evaluate(db.hi).head<3>();
+  const Vec3 a0 = A.curve.point3(da.lo), a1 = A.curve.point3(da.hi);
+  const Vec3 b0 = B.curve.point3(db.lo), b1 = B.curve.point3(db.hi);
   // An end point whose partner edge's end is about as close as the partner curve itself (a gap, not a
   // T-junction) is snapped to that end, so that offset seams keep their exact end-to-end correspondence.
   auto project = [](const BSplineCurve& c, const Vec3& p, Interval range) {
-    const double dLo = (c.evaluate(range.lo).head<3>() - p).norm(), dHi = (c.evaluate(range.hi).head<3>() - p).norm();
+    const double dLo = (c.point3(range.lo) - p).norm(), dHi = (c.point3(range.hi) - p).norm();
     const double roundoff = kRoundoff * controlBox(c).diagonal();
     if (std::min(dLo, dHi) <= roundoff) return dLo <= dHi ? range.lo : range.hi;  // shared end point
     const detail::CurvePoint cp = detail::closestPoint(c, p, range);
@@ -674,7 +754,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       certified = true;
       corrBound = bound;
     } else {
-      const int pA = A.oriented.degreeV(), pB = B.oriented.degreeV();
+      const int pA = A.degree, pB = B.degree;
       bool found = false;
       {  // homogeneous degrees: b = a o psi holds for (wP, w) as well, up to a common factor that is not sought
         if (pB % pA == 0 && pB / pA > 1) {
@@ -704,7 +784,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
         const int n = std::max(opt.samplesPerSpan, 8) * static_cast<int>(A.spans.size());
         for (int i = 0; i <= n; ++i) {
           const double t = rep.overlapA.lo + rep.overlapA.length() * i / n;
-          haus = std::max(haus, detail::closestPoint(B.curve, A.curve.evaluate(t).head<3>(), rep.overlapB).distance);
+          haus = std::max(haus, detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB).distance);
         }
         if (bound <= (1.0 + opt.boundRelGap) * haus + exactFloor) {
           pieces = std::move(pcs);
@@ -729,7 +809,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   // ---- dense sampling (the sampled worst values, and the whole story when not certified).
   SampleSet S;
   const auto sOfT = [&](double t, double guess) {
-    return detail::closestPoint(B.curve, A.curve.evaluate(t).head<3>(), rep.overlapB, guess).t;
+    return detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB, guess).t;
   };
   const int perSpan = std::max(opt.samplesPerSpan, 2);
   if (certified) {
@@ -810,26 +890,26 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     for (size_t i = 0; i < S.t.size(); ++i)
       d1[i] = detail::closestPoint(B.curve, S.m[i].point, rep.overlapB, S.s[i]).distance;
     auto f = [&](double t) {
-      return detail::closestPoint(B.curve, A.curve.evaluate(t).head<3>(), rep.overlapB, sAt(t)).distance;
+      return detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB, sAt(t)).distance;
     };
     auto [tw, w] = refinedMaximum(S.t, d1, f);
     double other = 0.0;
     for (size_t i = 0; i < S.s.size(); ++i)
-      other = std::max(other, detail::closestPoint(A.curve, B.curve.evaluate(S.s[i]).head<3>(), rep.overlapA,
+      other = std::max(other, detail::closestPoint(A.curve, B.curve.point3(S.s[i]), rep.overlapA,
                                                    S.t[i]).distance);
     rep.g0Sampled = std::max(w, other);
-    rep.g0Worst = {tw, A.curve.evaluate(tw).head<3>()};
+    rep.g0Worst = {tw, A.curve.point3(tw)};
   }
   {
     auto [tw, w] = refined([](const PointMeasures& m) { return m.normalsOk ? m.g1 : 0.0; });
     rep.g1SampledDeg = w * kRadToDeg;
-    rep.g1Worst = {tw, A.curve.evaluate(tw).head<3>()};
+    rep.g1Worst = {tw, A.curve.point3(tw)};
   }
   {
     auto [tw, w] = refined([](const PointMeasures& m) { return m.normalsOk ? m.g2 : 0.0; });
     rep.g2Sampled = w;
     rep.g2RelSampled = w / curvRef;
-    rep.g2Worst = {tw, A.curve.evaluate(tw).head<3>()};
+    rep.g2Worst = {tw, A.curve.point3(tw)};
   }
   double lamLo = std::numeric_limits<double>::infinity(), lamHi = -lamLo, kapLo = lamLo, kapHi = -lamLo;
   double c1 = 0.0, c1s = 0.0, c2 = 0.0, c2s = 0.0;
@@ -874,7 +954,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       });
       if (w > rep.g2Sampled) {
         rep.g2Sampled = w;
-        rep.g2Worst = {tw, A.curve.evaluate(tw).head<3>()};
+        rep.g2Worst = {tw, A.curve.point3(tw)};
       }
       rep.g2Max = std::max(rep.g2Max, rep.g2Sampled);
     };
@@ -891,7 +971,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {
         rep.g1SampledDeg = best * kRadToDeg;
         const double t = tAt(bp, bx);
-        rep.g1Worst = {t, A.curve.evaluate(t).head<3>()};
+        rep.g1Worst = {t, A.curve.point3(t)};
       }
       if (!ok) {
         rep.notes.push_back("the G1 bound could not be closed near a vanishing normal");
@@ -923,7 +1003,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       if (bp >= 0 && best > rep.g2Sampled) {
         rep.g2Sampled = best;
         const double t = tAt(bp, bx);
-        rep.g2Worst = {t, A.curve.evaluate(t).head<3>()};
+        rep.g2Worst = {t, A.curve.point3(t)};
       }
       if (g2ok) {
         rep.g2Max = std::max(bound, rep.g2Sampled);

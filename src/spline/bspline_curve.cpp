@@ -10,6 +10,61 @@
 
 namespace seam {
 
+namespace detail {
+// Values, first and second derivatives of the p+1 non-zero basis functions (NURBS Book A2.3 on the stack).
+void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastBasisDegree + 1]) {
+  double ndu[kMaxFastBasisDegree + 1][kMaxFastBasisDegree + 1], a[2][kMaxFastBasisDegree + 1];
+  double left[kMaxFastBasisDegree + 1], right[kMaxFastBasisDegree + 1];
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
+    right[j] = U[static_cast<size_t>(span + j)] - t;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];
+      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  for (int j = 0; j <= p; ++j) {
+    ders[0][j] = ndu[j][p];
+    ders[1][j] = ders[2][j] = 0.0;
+  }
+  const int n = std::min(2, p);
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= n; ++k) {
+      double d = 0.0;
+      const int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      const int j1 = rk >= -1 ? 1 : -rk;
+      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  double f = p;
+  for (int k = 1; k <= n; ++k) {
+    for (int j = 0; j <= p; ++j) ders[k][j] *= f;
+    f *= (p - k);
+  }
+}
+}  // namespace detail
+
 namespace {
 
 Status checkPointsAndWeights(const Matrix& points, const VecX& weights) {
@@ -64,17 +119,13 @@ Matrix BSplineCurve::homogeneous() const {
 
 namespace {
 /// Degrees up to this use the allocation-free evaluation (stack arrays); higher degrees go through derivatives().
-constexpr int kMaxFastEvalDegree = 15;
-}  // namespace
+constexpr int kMaxFastEvalDegree = detail::kMaxFastBasisDegree;
 
-VecX BSplineCurve::evaluate(double t) const {
-  if (p_ > kMaxFastEvalDegree) return derivatives(t, 0).row(0).transpose();
-  // Basis functions by the triangular Cox-de Boor scheme (The NURBS Book A2.2), then the (weighted) sum.
-  const int span = knots_.findSpan(p_, t);
-  const std::vector<double>& U = knots_.values();
-  double N[kMaxFastEvalDegree + 1], left[kMaxFastEvalDegree + 1], right[kMaxFastEvalDegree + 1];
+// The p + 1 non-zero basis functions at t in `span` (triangular Cox-de Boor scheme, NURBS Book A2.2, on the stack).
+void basisValues(const std::vector<double>& U, int p, int span, double t, double* N) {
+  double left[kMaxFastEvalDegree + 1], right[kMaxFastEvalDegree + 1];
   N[0] = 1.0;
-  for (int j = 1; j <= p_; ++j) {
+  for (int j = 1; j <= p; ++j) {
     left[j] = t - U[static_cast<size_t>(span + 1 - j)];
     right[j] = U[static_cast<size_t>(span + j)] - t;
     double saved = 0.0;
@@ -85,6 +136,15 @@ VecX BSplineCurve::evaluate(double t) const {
     }
     N[j] = saved;
   }
+}
+}  // namespace
+
+VecX BSplineCurve::evaluate(double t) const {
+  if (p_ > kMaxFastEvalDegree) return derivatives(t, 0).row(0).transpose();
+  // Basis functions by the triangular Cox-de Boor scheme (The NURBS Book A2.2), then the (weighted) sum.
+  const int span = knots_.findSpan(p_, t);
+  double N[kMaxFastEvalDegree + 1];
+  basisValues(knots_.values(), p_, span, t, N);
   const auto d = points_.cols();
   VecX out = VecX::Zero(d);
   if (!isRational()) {
@@ -99,6 +159,60 @@ VecX BSplineCurve::evaluate(double t) const {
     w += nw;
   }
   return out / w;
+}
+
+Vec3 BSplineCurve::point3(double t) const {
+  assert(dim() >= 3);
+  if (p_ > kMaxFastEvalDegree) return derivatives(t, 0).row(0).head<3>().transpose();
+  const int span = knots_.findSpan(p_, t);
+  double N[kMaxFastEvalDegree + 1];
+  basisValues(knots_.values(), p_, span, t, N);
+  Vec3 out = Vec3::Zero();
+  double w = 0.0;
+  const bool rational = isRational();
+  for (int r = 0; r <= p_; ++r) {
+    const int i = span - p_ + r;
+    const double nw = N[r] * (rational ? weights_[i] : 1.0);
+    out += nw * points_.row(i).head<3>().transpose();
+    w += nw;
+  }
+  return rational ? Vec3(out / w) : out;
+}
+
+void BSplineCurve::derivatives2(double t, Vec3& c, Vec3& d1, Vec3& d2) const {
+  assert(dim() >= 3);
+  if (p_ > kMaxFastEvalDegree) {
+    const Matrix d = derivatives(t, 2);
+    c = d.row(0).head<3>().transpose();
+    d1 = d.row(1).head<3>().transpose();
+    d2 = d.row(2).head<3>().transpose();
+    return;
+  }
+  const int span = knots_.findSpan(p_, t);
+  double N[3][detail::kMaxFastBasisDegree + 1];
+  detail::basisUpTo2(knots_.values(), p_, span, t, N);
+  const bool rational = isRational();
+  Vec3 A[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  double w[3] = {0.0, 0.0, 0.0};
+  for (int r = 0; r <= p_; ++r) {
+    const int i = span - p_ + r;
+    const double wi = rational ? weights_[i] : 1.0;
+    const Vec3 x = points_.row(i).head<3>().transpose();
+    for (int k = 0; k < 3; ++k) {
+      A[k] += (N[k][r] * wi) * x;
+      w[k] += N[k][r] * wi;
+    }
+  }
+  if (!rational) {
+    c = A[0];
+    d1 = A[1];
+    d2 = A[2];
+    return;
+  }
+  // A = w C differentiated (NURBS Book A4.2): C' = (A' - w' C) / w, C'' = (A'' - 2 w' C' - w'' C) / w.
+  c = A[0] / w[0];
+  d1 = (A[1] - w[1] * c) / w[0];
+  d2 = (A[2] - 2.0 * w[1] * d1 - w[2] * c) / w[0];
 }
 
 Matrix BSplineCurve::derivatives(double t, int order) const {

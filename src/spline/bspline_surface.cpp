@@ -165,7 +165,7 @@ std::vector<std::vector<VecX>> BSplineSurface::derivatives(double u, double v, i
 
 namespace {
 // Largest degree handled by the allocation-free paths (higher degrees use the general algorithm).
-constexpr int kMaxFastDegree = 15;
+constexpr int kMaxFastDegree = detail::kMaxFastBasisDegree;
 
 // Values and first derivatives of the p+1 non-zero basis functions at t in `span` (Cox-de Boor triangle on the
 // stack; N'_{i,p} = p (N_{i,p-1} / (t_{i+p} - t_i) - N_{i+1,p-1} / (t_{i+p+1} - t_{i+1}))).
@@ -250,60 +250,6 @@ void BSplineSurface::pointAndFirstDerivatives(double u, double v, Vec3& point, V
   dv = Vec3(Sv[0], Sv[1], Sv[2]);
 }
 
-namespace {
-// Values, first and second derivatives of the p+1 non-zero basis functions (NURBS Book A2.3 on the stack).
-void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastDegree + 1]) {
-  double ndu[kMaxFastDegree + 1][kMaxFastDegree + 1], a[2][kMaxFastDegree + 1];
-  double left[kMaxFastDegree + 1], right[kMaxFastDegree + 1];
-  ndu[0][0] = 1.0;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
-    right[j] = U[static_cast<size_t>(span + j)] - t;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
-  }
-  for (int j = 0; j <= p; ++j) {
-    ders[0][j] = ndu[j][p];
-    ders[1][j] = ders[2][j] = 0.0;
-  }
-  const int n = std::min(2, p);
-  for (int r = 0; r <= p; ++r) {
-    int s1 = 0, s2 = 1;
-    a[0][0] = 1.0;
-    for (int k = 1; k <= n; ++k) {
-      double d = 0.0;
-      const int rk = r - k, pk = p - k;
-      if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
-      }
-      const int j1 = rk >= -1 ? 1 : -rk;
-      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-      for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
-      }
-      if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
-      }
-      ders[k][r] = d;
-      std::swap(s1, s2);
-    }
-  }
-  double f = p;
-  for (int k = 1; k <= n; ++k) {
-    for (int j = 0; j <= p; ++j) ders[k][j] *= f;
-    f *= (p - k);
-  }
-}
-}  // namespace
 
 void BSplineSurface::secondOrderDerivatives(double u, double v, std::array<Vec3, 6>& out) const {
   assert(dim() == 3);
@@ -314,8 +260,8 @@ void BSplineSurface::secondOrderDerivatives(double u, double v, std::array<Vec3,
   }
   const int su = ku_.findSpan(pu_, u), sv = kv_.findSpan(pv_, v);
   double Nu[3][kMaxFastDegree + 1], Nv[3][kMaxFastDegree + 1];
-  basisUpTo2(ku_.values(), pu_, su, u, Nu);
-  basisUpTo2(kv_.values(), pv_, sv, v, Nv);
+  detail::basisUpTo2(ku_.values(), pu_, su, u, Nu);
+  detail::basisUpTo2(kv_.values(), pv_, sv, v, Nv);
   const bool rational = isRational();
   // H[k][l] homogeneous derivative d^{k+l}/du^k dv^l, k + l <= 2, 4 coordinates.
   double H[3][3][4] = {};
@@ -473,6 +419,35 @@ BSplineCurve BSplineSurface::homogeneousCrossDerivative(Edge e, int order) const
   return BSplineCurve(pv_, kv_, std::move(rows));
 }
 
+Matrix BSplineSurface::crossDerivativeRows(Edge e, int maxOrder) const {
+  assert(maxOrder >= 0);
+  const bool uEdge = isUEdge(e), atEnd = e == Edge::U1 || e == Edge::V1;
+  const int p = uEdge ? pu_ : pv_, nAlong = uEdge ? nv_ : nu_;
+  const KnotVector& kc = uEdge ? ku_ : kv_;
+  const double c = atEnd ? kc.domain(p).hi : kc.domain(p).lo;
+  const bool rational = isRational();
+  const int d = dim(), hd = d + (rational ? 1 : 0);
+  Matrix out = Matrix::Zero(nAlong, static_cast<Eigen::Index>(maxOrder + 1) * hd);
+  const int top = std::min(maxOrder, p);
+  const int span = kc.findSpan(p, c);
+  const Matrix N = basisFunctionDerivatives(kc, p, span, c, top);
+  for (int r = 0; r <= p; ++r) {
+    const int across = span - p + r;
+    for (int k = 0; k <= top; ++k) {
+      // Reversed cross direction at the far edge: d/dn = -d/du there.
+      const double coef = (atEnd && k % 2 == 1) ? -N(k, r) : N(k, r);
+      if (coef == 0.0) continue;
+      for (int j = 0; j < nAlong; ++j) {
+        const int flat = uEdge ? across * nv_ + j : j * nv_ + across;
+        const double cw = coef * (rational ? weights_[flat] : 1.0);
+        out.block(j, static_cast<Eigen::Index>(k) * hd, 1, d) += cw * points_.row(flat);
+        if (rational) out(j, static_cast<Eigen::Index>(k) * hd + d) += cw;
+      }
+    }
+  }
+  return out;
+}
+
 BSplineCurve BSplineSurface::crossDerivativeCurve(Edge e, int order) const {
   assert(order >= 0 && order <= 2);
   if (!isRational()) return homogeneousCrossDerivative(e, order);
@@ -520,7 +495,10 @@ BSplineCurve BSplineSurface::crossDerivativeCurve(Edge e, int order) const {
   return detail::curveFromBezierPieces(out, spans, true);
 }
 
-BSplineCurve BSplineSurface::boundaryCurve(Edge e) const { return crossDerivativeCurve(e, 0); }
+BSplineCurve BSplineSurface::boundaryCurve(Edge e) const {
+  const bool uEdge = isUEdge(e);
+  return BSplineCurve::fromHomogeneous(uEdge ? pv_ : pu_, uEdge ? kv_ : ku_, crossDerivativeRows(e, 0), isRational());
+}
 
 BSplineSurface BSplineSurface::orientedFrom(Edge e) const {
   switch (e) {

@@ -8,6 +8,13 @@
 
 namespace seam::detail {
 
+/// Largest degree handled by the allocation-free evaluation paths (higher degrees use the general algorithms).
+inline constexpr int kMaxFastBasisDegree = 15;
+
+/// Values, first and second derivatives (rows 0, 1, 2) of the p + 1 non-zero basis functions of degree
+/// p <= kMaxFastBasisDegree at t in knot span `span` (NURBS Book A2.3, on the stack).
+void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastBasisDegree + 1]);
+
 /// Makes both domain ends of multiplicity degree+1 and drops control rows outside the domain (same curve).
 void clampEnds(int degree, std::vector<double>& knots, Matrix& rows);
 

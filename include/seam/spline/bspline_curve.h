@@ -39,6 +39,10 @@ class BSplineCurve {
   [[nodiscard]] Interval domain() const { return knots_.domain(p_); }
 
   [[nodiscard]] VecX evaluate(double t) const;
+  /// The point at t of a curve with dim() >= 3 (its first three coordinates), without heap allocation.
+  [[nodiscard]] Vec3 point3(double t) const;
+  /// C(t), C'(t), C''(t) (first three coordinates; dim() >= 3; rational: quotient rule), without heap allocation.
+  void derivatives2(double t, Vec3& c, Vec3& d1, Vec3& d2) const;
   /// Rows 0..order: C(t), C'(t), ..., C^(order)(t) (rational: quotient-rule recursion, NURBS Book A4.2).
   [[nodiscard]] Matrix derivatives(double t, int order) const;
 

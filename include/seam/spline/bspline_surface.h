@@ -93,6 +93,12 @@ class BSplineSurface {
   [[nodiscard]] BSplineCurve crossDerivativeCurve(Edge e, int order) const;
   /// Homogeneous cross-boundary derivative d^k (wP, w) / dn^k along the edge (exact polynomial B-spline).
   [[nodiscard]] BSplineCurve homogeneousCrossDerivative(Edge e, int order) const;
+  /// Control rows of the homogeneous cross-boundary derivatives of orders 0..maxOrder along edge e, as seen by
+  /// orientedFrom(e) (derivative into the surface, edge parameter running as the original one), in one pass without
+  /// copying the surface: an n x ((maxOrder + 1) h) matrix, h = dim() + (isRational() ? 1 : 0), whose column block k
+  /// holds the B-spline control rows (w P, w) of order k over the along-edge knots (knotsV() for U edges, knotsU()
+  /// for V edges). Orders above the cross degree are zero.
+  [[nodiscard]] Matrix crossDerivativeRows(Edge e, int maxOrder) const;
   /// The surface seen from edge e: reoriented (swap/reverse) so that e becomes U0 and parameters increase
   /// along the same direction as the original edge parameter.
   [[nodiscard]] BSplineSurface orientedFrom(Edge e) const;
