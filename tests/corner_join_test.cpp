@@ -6,16 +6,24 @@
 // from the knot values; every seam is verified by the certified referee (analyzeSeam) and by the dense reference of
 // seam_test_support.h (kernel evaluation only); the 4-valent vertex by the corner analysis (continuity/corner.h).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <optional>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "seam/continuity/corner.h"
 #include "seam/continuity/seam.h"
+#include "seam/io/json.h"
 #include "seam/repair/bicubic.h"
 #include "seam/repair/corner_join.h"
 #include "seam_test_support.h"
@@ -482,6 +490,54 @@ TEST(CornerJoin, BadInputIsAClearError) {
   fc.toPrev[0] = Edge::U0;  // parallel to toNext U1: not a corner
   EXPECT_EQ(joinFourPatchCorner(modelOf(g.s), fc).status().code(), ErrorCode::kInvalidInput);
 }
+
+#ifdef SEAM_CLI_PATH
+// `seam corner`: the report in JSON, exit codes.
+TEST(CornerCli, ReportsTheConditionsAndJoins) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("seam_corner_cli_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Rng rng(4108);
+  const Fig1 f = fig1(rng);
+  const double size = seamtest::patchScale(f.F);
+  const Model m = modelOf(noisy(rng, f.S, 1e-3 * size, [](int, int j) { return j <= 1; }), f.St, f.Sh);
+  const std::filesystem::path in = dir / "in.json", out = dir / "out.json", log = dir / "stdout.txt";
+  ASSERT_TRUE(io::writeModelJson(m, in).isOk());
+  auto run = [&](const std::string& args) {
+    const std::string cmd = std::string(SEAM_CLI_PATH) + " corner " + in.string() + " " + args + " -o " +
+                            out.string() + " > " + log.string() + " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream fl(log);
+    std::stringstream ss;
+    ss << fl.rdbuf();
+    return std::make_pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str());
+  };
+  const auto [rc, text] = run("--three 'S:v0:u0' 'S~:v1:u0' 'S^:u1' --json");
+  EXPECT_EQ(rc, 0) << text;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["layout"], "three");
+  EXPECT_TRUE(j["proportionality"]["all_hold"].get<bool>());
+  EXPECT_EQ(j["proportionality"]["conditions"].size(), 6u);
+  EXPECT_EQ(j["proportionality"]["conditions"][0]["name"], "u-proportional");
+  EXPECT_EQ(j["proportionality"]["corner_index"], 2);
+  ASSERT_EQ(j["steps"].size(), 2u);
+  EXPECT_EQ(j["steps"][0]["method"], "bspline");
+  EXPECT_EQ(j["steps"][1]["method"], "bspline");
+  EXPECT_EQ(j["seams"].size(), 3u);
+  EXPECT_TRUE(j["achieved"].get<bool>());
+  auto back = io::readModelJson(out);
+  ASSERT_TRUE(back.isOk());
+  EXPECT_EQ(back->patches.size(), 3u);
+  // The table form, and bad input (edges that do not meet at a corner) with exit code 2.
+  const auto [rc2, text2] = run("--three 'S:v0:u0' 'S~:v1:u0' 'S^:u1'");
+  EXPECT_EQ(rc2, 0) << text2;
+  EXPECT_NE(text2.find("ratio-chain"), std::string::npos) << text2;
+  const auto [rc3, text3] = run("--three 'S:v0:v1' 'S~:v1:u0' 'S^:u1'");
+  EXPECT_EQ(rc3, 2) << text3;
+  EXPECT_NE(text3.find("do not meet at a corner"), std::string::npos) << text3;
+  std::filesystem::remove_all(dir);
+}
+#endif
 
 }  // namespace
 }  // namespace seam
