@@ -413,6 +413,10 @@ TEST(CornerJoin4, NonProportionalPairIsReportedAndJoinedByTheFallback) {
   const Grid2x2 g = grid2x2(rng);
   const double size = seamtest::patchScale(g.F);
   std::array<BSplineSurface, 4> s = g.s;
+  for (BSplineSurface& x : s) {
+    const int nu = x.numU(), nv = x.numV();
+    x = noisy(rng, x, 2e-3 * size, [&](int i, int j) { return i <= 1 || j <= 1 || i >= nu - 2 || j >= nv - 2; });
+  }
   // S2's breakpoints along the S1/S2 seam (its v; S2 is v <= b, the vertex at v = b): the interior one moved by 3 %.
   // Only the S1/S2 pair fails: the compound seam runs along the u-knots, which do not change.
   std::vector<double> bv2 = s[1].knotsV().breakpoints();
@@ -433,6 +437,8 @@ TEST(CornerJoin4, NonProportionalPairIsReportedAndJoinedByTheFallback) {
   EXPECT_NE(r->report.steps[0].method, JoinMethod::kBSpline);
   EXPECT_EQ(r->report.steps[1].method, JoinMethod::kBSpline);
   EXPECT_EQ(r->report.steps[2].method, JoinMethod::kLeastSquares);
+  // The compound S3 u S4 moved onto S1 u S2 (healModel keeps the two already joined, anchored patches S1, S2).
+  EXPECT_EQ(r->report.steps[2].moved, (std::vector<std::string>{"S3", "S4"}));
   expectSeamsG1(r->model, r->report, size, 4);
   EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
 }
