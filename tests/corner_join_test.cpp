@@ -48,6 +48,8 @@ constexpr double kExactKnotResidual = 1e-14;
 constexpr double kHandRatioTol = 1e-12;
 /// Dense reference samples per seam.
 constexpr int kDenseSamples = 600;
+/// Perturbations of 2e-3 x size need displacements of that order; 0.1 x size would mean the join went astray.
+constexpr double kPlausibleDisplacementRel = 0.1;
 /// Scaled G1 compatibility residual at the 4-valent vertex (Johansson's relations, corner.h) of an exact G1 vertex:
 /// round-off of least-squares connecting functions; the default angle tolerance as a sine is ~1.7e-4.
 constexpr double kVertexG1Residual = 1e-6;
@@ -238,7 +240,38 @@ TEST(CornerJoin3, PerturbedNearEverySeamAndTheCornerJoinsG1) {
     EXPECT_TRUE(m.findPatch("S~")->surface.points() == r->model.findPatch("S~")->surface.points());
     expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
     EXPECT_GT(r->report.maxDisplacement, 0.0);
-    EXPECT_LT(r->report.maxDisplacement, 0.1 * size);
+    EXPECT_LT(r->report.maxDisplacement, kPlausibleDisplacementRel * size);
+  }
+}
+
+TEST(CornerJoin3, Theorem1FromTheFarCornerOfSWhenSHatReachesPastSTilde) {
+  // S~ is cut shorter (F on v in [v_1, b] instead of [0, b]): S^'s edge reaches past S~'s far corner, so span i pairs
+  // with span i only from S's far corner: the compound is built from there (the reversed direction) and Theorem 1's
+  // case m > m~ applies to S^ (5 spans against the compound's 4).
+  Rng rng(4109);
+  for (int trial = 0; trial < 2; ++trial) {
+    const Fig1 f = fig1(rng);
+    const double size = seamtest::patchScale(f.F);
+    auto [below, St] = seamtest::splitV(f.St, f.bv[1]);
+    (void)below;
+    // Rows 0, 1 of S^ destroyed where S^ meets S~ and S (v-index j >= 2); Theorem 1 keeps the points of the span
+    // beyond S~ (j = 0, 1) and rebuilds the others.
+    const BSplineSurface Sh =
+        noisy(rng, f.Sh, 1e-3 * size, [&](int i, int j) { return i >= f.Sh.numU() - 2 && j >= 2; });
+    const Model m = modelOf(f.S, St, Sh);
+    auto r = joinThreePatchCorner(m, f.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    const ThreePatchProportionality& p = *r->proportionality;
+    EXPECT_EQ(p.nTilde, 1);
+    EXPECT_EQ(p.nHat1, 1);
+    EXPECT_EQ(p.cornerIndex, 2);
+    EXPECT_TRUE(p.allHold);
+    EXPECT_TRUE(p.theorem1ForHat);
+    ASSERT_EQ(r->report.steps.size(), 2u);
+    EXPECT_EQ(r->report.steps[1].method, JoinMethod::kBSpline) << r->report.steps[1].reason;
+    // Independent route: S^ is a piece of F, so it comes back, including d_{2m^+1} from the end formula (3.10).
+    EXPECT_LE(maxPointDiff(r->model.findPatch("S^")->surface, f.Sh), kRecoveryRel * size);
+    expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
   }
 }
 
