@@ -528,6 +528,16 @@ TEST(CornerJoin, BadInputIsAClearError) {
   fc = g.corner;
   fc.toPrev[0] = Edge::U0;  // parallel to toNext U1: not a corner
   EXPECT_EQ(joinFourPatchCorner(modelOf(g.s), fc).status().code(), ErrorCode::kInvalidInput);
+  // A non-C1-bicubic patch among the four: Theorem 1 requested is refused; auto joins by least squares.
+  std::array<BSplineSurface, 4> s4 = g.s;
+  s4[2] = s4[2].withKnotInsertedV(0.5 * (s4[2].domainV().lo + s4[2].domainV().hi), 1);
+  auto bad4 = joinFourPatchCorner(modelOf(s4), g.corner, strict);
+  EXPECT_EQ(bad4.status().code(), ErrorCode::kUnsupported);
+  EXPECT_TRUE(test::failsMentioning(bad4.status(), {"C1 bicubic", "\"S3\""}));
+  auto auto4 = joinFourPatchCorner(modelOf(s4), g.corner, cornerOptions());
+  ASSERT_TRUE(auto4.isOk()) << auto4.status().message();
+  EXPECT_FALSE(auto4->proportionality.has_value());
+  EXPECT_TRUE(auto4->report.achieved);
 }
 
 #ifdef SEAM_CLI_PATH
