@@ -116,4 +116,74 @@ std::string healReportJson(const HealReport& r) {
   return j.dump();
 }
 
+namespace {
+
+Json conditionsJson(const std::vector<ConditionCheck>& checks) {
+  Json a = Json::array();
+  for (const ConditionCheck& k : checks)
+    a.push_back(Json{{"name", std::string(toString(k.condition))},
+                     {"statement", k.statement},
+                     {"residual", num(k.residual)},
+                     {"tolerance", num(k.tolerance)},
+                     {"holds", k.holds},
+                     {"detail", k.detail}});
+  return a;
+}
+
+Json cornerReportJson(const CornerJoinReport& r, Json proportionality, const char* layout) {
+  Json j;
+  j["layout"] = layout;
+  j["proportionality"] = std::move(proportionality);
+  Json steps = Json::array();
+  for (const CornerJoinStep& s : r.steps)
+    steps.push_back(Json{{"moved", strings(s.moved)},
+                         {"onto", strings(s.onto)},
+                         {"method", std::string(toString(s.method))},
+                         {"reason", s.reason},
+                         {"max_displacement", num(s.maxDisplacement)},
+                         {"moved_points", s.movedPoints},
+                         {"notes", strings(s.notes)}});
+  j["steps"] = steps;
+  Json seams = Json::array();
+  for (const CornerSeam& s : r.seams) seams.push_back(Json{{"after", seamJson(s.after)}, {"achieved", s.achieved}});
+  j["seams"] = seams;
+  j["achieved"] = r.achieved;
+  j["max_displacement"] = num(r.maxDisplacement);
+  j["worst"] = Json{{"g0_max", num(r.worstG0)}, {"g1_max_deg", num(r.worstG1Deg)}};
+  j["notes"] = strings(r.notes);
+  return j;
+}
+
+}  // namespace
+
+std::string threePatchJoinJson(const ThreePatchJoinResult& res) {
+  Json p(nullptr);
+  if (res.proportionality) {
+    const ThreePatchProportionality& q = *res.proportionality;
+    p = Json{{"all_hold", q.allHold},
+             {"theorem1_for_hat", q.theorem1ForHat},
+             {"conditions", conditionsJson(q.checks)},
+             {"chain_ratios", numbers(q.chainRatios)},
+             {"m", q.m},
+             {"m_tilde", q.mTilde},
+             {"n", q.n},
+             {"n_tilde", q.nTilde},
+             {"q", q.q},
+             {"corner_index", q.cornerIndex},
+             {"n_hat1", q.nHat1},
+             {"n_hat2", q.nHat2},
+             {"notes", strings(q.notes)}};
+  }
+  return cornerReportJson(res.report, std::move(p), "three").dump();
+}
+
+std::string fourPatchJoinJson(const FourPatchJoinResult& res) {
+  Json p(nullptr);
+  if (res.proportionality)
+    p = Json{{"all_hold", res.proportionality->allHold},
+             {"conditions", conditionsJson(res.proportionality->checks)},
+             {"chain_ratios", numbers(res.proportionality->chainRatios)}};
+  return cornerReportJson(res.report, std::move(p), "four").dump();
+}
+
 }  // namespace seam

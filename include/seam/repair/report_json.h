@@ -12,6 +12,7 @@
 #include <string>
 
 #include "seam/continuity/seam.h"
+#include "seam/repair/corner_join.h"
 #include "seam/repair/heal.h"
 #include "seam/repair/join.h"
 
@@ -28,5 +29,14 @@ std::string joinReportJson(const JoinReport& report);
 /// {"requested", "max_gap", "seams": [{"before", "after", "moved", "action", "notes"}], "patches_changed",
 ///  "max_displacement", "moved_points", "worst": {...}, "achieved", "notes"}
 std::string healReportJson(const HealReport& report);
+
+/// A §4.1 corner join (`seam corner --json`): {"layout": "three"|"four", "proportionality": {"all_hold",
+///  "theorem1_for_hat" (three only), "conditions": [{"name", "statement", "residual", "tolerance", "holds", "detail"}],
+///  "chain_ratios", and for three patches "m", "m_tilde", "n", "n_tilde", "q", "corner_index", "n_hat1", "n_hat2"}
+///  or null when a patch is not C1 bicubic, "steps": [{"moved", "onto", "method", "reason", "max_displacement",
+///  "moved_points", "notes"}], "seams": [{"after": <seam record>, "achieved"}], "achieved", "max_displacement",
+///  "worst": {"g0_max", "g1_max_deg"}, "notes"}
+std::string threePatchJoinJson(const ThreePatchJoinResult& result);
+std::string fourPatchJoinJson(const FourPatchJoinResult& result);
 
 }  // namespace seam

@@ -1,0 +1,592 @@
+// Tests of Lai-Lian-Cassidy §4.1 (include/seam/repair/corner_join.h): the proportionality conditions at a corner of
+// three and of four C1 bicubic B-spline surfaces, and the successive joins.
+//
+// Independent routes: the patches are cut from ONE C1 bicubic surface, so the conditions hold by construction and
+// Theorem 1 must give back the rows that were destroyed; knots changed by hand give expected ratios computed here
+// from the knot values; every seam is verified by the certified referee (analyzeSeam) and by the dense reference of
+// seam_test_support.h (kernel evaluation only); the 4-valent vertex by the corner analysis (continuity/corner.h).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <optional>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "seam/continuity/corner.h"
+#include "seam/continuity/seam.h"
+#include "seam/io/json.h"
+#include "seam/repair/bicubic.h"
+#include "seam/repair/corner_join.h"
+#include "seam_test_support.h"
+#include "test_helpers.h"
+
+namespace seam {
+namespace {
+
+using seamtest::Rng;
+using seamtest::urand;
+
+/// Joins exact to round-off: 1e-6 degrees (analyzeSeam's default angle tolerance is 0.01 degrees).
+constexpr double kExactAngleDeg = 1e-6;
+/// Gaps after the joins relative to the model size.
+constexpr double kExactGapRel = 1e-9;
+/// Theorem 1 on patches cut from one surface recovers the destroyed rows: a few flops per point.
+constexpr double kRecoveryRel = 1e-12;
+/// Knot conditions of patches cut from one surface compare differences of the same knot values: exact, or a few
+/// ulps after the frame's exact negation.
+constexpr double kExactKnotResidual = 1e-14;
+/// Residuals computed here and by the code from the same knots agree to round-off.
+constexpr double kHandRatioTol = 1e-12;
+/// Dense reference samples per seam.
+constexpr int kDenseSamples = 600;
+/// Perturbations of 2e-3 x size need displacements of that order; 0.1 x size would mean the join went astray.
+constexpr double kPlausibleDisplacementRel = 0.1;
+/// Scaled G1 compatibility residual at the 4-valent vertex (Johansson's relations, corner.h) of an exact G1 vertex:
+/// round-off of least-squares connecting functions; the default angle tolerance as a sine is ~1.7e-4.
+constexpr double kVertexG1Residual = 1e-6;
+
+SeamOptions refereeOptions() {
+  SeamOptions o;
+  o.boundRelGap = 0.25;
+  o.maxSubdivisionDepth = 12;
+  return o;
+}
+CornerJoinOptions cornerOptions() {
+  CornerJoinOptions o;
+  o.seam = refereeOptions();
+  return o;
+}
+
+bool atLeastG1(GeometricClass c) { return c == GeometricClass::kG1 || c == GeometricClass::kG2; }
+
+std::vector<double> randomBreaks(Rng& rng, int spans) {
+  std::vector<double> len(static_cast<size_t>(spans));
+  double tot = 0.0;
+  for (double& l : len) tot += (l = urand(rng, 0.5, 1.0));
+  std::vector<double> b{0.0};
+  double acc = 0.0;
+  for (int k = 0; k + 1 < spans; ++k) b.push_back((acc += len[static_cast<size_t>(k)]) / tot);
+  b.push_back(1.0);
+  return b;
+}
+
+/// A C1 bicubic graph surface over the breakpoints (de Boor points at the Greville abscissae, random heights).
+BSplineSurface c1Graph(Rng& rng, const std::vector<double>& bu, const std::vector<double>& bv, double amp) {
+  const KnotVector ku = c1CubicKnots(bu), kv = c1CubicKnots(bv);
+  const int nu = ku.size() - 4, nv = kv.size() - 4;
+  Matrix pts(nu * nv, 3);
+  auto greville = [](const KnotVector& k, int i) { return (k[i + 1] + k[i + 2] + k[i + 3]) / 3.0; };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) pts.row(i * nv + j) << greville(ku, i), greville(kv, j), urand(rng, -amp, amp);
+  return BSplineSurface(3, 3, ku, kv, nu, nv, std::move(pts));
+}
+
+/// Adds noise of size `amp` to the control points (i, j) with pick(i, j).
+template <class Pick>
+BSplineSurface noisy(Rng& rng, const BSplineSurface& s, double amp, Pick pick) {
+  Matrix p = s.points();
+  for (int i = 0; i < s.numU(); ++i)
+    for (int j = 0; j < s.numV(); ++j)
+      if (pick(i, j))
+        for (int c = 0; c < 3; ++c) p(i * s.numV() + j, c) += urand(rng, -amp, amp);
+  return BSplineSurface(3, 3, s.knotsU(), s.knotsV(), s.numU(), s.numV(), std::move(p));
+}
+
+BSplineSurface withBreaks(const BSplineSurface& s, const std::vector<double>& bu, const std::vector<double>& bv) {
+  return BSplineSurface(3, 3, c1CubicKnots(bu), c1CubicKnots(bv), s.numU(), s.numV(), s.points());
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Fig. 1 from one surface: F over [0,1]^2 with 5 x 5 spans; S^ = F on u <= a, S~ = F on u >= a, v <= b, S = F on
+// u >= a, v >= b (a = breakpoint 2 of u, b = breakpoint 2 of v). S's edge V0 meets S~'s V1; S's U0 and S~'s U0 run
+// along S^'s U1; the corner is (a, b).
+// ---------------------------------------------------------------------------------------------------------------------
+
+struct Fig1 {
+  BSplineSurface F, S, St, Sh;
+  std::vector<double> bu, bv;
+  ThreePatchCorner corner;
+};
+Fig1 fig1(Rng& rng) {
+  Fig1 f;
+  f.bu = randomBreaks(rng, 5);
+  f.bv = randomBreaks(rng, 5);
+  f.F = c1Graph(rng, f.bu, f.bv, 0.15);
+  auto [left, right] = seamtest::splitU(f.F, f.bu[2]);
+  auto [lower, upper] = seamtest::splitV(right, f.bv[2]);
+  f.Sh = left;
+  f.St = lower;
+  f.S = upper;
+  f.corner = ThreePatchCorner{"S", "S~", "S^", Edge::V0, Edge::V1, Edge::U0, Edge::U0, Edge::U1};
+  return f;
+}
+/// The parts of S^'s edge facing S and S~ after the joins, in the order of the report's seams (the S/S~ seam first:
+/// whole edges). Found by geometry only: the corner and the far corners of S and S~ projected onto S^'s edge (the
+/// fallback's least-squares join may place the corner between S^'s knots).
+std::vector<std::optional<Interval>> hatRanges(const Model& out) {
+  const seamtest::SeamSide side(out.findPatch("S^")->surface, Edge::U1);
+  const seamtest::CurveDistance onHat(side.s.boundaryCurve(Edge::U0), side.along);
+  auto param = [&](const BSplineSurface& x, double u, double v) {
+    double t = 0.0;
+    (void)onHat.distance(x.evaluate(u, v).head<3>(), &t);
+    return t;
+  };
+  const BSplineSurface& S = out.findPatch("S")->surface;
+  const BSplineSurface& St = out.findPatch("S~")->surface;
+  const double tc = param(S, S.domainU().lo, S.domainV().lo);
+  const double ts = param(S, S.domainU().lo, S.domainV().hi);
+  const double tt = param(St, St.domainU().lo, St.domainV().lo);  // S~ lies at v <= b: its far corner is v = v_min
+  return {std::nullopt, Interval{std::min(tc, ts), std::max(tc, ts)}, Interval{std::min(tc, tt), std::max(tc, tt)}};
+}
+Model modelOf(const BSplineSurface& s, const BSplineSurface& st, const BSplineSurface& sh) {
+  Model m;
+  m.patches.push_back(seamtest::makePatch("S", s));
+  m.patches.push_back(seamtest::makePatch("S~", st));
+  m.patches.push_back(seamtest::makePatch("S^", sh));
+  return m;
+}
+
+/// The seams of the report verified by the referee and the dense reference. `bRanges[k]` (when given) is the part of
+/// seam k's B edge that faces A (known by construction: a T-junction pairs only part of S^'s edge).
+void expectSeamsG1(const Model& out, const CornerJoinReport& rep, double size, size_t count,
+                   const std::vector<std::optional<Interval>>& bRanges = {}) {
+  ASSERT_EQ(rep.seams.size(), count);
+  for (size_t k = 0; k < rep.seams.size(); ++k) {
+    const CornerSeam& s = rep.seams[k];
+    EXPECT_TRUE(s.after.certified) << s.a << "/" << s.b;
+    EXPECT_TRUE(atLeastG1(s.after.geometric)) << s.a << ":" << edgeName(s.aEdge) << " / " << s.b << ":"
+                                              << edgeName(s.bEdge) << " is " << toString(s.after.geometric);
+    EXPECT_LE(s.after.g1MaxDeg, kExactAngleDeg) << s.a << "/" << s.b;
+    EXPECT_LE(s.after.g0Max, kExactGapRel * size) << s.a << "/" << s.b;
+    seamtest::RefOptions ro;
+    ro.samples = kDenseSamples;
+    ro.g2 = false;
+    if (k < bRanges.size() && bRanges[k]) ro.bRange = *bRanges[k];
+    const seamtest::RefMeasures ref =
+        seamtest::denseReference(out.findPatch(s.a)->surface, s.aEdge, out.findPatch(s.b)->surface, s.bEdge, ro);
+    EXPECT_LE(ref.g1Deg, kExactAngleDeg) << "dense reference " << s.a << "/" << s.b;
+    EXPECT_LE(ref.g0, kExactGapRel * size) << "dense reference " << s.a << "/" << s.b;
+  }
+  EXPECT_TRUE(rep.achieved);
+}
+
+double maxPointDiff(const BSplineSurface& a, const BSplineSurface& b) {
+  return (a.points() - b.points()).rowwise().norm().maxCoeff();
+}
+
+TEST(CornerJoin3, CutFromOneSurfaceConditionsHoldAndTheorem1RecoversTheRows) {
+  Rng rng(4101);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Fig1 f = fig1(rng);
+    const double size = seamtest::patchScale(f.F);
+    // Destroy the rows that the two joins rebuild: S's rows 0, 1 at V0 (its seam with S~) and S^'s rows 0, 1 at U1.
+    const BSplineSurface S = noisy(rng, f.S, 1e-3 * size, [](int, int j) { return j <= 1; });
+    const BSplineSurface Sh = noisy(rng, f.Sh, 1e-3 * size, [&](int i, int) { return i >= f.Sh.numU() - 2; });
+    const Model m = modelOf(S, f.St, Sh);
+    auto r = joinThreePatchCorner(m, f.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_TRUE(r->proportionality.has_value());
+    const ThreePatchProportionality& p = *r->proportionality;
+    EXPECT_TRUE(p.allHold);
+    EXPECT_TRUE(p.theorem1ForHat);
+    for (const ConditionCheck& k : p.checks) {
+      EXPECT_TRUE(k.holds) << toString(k.condition) << ": " << k.detail;
+      if (k.condition != CornerCondition::kBreakpointsMatch) {
+        EXPECT_LE(k.residual, kExactKnotResidual) << toString(k.condition);
+      }
+    }
+    // The numbers of Fig. 1: 3 u-spans each, S^ has 5 spans along, the corner at its breakpoint 2.
+    EXPECT_EQ(p.m, 3);
+    EXPECT_EQ(p.mTilde, 3);
+    EXPECT_EQ(p.q, 5);
+    EXPECT_EQ(p.cornerIndex, 2);
+    EXPECT_EQ(p.nHat1, 2);
+    EXPECT_EQ(p.nHat2, 3);
+    ASSERT_EQ(p.chainRatios.size(), 5u);
+    for (double x : p.chainRatios) EXPECT_NEAR(x, 1.0, kHandRatioTol);
+    ASSERT_EQ(r->report.steps.size(), 2u);
+    for (const CornerJoinStep& s : r->report.steps) EXPECT_EQ(s.method, JoinMethod::kBSpline) << s.reason;
+    // Independent route: the pieces of F come back.
+    EXPECT_LE(maxPointDiff(r->model.findPatch("S")->surface, f.S), kRecoveryRel * size);
+    EXPECT_LE(maxPointDiff(r->model.findPatch("S^")->surface, f.Sh), kRecoveryRel * size);
+    EXPECT_TRUE(r->model.findPatch("S~")->surface.points() == f.St.points());
+    expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+  }
+}
+
+TEST(CornerJoin3, PerturbedNearEverySeamAndTheCornerJoinsG1) {
+  Rng rng(4102);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Fig1 f = fig1(rng);
+    const double size = seamtest::patchScale(f.F);
+    auto nearEdges = [](const BSplineSurface& s) {
+      return [&s](int i, int j) { return i <= 1 || j <= 1 || i >= s.numU() - 2 || j >= s.numV() - 2; };
+    };
+    const Model m = modelOf(noisy(rng, f.S, 2e-3 * size, nearEdges(f.S)), noisy(rng, f.St, 2e-3 * size, nearEdges(f.St)),
+                            noisy(rng, f.Sh, 2e-3 * size, nearEdges(f.Sh)));
+    auto r = joinThreePatchCorner(m, f.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_TRUE(r->proportionality->allHold);
+    for (const CornerJoinStep& s : r->report.steps) EXPECT_EQ(s.method, JoinMethod::kBSpline) << s.reason;
+    EXPECT_TRUE(m.findPatch("S~")->surface.points() == r->model.findPatch("S~")->surface.points());
+    expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+    EXPECT_GT(r->report.maxDisplacement, 0.0);
+    EXPECT_LT(r->report.maxDisplacement, kPlausibleDisplacementRel * size);
+  }
+}
+
+TEST(CornerJoin3, Theorem1FromTheFarCornerOfSWhenSHatReachesPastSTilde) {
+  // S~ is cut shorter (F on v in [v_1, b] instead of [0, b]): S^'s edge reaches past S~'s far corner, so span i pairs
+  // with span i only from S's far corner: the compound is built from there (the reversed direction) and Theorem 1's
+  // case m > m~ applies to S^ (5 spans against the compound's 4).
+  Rng rng(4109);
+  for (int trial = 0; trial < 2; ++trial) {
+    const Fig1 f = fig1(rng);
+    const double size = seamtest::patchScale(f.F);
+    auto [below, St] = seamtest::splitV(f.St, f.bv[1]);
+    (void)below;
+    // Rows 0, 1 of S^ destroyed where S^ meets S~ and S (v-index j >= 2); Theorem 1 keeps the points of the span
+    // beyond S~ (j = 0, 1) and rebuilds the others.
+    const BSplineSurface Sh =
+        noisy(rng, f.Sh, 1e-3 * size, [&](int i, int j) { return i >= f.Sh.numU() - 2 && j >= 2; });
+    const Model m = modelOf(f.S, St, Sh);
+    auto r = joinThreePatchCorner(m, f.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    const ThreePatchProportionality& p = *r->proportionality;
+    EXPECT_EQ(p.nTilde, 1);
+    EXPECT_EQ(p.nHat1, 1);
+    EXPECT_EQ(p.cornerIndex, 2);
+    EXPECT_TRUE(p.allHold);
+    EXPECT_TRUE(p.theorem1ForHat);
+    ASSERT_EQ(r->report.steps.size(), 2u);
+    EXPECT_EQ(r->report.steps[1].method, JoinMethod::kBSpline) << r->report.steps[1].reason;
+    // Independent route: S^ is a piece of F, so it comes back, including d_{2m^+1} from the end formula (3.10).
+    EXPECT_LE(maxPointDiff(r->model.findPatch("S^")->surface, f.Sh), kRecoveryRel * size);
+    expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+  }
+}
+
+// The hand computation of the junction ratio at interior breakpoint k: right span over the two spans.
+double xi(const std::vector<double>& b, size_t k) { return (b[k + 1] - b[k]) / (b[k + 1] - b[k - 1]); }
+
+TEST(CornerJoin3, NonProportionalKnotsAreReportedAndTheFallbackJoinsG1) {
+  Rng rng(4103);
+  for (int trial = 0; trial < 2; ++trial) {
+    const Fig1 f = fig1(rng);
+    const double size = seamtest::patchScale(f.F);
+    // S~'s u-breakpoints: the first interior one moved by 3 % of its span; S^'s v-breakpoint just past the corner
+    // (index K + 1 = 3 of F's v) moved by 3 %.
+    std::vector<double> buT = f.St.knotsU().breakpoints();
+    buT[1] += 0.03 * (buT[2] - buT[1]);
+    const BSplineSurface St = withBreaks(f.St, buT, f.St.knotsV().breakpoints());
+    std::vector<double> bvH = f.Sh.knotsV().breakpoints();
+    bvH[3] += 0.03 * (bvH[4] - bvH[3]);
+    const BSplineSurface Sh = withBreaks(f.Sh, f.Sh.knotsU().breakpoints(), bvH);
+    const Model m = modelOf(f.S, St, Sh);
+
+    // Hand computation from the knot values. (a): junctions i = 1, 2 of u (S) and u~ (S~), both from the corner.
+    const std::vector<double> buS = f.S.knotsU().breakpoints();
+    const double dA = std::max(std::abs(xi(buS, 1) - xi(buT, 1)), std::abs(xi(buS, 2) - xi(buT, 2)));
+    double dSpans = 0.0;
+    for (size_t i = 0; i + 1 < buS.size(); ++i) {
+      const double h = buS[i + 1] - buS[i], ht = buT[i + 1] - buT[i];
+      dSpans = std::max(dSpans, std::abs(h - ht) / std::max(h, ht));
+    }
+    // (b), S side: S's v-breakpoints c_j = F's v from b (index 2); S^'s b^_{K+i} = bvH[2 + i]; i = 1, 2.
+    const std::vector<double> c = f.S.knotsV().breakpoints();
+    const double dS = std::max(std::abs(xi(bvH, 3) - xi(c, 1)), std::abs(xi(bvH, 4) - xi(c, 2)));
+    // The chain: S^ spans over S~'s (reversed, from its far end) and S's spans; S~'s v spans are F's below b.
+    std::vector<double> ratios;
+    for (size_t k = 0; k < 2; ++k) ratios.push_back((bvH[k + 1] - bvH[k]) / (f.bv[k + 1] - f.bv[k]));
+    for (size_t k = 2; k < 5; ++k) ratios.push_back((bvH[k + 1] - bvH[k]) / (f.bv[k + 1] - f.bv[k]));
+    const double chain = (*std::max_element(ratios.begin(), ratios.end()) -
+                          *std::min_element(ratios.begin(), ratios.end())) /
+                         *std::max_element(ratios.begin(), ratios.end());
+
+    auto chk = checkThreePatchCorner(m, f.corner, cornerOptions());
+    ASSERT_TRUE(chk.isOk()) << chk.status().message();
+    const ThreePatchProportionality& p = *chk;
+    EXPECT_FALSE(p.allHold);
+    EXPECT_FALSE(p.theorem1ForHat);
+    EXPECT_FALSE(p.find(CornerCondition::kUProportional)->holds);
+    EXPECT_NEAR(p.find(CornerCondition::kUProportional)->residual, dA, kHandRatioTol);
+    EXPECT_FALSE(p.find(CornerCondition::kUEqualSpans)->holds);
+    EXPECT_NEAR(p.find(CornerCondition::kUEqualSpans)->residual, dSpans, kHandRatioTol);
+    EXPECT_TRUE(p.find(CornerCondition::kBreakpointsMatch)->holds);
+    EXPECT_TRUE(p.find(CornerCondition::kHatTildeJunctions)->holds);  // S^'s knots on S~'s side are untouched
+    EXPECT_LE(p.find(CornerCondition::kHatTildeJunctions)->residual, kExactKnotResidual);
+    EXPECT_FALSE(p.find(CornerCondition::kHatSJunctions)->holds);
+    EXPECT_NEAR(p.find(CornerCondition::kHatSJunctions)->residual, dS, kHandRatioTol);
+    EXPECT_FALSE(p.find(CornerCondition::kRatioChain)->holds);
+    EXPECT_NEAR(p.find(CornerCondition::kRatioChain)->residual, chain, kHandRatioTol);
+    ASSERT_EQ(p.chainRatios.size(), ratios.size());
+    for (size_t k = 0; k < ratios.size(); ++k) EXPECT_NEAR(p.chainRatios[k], ratios[k], kHandRatioTol) << k;
+
+    // Theorem 1 on request is refused and names the failing conditions.
+    CornerJoinOptions strict = cornerOptions();
+    strict.method = JoinMethod::kBSpline;
+    auto refused = joinThreePatchCorner(m, f.corner, strict);
+    EXPECT_TRUE(test::failsMentioning(refused.status(), {"u-proportional", "ratio-chain"}));
+    EXPECT_EQ(refused.status().code(), ErrorCode::kNoSolution);
+
+    // The fallback: Algorithm 3.3 for S onto S~, least squares for S^ onto both; all seams certified G1.
+    auto r = joinThreePatchCorner(m, f.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->report.steps.size(), 2u);
+    EXPECT_EQ(r->report.steps[0].method, JoinMethod::kBezierStrip) << r->report.steps[0].reason;
+    EXPECT_EQ(r->report.steps[1].method, JoinMethod::kLeastSquares) << r->report.steps[1].reason;
+    expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+    // And with the least-squares fallback for the first join too.
+    CornerJoinOptions ls = cornerOptions();
+    ls.fallback = JoinMethod::kLeastSquares;
+    auto r2 = joinThreePatchCorner(m, f.corner, ls);
+    ASSERT_TRUE(r2.isOk()) << r2.status().message();
+    EXPECT_EQ(r2->report.steps[0].method, JoinMethod::kLeastSquares);
+    expectSeamsG1(r2->model, r2->report, size, 3, hatRanges(r2->model));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Four patches: a 2 x 2 grid cut from one surface, S1..S4 counter-clockwise around the vertex (a, b).
+// ---------------------------------------------------------------------------------------------------------------------
+
+struct Grid2x2 {
+  BSplineSurface F;
+  std::array<BSplineSurface, 4> s;
+  FourPatchCorner corner;
+};
+Grid2x2 grid2x2(Rng& rng) {
+  Grid2x2 g;
+  const std::vector<double> bu = randomBreaks(rng, 4), bv = randomBreaks(rng, 4);
+  g.F = c1Graph(rng, bu, bv, 0.15);
+  auto [left, right] = seamtest::splitU(g.F, bu[2]);
+  auto [l0, l1] = seamtest::splitV(left, bv[2]);
+  auto [r0, r1] = seamtest::splitV(right, bv[2]);
+  g.s = {l0, r0, r1, l1};  // S1 (u<a,v<b), S2 (u>a,v<b), S3 (u>a,v>b), S4 (u<a,v>b)
+  g.corner.patches = {"S1", "S2", "S3", "S4"};
+  g.corner.toNext = {Edge::U1, Edge::V1, Edge::U0, Edge::V0};
+  g.corner.toPrev = {Edge::V1, Edge::U0, Edge::V0, Edge::U1};
+  return g;
+}
+Model modelOf(const std::array<BSplineSurface, 4>& s) {
+  Model m;
+  for (int k = 0; k < 4; ++k) m.patches.push_back(seamtest::makePatch("S" + std::to_string(k + 1), s[static_cast<size_t>(k)]));
+  return m;
+}
+
+double vertexG1Residual(const Model& m) {
+  const std::vector<PatchCorner> corners{{0, true, true}, {1, false, true}, {2, false, false}, {3, true, false}};
+  CornerOptions co;
+  co.tol = Tolerances::forModelSize(m.boundingBox().diagonal());
+  auto r = analyzeCorner(m.patches, corners, co);
+  EXPECT_TRUE(r.isOk()) << r.status().message();
+  if (!r) return 1.0;
+  EXPECT_EQ(r->valence, 4);
+  EXPECT_TRUE(r->fourPatch.has_value());
+  return r->fourPatch ? r->fourPatch->g1Residual : 1.0;
+}
+
+TEST(CornerJoin4, GridCutFromOneSurfaceRecoversAndJoinsG1AtTheVertex) {
+  Rng rng(4104);
+  for (int trial = 0; trial < 2; ++trial) {
+    const Grid2x2 g = grid2x2(rng);
+    const double size = seamtest::patchScale(g.F);
+    // Destroy exactly the rows the joins rebuild: S2's at U0, S4's at U1 and V0, S3's at V0.
+    std::array<BSplineSurface, 4> s = g.s;
+    s[1] = noisy(rng, s[1], 1e-3 * size, [](int i, int) { return i <= 1; });
+    s[3] = noisy(rng, s[3], 1e-3 * size, [&](int i, int j) { return i >= s[3].numU() - 2 || j <= 1; });
+    s[2] = noisy(rng, s[2], 1e-3 * size, [](int, int j) { return j <= 1; });
+    const Model m = modelOf(s);
+    auto r = joinFourPatchCorner(m, g.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_TRUE(r->proportionality.has_value());
+    EXPECT_TRUE(r->proportionality->allHold);
+    for (const ConditionCheck& k : r->proportionality->checks) EXPECT_LE(k.residual, kExactKnotResidual) << toString(k.condition);
+    ASSERT_EQ(r->report.steps.size(), 3u);
+    for (const CornerJoinStep& st : r->report.steps) EXPECT_EQ(st.method, JoinMethod::kBSpline) << st.reason;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_LE(maxPointDiff(r->model.patches[static_cast<size_t>(k)].surface, g.s[static_cast<size_t>(k)]),
+                kRecoveryRel * size)
+          << "S" << k + 1;
+    expectSeamsG1(r->model, r->report, size, 4);
+    EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
+  }
+}
+
+TEST(CornerJoin4, GridPerturbedNearEverySeamJoinsG1AtTheVertex) {
+  Rng rng(4105);
+  for (int trial = 0; trial < 2; ++trial) {
+    const Grid2x2 g = grid2x2(rng);
+    const double size = seamtest::patchScale(g.F);
+    std::array<BSplineSurface, 4> s = g.s;
+    for (BSplineSurface& x : s) {
+      const int nu = x.numU(), nv = x.numV();
+      x = noisy(rng, x, 2e-3 * size, [&](int i, int j) { return i <= 1 || j <= 1 || i >= nu - 2 || j >= nv - 2; });
+    }
+    const Model m = modelOf(s);
+    auto r = joinFourPatchCorner(m, g.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_TRUE(r->proportionality->allHold);
+    expectSeamsG1(r->model, r->report, size, 4);
+    EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
+  }
+}
+
+TEST(CornerJoin4, NonProportionalPairIsReportedAndJoinedByTheFallback) {
+  Rng rng(4106);
+  const Grid2x2 g = grid2x2(rng);
+  const double size = seamtest::patchScale(g.F);
+  std::array<BSplineSurface, 4> s = g.s;
+  for (BSplineSurface& x : s) {
+    const int nu = x.numU(), nv = x.numV();
+    x = noisy(rng, x, 2e-3 * size, [&](int i, int j) { return i <= 1 || j <= 1 || i >= nu - 2 || j >= nv - 2; });
+  }
+  // S2's breakpoints along the S1/S2 seam (its v; S2 is v <= b, the vertex at v = b): the interior one moved by 3 %.
+  // Only the S1/S2 pair fails: the compound seam runs along the u-knots, which do not change.
+  std::vector<double> bv2 = s[1].knotsV().breakpoints();
+  bv2[1] += 0.03 * (bv2[2] - bv2[1]);
+  s[1] = withBreaks(s[1], s[1].knotsU().breakpoints(), bv2);
+  const Model m = modelOf(s);
+  auto chk = checkFourPatchCorner(m, g.corner, cornerOptions());
+  ASSERT_TRUE(chk.isOk()) << chk.status().message();
+  EXPECT_FALSE(chk->find(CornerCondition::kPair12Proportional)->holds);
+  EXPECT_TRUE(chk->find(CornerCondition::kPair34Proportional)->holds);
+  EXPECT_TRUE(chk->find(CornerCondition::kPair34EqualSpans)->holds);
+  // Hand: S1's and S2's junction ratio at the interior breakpoint of the S1/S2 seam, from the vertex (v decreasing).
+  const std::vector<double> bv1 = s[0].knotsV().breakpoints();
+  const double a1 = (bv1[1] - bv1[0]) / (bv1[2] - bv1[0]), a2 = (bv2[1] - bv2[0]) / (bv2[2] - bv2[0]);
+  EXPECT_NEAR(chk->find(CornerCondition::kPair12Proportional)->residual, std::abs(a1 - a2), kHandRatioTol);
+  auto r = joinFourPatchCorner(m, g.corner, cornerOptions());
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_NE(r->report.steps[0].method, JoinMethod::kBSpline);
+  EXPECT_EQ(r->report.steps[1].method, JoinMethod::kBSpline);
+  EXPECT_EQ(r->report.steps[2].method, JoinMethod::kLeastSquares);
+  // The compound S3 u S4 moved onto S1 u S2 (healModel keeps the two already joined, anchored patches S1, S2).
+  EXPECT_EQ(r->report.steps[2].moved, (std::vector<std::string>{"S3", "S4"}));
+  expectSeamsG1(r->model, r->report, size, 4);
+  EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Bad input.
+// ---------------------------------------------------------------------------------------------------------------------
+
+TEST(CornerJoin, BadInputIsAClearError) {
+  Rng rng(4107);
+  const Fig1 f = fig1(rng);
+  const Model m = modelOf(f.S, f.St, f.Sh);
+  // Mismatched edges: two edges of S that do not meet at a corner.
+  ThreePatchCorner c = f.corner;
+  c.sToHat = Edge::V1;
+  EXPECT_TRUE(test::failsMentioning(joinThreePatchCorner(m, c).status(), {"do not meet at a corner"}));
+  EXPECT_EQ(joinThreePatchCorner(m, c).status().code(), ErrorCode::kInvalidInput);
+  // Edges through different corners of S and S~.
+  c = f.corner;
+  c.tildeToHat = Edge::U1;
+  EXPECT_TRUE(test::failsMentioning(checkThreePatchCorner(m, c).status(), {"apart"}));
+  // No such patch; the same patch twice.
+  c = f.corner;
+  c.sHat = "nope";
+  EXPECT_EQ(joinThreePatchCorner(m, c).status().code(), ErrorCode::kNotFound);
+  c = f.corner;
+  c.sHat = "S";
+  EXPECT_EQ(joinThreePatchCorner(m, c).status().code(), ErrorCode::kInvalidInput);
+  // S^'s edge that does not pass the corner in its interior (its other edge U0 is far away).
+  c = f.corner;
+  c.hatEdge = Edge::V0;
+  EXPECT_FALSE(checkThreePatchCorner(m, c).isOk());
+  // Not C1 bicubic (simple interior knots) with Theorem 1 requested: kUnsupported; with auto: least squares.
+  const BSplineSurface simple = f.S.withKnotInsertedU(0.5 * (f.S.domainU().lo + f.S.domainU().hi), 1);
+  const Model m2 = modelOf(simple, f.St, f.Sh);
+  CornerJoinOptions strict = cornerOptions();
+  strict.method = JoinMethod::kBSpline;
+  auto bad = joinThreePatchCorner(m2, f.corner, strict);
+  EXPECT_EQ(bad.status().code(), ErrorCode::kUnsupported);
+  EXPECT_TRUE(test::failsMentioning(bad.status(), {"C1 bicubic", "\"S\""}));
+  auto autoJoin = joinThreePatchCorner(m2, f.corner, cornerOptions());
+  ASSERT_TRUE(autoJoin.isOk()) << autoJoin.status().message();
+  EXPECT_FALSE(autoJoin->proportionality.has_value());
+  for (const CornerJoinStep& s : autoJoin->report.steps) EXPECT_EQ(s.method, JoinMethod::kLeastSquares);
+  // Options the corner join does not take.
+  CornerJoinOptions wrong;
+  wrong.method = JoinMethod::kLeastSquares;
+  EXPECT_EQ(joinThreePatchCorner(m, f.corner, wrong).status().code(), ErrorCode::kInvalidInput);
+  // Four patches: a corner far from the others.
+  Grid2x2 g = grid2x2(rng);
+  FourPatchCorner fc = g.corner;
+  fc.toNext[0] = Edge::U0;
+  EXPECT_FALSE(checkFourPatchCorner(modelOf(g.s), fc).isOk());
+  fc = g.corner;
+  fc.toPrev[0] = Edge::U0;  // parallel to toNext U1: not a corner
+  EXPECT_EQ(joinFourPatchCorner(modelOf(g.s), fc).status().code(), ErrorCode::kInvalidInput);
+  // A non-C1-bicubic patch among the four: Theorem 1 requested is refused; auto joins by least squares.
+  std::array<BSplineSurface, 4> s4 = g.s;
+  s4[2] = s4[2].withKnotInsertedV(0.5 * (s4[2].domainV().lo + s4[2].domainV().hi), 1);
+  auto bad4 = joinFourPatchCorner(modelOf(s4), g.corner, strict);
+  EXPECT_EQ(bad4.status().code(), ErrorCode::kUnsupported);
+  EXPECT_TRUE(test::failsMentioning(bad4.status(), {"C1 bicubic", "\"S3\""}));
+  auto auto4 = joinFourPatchCorner(modelOf(s4), g.corner, cornerOptions());
+  ASSERT_TRUE(auto4.isOk()) << auto4.status().message();
+  EXPECT_FALSE(auto4->proportionality.has_value());
+  EXPECT_TRUE(auto4->report.achieved);
+}
+
+#ifdef SEAM_CLI_PATH
+// `seam corner`: the report in JSON, exit codes.
+TEST(CornerCli, ReportsTheConditionsAndJoins) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("seam_corner_cli_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Rng rng(4108);
+  const Fig1 f = fig1(rng);
+  const double size = seamtest::patchScale(f.F);
+  const Model m = modelOf(noisy(rng, f.S, 1e-3 * size, [](int, int j) { return j <= 1; }), f.St, f.Sh);
+  const std::filesystem::path in = dir / "in.json", out = dir / "out.json", log = dir / "stdout.txt";
+  ASSERT_TRUE(io::writeModelJson(m, in).isOk());
+  auto run = [&](const std::string& args) {
+    const std::string cmd = std::string(SEAM_CLI_PATH) + " corner " + in.string() + " " + args + " -o " +
+                            out.string() + " > " + log.string() + " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream fl(log);
+    std::stringstream ss;
+    ss << fl.rdbuf();
+    return std::make_pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str());
+  };
+  const auto [rc, text] = run("--three 'S:v0:u0' 'S~:v1:u0' 'S^:u1' --json");
+  EXPECT_EQ(rc, 0) << text;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["layout"], "three");
+  EXPECT_TRUE(j["proportionality"]["all_hold"].get<bool>());
+  EXPECT_EQ(j["proportionality"]["conditions"].size(), 6u);
+  EXPECT_EQ(j["proportionality"]["conditions"][0]["name"], "u-proportional");
+  EXPECT_EQ(j["proportionality"]["corner_index"], 2);
+  ASSERT_EQ(j["steps"].size(), 2u);
+  EXPECT_EQ(j["steps"][0]["method"], "bspline");
+  EXPECT_EQ(j["steps"][1]["method"], "bspline");
+  EXPECT_EQ(j["seams"].size(), 3u);
+  EXPECT_TRUE(j["achieved"].get<bool>());
+  auto back = io::readModelJson(out);
+  ASSERT_TRUE(back.isOk());
+  EXPECT_EQ(back->patches.size(), 3u);
+  // The table form, and bad input (edges that do not meet at a corner) with exit code 2.
+  const auto [rc2, text2] = run("--three 'S:v0:u0' 'S~:v1:u0' 'S^:u1'");
+  EXPECT_EQ(rc2, 0) << text2;
+  EXPECT_NE(text2.find("ratio-chain"), std::string::npos) << text2;
+  const auto [rc3, text3] = run("--three 'S:v0:v1' 'S~:v1:u0' 'S^:u1'");
+  EXPECT_EQ(rc3, 2) << text3;
+  EXPECT_NE(text3.find("do not meet at a corner"), std::string::npos) << text3;
+  std::filesystem::remove_all(dir);
+}
+#endif
+
+}  // namespace
+}  // namespace seam
