@@ -564,6 +564,29 @@ TEST(BernsteinPatch, IsoCurvesAreExactSections) {
     }
 }
 
+TEST(BernsteinPatch, CompositionWithAParameterCurveIsExact) {
+  // p(u(t), v(t)) against the brute-force Bernstein sums of p at the brute-force values of u and v (scalar
+  // polynomials with values in [0, 1] and beyond: composition is algebraic, not restricted to the unit square).
+  std::mt19937_64 rng(207);
+  for (int dim : kDims)
+    for (int trial = 0; trial < 12; ++trial) {
+      const int n = uniformInt(rng, 0, 5), m = uniformInt(rng, 0, 5);
+      const int ru = uniformInt(rng, 0, 3), rv = uniformInt(rng, 0, 3);
+      const BernsteinPatch p = randomPatch(rng, n, m, dim);
+      const BernsteinPoly u = randomPoly(rng, ru, 1), v = randomPoly(rng, rv, 1);
+      const BernsteinPoly c = p.composed(u, v);
+      ASSERT_EQ(c.degree(), n * ru + m * rv);
+      ASSERT_EQ(c.dim(), dim);
+      for (double t : unitSamples(rng, 10)) {
+        const double ut = refBernsteinEval(u.coeffs(), t)[0], vt = refBernsteinEval(v.coeffs(), t)[0];
+        const double scale = maxAbs(p.coeffs()) * std::pow(1.0 + std::abs(ut) + std::abs(1.0 - ut), n) *
+                             std::pow(1.0 + std::abs(vt) + std::abs(1.0 - vt), m);
+        ASSERT_TRUE(closeTo(refPatchEval(n, m, p.coeffs(), ut, vt), c(t), test::kRoundoffTol * scale))
+            << "n " << n << " m " << m << " ru " << ru << " rv " << rv << " t " << t;
+      }
+    }
+}
+
 TEST(BernsteinPatch, SwappedAndReversed) {
   std::mt19937_64 rng(206);
   for (int dim : kDims)

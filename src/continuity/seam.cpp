@@ -10,6 +10,7 @@
 #include <functional>
 #include <numbers>
 #include <optional>
+#include <tuple>
 
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
@@ -1050,6 +1051,264 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     }
   }
   return rep;
+}
+
+
+// ---------------------------------------------------------------------------------------------------------------
+// Seams along parameter curves (trimmed B-rep edges): certified G0 / G1 by composition.
+
+namespace {
+
+/// Deepest bisection while isolating the knot-line crossings of a pcurve (2^-60 of a pcurve piece).
+constexpr int kPCurveSplitDepth = 60;
+/// Bisection steps for a crossing of a monotone pcurve coordinate with a knot line (to the last bit).
+constexpr int kCrossingBisections = 80;
+/// Start samples per composed piece (the bound subdivision refines).
+constexpr int kPCurveSamplesPerPiece = 8;
+
+/// The Bezier patches of a surface by span, with their homogeneous Bernstein forms and first partials.
+struct SpanPatches {
+  std::vector<Interval> us, vs;  // spans along u and v
+  std::vector<std::array<BernsteinPatch, 3>> h;  // per (iu, iv): H, H_u, H_v (per unit of the local parameter)
+  [[nodiscard]] const std::array<BernsteinPatch, 3>& at(size_t iu, size_t iv) const { return h[iu * vs.size() + iv]; }
+};
+
+SpanPatches spanPatches(const BSplineSurface& s) {
+  SpanPatches out;
+  const std::vector<BezierPatchPiece> pieces = s.bezierPatches();
+  for (const BezierPatchPiece& p : pieces) {
+    if (p.spanV == 0) out.us.push_back(p.u);
+    if (p.spanU == 0) out.vs.push_back(p.v);
+  }
+  out.h.resize(out.us.size() * out.vs.size());
+  for (const BezierPatchPiece& p : pieces) {
+    const BernsteinPatch H = p.patch.homogeneous();
+    out.h[static_cast<size_t>(p.spanU) * out.vs.size() + static_cast<size_t>(p.spanV)] = {H, H.derivative(1, 0),
+                                                                                          H.derivative(0, 1)};
+  }
+  return out;
+}
+
+/// The span containing the coordinate range [lo, hi] (slack: a pcurve may overshoot a knot or the domain by
+/// round-off); where it lies on a knot line, the span on the face's side. nullopt when none or ambiguous.
+std::optional<size_t> spanOf(const std::vector<Interval>& spans, double lo, double hi, Interval face) {
+  const double slack = kKnotRelTol * (spans.back().hi - spans.front().lo);
+  std::optional<size_t> found;
+  int count = 0;
+  for (size_t i = 0; i < spans.size(); ++i) {
+    if (!(spans[i].lo - slack <= lo && hi <= spans[i].hi + slack)) continue;
+    const double overlap = std::min(spans[i].hi, face.hi) - std::max(spans[i].lo, face.lo);
+    if (overlap > 0.0 || !found) {
+      if (overlap > 0.0) ++count;
+      found = i;
+    }
+  }
+  if (count > 1) return std::nullopt;  // on a knot line inside the face's box on both sides: ambiguous
+  return found;
+}
+
+/// An interior knot of `spans` strictly inside (lo, hi) beyond round-off, if any.
+std::optional<double> knotInside(const std::vector<Interval>& spans, double lo, double hi) {
+  const double slack = kKnotRelTol * (spans.back().hi - spans.front().lo);
+  for (size_t i = 0; i + 1 < spans.size(); ++i) {
+    const double k = spans[i].hi;
+    if (k > lo + slack && k < hi - slack) return k;
+  }
+  return std::nullopt;
+}
+
+/// Where a scalar polynomial on [0, 1] crosses `level`, when it is monotone there (coefficients of the derivative
+/// of one sign) and takes values on both sides at the ends; bisection to the last bit.
+std::optional<double> monotoneCrossing(const BernsteinPoly& f, double level) {
+  const Matrix& d = f.derivative().coeffs();
+  const bool up = (d.array() > 0.0).all(), down = (d.array() < 0.0).all();
+  const double f0 = f.coeffs()(0, 0) - level, f1 = f.coeffs()(f.degree(), 0) - level;
+  if (!(up || down) || !(f0 * f1 < 0.0)) return std::nullopt;
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < kCrossingBisections && hi - lo > 0.0; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    ((f.scalar(mid) - level) * f0 > 0.0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+struct PCurveLeaf {
+  double t0 = 0, t1 = 0;                   // in A's parameter
+  std::array<BernsteinPoly, 2> ca, cb;     // (u, v) of each side on the leaf, local parameter [0, 1]
+  size_t aiu = 0, aiv = 0, biu = 0, biv = 0;
+};
+
+/// One side's pcurve (u, v) on [s0, s1] of its own parameter: the Bezier piece containing it, restricted.
+std::array<BernsteinPoly, 2> pcurveOn(const std::vector<BezierCurvePiece>& pieces, double s0, double s1) {
+  const double mid = 0.5 * (s0 + s1);
+  size_t k = 0;
+  while (k + 1 < pieces.size() && mid > pieces[k].interval.hi) ++k;
+  const Interval iv = pieces[k].interval;
+  const BernsteinPoly c(pieces[k].curve.points());
+  const BernsteinPoly r = c.restricted((s0 - iv.lo) / iv.length(), (s1 - iv.lo) / iv.length());
+  return {r.component(0), r.component(1)};
+}
+
+/// The composed side on a leaf: homogeneous S, S_u, S_v of the surface along the pcurve.
+struct ComposedSide {
+  BernsteinPoly x, w;   // Cartesian numerator and weight (w = 1 for polynomial surfaces)
+  BernsteinPoly normal; // numerator of S_u x S_v (a positive factor dropped), with the face's sense
+};
+
+ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const std::array<BernsteinPoly, 2>& c,
+                         bool rational, double sign) {
+  const Interval U = sp.us[iu], V = sp.vs[iv];
+  const BernsteinPoly u(Matrix((c[0].coeffs().array() - U.lo) / U.length()));
+  const BernsteinPoly v(Matrix((c[1].coeffs().array() - V.lo) / V.length()));
+  const auto& H = sp.at(iu, iv);
+  const BernsteinPoly X = H[0].composed(u, v);
+  const BernsteinPoly Xu = H[1].composed(u, v) * (1.0 / U.length()), Xv = H[2].composed(u, v) * (1.0 / V.length());
+  ComposedSide out;
+  if (!rational) {
+    out.x = X;
+    out.w = BernsteinPoly::constant(1.0);
+    out.normal = cross(Xu, Xv) * sign;
+    return out;
+  }
+  auto xyz = [](const BernsteinPoly& p) { return BernsteinPoly(Matrix(p.coeffs().leftCols(3))); };
+  out.x = xyz(X);
+  out.w = X.component(3);
+  // S = x / w: S_u = (w x_u - w_u x) / w^2; the normal direction is that of the product of the numerators.
+  const BernsteinPoly Nu = product(out.w, xyz(Xu)) - product(Xu.component(3), out.x);
+  const BernsteinPoly Nv = product(out.w, xyz(Xv)) - product(Xv.component(3), out.x);
+  out.normal = cross(Nu, Nv) * sign;
+  return out;
+}
+
+}  // namespace
+
+Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt) {
+  for (const PCurveSide* s : {&a, &b}) {
+    if (!s->surface || s->surface->dim() != 3) return invalidInput("pcurve seam: a side has no 3-D surface");
+    if (s->pcurve.dim() != 2) return invalidInput("pcurve seam: the parameter curve is not 2-D");
+    if (!(s->range.length() > 0.0)) return invalidInput("pcurve seam: empty parameter range");
+    if (s->pcurve.isRational())
+      return Status(ErrorCode::kUnsupported, "pcurve seam: rational parameter curves are not composed");
+  }
+  const SpanPatches spA = spanPatches(*a.surface), spB = spanPatches(*b.surface);
+  const std::vector<BezierCurvePiece> pcA = a.pcurve.bezierPieces(), pcB = b.pcurve.bezierPieces();
+  auto toB = [&](double t) { return b.range.lo + (t - a.range.lo) / a.range.length() * b.range.length(); };
+  // Cuts: the range ends and both pcurves' breakpoints (B's mapped into A's parameter).
+  std::vector<double> cuts{a.range.lo, a.range.hi};
+  for (const auto& p : pcA)
+    for (double x : {p.interval.lo, p.interval.hi})
+      if (x > a.range.lo && x < a.range.hi) cuts.push_back(x);
+  for (const auto& p : pcB)
+    for (double x : {p.interval.lo, p.interval.hi}) {
+      const double t = a.range.lo + (x - b.range.lo) / b.range.length() * a.range.length();
+      if (t > a.range.lo && t < a.range.hi) cuts.push_back(t);
+    }
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+
+  std::vector<PCurveLeaf> leaves;
+  // Splits [t0, t1] until each side's pcurve lies in one span of its surface; at an exact crossing where the
+  // coordinate is monotone, else in the middle.
+  std::function<bool(double, double, int)> split = [&](double t0, double t1, int depth) -> bool {
+    PCurveLeaf L;
+    L.t0 = t0;
+    L.t1 = t1;
+    L.ca = pcurveOn(pcA, t0, t1);
+    L.cb = pcurveOn(pcB, toB(t0), toB(t1));
+    double cutAt = -1.0;
+    bool ok = true;
+    auto place = [&](const std::array<BernsteinPoly, 2>& c, const SpanPatches& sp, const PCurveSide& side,
+                     size_t& iu, size_t& iv) {
+      for (int k = 0; k < 2; ++k) {
+        const std::vector<Interval>& spans = k == 0 ? sp.us : sp.vs;
+        const double lo = c[static_cast<size_t>(k)].coeffs().minCoeff(),
+                     hi = c[static_cast<size_t>(k)].coeffs().maxCoeff();
+        if (const auto knot = knotInside(spans, lo, hi)) {
+          ok = false;
+          if (cutAt < 0.0)
+            if (const auto x = monotoneCrossing(c[static_cast<size_t>(k)], *knot)) cutAt = *x;
+          continue;
+        }
+        const auto idx = spanOf(spans, lo, hi, k == 0 ? side.faceU : side.faceV);
+        if (!idx) return false;
+        (k == 0 ? iu : iv) = *idx;
+      }
+      return true;
+    };
+    if (!place(L.ca, spA, a, L.aiu, L.aiv) || !place(L.cb, spB, b, L.biu, L.biv)) return false;
+    if (ok) {
+      leaves.push_back(std::move(L));
+      return true;
+    }
+    if (depth >= kPCurveSplitDepth) return false;
+    const double x = cutAt > 0.0 && cutAt < 1.0 ? cutAt : 0.5;
+    const double tm = t0 + x * (t1 - t0);
+    if (!(tm > t0 && tm < t1)) return false;
+    return split(t0, tm, depth + 1) && split(tm, t1, depth + 1);
+  };
+  for (size_t i = 0; i + 1 < cuts.size(); ++i)
+    if (!split(cuts[i], cuts[i + 1], 0))
+      return Status(ErrorCode::kUnsupported,
+                    "pcurve seam: a pcurve leaves its surface's domain or its knot-line crossings cannot be isolated");
+
+  // Exact data per leaf, in the same form as the patch seams (g0 and G1 only).
+  std::vector<Piece> pieces;
+  PCurveSeamBounds out;
+  for (const PCurveLeaf& L : leaves) {
+    const ComposedSide A = composeSide(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(), a.normalSign);
+    const ComposedSide B = composeSide(spB, L.biu, L.biv, L.cb, b.surface->isRational(), b.normalSign);
+    Piece pc;
+    pc.tOf = BernsteinPoly::linear(L.t0, L.t1);
+    pc.sOf = BernsteinPoly::linear(toB(L.t0), toB(L.t1));
+    pc.wa = A.w;
+    pc.wb = B.w;
+    WeightContext ctx(pc.wa, pc.wb);
+    const int ea = a.surface->isRational() ? 1 : 0, eb = b.surface->isRational() ? 1 : 0;
+    pc.g0 = ctx.add(RationalPoly{A.x, ea, 0}, RationalPoly{B.x, 0, eb}, -1.0);
+    const BernsteinPoly NA = detail::stripEndRoots(A.normal, kRoundoff * A.normal.maxCoeffNorm());
+    const BernsteinPoly NB = detail::stripEndRoots(B.normal, kRoundoff * B.normal.maxCoeffNorm());
+    pc.P = dot(NA, NB);
+    pc.cross = seam::cross(NA, NB);
+    pc.Q = dot(pc.cross, pc.cross);
+    pc.R = product(dot(NA, NA), dot(NB, NB));
+    pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
+    out.maxDegree = std::max(out.maxDegree, pc.R.degree());
+    if (pc.R.degree() > opt.maxCertifiedDegree)
+      return Status(ErrorCode::kUnsupported,
+                    fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
+                                opt.maxCertifiedDegree));
+    pieces.push_back(std::move(pc));
+  }
+  out.pieces = static_cast<int>(pieces.size());
+  const double edgeScale = std::max(controlDiagonal(*a.surface), controlDiagonal(*b.surface));
+  // Start samples, then the certified maxima (the subdivision raises the best values it meets).
+  double g0Best = 0.0, g1Best = 0.0, g0x = 0.0, g1x = 0.0;
+  int g0p = 0, g1p = 0;
+  for (size_t i = 0; i < pieces.size(); ++i)
+    for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
+      const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
+      if (const double v = g0Value(pieces[i], x); v > g0Best) std::tie(g0Best, g0x, g0p) = std::tuple{v, x, int(i)};
+      if (const double v = g1Value(pieces[i], x); v > g1Best) std::tie(g1Best, g1x, g1p) = std::tuple{v, x, int(i)};
+    }
+  bool ok0 = true, ok1 = true;
+  out.g0Bound = certifyMax(pieces, g0Bound, g0Value, g0Best, g0x, g0p, kRoundoff * edgeScale, opt, ok0);
+  const double g1b = certifyMax(pieces, g1Bound, g1Value, g1Best, g1x, g1p, kAngleBoundFloor, opt, ok1);
+  if (!ok0 || !ok1)
+    return Status(ErrorCode::kUnsupported, "pcurve seam: a bound could not be closed (vanishing normal)");
+  out.g0Sampled = g0Best;
+  out.g0At = pieces[static_cast<size_t>(g0p)].tOf.scalar(g0x);
+  out.g1BoundDeg = g1b * kRadToDeg;
+  out.g1SampledDeg = g1Best * kRadToDeg;
+  out.g1At = pieces[static_cast<size_t>(g1p)].tOf.scalar(g1x);
+  bool coeffIdentity = true, fold = false;
+  for (const Piece& pc : pieces) {
+    if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
+    if (detail::lowerBound(pc.P) < 0.0) fold = true;
+  }
+  out.g1Identity =
+      (coeffIdentity && !fold) || out.g1BoundDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
+  return out;
 }
 
 }  // namespace seam

@@ -362,6 +362,21 @@ BernsteinPoly BernsteinPatch::isoU(double u) const {
 
 BernsteinPoly BernsteinPatch::isoV(double v) const { return swapped().isoU(v); }
 
+BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPoly& v) const {
+  assert(u.dim() == 1 && v.dim() == 1);
+  // Each u-row (a curve in v) composed with v(t), then de Casteljau in u with polynomial arithmetic.
+  std::vector<BernsteinPoly> b;
+  b.reserve(static_cast<size_t>(du_ + 1));
+  for (int i = 0; i <= du_; ++i)
+    b.push_back(BernsteinPoly(Matrix(c_.middleRows(static_cast<Eigen::Index>(i) * (dv_ + 1), dv_ + 1))).composed(v));
+  const BernsteinPoly oneMinusU = BernsteinPoly::constant(1.0, u.degree()) - u;
+  for (int r = 1; r <= du_; ++r)
+    for (int i = 0; i <= du_ - r; ++i)
+      b[static_cast<size_t>(i)] =
+          product(oneMinusU, b[static_cast<size_t>(i)]) + product(u, b[static_cast<size_t>(i + 1)]);
+  return b.front();
+}
+
 BernsteinPatch BernsteinPatch::swapped() const {
   Matrix c(c_.rows(), c_.cols());
   for (int i = 0; i <= du_; ++i)

@@ -9,9 +9,13 @@
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <Geom2dConvert.hxx>
+#include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_Curve.hxx>
+#include <Geom2d_TrimmedCurve.hxx>
 #include <Geom_Surface.hxx>
 #include <Standard_Failure.hxx>
+#include <TColStd_Array1OfReal.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -40,6 +44,10 @@ constexpr double kVanishingNormalRel = 1e-12;
 /// Normal curvatures below this / (model size) count as flat when forming relative jumps (as in analyzeSeam).
 constexpr double kFlatCurvatureRatio = 1e-3;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+/// The certified pcurve route is taken only where the converted patch reproduces the face's OpenCASCADE surface
+/// along the pcurve (same parametrisation) within this fraction of the model size, at kParamCheckPoints points.
+constexpr double kSameParametrisationRel = 1e-9;
+constexpr int kParamCheckPoints = 16;
 /// Points per edge polyline (drawings in reports).
 constexpr int kPolylinePoints = 24;
 
@@ -175,6 +183,74 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   if (degenerate) rep.notes.push_back("the normal vanishes somewhere on the edge (pole or degenerate edge)");
   rep.geometric = classifyGeometric(rep, opt.tol);  // sampled: no identities
   return rep;
+}
+
+/// A face side for the certified route: the pcurve over [first, last] as a seam B-spline (nullopt when OpenCASCADE
+/// cannot convert it, or when the patch made from the face does not reproduce the face's surface along it).
+std::optional<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
+                                     double modelSize) {
+  try {
+    const Handle(Geom2d_TrimmedCurve) trimmed = new Geom2d_TrimmedCurve(f.pcurve, f.first, f.last);
+    const Handle(Geom2d_BSplineCurve) bs = Geom2dConvert::CurveToBSplineCurve(trimmed);
+    if (bs.IsNull() || bs->IsRational()) return std::nullopt;
+    TColStd_Array1OfReal knots(1, bs->NbPoles() + bs->Degree() + 1);
+    bs->KnotSequence(knots);
+    Matrix pts(bs->NbPoles(), 2);
+    for (int i = 1; i <= bs->NbPoles(); ++i) pts.row(i - 1) << bs->Pole(i).X(), bs->Pole(i).Y();
+    Result<BSplineCurve> c =
+        BSplineCurve::create(bs->Degree(), std::vector<double>(knots.begin(), knots.end()), std::move(pts));
+    if (!c) return std::nullopt;
+    PCurveSide side;
+    side.surface = &patch;
+    side.pcurve = std::move(c).value();
+    side.range = {f.first, f.last};
+    BRepTools::UVBounds(face, side.faceU.lo, side.faceU.hi, side.faceV.lo, side.faceV.hi);
+    side.normalSign = f.sign;
+    const Interval pd = patch.domainU(), qd = patch.domainV();
+    const double slack = kKnotRelTol * std::max(pd.length(), qd.length());
+    for (int i = 0; i <= kParamCheckPoints; ++i) {
+      const double t = f.first + (f.last - f.first) * i / kParamCheckPoints;
+      const VecX uv = side.pcurve.evaluate(t);
+      if (uv[0] < pd.lo - slack || uv[0] > pd.hi + slack || uv[1] < qd.lo - slack || uv[1] > qd.hi + slack)
+        return std::nullopt;
+      const Vec3 x = patch.evaluate(std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi)).head<3>();
+      if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize) return std::nullopt;
+    }
+    return side;
+  } catch (const Standard_Failure&) {
+    return std::nullopt;
+  }
+}
+
+/// Replaces the sampled G0 / G1 values by certified ones where the pcurves and surfaces compose exactly.
+void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt) {
+  const Result<PCurveSeamBounds> r = certifyPCurveSeam(a, b, opt);
+  if (!r) {
+    rep.notes.push_back(fmt::format("not certified: {}", r.status().message()));
+    return;
+  }
+  // The composed route's own values replace the sampled ones for G0 and G1: the same surfaces, each face
+  // evaluated on its own side of a knot line (OpenCASCADE evaluates a surface shared by two faces on one side
+  // there), and no direction noise near poles, where the exact normal keeps its limit.
+  auto pointAt = [&](double t) {
+    const VecX uv = a.pcurve.evaluate(t);
+    const Interval du = a.surface->domainU(), dv = a.surface->domainV();
+    return Vec3(a.surface->evaluate(std::clamp(uv[0], du.lo, du.hi), std::clamp(uv[1], dv.lo, dv.hi)).head<3>());
+  };
+  rep.g0Sampled = r->g0Sampled;
+  rep.g0Max = std::max(r->g0Bound, r->g0Sampled);
+  rep.g0Worst = {r->g0At, pointAt(r->g0At)};
+  rep.g1SampledDeg = r->g1SampledDeg;
+  rep.g1MaxDeg = std::max(r->g1BoundDeg, r->g1SampledDeg);
+  rep.g1Worst = {r->g1At, pointAt(r->g1At)};
+  rep.g1Identity = r->g1Identity;
+  rep.certified = true;
+  rep.notes.erase(rep.notes.begin());  // "sampled ... not certified"
+  rep.notes.insert(rep.notes.begin(),
+                   fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
+                               "({} pieces, degree <= {}); G2 sampled through the pcurves",
+                               r->pieces, r->maxDegree));
+  rep.geometric = classifyGeometric(rep, opt.tol);
 }
 
 Vec3 edgeMidpoint(const TopoDS_Edge& e) {
@@ -324,6 +400,16 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
         A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
         B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
         seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
+        if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
+          const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
+          const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
+          if (sideA && sideB)
+            certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt);
+          else
+            seam.report.notes.push_back(
+                "not certified: a pcurve is rational or leaves its patch, or the patch does not reproduce the face's "
+                "surface in its own parameters (converted analytic surface)");
+        }
       }
       seam.curve = edgePolyline(edge);
       out.seams.push_back(std::move(seam));

@@ -18,6 +18,7 @@
 #include "seam/core/tolerances.h"
 #include "seam/core/types.h"
 #include "seam/model/model.h"
+#include "seam/spline/bspline_curve.h"
 #include "seam/spline/bspline_surface.h"
 
 namespace seam {
@@ -110,5 +111,34 @@ Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb,
 /// short ones are analysed one short edge at a time).
 Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options,
                                std::optional<Interval> aRange);
+
+/// One face's side of a seam along a curve in its parameter plane (an edge of a trimmed face): the face's surface,
+/// the edge's parameter curve c(t) = (u(t), v(t)) (a 2-D polynomial B-spline; rational ones are not supported), the
+/// parameter range of the edge on it, the face's parameter box (which side of a knot line the face lies on, where the
+/// curve runs along one) and the sense of the face's normal (-1 for a reversed face).
+struct PCurveSide {
+  const BSplineSurface* surface = nullptr;
+  BSplineCurve pcurve;
+  Interval range;
+  Interval faceU, faceV;
+  double normalSign = 1.0;
+};
+
+/// Certified G0 and G1 values of a seam between two faces along their pcurves, which share the edge parameter
+/// (B's range mapped affinely onto A's, as B-rep edges with SameParameter are). The edge is cut where a pcurve
+/// has a knot or crosses a knot line of its surface (isolated exactly on the Bernstein coefficients), and on each
+/// piece S(c(t)), the normal numerators (S_u x S_v)(c(t)) and the distance are composed exactly in Bernstein form
+/// (BernsteinPatch::composed); the bounds are subdivided as in analyzeSeam. `t` values are A's pcurve parameter.
+struct PCurveSeamBounds {
+  double g0Bound = 0.0, g0Sampled = 0.0, g0At = 0.0;        ///< distance: certified bound, best value, where
+  double g1BoundDeg = 0.0, g1SampledDeg = 0.0, g1At = 0.0;  ///< normal angle (degrees), likewise
+  bool g1Identity = false;  ///< the normals are parallel and agree as a polynomial identity (to round-off)
+  int pieces = 0;           ///< polynomial pieces along the edge
+  int maxDegree = 0;        ///< largest degree of the composed G1 polynomials
+};
+/// Errors (the caller samples instead): kInvalidInput (missing surface, pcurve not 2-D, empty ranges),
+/// kUnsupported (rational pcurve, a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
+/// above SeamOptions::maxCertifiedDegree, a normal vanishing so that the angle bound cannot be closed).
+Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& options = {});
 
 }  // namespace seam

@@ -108,6 +108,8 @@ class BernsteinPatch {
   [[nodiscard]] BernsteinPoly isoU(double u) const;
   /// The curve u -> p(u, v) at fixed v, exactly.
   [[nodiscard]] BernsteinPoly isoV(double v) const;
+  /// The curve t -> p(u(t), v(t)) for scalar polynomials u, v (exactly; degree = degreeU() deg u + degreeV() deg v).
+  [[nodiscard]] BernsteinPoly composed(const BernsteinPoly& u, const BernsteinPoly& v) const;
   /// q(u,v) = p(v,u).
   [[nodiscard]] BernsteinPatch swapped() const;
   [[nodiscard]] BernsteinPatch reversedU() const;

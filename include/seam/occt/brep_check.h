@@ -9,7 +9,10 @@
 //    the parameter box), the faces' patches are analysed by analyzeSeam: exact Bernstein data, certified bounds;
 //  * otherwise the seam is sampled along the edge (samplesPerSpan points per span of the edge's 3-D curve, at
 //    least 64, each local maximum refined by golden section) through the two pcurves, with the faces' own
-//    orientation giving the normals' sense, and `certified` is false.
+//    orientation giving the normals' sense; then, when both faces were converted exactly, each patch reproduces
+//    its face's surface in the same parameters (checked along the pcurve to kSameParametrisationRel) and both
+//    pcurves are polynomial, G0 and G1 are certified by composition (certifyPCurveSeam, continuity/seam.h) and
+//    replace the sampled values, G2 stays sampled; else `certified` is false and a note says why.
 // OpenCASCADE's own verdict (BRepLib::ContinuityOfFaces with the angle tolerance) is recorded next to seam's.
 #include <array>
 #include <filesystem>
