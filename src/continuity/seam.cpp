@@ -1120,7 +1120,8 @@ std::optional<double> knotInside(const std::vector<Interval>& spans, double lo, 
 /// Where a scalar polynomial on [0, 1] crosses `level`, when it is monotone there (coefficients of the derivative
 /// of one sign) and takes values on both sides at the ends; bisection to the last bit.
 std::optional<double> monotoneCrossing(const BernsteinPoly& f, double level) {
-  const Matrix& d = f.derivative().coeffs();
+  const BernsteinPoly df = f.derivative();
+  const Matrix& d = df.coeffs();
   const bool up = (d.array() > 0.0).all(), down = (d.array() < 0.0).all();
   const double f0 = f.coeffs()(0, 0) - level, f1 = f.coeffs()(f.degree(), 0) - level;
   if (!(up || down) || !(f0 * f1 < 0.0)) return std::nullopt;
