@@ -54,12 +54,7 @@ constexpr double kPlausibleDisplacementRel = 0.1;
 /// round-off of least-squares connecting functions; the default angle tolerance as a sine is ~1.7e-4.
 constexpr double kVertexG1Residual = 1e-6;
 
-SeamOptions refereeOptions() {
-  SeamOptions o;
-  o.boundRelGap = 0.25;
-  o.maxSubdivisionDepth = 12;
-  return o;
-}
+using seamtest::refereeOptions;
 CornerJoinOptions cornerOptions() {
   CornerJoinOptions o;
   o.seam = refereeOptions();
@@ -79,16 +74,7 @@ std::vector<double> randomBreaks(Rng& rng, int spans) {
   return b;
 }
 
-/// A C1 bicubic graph surface over the breakpoints (de Boor points at the Greville abscissae, random heights).
-BSplineSurface c1Graph(Rng& rng, const std::vector<double>& bu, const std::vector<double>& bv, double amp) {
-  const KnotVector ku = c1CubicKnots(bu), kv = c1CubicKnots(bv);
-  const int nu = ku.size() - 4, nv = kv.size() - 4;
-  Matrix pts(nu * nv, 3);
-  auto greville = [](const KnotVector& k, int i) { return (k[i + 1] + k[i + 2] + k[i + 3]) / 3.0; };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) pts.row(i * nv + j) << greville(ku, i), greville(kv, j), urand(rng, -amp, amp);
-  return BSplineSurface(3, 3, ku, kv, nu, nv, std::move(pts));
-}
+using seamtest::c1Graph;
 
 /// Adds noise of size `amp` to the control points (i, j) with pick(i, j).
 template <class Pick>

@@ -47,14 +47,7 @@ constexpr double kUnchangedRel = 1e-12;
 /// Dense reference samples along a seam (both ends included).
 constexpr int kDenseSamples = 2000;
 
-/// The referee's settings in these tests: certified bounds, but subdivided only until within 25 % of the sampled
-/// worst value (the curvature bounds of G1-but-not-G2 seams are the expensive part and are not under test here).
-SeamOptions refereeOptions() {
-  SeamOptions o;
-  o.boundRelGap = 0.25;
-  o.maxSubdivisionDepth = 12;
-  return o;
-}
+using seamtest::refereeOptions;
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Constructions.
@@ -74,18 +67,7 @@ std::vector<double> randomBreaks(Rng& rng, int spans, double lo, double hi) {
   return b;
 }
 
-/// A C1 bicubic graph surface over the given breakpoints: d_ij = (G_i, H_j, z_ij) at the Greville abscissae,
-/// heights random in [-amp, amp] (a regular surface, normal never vanishing).
-BSplineSurface c1Graph(Rng& rng, const std::vector<double>& bu, const std::vector<double>& bv, double amp) {
-  const KnotVector ku = c1CubicKnots(bu), kv = c1CubicKnots(bv);
-  const int nu = ku.size() - 4, nv = kv.size() - 4;
-  Matrix pts(nu * nv, 3);
-  auto greville = [](const KnotVector& k, int i) { return (k[i + 1] + k[i + 2] + k[i + 3]) / 3.0; };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j)
-      pts.row(i * nv + j) << greville(ku, i), greville(kv, j), urand(rng, -amp, amp);
-  return BSplineSurface(3, 3, ku, kv, nu, nv, std::move(pts));
-}
+using seamtest::c1Graph;
 
 /// The same control net on other knots (a different C1 bicubic B-spline with the same de Boor points).
 BSplineSurface withKnotsU(const BSplineSurface& s, const std::vector<double>& bu) {

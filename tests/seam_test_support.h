@@ -19,9 +19,11 @@
 #include <utility>
 #include <vector>
 
+#include "seam/continuity/seam.h"
 #include "seam/core/bernstein.h"
 #include "seam/core/types.h"
 #include "seam/model/model.h"
+#include "seam/repair/bicubic.h"
 #include "seam/spline/bezier.h"
 #include "seam/spline/bspline_surface.h"
 
@@ -122,6 +124,27 @@ inline BSplineSurface randomGraphSurface(Rng& rng, int pu, int pv, int nu, int n
   BSplineSurface s(pu, pv, KnotVector(randomClampedKnots(rng, pu, nu)), KnotVector(randomClampedKnots(rng, pv, nv)),
                    nu, nv, std::move(p), std::move(w));
   return transformed(s, randomRotation(rng), Vec3(urand(rng, -2, 2), urand(rng, -2, 2), urand(rng, -2, 2)));
+}
+
+/// The referee's settings in the repair tests: certified bounds, subdivided only until within 25 % of the sampled
+/// worst value (the curvature bounds of G1-but-not-G2 seams are the expensive part and are not under test there).
+inline SeamOptions refereeOptions() {
+  SeamOptions o;
+  o.boundRelGap = 0.25;
+  o.maxSubdivisionDepth = 12;
+  return o;
+}
+
+/// A C1 bicubic graph surface over the given breakpoints: d_ij = (G_i, H_j, z_ij) at the Greville abscissae,
+/// heights random in [-amp, amp] (a regular surface, normal never vanishing).
+inline BSplineSurface c1Graph(Rng& rng, const std::vector<double>& bu, const std::vector<double>& bv, double amp) {
+  const KnotVector ku = c1CubicKnots(bu), kv = c1CubicKnots(bv);
+  const int nu = ku.size() - 4, nv = kv.size() - 4;
+  Matrix pts(nu * nv, 3);
+  auto greville = [](const KnotVector& k, int i) { return (k[i + 1] + k[i + 2] + k[i + 3]) / 3.0; };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) pts.row(i * nv + j) << greville(ku, i), greville(kv, j), urand(rng, -amp, amp);
+  return BSplineSurface(3, 3, ku, kv, nu, nv, std::move(pts));
 }
 
 // =====================================================================================================================

@@ -48,6 +48,9 @@ constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 /// along the pcurve (same parametrisation) within this fraction of the model size, at kParamCheckPoints points.
 constexpr double kSameParametrisationRel = 1e-9;
 constexpr int kParamCheckPoints = 16;
+/// The note of a seam sampled through the pcurves (replaced when G0 and G1 are certified afterwards).
+constexpr const char* kSampledNote =
+    "sampled through the pcurves of the shared B-rep edge (trimmed faces): not certified";
 /// Points per edge polyline (drawings in reports).
 constexpr int kPolylinePoints = 24;
 
@@ -178,7 +181,7 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
     for (size_t i = 0; i < ts.size(); ++i)
       rep.samples.push_back({ts[i], ms[i].g0, ms[i].g1 * kRadToDeg, ms[i].g2, ms[i].g2 / curvRef});
   rep.certified = false;
-  rep.notes.push_back("sampled through the pcurves of the shared B-rep edge (trimmed faces): not certified");
+  rep.notes.push_back(kSampledNote);
   rep.notes.push_back("faces of a B-rep have unrelated parametrisations: no C^k");
   if (degenerate) rep.notes.push_back("the normal vanishes somewhere on the edge (pole or degenerate edge)");
   rep.geometric = classifyGeometric(rep, opt.tol);  // sampled: no identities
@@ -245,7 +248,7 @@ void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSid
   rep.g1Worst = {r->g1At, pointAt(r->g1At)};
   rep.g1Identity = r->g1Identity;
   rep.certified = true;
-  rep.notes.erase(rep.notes.begin());  // "sampled ... not certified"
+  std::erase_if(rep.notes, [](const std::string& n) { return n.starts_with(kSampledNote); });
   rep.notes.insert(rep.notes.begin(),
                    fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
                                "({} pieces, degree <= {}); G2 sampled through the pcurves",

@@ -366,15 +366,6 @@ BSplineSurface compoundTarget(const BSplineSurface& firstFromCorner, const BSpli
   return BSplineSurface(3, 3, KnotVector(std::move(k)), KnotVector({0, 0, 0, 0, h, h, h, h}), n, 4, std::move(pts));
 }
 
-Patch replacedSurface(const Patch& p, BSplineSurface s) {
-  Patch out = p;
-  const bool sameKnots = s.knotsU().values() == p.surface.knotsU().values() &&
-                         s.knotsV().values() == p.surface.knotsV().values() && s.degreeU() == p.surface.degreeU() &&
-                         s.degreeV() == p.surface.degreeV();
-  if (!sameKnots) out.kind = PatchKind::kBSpline;
-  out.surface = std::move(s);
-  return out;
-}
 
 CornerJoinStep stepFor(const Model& before, const Model& after, const std::vector<int>& movedIdx,
                        const std::vector<int>& ontoIdx, double threshold) {
@@ -528,6 +519,17 @@ Result<CornerSeam> seamAfter(const Model& m, int a, Edge ea, int b, Edge eb, con
 const ConditionCheck* ThreePatchProportionality::find(CornerCondition c) const { return findCheck(checks, c); }
 const ConditionCheck* FourPatchProportionality::find(CornerCondition c) const { return findCheck(checks, c); }
 
+namespace {
+/// The corner joins take method auto or bspline, and a fallback of bezier-strip or least-squares.
+Status validMethods(const CornerJoinOptions& opt) {
+  if (opt.method != JoinMethod::kAuto && opt.method != JoinMethod::kBSpline)
+    return invalidInput("the corner join takes method auto or bspline (the fallback is chosen by `fallback`)");
+  if (opt.fallback != JoinMethod::kBezierStrip && opt.fallback != JoinMethod::kLeastSquares)
+    return invalidInput("the fallback is bezier-strip or least-squares");
+  return Status::ok();
+}
+}  // namespace
+
 Result<ThreePatchProportionality> checkThreePatchCorner(const Model& model, const ThreePatchCorner& corner,
                                                         const CornerJoinOptions& opt) {
   const Setup st = setupFor(model, opt);
@@ -538,10 +540,7 @@ Result<ThreePatchProportionality> checkThreePatchCorner(const Model& model, cons
 
 Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const ThreePatchCorner& c,
                                                   const CornerJoinOptions& opt) {
-  if (opt.method != JoinMethod::kAuto && opt.method != JoinMethod::kBSpline)
-    return invalidInput("the corner join takes method auto or bspline (the fallback is chosen by `fallback`)");
-  if (opt.fallback != JoinMethod::kBezierStrip && opt.fallback != JoinMethod::kLeastSquares)
-    return invalidInput("the fallback is bezier-strip or least-squares");
+  if (Status st = validMethods(opt); !st) return st;
   const Setup st = setupFor(model, opt);
   auto tfr = threeFrames(model, c, st);
   if (!tfr) return tfr.status();
@@ -582,7 +581,7 @@ Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const Thre
       auto r = theorem1Join(tf.fs.f, tf.ft.f);
       if (!r) return r.status();
       res.model.patches[static_cast<size_t>(tf.is)] =
-          replacedSurface(S, detail::fromEdgeFrame(r->surface, c.sToTilde, tf.fs.flip));
+          detail::replacedSurface(S, detail::fromEdgeFrame(r->surface, c.sToTilde, tf.fs.flip));
       step = stepFor(model, res.model, {tf.is}, {tf.it}, moveThreshold);
       step.method = JoinMethod::kBSpline;
       step.reason = fmt::format("condition (a) holds (u proportional to u~, Def. 3.1): Theorem 1, case {}",
@@ -611,7 +610,7 @@ Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const Thre
         std::vector<std::string> notes;
         auto r = lsOntoNeighbours(model, tf.is, c.sToTilde, {{tf.it, c.tildeToS}}, cornerPoint(tf.fs.f), st, notes);
         if (!r) return r.status();
-        res.model.patches[static_cast<size_t>(tf.is)] = replacedSurface(S, r->surface);
+        res.model.patches[static_cast<size_t>(tf.is)] = detail::replacedSurface(S, r->surface);
         step.notes = notes;
       }
       const std::vector<std::string> keep = step.notes;
@@ -644,7 +643,7 @@ Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const Thre
                                                     flipH);
       auto r = theorem1Join(fh, comp);
       if (r) {
-        res.model.patches[static_cast<size_t>(tf.ih)] = replacedSurface(
+        res.model.patches[static_cast<size_t>(tf.ih)] = detail::replacedSurface(
             afterJoin1.patches[static_cast<size_t>(tf.ih)], detail::fromEdgeFrame(r->surface, c.hatEdge, flipH));
         step = stepFor(afterJoin1, res.model, {tf.ih}, {tf.is, tf.it}, moveThreshold);
         step.method = JoinMethod::kBSpline;
@@ -662,7 +661,7 @@ Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const Thre
                                 cornerPoint(tf.fs.f), st, notes);
       if (!r) return r.status();
       res.model.patches[static_cast<size_t>(tf.ih)] =
-          replacedSurface(afterJoin1.patches[static_cast<size_t>(tf.ih)], r->surface);
+          detail::replacedSurface(afterJoin1.patches[static_cast<size_t>(tf.ih)], r->surface);
       step = stepFor(afterJoin1, res.model, {tf.ih}, {tf.is, tf.it}, moveThreshold);
       step.method = JoinMethod::kLeastSquares;
       step.reason = !c1 ? "not C1 bicubic: least squares onto S and S~ at once"
@@ -782,10 +781,7 @@ Result<FourPatchProportionality> checkFourPatchCorner(const Model& model, const 
 
 Result<FourPatchJoinResult> joinFourPatchCorner(const Model& model, const FourPatchCorner& c,
                                                 const CornerJoinOptions& opt) {
-  if (opt.method != JoinMethod::kAuto && opt.method != JoinMethod::kBSpline)
-    return invalidInput("the corner join takes method auto or bspline (the fallback is chosen by `fallback`)");
-  if (opt.fallback != JoinMethod::kBezierStrip && opt.fallback != JoinMethod::kLeastSquares)
-    return invalidInput("the fallback is bezier-strip or least-squares");
+  if (Status st = validMethods(opt); !st) return st;
   const Setup st = setupFor(model, opt);
   auto ffr = fourFrames(model, c, st);
   if (!ffr) return ffr.status();
@@ -830,7 +826,7 @@ Result<FourPatchJoinResult> joinFourPatchCorner(const Model& model, const FourPa
     auto r = theorem1Join(fm->f, fx->f);
     if (!r) return r.status();
     m.patches[static_cast<size_t>(I(mover))] =
-        replacedSurface(P(m, mover), detail::fromEdgeFrame(r->surface, me, fm->flip));
+        detail::replacedSurface(P(m, mover), detail::fromEdgeFrame(r->surface, me, fm->flip));
     return Status::ok();
   };
   const auto& N = c.toNext;

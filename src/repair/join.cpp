@@ -118,6 +118,18 @@ Result<SeamReport> analyzeSeamPiecewise(const Patch& a, Edge ea, const Patch& b,
   return mergeReports(parts);
 }
 
+namespace detail {
+Patch replacedSurface(const Patch& p, BSplineSurface s) {
+  Patch out = p;
+  const bool sameKnots = s.knotsU().values() == p.surface.knotsU().values() &&
+                         s.knotsV().values() == p.surface.knotsV().values() && s.degreeU() == p.surface.degreeU() &&
+                         s.degreeV() == p.surface.degreeV();
+  if (!sameKnots) out.kind = PatchKind::kBSpline;
+  out.surface = std::move(s);
+  return out;
+}
+}  // namespace detail
+
 namespace {
 
 // The seam seen from both sides in edge frames, and the affine correspondence.
@@ -159,15 +171,6 @@ Status paperCorrespondence(const SeamSetup& st, double maxGap) {
   return Status::ok();
 }
 
-Patch replaced(const Patch& p, BSplineSurface s) {
-  Patch out = p;
-  const bool sameKnots = s.knotsU().values() == p.surface.knotsU().values() &&
-                         s.knotsV().values() == p.surface.knotsV().values() && s.degreeU() == p.surface.degreeU() &&
-                         s.degreeV() == p.surface.degreeV();
-  if (!sameKnots) out.kind = PatchKind::kBSpline;
-  out.surface = std::move(s);
-  return out;
-}
 
 }  // namespace
 
@@ -286,7 +289,7 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
     if (!r) return r.status();
     rep.reason += fmt::format(" [Theorem 1, case {}]", toString(r->spanCase));
     res.model.patches[static_cast<size_t>(is)] =
-        replaced(*st.S, detail::fromEdgeFrame(r->surface, moveEdge, false));
+        detail::replacedSurface(*st.S, detail::fromEdgeFrame(r->surface, moveEdge, false));
   } else if (method == JoinMethod::kBezierStrip) {
     BezierStripOptions so;
     so.ell = opt.ell;
@@ -297,7 +300,7 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
     rep.reason += fmt::format(" [Algorithm 3.3, case {}, {} wrinkled junction{}]", toString(r->spanCase),
                               r->raisedKnots.size(), r->raisedKnots.size() == 1 ? "" : "s");
     (isUEdge(moveEdge) ? rep.insertedKnotsV : rep.insertedKnotsU) = r->raisedKnots;
-    res.model.patches[static_cast<size_t>(is)] = replaced(*st.S, detail::fromEdgeFrame(r->surface, moveEdge, false));
+    res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, detail::fromEdgeFrame(r->surface, moveEdge, false));
     const std::vector<double> bS = st.Sf.knotsU().breakpoints();
     for (size_t i = 0; i < bS.size() && i <= static_cast<size_t>(r->mHat); ++i) pieceBreaks.push_back(bS[i]);
     // Internal G1 of the strip across the wrinkled junctions: the two Bezier patches on either side, certified.
@@ -341,7 +344,7 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       rep.elevatedV = r->elevatedV;
       for (const std::string& n : r->notes) rep.notes.push_back(n);
       if (order >= 1 && !r->lambda.empty()) rep.lambdaMin = r->lambdaMin;
-      res.model.patches[static_cast<size_t>(is)] = replaced(*st.S, r->surface);
+      res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, r->surface);
     } else {
       // Both sides move onto the common middle: S's own data and T's data over S's edge parameter.
       const detail::SeamTarget own = detail::targetFromFrame(st.Sf, st.rangeS, st.rangeS.lo, 1.0, 1);
@@ -390,8 +393,8 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       rep.notes.push_back(fmt::format("average: both edges moved onto their middle; cross derivatives balanced with "
                                       "lambda0 = {:.6g}",
                                       lambda0));
-      res.model.patches[static_cast<size_t>(is)] = replaced(*st.S, rs->surface);
-      res.model.patches[static_cast<size_t>(it)] = replaced(*st.T, rt->surface);
+      res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, rs->surface);
+      res.model.patches[static_cast<size_t>(it)] = detail::replacedSurface(*st.T, rt->surface);
     }
   }
 

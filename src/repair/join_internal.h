@@ -119,4 +119,7 @@ JoinOverlap cornerSnappedOverlap(const BSplineSurface& s, Edge es, const BSpline
 /// displacement measures. Requires like's knots to contain s's (after elevation).
 BSplineSurface expressedLike(const BSplineSurface& s, const BSplineSurface& like);
 
+/// The patch with a new surface, name kept; its kind becomes B-spline unless degrees and knots are unchanged.
+Patch replacedSurface(const Patch& p, BSplineSurface s);
+
 }  // namespace seam::detail
