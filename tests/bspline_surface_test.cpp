@@ -715,3 +715,51 @@ TEST(BSplineSurface, CreateValidatesInput) {
 
 }  // namespace
 }  // namespace seam
+
+namespace seam {
+namespace {
+
+TEST(BSplineSurface, DerivativePatchesAreThePartialsSpanBySpan) {
+  // homogeneousDerivativePatches(ku, kv) on span (a, b), at the local point of (u, v), against the brute-force
+  // tensor sum of basis-function derivatives. Cases: the random geometry cases, a C^0 knot (multiplicity p, so the
+  // first derivative net has a full-multiplicity knot and is cut there) and a span 1e-7 long (whose Bezier points
+  // agree to 7 digits: the partials must keep their relative accuracy there).
+  std::mt19937_64 rng(5581);
+  // (surface, reference): knot insertion does not change the geometry, so the surfaces with an inserted C^0 knot
+  // or sliver span are checked against the partials of the surface they came from (well conditioned there).
+  std::vector<std::pair<BSplineSurface, BSplineSurface>> surfaces;
+  for (const auto& c : geometryCases(rng)) surfaces.emplace_back(c.surface, c.surface);
+  const BSplineSurface base = randomSurface(rng, 3, 2, 3, {.rational = true, .minSpans = 2, .maxSpans = 3});
+  const Interval du = base.domainU();
+  const double mid = du.lo + 0.437 * du.length();
+  surfaces.emplace_back(base.withKnotInsertedU(mid, 3), base);
+  surfaces.emplace_back(base.withKnotInsertedU(mid, 1).withKnotInsertedU(mid + 1e-7 * du.length(), 1), base);
+  const std::array<std::array<int, 2>, 6> orders{{{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}}};
+  for (const auto& [s, ref] : surfaces) {
+    const std::vector<BezierPatchPiece> pieces = s.bezierPatches();
+    int nV = 0;
+    for (const auto& p : pieces) nV = std::max(nV, p.spanV + 1);
+    const Matrix h = test::refHomogeneous(ref.points(), ref.weights());
+    for (const auto& [ku, kv] : orders) {
+      const std::vector<BernsteinPatch> d = s.homogeneousDerivativePatches(ku, kv);
+      ASSERT_EQ(d.size(), pieces.size()) << describe(s);
+      for (const BezierPatchPiece& p : pieces)
+        for (int k = 0; k < 3; ++k) {
+          // A point inside the span (the sliver included), away from its ends.
+          const double x = uniformReal(rng, 0.05, 0.95), y = uniformReal(rng, 0.05, 0.95);
+          const double u = p.u.lo + x * p.u.length(), v = p.v.lo + y * p.v.length();
+          const auto want = test::refTensorSum(ref.degreeU(), ref.degreeV(), ref.knotsU().values(),
+                                               ref.knotsV().values(), ref.numV(), h, u, v, 2);
+          const auto mag = test::refTensorSum(ref.degreeU(), ref.degreeV(), ref.knotsU().values(),
+                                              ref.knotsV().values(), ref.numV(), h, u, v, 2, true);
+          const VecX got = d[static_cast<size_t>(p.spanU * nV + p.spanV)](x, y);
+          const double tol = 1e-11 * (mag[ku][kv].maxCoeff() + want[ku][kv].norm()) + test::kExactZeroFloor;
+          ASSERT_LE((got - want[ku][kv]).norm(), tol)
+              << describe(s) << " order (" << ku << ", " << kv << ") span (" << p.spanU << ", " << p.spanV << ")";
+        }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace seam

@@ -1344,6 +1344,102 @@ TEST(PCurveSeam, CurvedPcurveOnACurvedSurfaceAndItsSwappedCopyIsAnIdentity) {
   }
 }
 
+TEST(PCurveSeam, CurvatureJumpAcrossACurvedTrimmingCurveIsCertified) {
+  // A = the plane z = 0 (bicubic, random knots); B = the graph z = k/2 (v - u^2)^2 over [0, 1]^2, a Bezier patch of
+  // degree (4, 2) whose z coefficients are those of the monomials (the coefficient of u^m in degree n at index i is
+  // C(i, m) / C(n, m)). B touches the plane along v = u^2, so the seam along the pcurve c(t) = (t, t^2) is G1
+  // exactly, and B's shape operator there is the Hessian k grad(g) grad(g)^T of g = v - u^2: the jump is
+  // k (1 + 4 t^2), largest (5 k) at t = 1.
+  seamtest::Rng rng(8105);
+  auto binom = [](int n, int m) { return m < 0 || m > n ? 0.0 : std::tgamma(n + 1.0) / (std::tgamma(m + 1.0) * std::tgamma(n - m + 1.0)); };
+  for (double k : {0.25, 2.0}) {
+    const BSplineSurface A = pcurve::identityPlane(rng, 3, 7);
+    Matrix pts(15, 3);
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 2; ++j) {
+        const double z = 0.5 * k * ((j == 2 ? 1.0 : 0.0) - 2.0 * (j / 2.0) * binom(i, 2) / 6.0 + (i == 4 ? 1.0 : 0.0));
+        pts.row(i * 3 + j) << i / 4.0, j / 2.0, z;
+      }
+    const BSplineSurface B(4, 2, KnotVector({0, 0, 0, 0, 0, 1, 1, 1, 1, 1}), KnotVector({0, 0, 0, 1, 1, 1}), 5, 3,
+                           std::move(pts));
+    // Independent check of the construction at a few points.
+    for (double u : {0.2, 0.7})
+      for (double v : {0.1, 0.9})
+        ASSERT_NEAR(B.evaluate(u, v)[2], 0.5 * k * (v - u * u) * (v - u * u), 1e-14);
+    Matrix cp(3, 2);
+    cp << 0.0, 0.0, 0.5, 0.0, 1.0, 1.0;  // (t, t^2) as a quadratic Bezier curve
+    const BSplineCurve c = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, cp).value();
+    const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(A, c), pcurve::side(B, c));
+    ASSERT_TRUE(r) << r.status().message();
+    EXPECT_TRUE(r->g1Identity) << r->g1BoundDeg;
+    ASSERT_TRUE(r->g2Certified) << r->g2Why;
+    EXPECT_FALSE(r->g2Identity);
+    EXPECT_NEAR(r->g2Sampled, 5.0 * k, 1e-9 * k);
+    EXPECT_NEAR(r->g2At, 1.0, 1e-9);
+    EXPECT_GE(r->g2Bound, 5.0 * k * (1.0 - 1e-12));
+    EXPECT_LE(r->g2Bound, 1.01 * 5.0 * k);
+    EXPECT_NEAR(r->curvatureMax, 5.0 * k, 1e-9 * k);
+    // The same seam seen from B (swapped sides): the jump is symmetric.
+    const Result<PCurveSeamBounds> s = certifyPCurveSeam(pcurve::side(B, c), pcurve::side(A, c));
+    ASSERT_TRUE(s && s->g2Certified);
+    EXPECT_NEAR(s->g2Sampled, 5.0 * k, 1e-9 * k);
+  }
+}
+
+TEST(PCurveSeam, OneSurfaceOnBothSidesOfASlantedCurveIsG2AsAnIdentity) {
+  // The same curved surface on both sides of a slanted straight pcurve that crosses knot lines: no jump at all.
+  seamtest::Rng rng(8106);
+  for (bool rational : {false, true}) {
+    const BSplineSurface F = seamtest::randomGraphSurface(rng, 3, 3, 6, 6, rational, 0.3);
+    const BSplineCurve c = pcurve::line2d({0.05, 0.3}, {0.9, 0.75});
+    const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(F, c), pcurve::side(F, c));
+    ASSERT_TRUE(r) << r.status().message();
+    EXPECT_TRUE(r->g1Identity);
+    ASSERT_TRUE(r->g2Certified) << "rational " << rational << ": " << r->g2Why;
+    EXPECT_TRUE(r->g2Identity) << r->g2Bound;
+    EXPECT_LE(r->g2Bound, 1e-8 * r->curvatureMax);
+    EXPECT_GT(r->curvatureMax, 0.0);
+  }
+}
+
+TEST(PCurveSeam, ASliverSpanAndANearlyIsoparametricPcurveStayG2) {
+  // A curved surface F and the same surface with a span 1e-7 long inserted at u = 0.45 (as CAD files get when a
+  // face is cut just past a knot); the pcurve runs inside the sliver, nearly along v (u moves by 6e-8 while v moves
+  // by 0.8). Both faces are one surface: the seam is G2 as an identity. With the chart direction taken as the
+  // rotated pcurve derivative in the sliver's own coordinates, the two chart directions were nearly parallel in
+  // 3-D and the curvature read ~0.5 where it is 0 (trj3 F2/F3).
+  seamtest::Rng rng(8108);
+  for (bool rational : {false, true}) {
+    const BSplineSurface F = seamtest::randomGraphSurface(rng, 3, 3, 5, 5, rational, 0.3);
+    const Interval du = F.domainU();
+    const double k0 = du.lo + 0.45 * du.length(), h = 1e-7 * du.length();
+    const BSplineSurface S = F.withKnotInsertedU(k0, 1).withKnotInsertedU(k0 + h, 1);
+    const Interval dv = F.domainV();
+    const BSplineCurve c = pcurve::line2d({k0 + 0.2 * h, dv.lo + 0.1 * dv.length()},
+                                          {k0 + 0.8 * h, dv.lo + 0.9 * dv.length()});
+    const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(F, c), pcurve::side(S, c));
+    ASSERT_TRUE(r) << r.status().message();
+    EXPECT_TRUE(r->g1Identity) << r->g1BoundDeg;
+    ASSERT_TRUE(r->g2Certified) << r->g2Why;
+    EXPECT_TRUE(r->g2Identity) << "rational " << rational << " bound " << r->g2Bound << " curvature "
+                               << r->curvatureMax;
+    EXPECT_LE(r->g2Bound, 1e-6 * r->curvatureMax);
+  }
+}
+
+TEST(PCurveSeam, CreaseHasNoCertifiedG2) {
+  seamtest::Rng rng(8107);
+  const BSplineSurface A = pcurve::identityPlane(rng, 2, 5);
+  const Vec3 dir = Vec3(1.0, 1.0, 0.0).normalized();
+  const BSplineSurface B = seamtest::transformed(A, Eigen::AngleAxisd(0.3, dir).toRotationMatrix(), Vec3::Zero());
+  const BSplineCurve c = pcurve::line2d({0.0, 0.0}, {1.0, 1.0});
+  const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(A, c), pcurve::side(B, c));
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_FALSE(r->g1Identity);
+  EXPECT_FALSE(r->g2Certified);
+  EXPECT_FALSE(r->g2Why.empty());
+}
+
 TEST(PCurveSeam, UnsupportedAndInvalidInputAreErrors) {
   seamtest::Rng rng(8104);
   const BSplineSurface A = pcurve::identityPlane(rng, 3, 5);

@@ -92,10 +92,14 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
     for (int k = 0; k <= n + m; ++k) out.row(k) /= binomial(n + m, k);
     return out;
   }
+  // The binomials once per row (above the table they cost O(k) each; per pair they dominated high degrees).
+  std::vector<double> bm(static_cast<size_t>(m) + 1), bnm(static_cast<size_t>(n + m) + 1);
+  for (int j = 0; j <= m; ++j) bm[static_cast<size_t>(j)] = binomial(m, j);
+  for (int k = 0; k <= n + m; ++k) bnm[static_cast<size_t>(k)] = binomial(n + m, k);
   for (int i = 0; i <= n; ++i) {
     const double bi = binomial(n, i);
     for (int j = 0; j <= m; ++j) {
-      const double f = bi * binomial(m, j) / binomial(n + m, i + j);
+      const double f = bi * bm[static_cast<size_t>(j)] / bnm[static_cast<size_t>(i + j)];
       if (a.cols() == b.cols()) {
         out.row(i + j).array() += f * a.row(i).array() * b.row(j).array();
       } else if (a.cols() == 1) {

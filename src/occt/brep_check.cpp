@@ -225,8 +225,10 @@ std::optional<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face,
   }
 }
 
-/// Replaces the sampled G0 / G1 values by certified ones where the pcurves and surfaces compose exactly.
-void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt) {
+/// Replaces the sampled G0 / G1 (and, on G1 identities, G2) values by certified ones where the pcurves and surfaces
+/// compose exactly.
+void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt,
+                           double modelSize) {
   const Result<PCurveSeamBounds> r = certifyPCurveSeam(a, b, opt);
   if (!r) {
     rep.notes.push_back(fmt::format("not certified: {}", r.status().message()));
@@ -249,10 +251,36 @@ void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSid
   rep.g1Identity = r->g1Identity;
   rep.certified = true;
   std::erase_if(rep.notes, [](const std::string& n) { return n.starts_with(kSampledNote); });
-  rep.notes.insert(rep.notes.begin(),
-                   fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
-                               "({} pieces, degree <= {}); G2 sampled through the pcurves",
-                               r->pieces, r->maxDegree));
+  if (r->g2Certified) {
+    // Relative G2 against the larger of the two routes' curvature references (both are curvatures found on the
+    // seam, so neither exceeds the true maximum and the relative bound stays an upper bound).
+    const double flat = kFlatCurvatureRatio / std::max(modelSize, std::numeric_limits<double>::min());
+    const double sampledRef = rep.g2RelSampled > 0.0 ? rep.g2Sampled / rep.g2RelSampled : 0.0;
+    const double curvRef = std::max({flat, r->curvatureMax, sampledRef});
+    rep.g2Sampled = r->g2Sampled;
+    rep.g2Max = std::max(r->g2Bound, r->g2Sampled);
+    rep.g2RelSampled = rep.g2Sampled / curvRef;
+    rep.g2RelMax = rep.g2Max / curvRef;
+    rep.g2Worst = {r->g2At, pointAt(r->g2At)};
+    rep.g2Identity = r->g2Identity;
+    rep.notes.insert(rep.notes.begin(),
+                     fmt::format("G0, G1 and G2 certified through the pcurves composed with the surfaces in Bernstein "
+                                 "form ({} pieces, degree <= {}, G2 degree <= {})",
+                                 r->pieces, r->maxDegree, r->maxDegreeG2));
+  } else if (r->g2Identity) {
+    // The Lemma 2 residual vanishes as a polynomial (G2 wherever the normal is defined); the values stay sampled.
+    rep.g2Identity = true;
+    rep.notes.insert(rep.notes.begin(),
+                     fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
+                                 "({} pieces, degree <= {}); G2 proved as an identity (Lemma 2 residual zero), its "
+                                 "values sampled ({})",
+                                 r->pieces, r->maxDegree, r->g2Why));
+  } else {
+    rep.notes.insert(rep.notes.begin(),
+                     fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
+                                 "({} pieces, degree <= {}); G2 sampled through the pcurves ({})",
+                                 r->pieces, r->maxDegree, r->g2Why));
+  }
   rep.geometric = classifyGeometric(rep, opt.tol);
 }
 
@@ -407,7 +435,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
           const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
           if (sideA && sideB)
-            certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt);
+            certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt, size);
           else
             seam.report.notes.push_back(
                 "not certified: a pcurve is rational or leaves its patch, or the patch does not reproduce the face's "

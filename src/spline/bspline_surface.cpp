@@ -365,6 +365,87 @@ std::vector<BezierPatchPiece> BSplineSurface::bezierPatches() const {
   return out;
 }
 
+namespace {
+
+// One derivative of a curve net (degree p over `knots`, one control row each): degree p - 1 over the knots without
+// their end values. A degree-0 net differentiates to zero (and stays degree 0).
+void differentiateNet(int& p, std::vector<double>& knots, Matrix& rows) {
+  if (p == 0) {
+    rows.setZero();
+    return;
+  }
+  const Eigen::Index n = rows.rows();
+  Matrix q = Matrix::Zero(n - 1, rows.cols());
+  for (Eigen::Index i = 0; i + 1 < n; ++i) {
+    const double den = knots[static_cast<size_t>(i + p + 1)] - knots[static_cast<size_t>(i + 1)];
+    if (den > 0.0) q.row(i) = (static_cast<double>(p) / den) * (rows.row(i + 1) - rows.row(i));
+  }
+  knots = std::vector<double>(knots.begin() + 1, knots.end() - 1);
+  --p;
+  rows = std::move(q);
+}
+
+// The p + 1 Bezier rows of every span of a curve net that may be discontinuous: interior knots of multiplicity
+// p + 1 or more cut the net into parts, each decomposed on its own.
+std::vector<Matrix> bezierRowsBySpan(int p, const std::vector<double>& knots, const Matrix& rows) {
+  std::vector<Matrix> out;
+  const auto n = static_cast<size_t>(rows.rows());
+  const double lo = knots[static_cast<size_t>(p)], hi = knots[n];
+  size_t start = 0;
+  auto flush = [&](size_t knotEnd) {
+    std::vector<double> kn(knots.begin() + static_cast<std::ptrdiff_t>(start),
+                           knots.begin() + static_cast<std::ptrdiff_t>(knotEnd));
+    Matrix part = rows.middleRows(static_cast<Eigen::Index>(start),
+                                  static_cast<Eigen::Index>(knotEnd - start) - p - 1);
+    const std::vector<Interval> spans = detail::decompose(p, kn, part);
+    for (size_t k = 0; k < spans.size(); ++k)
+      out.emplace_back(part.middleRows(static_cast<Eigen::Index>(k) * p, p + 1));
+  };
+  for (size_t a = static_cast<size_t>(p) + 1; a < n; ++a) {
+    const double b = knots[a];
+    if (!(b > lo && b < hi) || knots[a - 1] == b) continue;
+    size_t m = 0;
+    while (a + m < knots.size() && knots[a + m] == b) ++m;
+    if (m < static_cast<size_t>(p) + 1) continue;
+    flush(a + static_cast<size_t>(p) + 1);
+    start = a + m - static_cast<size_t>(p) - 1;
+  }
+  flush(knots.size());
+  return out;
+}
+
+}  // namespace
+
+std::vector<BernsteinPatch> BSplineSurface::homogeneousDerivativePatches(int ku, int kv) const {
+  std::vector<double> kU = ku_.values(), kV = kv_.values();
+  const Matrix h = homogeneous();
+  const auto d = static_cast<int>(h.cols());
+  int p = pu_, q = pv_, nu = nu_;
+  Matrix ur = asURows(h, nu_);
+  for (int k = 0; k < ku; ++k) differentiateNet(p, kU, ur);
+  nu = static_cast<int>(ur.rows());
+  Matrix vr = asURows(detail::transposeGrid(fromURows(ur, d), nu, nv_), nv_);
+  for (int k = 0; k < kv; ++k) differentiateNet(q, kV, vr);
+  const std::vector<Matrix> vSpans = bezierRowsBySpan(q, kV, vr);
+  std::vector<std::vector<BernsteinPatch>> byV;  // [v span][u span]
+  for (const Matrix& block : vSpans) {
+    // block: (q + 1) x (nu d), entry (j, i d + c); as u rows: nu x ((q + 1) d), entry (i, j d + c).
+    Matrix u(nu, (q + 1) * d);
+    for (int j = 0; j <= q; ++j)
+      for (int i = 0; i < nu; ++i) u.block(i, j * d, 1, d) = block.block(j, i * d, 1, d);
+    std::vector<BernsteinPatch> col;
+    for (const Matrix& piece : bezierRowsBySpan(p, kU, u))
+      col.emplace_back(p, q, Matrix(Eigen::Map<const Matrix>(piece.data(), (p + 1) * (q + 1), d)));
+    byV.push_back(std::move(col));
+  }
+  std::vector<BernsteinPatch> out;
+  const size_t nU = byV.empty() ? 0 : byV.front().size();
+  out.reserve(nU * byV.size());
+  for (size_t a = 0; a < nU; ++a)
+    for (size_t b = 0; b < byV.size(); ++b) out.push_back(byV[b][a]);
+  return out;
+}
+
 BSplineSurface BSplineSurface::degreeElevated(int byU, int byV) const {
   std::vector<double> kU = ku_.values(), kV = kv_.values();
   Matrix h = homogeneous();

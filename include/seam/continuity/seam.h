@@ -124,17 +124,33 @@ struct PCurveSide {
   double normalSign = 1.0;
 };
 
-/// Certified G0 and G1 values of a seam between two faces along their pcurves, which share the edge parameter
-/// (B's range mapped affinely onto A's, as B-rep edges with SameParameter are). The edge is cut where a pcurve
-/// has a knot or crosses a knot line of its surface (isolated exactly on the Bernstein coefficients), and on each
-/// piece S(c(t)), the normal numerators (S_u x S_v)(c(t)) and the distance are composed exactly in Bernstein form
+/// Certified values of a seam between two faces along their pcurves, which share the edge parameter (B's range
+/// mapped affinely onto A's, as B-rep edges with SameParameter are). The edge is cut where a pcurve has a knot or
+/// crosses a knot line of its surface (isolated exactly on the Bernstein coefficients), and on each piece S(c(t)),
+/// the normal numerators (S_u x S_v)(c(t)) and the distance are composed exactly in Bernstein form
 /// (BernsteinPatch::composed); the bounds are subdivided as in analyzeSeam. `t` values are A's pcurve parameter.
+///
+/// G2 (only when G1 holds as an identity): each face is seen through the local chart (s, t) -> S(c(t) + s d(t)),
+/// d = (-v', u') the pcurve's normal in the parameter plane, whose rows H(c), dH/ds and d2H/ds2 along the edge are
+/// composed polynomials too; the shape-operator jump is then bounded exactly as for patch seams (Lemma 2 residual,
+/// docs/algorithms/johansson.md). The measure does not depend on the chart: any transversal d gives the same value.
 struct PCurveSeamBounds {
   double g0Bound = 0.0, g0Sampled = 0.0, g0At = 0.0;        ///< distance: certified bound, best value, where
   double g1BoundDeg = 0.0, g1SampledDeg = 0.0, g1At = 0.0;  ///< normal angle (degrees), likewise
   bool g1Identity = false;  ///< the normals are parallel and agree as a polynomial identity (to round-off)
+  /// G2 certified: g1Identity held, the Lemma 2 polynomials stayed within maxCertifiedDegree and the bound closed.
+  bool g2Certified = false;
+  double g2Bound = 0.0, g2Sampled = 0.0, g2At = 0.0;  ///< shape-operator jump (1/length), when g2Certified
+  /// The Lemma 2 residual vanishes as a polynomial identity (or, when g2Certified, its bound is at round-off); may
+  /// hold without g2Certified (a vanishing normal keeps the bound open): G2 wherever the normal is defined.
+  bool g2Identity = false;
+  /// Largest normal curvature (spectral norm of either shape operator) at the start samples: the reference for
+  /// relative G2 values (no floor applied). Filled whenever G1 is an identity.
+  double curvatureMax = 0.0;
+  std::string g2Why;        ///< why G2 was not certified (empty when it was)
   int pieces = 0;           ///< polynomial pieces along the edge
   int maxDegree = 0;        ///< largest degree of the composed G1 polynomials
+  int maxDegreeG2 = 0;      ///< largest degree of the Lemma 2 residual polynomials (0 when not built)
 };
 /// Errors (the caller samples instead): kInvalidInput (missing surface, pcurve not 2-D, empty ranges),
 /// kUnsupported (rational pcurve, a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree

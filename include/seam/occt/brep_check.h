@@ -12,7 +12,8 @@
 //    orientation giving the normals' sense; then, when both faces were converted exactly, each patch reproduces
 //    its face's surface in the same parameters (checked along the pcurve to kSameParametrisationRel) and both
 //    pcurves are polynomial, G0 and G1 are certified by composition (certifyPCurveSeam, continuity/seam.h) and
-//    replace the sampled values, G2 stays sampled; else `certified` is false and a note says why.
+//    replace the sampled values; G2 too where G1 holds as an identity (elsewhere G2 stays sampled, and the note
+//    says why); else `certified` is false and a note says why.
 // OpenCASCADE's own verdict (BRepLib::ContinuityOfFaces with the angle tolerance) is recorded next to seam's.
 #include <array>
 #include <filesystem>

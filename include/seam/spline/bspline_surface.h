@@ -77,6 +77,12 @@ class BSplineSurface {
   [[nodiscard]] BSplineSurface refinedU(const std::vector<double>& newKnots) const;
   [[nodiscard]] BSplineSurface refinedV(const std::vector<double>& newKnots) const;
   [[nodiscard]] std::vector<BezierPatchPiece> bezierPatches() const;
+  /// Bernstein form, span by span, of the homogeneous partial derivative d^{ku+kv} (wP, w) / du^ku dv^kv (per unit
+  /// of the surface's own parameters), computed from the differenced control net and only then cut into spans, so
+  /// that a short span keeps the derivatives' relative accuracy (differencing a short span's Bezier points loses
+  /// it: they agree to many digits). Index spanU * (v spans) + spanV, the spans of bezierPatches(); derivatives
+  /// above the degree are zero. A knot of full multiplicity in the derivative (a C^0 knot of S) cuts the net there.
+  [[nodiscard]] std::vector<BernsteinPatch> homogeneousDerivativePatches(int ku, int kv) const;
   [[nodiscard]] BSplineSurface degreeElevated(int byU, int byV) const;
   [[nodiscard]] BSplineSurface reversedU() const;
   [[nodiscard]] BSplineSurface reversedV() const;
