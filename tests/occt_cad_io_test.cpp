@@ -17,11 +17,14 @@
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "seam/continuity/model_check.h"
 #include "seam/occt/brep_check.h"
@@ -346,6 +349,26 @@ TEST(OcctBRep, TrimmedEdgesAreCertifiedThroughTheComposedPCurves) {
     EXPECT_EQ(s.occtContinuity, "C2");  // the disagreement documented in docs/real-data.md
   }
   EXPECT_EQ(found, 1);
+}
+
+TEST(OcctBRep, ProgressIsReportedFromStartToEnd) {
+  // bearing.iges (213 faces after sewing): calls at 0, every kProgressEdgeStep edges and at the end, in order.
+  occt::BRepCheckOptions o;
+  std::vector<std::array<int, 3>> calls;
+  o.progress = [&](int faces, int done, int total) { calls.push_back({faces, done, total}); };
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "iges" / "bearing.iges", o);
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  ASSERT_GE(calls.size(), 3u);
+  const int total = calls.front()[2];
+  EXPECT_EQ(calls.front()[1], 0);
+  EXPECT_EQ(calls.back()[1], total);
+  EXPECT_EQ(calls.front()[0], static_cast<int>(rep->import.faces.size()));
+  EXPECT_GE(total, static_cast<int>(rep->seams.size()));
+  for (size_t k = 1; k < calls.size(); ++k) {
+    EXPECT_GT(calls[k][1], calls[k - 1][1]);
+    EXPECT_EQ(calls[k][2], total);
+  }
+  EXPECT_EQ(static_cast<int>(calls.size()), 2 + (total - 1) / occt::kProgressEdgeStep);
 }
 
 TEST(OcctBRep, CurvatureJumpsOnTrimmedEdgesAreCertifiedWhereTheEdgeIsG1) {

@@ -39,6 +39,10 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
   occt::BRepCheckOptions bo;
   bo.seam.keepSamples = true;
   bo.tolerances = o.tol;
+  bo.progress = [&](int faces, int done, int total) {
+    if (faces > static_cast<int>(kProgressPatches))
+      std::cerr << fmt::format("seam: {}: {} faces, {} of {} edges checked\n", o.file, faces, done, total);
+  };
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
   if (!r) {
     printError(r.status().message());

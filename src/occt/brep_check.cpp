@@ -360,7 +360,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
 
     TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
-    for (int i = 1; i <= edgeFaces.Extent(); ++i) {
+    const int nEdges = edgeFaces.Extent(), nFaces = faceMap.Extent();
+    if (options.progress) options.progress(nFaces, 0, nEdges);
+    for (int i = 1; i <= nEdges; ++i) {
+      if (options.progress && i > 1 && (i - 1) % kProgressEdgeStep == 0) options.progress(nFaces, i - 1, nEdges);
       const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
       if (BRep_Tool::Degenerated(edge)) {
         ++out.degenerateEdges;
@@ -445,6 +448,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       seam.curve = edgePolyline(edge);
       out.seams.push_back(std::move(seam));
     }
+    if (options.progress) options.progress(nFaces, nEdges, nEdges);
   } catch (const Standard_Failure& f) {
     return Status(ErrorCode::kInvalidInput,
                   fmt::format("{}: OpenCASCADE failed during the B-rep check: {}", file.string(), f.GetMessageString()));

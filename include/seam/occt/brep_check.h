@@ -17,6 +17,7 @@
 // OpenCASCADE's own verdict (BRepLib::ContinuityOfFaces with the angle tolerance) is recorded next to seam's.
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,7 +38,13 @@ struct BRepCheckOptions {
   /// are sewn, then measured and classified with the distance tolerance).
   double sewingRelTol = 1e-4;
   CadReadOptions read;
+  /// Called with (faces, edges done, edges in all) once the faces are converted (done = 0) and then after every
+  /// kProgressEdgeStep edges and at the end; empty: no calls. The CLI prints a line on stderr for large models.
+  std::function<void(int faces, int done, int total)> progress;
 };
+
+/// Edges between two progress calls.
+inline constexpr int kProgressEdgeStep = 100;
 
 struct BRepSeam {
   int edge = 0;                 ///< 1-based index of the edge in the model's edge map
