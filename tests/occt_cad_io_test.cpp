@@ -320,7 +320,9 @@ TEST(OcctBRep, FuselageSeamsAreCertifiedThroughThePatchEdges) {
 TEST(OcctBRep, TrimmedEdgesAreCertifiedThroughTheComposedPCurves) {
   const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "step" / "trj3_s1-al-214.stp");
   ASSERT_TRUE(rep.isOk()) << rep.status().message();
-  EXPECT_GE(rep->certifiedSeams, 140);  // 145 measured; 10 through the natural sides alone
+  // 167 measured; 10 through the natural sides alone; 145 before pcurves could overshoot their patch's domain by
+  // kPCurveDomainSlackRel and be shifted by whole periods on periodic surfaces.
+  EXPECT_GE(rep->certifiedSeams, 165);
   const Patch* f68 = rep->import.model.findPatch("F68");
   const Patch* f70 = rep->import.model.findPatch("F70");
   ASSERT_TRUE(f68 && f70);

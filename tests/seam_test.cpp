@@ -1427,6 +1427,25 @@ TEST(PCurveSeam, ASliverSpanAndANearlyIsoparametricPcurveStayG2) {
   }
 }
 
+TEST(PCurveSeam, APcurveMayOvershootTheDomainWithinTheSlack) {
+  // The same plane on both sides of a pcurve that starts 0.1 kPCurveDomainSlackRel before u = 0 (accepted: the end
+  // span's polynomial is used there) and of one that starts 10 kPCurveDomainSlackRel before it (refused).
+  seamtest::Rng rng(8109);
+  const BSplineSurface A = pcurve::identityPlane(rng, 3, 6);
+  const Interval du = A.domainU();
+  const double inside = du.lo - 0.1 * kPCurveDomainSlackRel * du.length();
+  const BSplineCurve ok = pcurve::line2d({inside, 0.2}, {0.7, 0.9});
+  const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(A, ok), pcurve::side(A, ok));
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_TRUE(r->g1Identity);
+  EXPECT_LE(r->g0Bound, 1e-15);
+  const double outside = du.lo - 10.0 * kPCurveDomainSlackRel * du.length();
+  const BSplineCurve bad = pcurve::line2d({outside, 0.2}, {0.7, 0.9});
+  const Result<PCurveSeamBounds> q = certifyPCurveSeam(pcurve::side(A, bad), pcurve::side(A, bad));
+  ASSERT_FALSE(q);
+  EXPECT_EQ(q.status().code(), ErrorCode::kUnsupported);
+}
+
 TEST(PCurveSeam, CreaseHasNoCertifiedG2) {
   seamtest::Rng rng(8107);
   const BSplineSurface A = pcurve::identityPlane(rng, 2, 5);

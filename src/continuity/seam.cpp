@@ -1114,11 +1114,13 @@ SpanPatches spanPatches(const BSplineSurface& s) {
 /// The span containing the coordinate range [lo, hi] (slack: a pcurve may overshoot a knot or the domain by
 /// round-off); where it lies on a knot line, the span on the face's side. nullopt when none or ambiguous.
 std::optional<size_t> spanOf(const std::vector<Interval>& spans, double lo, double hi, Interval face) {
-  const double slack = kKnotRelTol * (spans.back().hi - spans.front().lo);
+  const double range = spans.back().hi - spans.front().lo;
+  const double slack = kKnotRelTol * range, endSlack = kPCurveDomainSlackRel * range;
   std::optional<size_t> found;
   int count = 0;
   for (size_t i = 0; i < spans.size(); ++i) {
-    if (!(spans[i].lo - slack <= lo && hi <= spans[i].hi + slack)) continue;
+    const double below = i == 0 ? endSlack : slack, above = i + 1 == spans.size() ? endSlack : slack;
+    if (!(spans[i].lo - below <= lo && hi <= spans[i].hi + above)) continue;
     const double overlap = std::min(spans[i].hi, face.hi) - std::max(spans[i].lo, face.lo);
     if (overlap > 0.0 || !found) {
       if (overlap > 0.0) ++count;

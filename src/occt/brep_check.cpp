@@ -13,6 +13,7 @@
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_Surface.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -188,21 +189,48 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   return rep;
 }
 
-/// A face side for the certified route: the pcurve over [first, last] as a seam B-spline (nullopt when OpenCASCADE
-/// cannot convert it, or when the patch made from the face does not reproduce the face's surface along it).
-std::optional<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
-                                     double modelSize) {
+/// A face side for the certified route: the pcurve over [first, last] as a seam B-spline. kUnsupported, with the
+/// reason, when OpenCASCADE cannot convert it, when it is rational, when it leaves the patch's domain, or when the
+/// patch made from the face does not reproduce the face's surface along it.
+Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
+                              double modelSize) {
+  auto why = [&](std::string_view reason) {
+    std::string type = "?";
+    try {
+      Handle(Geom_Surface) base = f.surface;
+      while (const auto rts = Handle(Geom_RectangularTrimmedSurface)::DownCast(base)) base = rts->BasisSurface();
+      type = base->DynamicType()->Name();
+    } catch (const Standard_Failure&) {
+    }
+    return Status(ErrorCode::kUnsupported, fmt::format("{} (face surface {})", reason, type));
+  };
   try {
     const Handle(Geom2d_TrimmedCurve) trimmed = new Geom2d_TrimmedCurve(f.pcurve, f.first, f.last);
     const Handle(Geom2d_BSplineCurve) bs = Geom2dConvert::CurveToBSplineCurve(trimmed);
-    if (bs.IsNull() || bs->IsRational()) return std::nullopt;
+    if (bs.IsNull()) return why("OpenCASCADE cannot convert the pcurve to a B-spline");
+    if (bs->IsRational()) return why("the pcurve is rational (not composed)");
     TColStd_Array1OfReal knots(1, bs->NbPoles() + bs->Degree() + 1);
     bs->KnotSequence(knots);
     Matrix pts(bs->NbPoles(), 2);
     for (int i = 1; i <= bs->NbPoles(); ++i) pts.row(i - 1) << bs->Pole(i).X(), bs->Pole(i).Y();
+    // On a periodic surface a pcurve may use another period than the patch's domain: shift it by whole periods so
+    // that its middle lies in the domain (the surface is the same there).
+    {
+      const gp_Pnt2d mid = f.pcurve->Value(0.5 * (f.first + f.last));
+      const Interval dom[2] = {patch.domainU(), patch.domainV()};
+      const bool periodic[2] = {f.surface->IsUPeriodic(), f.surface->IsVPeriodic()};
+      const double at[2] = {mid.X(), mid.Y()};
+      for (int k = 0; k < 2; ++k) {
+        if (!periodic[k]) continue;
+        const double period = k == 0 ? f.surface->UPeriod() : f.surface->VPeriod();
+        if (!(period > 0.0)) continue;
+        const double shift = period * std::floor((dom[k].hi - at[k]) / period);
+        if (shift != 0.0 && at[k] + shift >= dom[k].lo) pts.col(k).array() += shift;
+      }
+    }
     Result<BSplineCurve> c =
         BSplineCurve::create(bs->Degree(), std::vector<double>(knots.begin(), knots.end()), std::move(pts));
-    if (!c) return std::nullopt;
+    if (!c) return why("the pcurve's B-spline data are invalid: " + c.status().message());
     PCurveSide side;
     side.surface = &patch;
     side.pcurve = std::move(c).value();
@@ -210,18 +238,20 @@ std::optional<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face,
     BRepTools::UVBounds(face, side.faceU.lo, side.faceU.hi, side.faceV.lo, side.faceV.hi);
     side.normalSign = f.sign;
     const Interval pd = patch.domainU(), qd = patch.domainV();
-    const double slack = kKnotRelTol * std::max(pd.length(), qd.length());
+    const double slackU = kPCurveDomainSlackRel * pd.length(), slackV = kPCurveDomainSlackRel * qd.length();
     for (int i = 0; i <= kParamCheckPoints; ++i) {
       const double t = f.first + (f.last - f.first) * i / kParamCheckPoints;
       const VecX uv = side.pcurve.evaluate(t);
-      if (uv[0] < pd.lo - slack || uv[0] > pd.hi + slack || uv[1] < qd.lo - slack || uv[1] > qd.hi + slack)
-        return std::nullopt;
+      if (uv[0] < pd.lo - slackU || uv[0] > pd.hi + slackU || uv[1] < qd.lo - slackV || uv[1] > qd.hi + slackV)
+        return why(fmt::format("the pcurve leaves the patch's parameter domain ({:.9g}, {:.9g}) vs [{:.9g}, {:.9g}] x [{:.9g}, {:.9g}]", uv[0], uv[1], pd.lo, pd.hi, qd.lo, qd.hi));
       const Vec3 x = patch.evaluate(std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi)).head<3>();
-      if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize) return std::nullopt;
+      if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize)
+        return why("the patch does not reproduce the face's surface in its own parameters (a converted analytic "
+                   "surface: its pcurves are in angular parameters)");
     }
     return side;
-  } catch (const Standard_Failure&) {
-    return std::nullopt;
+  } catch (const Standard_Failure& e) {
+    return why(std::string("OpenCASCADE failed on the pcurve: ") + e.GetMessageString());
   }
 }
 
@@ -440,9 +470,12 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           if (sideA && sideB)
             certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt, size);
           else
-            seam.report.notes.push_back(
-                "not certified: a pcurve is rational or leaves its patch, or the patch does not reproduce the face's "
-                "surface in its own parameters (converted analytic surface)");
+            seam.report.notes.push_back(fmt::format("not certified: on {}, {}", sideA ? seam.b : seam.a,
+                                                    (sideA ? sideB : sideA).status().message()));
+        } else {
+          seam.report.notes.push_back(
+              fmt::format("not certified: {} was approximated, not converted exactly (see the import warnings)",
+                          out.import.faces[pa].exact ? seam.b : seam.a));
         }
       }
       seam.curve = edgePolyline(edge);

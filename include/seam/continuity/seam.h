@@ -116,6 +116,10 @@ Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb,
 /// the edge's parameter curve c(t) = (u(t), v(t)) (a 2-D polynomial B-spline; rational ones are not supported), the
 /// parameter range of the edge on it, the face's parameter box (which side of a knot line the face lies on, where the
 /// curve runs along one) and the sense of the face's normal (-1 for a reversed face).
+/// A pcurve may run past its surface's parameter domain by this fraction of the domain (B-rep pcurves are only
+/// accurate to the edge tolerance; real files overshoot by 1e-10..1e-7): the end span's polynomial is used there.
+inline constexpr double kPCurveDomainSlackRel = 1e-6;
+
 struct PCurveSide {
   const BSplineSurface* surface = nullptr;
   BSplineCurve pcurve;
