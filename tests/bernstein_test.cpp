@@ -587,6 +587,34 @@ TEST(BernsteinPatch, CompositionWithAParameterCurveIsExact) {
     }
 }
 
+TEST(BernsteinPatch, CompositionWithARationalParameterCurveIsHomogenised) {
+  // w^(n+m) p(u/w, v/w) against w(t)^(n+m) times the brute-force Bernstein sums at u(t)/w(t), v(t)/w(t), with w
+  // positive on [0, 1] (coefficients in [0.5, 2]).
+  std::mt19937_64 rng(208);
+  for (int dim : kDims)
+    for (int trial = 0; trial < 12; ++trial) {
+      const int n = uniformInt(rng, 0, 4), m = uniformInt(rng, 0, 4);
+      const int r = uniformInt(rng, 0, 3);
+      const BernsteinPatch p = randomPatch(rng, n, m, dim);
+      const BernsteinPoly u = randomPoly(rng, r, 1), v = randomPoly(rng, r, 1);
+      Matrix wc(r + 1, 1);
+      for (int k = 0; k <= r; ++k) wc(k, 0) = std::uniform_real_distribution<double>(0.5, 2.0)(rng);
+      const BernsteinPoly w(wc);
+      const BernsteinPoly c = p.composed(u, v, w);
+      ASSERT_EQ(c.degree(), (n + m) * r);
+      ASSERT_EQ(c.dim(), dim);
+      for (double t : unitSamples(rng, 10)) {
+        const double wt = refBernsteinEval(w.coeffs(), t)[0];
+        const double ut = refBernsteinEval(u.coeffs(), t)[0] / wt, vt = refBernsteinEval(v.coeffs(), t)[0] / wt;
+        const double f = std::pow(wt, n + m);
+        const double scale = f * maxAbs(p.coeffs()) * std::pow(1.0 + std::abs(ut) + std::abs(1.0 - ut), n) *
+                             std::pow(1.0 + std::abs(vt) + std::abs(1.0 - vt), m);
+        ASSERT_TRUE(closeTo(VecX(f * refPatchEval(n, m, p.coeffs(), ut, vt)), c(t), test::kRoundoffTol * scale))
+            << "n " << n << " m " << m << " r " << r << " t " << t;
+      }
+    }
+}
+
 TEST(BernsteinPatch, SwappedAndReversed) {
   std::mt19937_64 rng(206);
   for (int dim : kDims)

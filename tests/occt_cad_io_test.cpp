@@ -353,6 +353,16 @@ TEST(OcctBRep, TrimmedEdgesAreCertifiedThroughTheComposedPCurves) {
   EXPECT_EQ(found, 1);
 }
 
+TEST(OcctBRep, RationalPcurvesAreComposed) {
+  // boxed_sphere: 24 edges of planar faces have rational pcurves (circle arcs in the plane's parameters); composed
+  // homogeneously they are certified like the others: 362 certified seams measured, 338 without them.
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "step" / "boxed_sphere.step");
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  EXPECT_GE(rep->certifiedSeams, 360);
+  for (const occt::BRepSeam& s : rep->seams)
+    for (const std::string& n : s.report.notes) EXPECT_EQ(n.find("rational"), std::string::npos) << n;
+}
+
 TEST(OcctBRep, ProgressIsReportedFromStartToEnd) {
   // bearing.iges (213 faces after sewing): calls at 0, every kProgressEdgeStep edges and at the end, in order.
   occt::BRepCheckOptions o;

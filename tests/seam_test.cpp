@@ -1446,6 +1446,75 @@ TEST(PCurveSeam, APcurveMayOvershootTheDomainWithinTheSlack) {
   EXPECT_EQ(q.status().code(), ErrorCode::kUnsupported);
 }
 
+TEST(PCurveSeam, RationalPcurvesAreComposedHomogeneously) {
+  // The parabola (t, t^2) reparametrised by the Moebius map t = l s / ((1 - s) + l s): the same control points
+  // with weights (1, l, l^2). On the plane / parabolic-graph pair of CurvatureJumpAcrossACurvedTrimmingCurve the
+  // jump along it is k (1 + 4 t^2), 5 k at s = t = 1; on a plane and its copy rotated by theta about the line over
+  // a rational pcurve the crease is theta; and on a rational surface and its u/v-swapped copy it is an identity.
+  seamtest::Rng rng(8110);
+  auto binom = [](int n, int m) { return m < 0 || m > n ? 0.0 : std::tgamma(n + 1.0) / (std::tgamma(m + 1.0) * std::tgamma(n - m + 1.0)); };
+  const double k = 1.5;
+  const BSplineSurface A = pcurve::identityPlane(rng, 1, 4);  // bilinear: keeps the homogenised degrees small
+  Matrix pts(15, 3);
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 2; ++j)
+      pts.row(i * 3 + j) << i / 4.0, j / 2.0,
+          0.5 * k * ((j == 2 ? 1.0 : 0.0) - 2.0 * (j / 2.0) * binom(i, 2) / 6.0 + (i == 4 ? 1.0 : 0.0));
+  const BSplineSurface B(4, 2, KnotVector({0, 0, 0, 0, 0, 1, 1, 1, 1, 1}), KnotVector({0, 0, 0, 1, 1, 1}), 5, 3,
+                         std::move(pts));
+  for (double l : {0.5, 3.0}) {
+    Matrix cp(3, 2);
+    cp << 0.0, 0.0, 0.5, 0.0, 1.0, 1.0;
+    VecX w(3);
+    w << 1.0, l, l * l;
+    const BSplineCurve c = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, cp, w).value();
+    // Independent check of the reparametrisation: c(s) = (t, t^2) with t = l s / ((1 - s) + l s).
+    for (double sv : {0.3, 0.8}) {
+      const double t = l * sv / ((1.0 - sv) + l * sv);
+      ASSERT_LE((c.evaluate(sv) - Vec2(t, t * t)).norm(), 1e-14);
+    }
+    const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(A, c), pcurve::side(B, c));
+    ASSERT_TRUE(r) << r.status().message();
+    EXPECT_TRUE(r->g1Identity) << r->g1BoundDeg;
+    EXPECT_LE(r->g0Bound, 1e-11);  // W^(p+q) with weights up to 9 costs digits
+    ASSERT_TRUE(r->g2Certified) << r->g2Why;
+    EXPECT_NEAR(r->g2Sampled, 5.0 * k, 1e-9 * k);
+    EXPECT_NEAR(r->g2At, 1.0, 1e-9);
+    EXPECT_LE(r->g2Bound, 1.01 * 5.0 * k);
+    // A crease of 40 degrees along a rational pcurve that is a straight segment (weights (1, l) on a line).
+    Matrix lp(2, 2);
+    lp << 0.1, 0.2, 0.9, 0.8;
+    VecX lw(2);
+    lw << 1.0, l;
+    const BSplineCurve line = BSplineCurve::create(1, {0, 0, 1, 1}, lp, lw).value();
+    const Vec3 p0(0.1, 0.2, 0.0), dir = Vec3(0.8, 0.6, 0.0).normalized();
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(seamtest::radians(40.0), dir).toRotationMatrix();
+    const BSplineSurface Rot = seamtest::transformed(A, R, p0 - R * p0);
+    const Result<PCurveSeamBounds> q = certifyPCurveSeam(pcurve::side(A, line), pcurve::side(Rot, line));
+    ASSERT_TRUE(q) << q.status().message();
+    EXPECT_NEAR(q->g1SampledDeg, 40.0, 1e-9 * 40.0);
+    EXPECT_LE(q->g1BoundDeg, 1.01 * 40.0);
+    EXPECT_LE(q->g0Bound, 1e-12);
+  }
+  // Rational surface, rational pcurve crossing knot lines, and the swapped copy: G1 and G2 identities.
+  const BSplineSurface F = seamtest::randomGraphSurface(rng, 3, 2, 6, 5, true, 0.3);
+  const BSplineSurface G = F.swappedUV();
+  Matrix pa(3, 2), pb(3, 2);
+  pa << 0.1, 0.15, 0.6, 0.95, 0.9, 0.3;
+  for (int i = 0; i < 3; ++i) pb.row(i) << pa(i, 1), pa(i, 0);
+  VecX w(3);
+  w << 1.0, 0.6, 1.4;
+  const BSplineCurve ca = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, pa, w).value(),
+                     cb = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, pb, w).value();
+  const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(F, ca), pcurve::side(G, cb, -1.0));
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_GE(r->pieces, 3);
+  EXPECT_TRUE(r->g1Identity) << r->g1BoundDeg;
+  EXPECT_LE(r->g0Bound, 1e-11);
+  if (r->g2Certified) EXPECT_TRUE(r->g2Identity) << r->g2Bound;
+  else EXPECT_FALSE(r->g2Why.empty());
+}
+
 TEST(PCurveSeam, CreaseHasNoCertifiedG2) {
   seamtest::Rng rng(8107);
   const BSplineSurface A = pcurve::identityPlane(rng, 2, 5);
@@ -1467,9 +1536,9 @@ TEST(PCurveSeam, UnsupportedAndInvalidInputAreErrors) {
   const Result<PCurveSeamBounds> r1 = certifyPCurveSeam(pcurve::side(A, out), pcurve::side(A, out));
   ASSERT_FALSE(r1);
   EXPECT_EQ(r1.status().code(), ErrorCode::kUnsupported);
-  // A rational pcurve.
+  // A rational pcurve that leaves the domain.
   Matrix pts(3, 2);
-  pts << 0.1, 0.1, 0.5, 0.9, 0.9, 0.1;
+  pts << 0.1, 0.1, 0.5, 1.9, 0.9, 0.1;
   VecX w(3);
   w << 1.0, 2.0, 1.0;
   const BSplineCurve rat = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, pts, w).value();

@@ -1158,22 +1158,69 @@ std::optional<double> monotoneCrossing(const BernsteinPoly& f, double level) {
   return 0.5 * (lo + hi);
 }
 
+/// A pcurve on a leaf: (u / w, v / w) with w = 1 (degree 0) for polynomial pcurves; local parameter [0, 1].
+struct PCurvePiece {
+  BernsteinPoly u, v, w;
+  bool rational = false;
+  /// The coordinate k (0 = u, 1 = v) as a numerator over w: its value range is the hull of the ratios.
+  [[nodiscard]] const BernsteinPoly& num(int k) const { return k == 0 ? u : v; }
+  [[nodiscard]] std::pair<double, double> hull(int k) const {
+    const Matrix& n = num(k).coeffs();
+    if (!rational) return {n.minCoeff(), n.maxCoeff()};
+    const Eigen::ArrayXd r = n.col(0).array() / w.coeffs().col(0).array();
+    return {r.minCoeff(), r.maxCoeff()};
+  }
+};
+
 struct PCurveLeaf {
-  double t0 = 0, t1 = 0;                   // in A's parameter
-  std::array<BernsteinPoly, 2> ca, cb;     // (u, v) of each side on the leaf, local parameter [0, 1]
+  double t0 = 0, t1 = 0;   // in A's parameter
+  PCurvePiece ca, cb;      // each side's pcurve on the leaf
   size_t aiu = 0, aiv = 0, biu = 0, biv = 0;
 };
 
-/// One side's pcurve (u, v) on [s0, s1] of its own parameter: the Bezier piece containing it, restricted.
-std::array<BernsteinPoly, 2> pcurveOn(const std::vector<BezierCurvePiece>& pieces, double s0, double s1) {
+/// One side's pcurve on [s0, s1] of its own parameter: the Bezier piece containing it, restricted (homogeneous
+/// (w u, w v, w) for a rational pcurve).
+PCurvePiece pcurveOn(const std::vector<BezierCurvePiece>& pieces, double s0, double s1) {
   const double mid = 0.5 * (s0 + s1);
   size_t k = 0;
   while (k + 1 < pieces.size() && mid > pieces[k].interval.hi) ++k;
   const Interval iv = pieces[k].interval;
-  const BernsteinPoly c(pieces[k].curve.points());
+  const bool rational = pieces[k].curve.isRational();
+  const BernsteinPoly c = rational ? pieces[k].curve.homogeneous() : BernsteinPoly(pieces[k].curve.points());
   const BernsteinPoly r = c.restricted((s0 - iv.lo) / iv.length(), (s1 - iv.lo) / iv.length());
-  return {r.component(0), r.component(1)};
+  if (!rational) return {r.component(0), r.component(1), BernsteinPoly::constant(1.0), false};
+  return {r.component(0), r.component(1), r.component(2), true};
 }
+
+/// A side's pcurve in the span's local coordinates, and composition with the span's patches: P(u / w, v / w),
+/// homogenised (times w^(deg P)) for a rational pcurve; a polynomial surface is then lifted to homogeneous form
+/// (weight 1, its partials weight 0) so that the composed side is rational x / w like a NURBS side.
+struct LocalPCurve {
+  BernsteinPoly u, v, w;
+  bool rationalCurve = false, lift = false;
+  LocalPCurve(const PCurvePiece& c, Interval U, Interval V, bool surfaceRational)
+      : u((c.u - U.lo * c.w) * (1.0 / U.length())),
+        v((c.v - V.lo * c.w) * (1.0 / V.length())),
+        w(c.w),
+        rationalCurve(c.rational),
+        lift(c.rational && !surfaceRational) {}
+  /// `order` = 0 for the surface itself, > 0 for a partial derivative (lifted weight 0).
+  [[nodiscard]] BernsteinPoly compose(const BernsteinPatch& P, int order) const {
+    if (!rationalCurve) return P.composed(u, v);
+    if (!lift) return P.composed(u, v, w);
+    Matrix c(P.coeffs().rows(), P.coeffs().cols() + 1);
+    c.leftCols(P.coeffs().cols()) = P.coeffs();
+    c.col(P.coeffs().cols()).setConstant(order == 0 ? 1.0 : 0.0);
+    return BernsteinPatch(P.degreeU(), P.degreeV(), std::move(c)).composed(u, v, w);
+  }
+  /// The parameter-plane tangent's numerator: c' for a polynomial pcurve, (u' w - u w', v' w - v w') otherwise.
+  [[nodiscard]] std::array<BernsteinPoly, 2> tangent() const {
+    if (!rationalCurve) return {u.derivative(), v.derivative()};
+    return {product(u.derivative(), w) - product(u, w.derivative()),
+            product(v.derivative(), w) - product(v, w.derivative())};
+  }
+  [[nodiscard]] Vec2 at(double x) const { return Vec2(u.scalar(x), v.scalar(x)) / w.scalar(x); }
+};
 
 /// The composed side on a leaf: homogeneous S, S_u, S_v of the surface along the pcurve.
 struct ComposedSide {
@@ -1181,16 +1228,15 @@ struct ComposedSide {
   BernsteinPoly normal; // numerator of S_u x S_v (a positive factor dropped), with the face's sense
 };
 
-ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const std::array<BernsteinPoly, 2>& c,
-                         bool rational, double sign) {
+ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const PCurvePiece& c, bool surfaceRational,
+                         double sign) {
   const Interval U = sp.us[iu], V = sp.vs[iv];
-  const BernsteinPoly u(Matrix((c[0].coeffs().array() - U.lo) / U.length()));
-  const BernsteinPoly v(Matrix((c[1].coeffs().array() - V.lo) / V.length()));
+  const LocalPCurve lc(c, U, V, surfaceRational);
   const auto& H = sp.at(iu, iv);
-  const BernsteinPoly X = H[0].composed(u, v);
-  const BernsteinPoly Xu = H[1].composed(u, v) * (1.0 / U.length()), Xv = H[2].composed(u, v) * (1.0 / V.length());
+  const BernsteinPoly X = lc.compose(H[0], 0);
+  const BernsteinPoly Xu = lc.compose(H[1], 1) * (1.0 / U.length()), Xv = lc.compose(H[2], 1) * (1.0 / V.length());
   ComposedSide out;
-  if (!rational) {
+  if (!surfaceRational && !c.rational) {
     out.x = X;
     out.w = BernsteinPoly::constant(1.0);
     out.normal = cross(Xu, Xv) * sign;
@@ -1199,7 +1245,8 @@ ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const std:
   auto xyz = [](const BernsteinPoly& p) { return BernsteinPoly(Matrix(p.coeffs().leftCols(3))); };
   out.x = xyz(X);
   out.w = X.component(3);
-  // S = x / w: S_u = (w x_u - w_u x) / w^2; the normal direction is that of the product of the numerators.
+  // S = x / w: S_u = (w x_u - w_u x) / w^2; the normal direction is that of the product of the numerators (the
+  // homogenising powers of a rational pcurve's weight are positive factors too).
   const BernsteinPoly Nu = product(out.w, xyz(Xu)) - product(Xu.component(3), out.x);
   const BernsteinPoly Nv = product(out.w, xyz(Xv)) - product(Xv.component(3), out.x);
   out.normal = cross(Nu, Nv) * sign;
@@ -1213,17 +1260,20 @@ ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const std:
 /// moves (det(c', d) = c'^T G c' > 0), polynomial of the pcurve's degree, and orthogonal to the edge in 3-D at the
 /// midpoint, so the chart stays well conditioned however unequal the parameter scales are (a span of 1e-6 against
 /// one of 1: with d = rot(c') the two chart directions would be nearly parallel in 3-D).
-std::array<BernsteinPoly, 3> chartRows(const SpanPatches& sp, size_t iu, size_t iv,
-                                       const std::array<BernsteinPoly, 2>& c, bool rational) {
+/// For a rational pcurve (u / w, v / w) the chart is K(s, t) = sum P_ij B_i(u + s D_u, w) B_j(v + s D_v, w) with
+/// homogeneous Bernstein polynomials B(x, w) = w^n b(x / w): a polynomial in (s, t) representing S((u + s D_u) / w,
+/// (v + s D_v) / w), whose s-derivatives at s = 0 are the compositions of H_u, ..., H_vv homogenised the same way;
+/// D = rot(G N) with N the numerator of c' (transversal as above, since w > 0).
+std::array<BernsteinPoly, 3> chartRows(const SpanPatches& sp, size_t iu, size_t iv, const PCurvePiece& c,
+                                       bool surfaceRational) {
   const Interval U = sp.us[iu], V = sp.vs[iv];
-  const BernsteinPoly u(Matrix((c[0].coeffs().array() - U.lo) / U.length()));
-  const BernsteinPoly v(Matrix((c[1].coeffs().array() - V.lo) / V.length()));
+  const LocalPCurve lc(c, U, V, surfaceRational);
   const auto& H = sp.at(iu, iv);
   // First fundamental form at the midpoint (Cartesian partials).
-  const double um = u.scalar(0.5), vm = v.scalar(0.5);
-  const VecX h = H[0](um, vm), hu = H[1](um, vm), hv = H[2](um, vm);
+  const Vec2 m = lc.at(0.5);
+  const VecX h = H[0](m[0], m[1]), hu = H[1](m[0], m[1]), hv = H[2](m[0], m[1]);
   Vec3 su, sv;
-  if (rational) {
+  if (surfaceRational) {
     const double w = h[3];
     su = (w * hu.head<3>() - hu[3] * h.head<3>()) / (w * w);
     sv = (w * hv.head<3>() - hv[3] * h.head<3>()) / (w * w);
@@ -1236,12 +1286,12 @@ std::array<BernsteinPoly, 3> chartRows(const SpanPatches& sp, size_t iu, size_t 
   const double trace = G.trace();
   if (!(G.determinant() > 0.0) || !std::isfinite(trace)) G.setIdentity();
   else G /= trace;
-  const BernsteinPoly du = u.derivative(), dv = v.derivative();
+  const auto [du, dv] = lc.tangent();
   const BernsteinPoly gu = G(0, 0) * du + G(0, 1) * dv, gv = G(1, 0) * du + G(1, 1) * dv;  // G c'
   const BernsteinPoly a = -1.0 * gv, b = gu;                                                 // d = rot(G c')
-  const BernsteinPoly Hu = H[1].composed(u, v), Hv = H[2].composed(u, v);
-  const BernsteinPoly Huu = H[3].composed(u, v), Huv = H[4].composed(u, v), Hvv = H[5].composed(u, v);
-  return {H[0].composed(u, v), product(a, Hu) + product(b, Hv),
+  const BernsteinPoly Hu = lc.compose(H[1], 1), Hv = lc.compose(H[2], 1);
+  const BernsteinPoly Huu = lc.compose(H[3], 2), Huv = lc.compose(H[4], 2), Hvv = lc.compose(H[5], 2);
+  return {lc.compose(H[0], 0), product(a, Hu) + product(b, Hv),
           product(product(a, a), Huu) + 2.0 * product(product(a, b), Huv) + product(product(b, b), Hvv)};
 }
 
@@ -1273,9 +1323,9 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     if (!s->surface || s->surface->dim() != 3) return invalidInput("pcurve seam: a side has no 3-D surface");
     if (s->pcurve.dim() != 2) return invalidInput("pcurve seam: the parameter curve is not 2-D");
     if (!(s->range.length() > 0.0)) return invalidInput("pcurve seam: empty parameter range");
-    if (s->pcurve.isRational())
-      return Status(ErrorCode::kUnsupported, "pcurve seam: rational parameter curves are not composed");
   }
+  // A side is rational when its surface or its pcurve is (x / w after composition).
+  const bool ra = a.surface->isRational() || a.pcurve.isRational(), rb = b.surface->isRational() || b.pcurve.isRational();
   const SpanPatches spA = spanPatches(*a.surface), spB = spanPatches(*b.surface);
   const std::vector<BezierCurvePiece> pcA = a.pcurve.bezierPieces(), pcB = b.pcurve.bezierPieces();
   auto toB = [&](double t) { return b.range.lo + (t - a.range.lo) / a.range.length() * b.range.length(); };
@@ -1312,16 +1362,16 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     L.cb = pcurveOn(pcB, toB(t0), toB(t1));
     double cutAt = -1.0;
     bool ok = true;
-    auto place = [&](const std::array<BernsteinPoly, 2>& c, const SpanPatches& sp, const PCurveSide& side,
-                     size_t& iu, size_t& iv) {
+    auto place = [&](const PCurvePiece& c, const SpanPatches& sp, const PCurveSide& side, size_t& iu, size_t& iv) {
       for (int k = 0; k < 2; ++k) {
         const std::vector<Interval>& spans = k == 0 ? sp.us : sp.vs;
-        const double lo = c[static_cast<size_t>(k)].coeffs().minCoeff(),
-                     hi = c[static_cast<size_t>(k)].coeffs().maxCoeff();
+        const auto [lo, hi] = c.hull(k);  // the curve lies in the hull of its (projected) control points
         if (const auto knot = knotInside(spans, lo, hi)) {
           ok = false;
+          // The crossing of u / w with the knot line is the root of u - knot w.
           if (cutAt < 0.0)
-            if (const auto x = monotoneCrossing(c[static_cast<size_t>(k)], *knot)) cutAt = *x;
+            if (const auto x = monotoneCrossing(c.rational ? c.num(k) - *knot * c.w : c.num(k), c.rational ? 0.0 : *knot))
+              cutAt = *x;
           continue;
         }
         const auto idx = spanOf(spans, lo, hi, k == 0 ? side.faceU : side.faceV);
@@ -1358,7 +1408,7 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     pc.wa = A.w;
     pc.wb = B.w;
     WeightContext ctx(pc.wa, pc.wb);
-    const int ea = a.surface->isRational() ? 1 : 0, eb = b.surface->isRational() ? 1 : 0;
+    const int ea = ra ? 1 : 0, eb = rb ? 1 : 0;
     pc.g0 = ctx.add(RationalPoly{A.x, ea, 0}, RationalPoly{B.x, 0, eb}, -1.0);
     const BernsteinPoly NA = detail::stripEndRoots(A.normal, kRoundoff * A.normal.maxCoeffNorm());
     const BernsteinPoly NB = detail::stripEndRoots(B.normal, kRoundoff * B.normal.maxCoeffNorm());
@@ -1415,7 +1465,6 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   for (const PCurveLeaf& L : leaves) {
     const std::array<BernsteinPoly, 3> XA = chartRows(spA, L.aiu, L.aiv, L.ca, a.surface->isRational()),
                                        XB = chartRows(spB, L.biu, L.biv, L.cb, b.surface->isRational());
-    const bool ra = a.surface->isRational(), rb = b.surface->isRational();
     const CartesianSide CA = cartesian(XA[0], XA[1], XA[2], ra, 0), CB = cartesian(XB[0], XB[1], XB[2], rb, 1);
     // The degree of the Lemma 2 residual before building anything (buildPiece's estimate): a piece above the
     // limit would cost products of polynomials of degree several hundred for nothing.

@@ -381,6 +381,25 @@ BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPo
   return b.front();
 }
 
+BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPoly& v, const BernsteinPoly& w) const {
+  assert(u.dim() == 1 && v.dim() == 1 && w.dim() == 1);
+  // De Casteljau with homogeneous parameters: (1 - s) a + s b for s = x / w, times w, is (w - x) a + x b.
+  auto reduce = [&w](std::vector<BernsteinPoly> b, const BernsteinPoly& x) {
+    const BernsteinPoly wMinusX = w - x;
+    for (size_t r = 1; r < b.size(); ++r)
+      for (size_t i = 0; i + r < b.size(); ++i) b[i] = product(wMinusX, b[i]) + product(x, b[i + 1]);
+    return b.front();
+  };
+  std::vector<BernsteinPoly> rows;
+  rows.reserve(static_cast<size_t>(du_ + 1));
+  for (int i = 0; i <= du_; ++i) {
+    std::vector<BernsteinPoly> b;
+    for (int j = 0; j <= dv_; ++j) b.emplace_back(Matrix(c_.row(static_cast<Eigen::Index>(i) * (dv_ + 1) + j)));
+    rows.push_back(reduce(std::move(b), v));
+  }
+  return reduce(std::move(rows), u);
+}
+
 BernsteinPatch BernsteinPatch::swapped() const {
   Matrix c(c_.rows(), c_.cols());
   for (int i = 0; i <= du_; ++i)

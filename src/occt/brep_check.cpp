@@ -190,7 +190,7 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
 }
 
 /// A face side for the certified route: the pcurve over [first, last] as a seam B-spline. kUnsupported, with the
-/// reason, when OpenCASCADE cannot convert it, when it is rational, when it leaves the patch's domain, or when the
+/// reason, when OpenCASCADE cannot convert it, when it leaves the patch's domain, or when the
 /// patch made from the face does not reproduce the face's surface along it.
 Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
                               double modelSize) {
@@ -208,7 +208,7 @@ Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
     const Handle(Geom2d_TrimmedCurve) trimmed = new Geom2d_TrimmedCurve(f.pcurve, f.first, f.last);
     const Handle(Geom2d_BSplineCurve) bs = Geom2dConvert::CurveToBSplineCurve(trimmed);
     if (bs.IsNull()) return why("OpenCASCADE cannot convert the pcurve to a B-spline");
-    if (bs->IsRational()) return why("the pcurve is rational (not composed)");
+
     TColStd_Array1OfReal knots(1, bs->NbPoles() + bs->Degree() + 1);
     bs->KnotSequence(knots);
     Matrix pts(bs->NbPoles(), 2);
@@ -228,8 +228,13 @@ Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
         if (shift != 0.0 && at[k] + shift >= dom[k].lo) pts.col(k).array() += shift;
       }
     }
-    Result<BSplineCurve> c =
-        BSplineCurve::create(bs->Degree(), std::vector<double>(knots.begin(), knots.end()), std::move(pts));
+    VecX weights;
+    if (bs->IsRational()) {
+      weights.resize(bs->NbPoles());
+      for (int i = 1; i <= bs->NbPoles(); ++i) weights[i - 1] = bs->Weight(i);
+    }
+    Result<BSplineCurve> c = BSplineCurve::create(bs->Degree(), std::vector<double>(knots.begin(), knots.end()),
+                                                  std::move(pts), std::move(weights));
     if (!c) return why("the pcurve's B-spline data are invalid: " + c.status().message());
     PCurveSide side;
     side.surface = &patch;

@@ -113,7 +113,8 @@ Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb,
                                std::optional<Interval> aRange);
 
 /// One face's side of a seam along a curve in its parameter plane (an edge of a trimmed face): the face's surface,
-/// the edge's parameter curve c(t) = (u(t), v(t)) (a 2-D polynomial B-spline; rational ones are not supported), the
+/// the edge's parameter curve c(t) = (u(t), v(t)) (a 2-D B-spline, polynomial or rational: a rational one is composed
+/// homogeneously, w^(p+q) S(u/w, v/w), which makes the side rational), the
 /// parameter range of the edge on it, the face's parameter box (which side of a knot line the face lies on, where the
 /// curve runs along one) and the sense of the face's normal (-1 for a reversed face).
 /// A pcurve may run past its surface's parameter domain by this fraction of the domain (B-rep pcurves are only
@@ -157,7 +158,7 @@ struct PCurveSeamBounds {
   int maxDegreeG2 = 0;      ///< largest degree of the Lemma 2 residual polynomials (0 when not built)
 };
 /// Errors (the caller samples instead): kInvalidInput (missing surface, pcurve not 2-D, empty ranges),
-/// kUnsupported (rational pcurve, a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
+/// kUnsupported (a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
 /// above SeamOptions::maxCertifiedDegree, a normal vanishing so that the angle bound cannot be closed).
 Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& options = {});
 

@@ -110,6 +110,9 @@ class BernsteinPatch {
   [[nodiscard]] BernsteinPoly isoV(double v) const;
   /// The curve t -> p(u(t), v(t)) for scalar polynomials u, v (exactly; degree = degreeU() deg u + degreeV() deg v).
   [[nodiscard]] BernsteinPoly composed(const BernsteinPoly& u, const BernsteinPoly& v) const;
+  /// w^(du + dv) p(u / w, v / w) for scalar polynomials u, v, w: the composition with a rational parameter curve
+  /// (u / w, v / w), homogenised so that it stays a polynomial (degree = (du + dv) max(deg u, deg v, deg w)).
+  [[nodiscard]] BernsteinPoly composed(const BernsteinPoly& u, const BernsteinPoly& v, const BernsteinPoly& w) const;
   /// q(u,v) = p(v,u).
   [[nodiscard]] BernsteinPatch swapped() const;
   [[nodiscard]] BernsteinPatch reversedU() const;
