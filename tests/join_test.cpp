@@ -31,6 +31,7 @@ namespace seam {
 namespace {
 
 using seamtest::Rng;
+using seamtest::c1Graph;
 using seamtest::urand;
 
 /// Joins exact to round-off: 1e-6 degrees (analyzeSeam's own default tolerance is 0.01 degrees).
@@ -371,16 +372,6 @@ std::vector<double> randomBreaks(Rng& rng, int spans, double lo, double hi) {
     b.push_back(lo + (hi - lo) * (acc += len[static_cast<size_t>(k)]) / tot);
   b.push_back(hi);
   return b;
-}
-
-BSplineSurface c1Graph(Rng& rng, const std::vector<double>& bu, const std::vector<double>& bv, double amp) {
-  const KnotVector ku = c1CubicKnots(bu), kv = c1CubicKnots(bv);
-  const int nu = ku.size() - 4, nv = kv.size() - 4;
-  Matrix pts(nu * nv, 3);
-  auto gr = [](const KnotVector& k, int i) { return (k[i + 1] + k[i + 2] + k[i + 3]) / 3.0; };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) pts.row(i * nv + j) << gr(ku, i), gr(kv, j), urand(rng, -amp, amp);
-  return BSplineSurface(3, 3, ku, kv, nu, nv, std::move(pts));
 }
 
 /// Two halves of a C1 bicubic graph surface; S's net is put on new u-knots (proportional or not) and its rows

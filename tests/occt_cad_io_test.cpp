@@ -393,7 +393,8 @@ TEST(OcctBRep, CurvatureJumpsOnTrimmedEdgesAreCertifiedWhereTheEdgeIsG1) {
   int certifiedG2 = 0, found = 0;
   for (const occt::BRepSeam& s : rep->seams) {
     const bool g2Certified = std::any_of(s.report.notes.begin(), s.report.notes.end(), [](const std::string& n) {
-      return n.find("G0, G1 and G2 certified through the pcurves") != std::string::npos;
+      return n.find("certified through the pcurves") != std::string::npos &&
+             n.find("G2 certified too") != std::string::npos;
     });
     if (!g2Certified) continue;
     ++certifiedG2;

@@ -16,6 +16,13 @@
 
 namespace seam::cli {
 
+std::function<void(int, int, int)> brepProgressPrinter(const std::filesystem::path& file) {
+  return [file](int faces, int done, int total) {
+    if (faces > static_cast<int>(kProgressPatches))
+      std::cerr << fmt::format("seam: {}: {} faces, {} of {} edges checked\n", file.string(), faces, done, total);
+  };
+}
+
 std::string lowerExtension(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -3,6 +3,7 @@
 // fixed-width tables, formatting numbers, writing output files atomically.
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -16,6 +17,13 @@ namespace seam::cli {
 
 /// JSON with keys kept in insertion order (what the commands print).
 using OrderedJson = nlohmann::ordered_json;
+
+/// Models with more patches (faces) than this get progress lines on stderr.
+inline constexpr size_t kProgressPatches = 300;
+
+/// A B-rep check progress callback (faces, edges done, edges in all) that prints a line on stderr for models above
+/// kProgressPatches faces and stays silent below.
+std::function<void(int, int, int)> brepProgressPrinter(const std::filesystem::path& file);
 
 /// Prints "seam: error: <message>" on stderr.
 void printError(std::string_view message);

@@ -23,9 +23,6 @@ namespace seam::cli {
 
 namespace {
 
-/// Models with more patches than this get a progress line on stderr.
-constexpr size_t kProgressPatches = 300;
-
 struct CheckOptions {
   std::string file;
   std::vector<std::string> seam;
@@ -272,10 +269,7 @@ std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, co
 int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require) {
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
-  bo.progress = [&](int faces, int done, int total) {
-    if (faces > static_cast<int>(kProgressPatches))
-      std::cerr << fmt::format("seam: {}: {} faces, {} of {} edges checked\n", o.file, faces, done, total);
-  };
+  bo.progress = brepProgressPrinter(o.file);
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
   if (!r) {
     printError(r.status().message());

@@ -24,9 +24,6 @@ namespace seam::cli {
 
 namespace {
 
-/// Models with more patches than this get a progress line on stderr (as in `seam check`).
-constexpr size_t kProgressPatches = 300;
-
 struct ReportOptions {
   std::string file, out;
   ToleranceOverrides tol;
@@ -39,10 +36,7 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
   occt::BRepCheckOptions bo;
   bo.seam.keepSamples = true;
   bo.tolerances = o.tol;
-  bo.progress = [&](int faces, int done, int total) {
-    if (faces > static_cast<int>(kProgressPatches))
-      std::cerr << fmt::format("seam: {}: {} faces, {} of {} edges checked\n", o.file, faces, done, total);
-  };
+  bo.progress = brepProgressPrinter(o.file);
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
   if (!r) {
     printError(r.status().message());

@@ -306,6 +306,13 @@ struct Piece {
   RationalPoly L, K, D;     // Lemma 1: lambda = L / D, kappa = K / D (kappa per unit of the piece parameter)
 };
 
+/// Degree of the Lemma 2 residual buildPiece forms from these sides: 2 deg D + deg B_cc + deg n_A + 2 (deg w_A +
+/// deg w_B), with n_A = A_t x A_o and D = -|n_A|^2. Known before any product is formed.
+int lemma2Degree(const CartesianSide& A, const CartesianSide& B, int waDegree, int wbDegree) {
+  const int nA = A.Su.num.degree() + A.Sv.num.degree();
+  return 2 * (2 * nA) + B.Suu.num.degree() + nA + 2 * (waDegree + wbDegree);
+}
+
 Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
                  bool ratB, BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree) {
   Piece pc;
@@ -341,7 +348,8 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
   const RationalPoly nA2 = WeightContext::dot(nA, nA);
   const RationalPoly D = WeightContext::scaled(nA2, -1.0);
   pc.D = D;
-  const int estimate = 2 * D.num.degree() + Bcc.num.degree() + nA.num.degree() + 2 * (pc.wa.degree() + pc.wb.degree());
+  const int estimate = lemma2Degree(A, B, pc.wa.degree(), pc.wb.degree());
+  assert(estimate == 2 * D.num.degree() + Bcc.num.degree() + nA.num.degree() + 2 * (pc.wa.degree() + pc.wb.degree()));
   if (estimate <= maxDegree) {
     const RationalPoly t1 = WeightContext::mul(WeightContext::mul(D, D), Bcc);
     const RationalPoly t2 = WeightContext::mul(WeightContext::mul(L, L), Aoo);
@@ -1073,7 +1081,23 @@ constexpr double kSameBreakpointRel = 1e-9;
 /// its curvature samples are skipped, for the curvature reference and for refuting a G2 identity.
 constexpr double kChartRegularSin = 1e-3;
 
-/// The Bezier patches of a surface by span, with their homogeneous Bernstein forms and first partials.
+/// The largest of value(piece, x) at kPCurveSamplesPerPiece + 1 evenly spaced x on every piece (the start value
+/// of certifyMax).
+struct BestSample {
+  double value = 0.0, x = 0.0;
+  int piece = 0;
+};
+BestSample bestSample(const std::vector<Piece>& pieces, double (*value)(const Piece&, double)) {
+  BestSample b;
+  for (size_t i = 0; i < pieces.size(); ++i)
+    for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
+      const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
+      if (const double v = value(pieces[i], x); v > b.value) b = {v, x, static_cast<int>(i)};
+    }
+  return b;
+}
+
+/// The Bezier patches of a surface by span, with their homogeneous Bernstein forms and partials up to order 2.
 struct SpanPatches {
   std::vector<Interval> us, vs;  // spans along u and v
   /// Per (iu, iv): H, H_u, H_v, H_uu, H_uv, H_vv, per unit of the span's local parameters.
@@ -1162,12 +1186,13 @@ std::optional<double> monotoneCrossing(const BernsteinPoly& f, double level) {
 struct PCurvePiece {
   BernsteinPoly u, v, w;
   bool rational = false;
-  /// The coordinate k (0 = u, 1 = v) as a numerator over w: its value range is the hull of the ratios.
+  /// The coordinate k (0 = u, 1 = v) as a numerator over w.
   [[nodiscard]] const BernsteinPoly& num(int k) const { return k == 0 ? u : v; }
+  /// Where coordinate k can be: the hull of the ratios of its coefficients to w's (the control points' coordinate;
+  /// a curve with positive weights lies in their hull). w's coefficients all equal (elevated) when w is constant.
   [[nodiscard]] std::pair<double, double> hull(int k) const {
-    const Matrix& n = num(k).coeffs();
-    if (!rational) return {n.minCoeff(), n.maxCoeff()};
-    const Eigen::ArrayXd r = n.col(0).array() / w.coeffs().col(0).array();
+    const BernsteinPoly& n = num(k);
+    const Eigen::ArrayXd r = n.coeffs().col(0).array() / w.elevatedTo(n.degree()).coeffs().col(0).array();
     return {r.minCoeff(), r.maxCoeff()};
   }
 };
@@ -1370,8 +1395,7 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
           ok = false;
           // The crossing of u / w with the knot line is the root of u - knot w.
           if (cutAt < 0.0)
-            if (const auto x = monotoneCrossing(c.rational ? c.num(k) - *knot * c.w : c.num(k), c.rational ? 0.0 : *knot))
-              cutAt = *x;
+            if (const auto x = monotoneCrossing(c.num(k) - *knot * c.w, 0.0)) cutAt = *x;
           continue;
         }
         const auto idx = spanOf(spans, lo, hi, k == 0 ? side.faceU : side.faceV);
@@ -1427,14 +1451,8 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   out.pieces = static_cast<int>(pieces.size());
   const double edgeScale = std::max(controlDiagonal(*a.surface), controlDiagonal(*b.surface));
   // Start samples, then the certified maxima (the subdivision raises the best values it meets).
-  double g0Best = 0.0, g1Best = 0.0, g0x = 0.0, g1x = 0.0;
-  int g0p = 0, g1p = 0;
-  for (size_t i = 0; i < pieces.size(); ++i)
-    for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
-      const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
-      if (const double v = g0Value(pieces[i], x); v > g0Best) std::tie(g0Best, g0x, g0p) = std::tuple{v, x, int(i)};
-      if (const double v = g1Value(pieces[i], x); v > g1Best) std::tie(g1Best, g1x, g1p) = std::tuple{v, x, int(i)};
-    }
+  auto [g0Best, g0x, g0p] = bestSample(pieces, g0Value);
+  auto [g1Best, g1x, g1p] = bestSample(pieces, g1Value);
   bool ok0 = true, ok1 = true;
   out.g0Bound = certifyMax(pieces, g0Bound, g0Value, g0Best, g0x, g0p, kRoundoff * edgeScale, opt, ok0);
   const double g1b = certifyMax(pieces, g1Bound, g1Value, g1Best, g1x, g1p, kAngleBoundFloor, opt, ok1);
@@ -1466,11 +1484,9 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     const std::array<BernsteinPoly, 3> XA = chartRows(spA, L.aiu, L.aiv, L.ca, a.surface->isRational()),
                                        XB = chartRows(spB, L.biu, L.biv, L.cb, b.surface->isRational());
     const CartesianSide CA = cartesian(XA[0], XA[1], XA[2], ra, 0), CB = cartesian(XB[0], XB[1], XB[2], rb, 1);
-    // The degree of the Lemma 2 residual before building anything (buildPiece's estimate): a piece above the
-    // limit would cost products of polynomials of degree several hundred for nothing.
-    const int nAdeg = CA.Su.num.degree() + CA.Sv.num.degree();
-    const int wdeg = (ra ? XA[0].degree() : 0) + (rb ? XB[0].degree() : 0);
-    if (4 * nAdeg + CB.Suu.num.degree() + nAdeg + 2 * wdeg > opt.maxCertifiedDegree) {
+    // Checked before building anything: a piece above the limit would cost products of polynomials of degree
+    // several hundred for nothing (buildPiece forms the G1 data first).
+    if (lemma2Degree(CA, CB, ra ? XA[0].degree() : 0, rb ? XB[0].degree() : 0) > opt.maxCertifiedDegree) {
       built = false;
       break;
     }
@@ -1494,13 +1510,7 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   }
   const double flat = kFlatCurvatureRatio / std::max(edgeScale, std::numeric_limits<double>::min());
   const double curvRef = std::max(curvMax, flat);
-  double g2Best = 0.0, g2x = 0.0;
-  int g2p = 0;
-  for (size_t i = 0; i < g2Pieces.size(); ++i)
-    for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
-      const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
-      if (const double v = g2Value(g2Pieces[i], x); v > g2Best) std::tie(g2Best, g2x, g2p) = std::tuple{v, x, int(i)};
-    }
+  auto [g2Best, g2x, g2p] = bestSample(g2Pieces, g2Value);
   bool rhoIdentity = true;
   for (const Piece& pc : g2Pieces)
     if (pc.rho.num.maxAbsCoeff() > kIdentityRelTol * pc.rhoScale) rhoIdentity = false;

@@ -189,8 +189,8 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   return rep;
 }
 
-/// A face side for the certified route: the pcurve over [first, last] as a seam B-spline. kUnsupported, with the
-/// reason, when OpenCASCADE cannot convert it, when it leaves the patch's domain, or when the
+/// A face side for the certified route: the pcurve over [first, last] as a seam B-spline (polynomial or rational).
+/// kUnsupported, with the reason, when OpenCASCADE cannot convert it, when it leaves the patch's domain, or when the
 /// patch made from the face does not reproduce the face's surface along it.
 Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
                               double modelSize) {
@@ -248,7 +248,9 @@ Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
       const double t = f.first + (f.last - f.first) * i / kParamCheckPoints;
       const VecX uv = side.pcurve.evaluate(t);
       if (uv[0] < pd.lo - slackU || uv[0] > pd.hi + slackU || uv[1] < qd.lo - slackV || uv[1] > qd.hi + slackV)
-        return why(fmt::format("the pcurve leaves the patch's parameter domain ({:.9g}, {:.9g}) vs [{:.9g}, {:.9g}] x [{:.9g}, {:.9g}]", uv[0], uv[1], pd.lo, pd.hi, qd.lo, qd.hi));
+        return why(fmt::format("the pcurve leaves the patch's parameter domain: ({:.9g}, {:.9g}) outside [{:.9g}, "
+                               "{:.9g}] x [{:.9g}, {:.9g}]",
+                               uv[0], uv[1], pd.lo, pd.hi, qd.lo, qd.hi));
       const Vec3 x = patch.evaluate(std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi)).head<3>();
       if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize)
         return why("the patch does not reproduce the face's surface in its own parameters (a converted analytic "
@@ -286,36 +288,30 @@ void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSid
   rep.g1Identity = r->g1Identity;
   rep.certified = true;
   std::erase_if(rep.notes, [](const std::string& n) { return n.starts_with(kSampledNote); });
+  std::string g2;
   if (r->g2Certified) {
-    // Relative G2 against the larger of the two routes' curvature references (both are curvatures found on the
-    // seam, so neither exceeds the true maximum and the relative bound stays an upper bound).
+    // Relative G2 against the composed route's own curvature reference (curvatures found on the seam: no larger
+    // than the true maximum, so the relative bound stays an upper bound).
     const double flat = kFlatCurvatureRatio / std::max(modelSize, std::numeric_limits<double>::min());
-    const double sampledRef = rep.g2RelSampled > 0.0 ? rep.g2Sampled / rep.g2RelSampled : 0.0;
-    const double curvRef = std::max({flat, r->curvatureMax, sampledRef});
+    const double curvRef = std::max(flat, r->curvatureMax);
     rep.g2Sampled = r->g2Sampled;
     rep.g2Max = std::max(r->g2Bound, r->g2Sampled);
     rep.g2RelSampled = rep.g2Sampled / curvRef;
     rep.g2RelMax = rep.g2Max / curvRef;
     rep.g2Worst = {r->g2At, pointAt(r->g2At)};
     rep.g2Identity = r->g2Identity;
-    rep.notes.insert(rep.notes.begin(),
-                     fmt::format("G0, G1 and G2 certified through the pcurves composed with the surfaces in Bernstein "
-                                 "form ({} pieces, degree <= {}, G2 degree <= {})",
-                                 r->pieces, r->maxDegree, r->maxDegreeG2));
+    g2 = fmt::format("G2 certified too (degree <= {})", r->maxDegreeG2);
   } else if (r->g2Identity) {
     // The Lemma 2 residual vanishes as a polynomial (G2 wherever the normal is defined); the values stay sampled.
     rep.g2Identity = true;
-    rep.notes.insert(rep.notes.begin(),
-                     fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
-                                 "({} pieces, degree <= {}); G2 proved as an identity (Lemma 2 residual zero), its "
-                                 "values sampled ({})",
-                                 r->pieces, r->maxDegree, r->g2Why));
+    g2 = fmt::format("G2 proved as an identity (Lemma 2 residual zero), its values sampled ({})", r->g2Why);
   } else {
-    rep.notes.insert(rep.notes.begin(),
-                     fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
-                                 "({} pieces, degree <= {}); G2 sampled through the pcurves ({})",
-                                 r->pieces, r->maxDegree, r->g2Why));
+    g2 = fmt::format("G2 sampled through the pcurves ({})", r->g2Why);
   }
+  rep.notes.insert(rep.notes.begin(),
+                   fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
+                               "({} pieces, degree <= {}); {}",
+                               r->pieces, r->maxDegree, g2));
   rep.geometric = classifyGeometric(rep, opt.tol);
 }
 
