@@ -1,0 +1,61 @@
+// Benchmarks of the local G1 scheme (issue 13 §2): closed G0 networks on the unit sphere from the frequency-m
+// geodesic icosahedron split into quads (60 m^2 bicubic Bezier patches; interior vertices of valence 3, 4, 5, 6).
+//
+//   BM_LocalScheme/m         localG1Scheme on the whole network, one thread (target: >= 6 000 patches, m = 10, < 2 s)
+//   BM_LocalSchemeCheck/m    checkModel of the scheme's output (every seam certified), one thread, for comparison
+// The network builder is the tests' (tests/network_support.h), so the benchmark runs on exactly the tested inputs.
+#include <benchmark/benchmark.h>
+
+#include "../tests/network_support.h"
+#include "seam/continuity/model_check.h"
+#include "seam/repair/local_scheme.h"
+
+namespace {
+
+namespace nt = seam::testing;
+
+const seam::Model& network(int m) {
+  static std::map<int, seam::Model> cache;
+  auto it = cache.find(m);
+  if (it == cache.end())
+    it = cache.emplace(m, nt::buildNetwork(nt::geodesicIcosahedronMesh(m), nt::sphereShape()).model).first;
+  return it->second;
+}
+
+void BM_LocalScheme(benchmark::State& state) {
+  const seam::Model& model = network(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    auto r = seam::localG1Scheme(model);
+    if (!r) {
+      state.SkipWithError(r.status().message().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(r->model.patches.data());
+  }
+  state.counters["patches"] = static_cast<double>(model.patches.size());
+}
+BENCHMARK(BM_LocalScheme)->Arg(2)->Arg(5)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_LocalSchemeCheck(benchmark::State& state) {
+  const seam::Model& model = network(static_cast<int>(state.range(0)));
+  auto r = seam::localG1Scheme(model);
+  if (!r) {
+    state.SkipWithError(r.status().message().c_str());
+    return;
+  }
+  seam::ModelCheckOptions o;
+  o.threads = 1;
+  int g1 = 0;
+  for (auto _ : state) {
+    auto c = seam::checkModel(r->model, o);
+    g1 = c->summary.geometric[2] + c->summary.geometric[3];
+    benchmark::DoNotOptimize(c->seams.data());
+  }
+  state.counters["patches"] = static_cast<double>(model.patches.size());
+  state.counters["seams_G1"] = g1;
+}
+BENCHMARK(BM_LocalSchemeCheck)->Arg(2)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

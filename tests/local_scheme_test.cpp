@@ -1,0 +1,249 @@
+// Tests of the local G1 scheme (seam/repair/local_scheme.h, issue 13) on G0 networks of quad patches built by
+// network_support.h: closed networks on a sphere (cube, dodecahedron, icosahedron, geodesic icosahedron:
+// interior valences 3, 4, 5, 6) and open fans of 3..8 triangles on a height field (centre valence 3..8,
+// boundary vertices of valence 2), as bicubic Bezier and as biquartic B-spline patches, and with mixed
+// (swapped / reversed) parametrisations. Every network is exactly G0 and clearly not G1 before
+// (network_support_test checks that).
+//
+// After the scheme:
+//  (a) the INDEPENDENT checker of network_support.h (finite differences of BSplineSurface::evaluate, closest
+//  points)
+//      finds every shared edge G1: normal-line angle < kMaxAngleDeg, no fold, gap < kMaxGapRel x model size;
+//  (b) seam::checkModel certifies every seam G1 (geometric >= kG1, certified);
+//  (c) free edges stay where they are (sampled, < kFreeEdgeTol);
+//  (d) the surface stays near the input (same parameters, 21 x 21 grid per patch, < kMaxDisplacementRel x
+//  patch size); (e) Johansson's Theorem 1 residual at the 4-valent vertices (checkModel's
+//  cornerG1ResidualMax) < kCornerResidual; (f) patches outside LocalSchemeOptions::patches are bit-identical.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "network_support.h"
+#include "seam/continuity/model_check.h"
+#include "seam/repair/local_scheme.h"
+
+namespace {
+
+using namespace seam;
+namespace nt = seam::testing;
+
+/// Normal-line angle allowed after the scheme (degrees). The scheme is exact up to round-off; the checker's
+/// finite differences (step 1e-5 of the domain, second order one-sided across the edge) are accurate to ~1e-9
+/// rad, so any residue of the input's kinks (0.5 .. 20 degrees) shows far above this, and a correct result
+/// far below.
+constexpr double kMaxAngleDeg = 0.05;
+/// Largest gap after the scheme, relative to the model's bounding-box diagonal.
+constexpr double kMaxGapRel = 1e-9;
+/// Free edges keep their geometry (exact raise/refinement only): sampled distance, absolute (models of size
+/// ~1..4).
+constexpr double kFreeEdgeTol = 1e-12;
+/// How far the surface may move: max distance at equal parameters relative to the patch's control-box
+/// diagonal.
+constexpr double kMaxDisplacementRel = 0.15;
+/// Theorem 1 residual (dimensionless, see corner.h) at the 4-valent vertices after the scheme.
+constexpr double kCornerResidual = 1e-6;
+/// Samples per shared edge for the independent checker (half as many on the 480-seam geodesic network, for
+/// time).
+constexpr int kEdgeSamples = 60;
+
+struct SchemeCase {
+  std::string name;
+  std::function<nt::PolyMesh()> mesh;
+  bool sphere = true;
+  nt::PatchForm form = nt::PatchForm::kBicubicBezier;
+  bool mixed = false;
+};
+
+void PrintTo(const SchemeCase& c, std::ostream* os) { *os << c.name; }
+
+std::string formName(nt::PatchForm f) { return f == nt::PatchForm::kBicubicBezier ? "Bicubic" : "Biquartic"; }
+
+std::vector<SchemeCase> schemeCases() {
+  std::vector<SchemeCase> cases;
+  const std::vector<std::pair<std::string, std::function<nt::PolyMesh()>>> closed = {
+      {"Cube", nt::cubeMesh},
+      {"Dodecahedron", nt::dodecahedronMesh},
+      {"Icosahedron", nt::icosahedronMesh},
+      {"Geodesic2", [] { return nt::geodesicIcosahedronMesh(2); }}};
+  for (auto form : {nt::PatchForm::kBicubicBezier, nt::PatchForm::kBiquarticBSpline}) {
+    for (const auto& [name, mesh] : closed) cases.push_back({name + formName(form), mesh, true, form, false});
+    for (int k = 3; k <= 8; ++k)
+      cases.push_back(
+          {"Fan" + std::to_string(k) + formName(form), [k] { return nt::fanMesh(k); }, false, form, false});
+  }
+  cases.push_back({"CubeBicubicMixed", nt::cubeMesh, true, nt::PatchForm::kBicubicBezier, true});
+  cases.push_back(
+      {"IcosahedronBiquarticMixed", nt::icosahedronMesh, true, nt::PatchForm::kBiquarticBSpline, true});
+  cases.push_back(
+      {"Fan5BicubicMixed", [] { return nt::fanMesh(5); }, false, nt::PatchForm::kBicubicBezier, true});
+  cases.push_back(
+      {"Fan6BiquarticMixed", [] { return nt::fanMesh(6); }, false, nt::PatchForm::kBiquarticBSpline, true});
+  return cases;
+}
+
+nt::Network buildCase(const SchemeCase& c) {
+  return nt::buildNetwork(c.mesh(), c.sphere ? nt::sphereShape() : nt::heightFieldShape(), {c.form, c.mixed});
+}
+
+class LocalSchemeNetwork : public ::testing::TestWithParam<SchemeCase> {};
+
+TEST_P(LocalSchemeNetwork, MakesEverySeamG1) {
+  const SchemeCase& c = GetParam();
+  const nt::Network net = buildCase(c);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto result = localG1Scheme(net.model);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(result.isOk()) << result.status().message();
+  const Model& out = result->model;
+  ASSERT_EQ(out.patches.size(), net.model.patches.size());
+  for (size_t p = 0; p < out.patches.size(); ++p) EXPECT_EQ(out.patches[p].name, net.model.patches[p].name);
+
+  // The scheme's own report agrees with the network.
+  EXPECT_EQ(result->report.interiorSeams, net.numSeams());
+  std::set<int> interiorValences;
+  for (const auto& v : net.vertices)
+    if (!v.boundary) interiorValences.insert(v.valence);
+  EXPECT_EQ(std::vector<int>(interiorValences.begin(), interiorValences.end()), result->report.valences);
+
+  // (a) the independent checker.
+  const nt::NetworkCheck check =
+      nt::checkAllSharedEdges(out, net.numSeams() > 200 ? kEdgeSamples / 2 : kEdgeSamples);
+  EXPECT_EQ(check.sharedEdges, net.numSeams());
+  EXPECT_EQ(check.freeEdges, net.numFreeEdges());
+  EXPECT_LT(check.worstAngleDeg, kMaxAngleDeg);
+  EXPECT_EQ(check.folds, 0);
+  EXPECT_EQ(check.degenerateSamples, 0);
+  EXPECT_LT(check.worstGap, kMaxGapRel * net.size);
+
+  // (b) seam::checkModel certifies every seam G1.
+  const auto report = checkModel(out);
+  ASSERT_TRUE(report.isOk()) << report.status().message();
+  EXPECT_EQ(report->summary.seams, net.numSeams());
+  EXPECT_EQ(report->summary.freeEdges, net.numFreeEdges());
+  EXPECT_EQ(report->summary.failedSeams, 0);
+  int notG1 = 0, uncertified = 0;
+  for (const auto& s : report->seams) {
+    if (!s.report) {
+      ++notG1;
+      continue;
+    }
+    if (!meets(s.report->geometric, GeometricClass::kG1)) ++notG1;
+    if (!s.report->certified) ++uncertified;
+  }
+  EXPECT_EQ(notG1, 0) << "worst seam angle " << report->summary.g1MaxDeg << " deg";
+  EXPECT_EQ(uncertified, 0);
+
+  // (c) free edges unchanged.
+  double freeMove = 0.0;
+  for (const auto& e : net.edges)
+    if (e.free()) {
+      const auto [patch, edge] = e.sides[0];
+      freeMove =
+          std::max(freeMove, nt::edgeDistance(net.model.patches[static_cast<size_t>(patch)].surface, edge,
+                                              out.patches[static_cast<size_t>(patch)].surface, edge));
+    }
+  EXPECT_LT(freeMove, kFreeEdgeTol);
+
+  // (d) near the input, at equal parameters.
+  double moveRel = 0.0;
+  for (size_t p = 0; p < out.patches.size(); ++p)
+    moveRel =
+        std::max(moveRel, nt::maxGridDistance(net.model.patches[p].surface, out.patches[p].surface, 21) /
+                              nt::patchSize(net.model.patches[p].surface));
+  EXPECT_LT(moveRel, kMaxDisplacementRel);
+
+  // (e) Theorem 1 at the 4-valent vertices.
+  EXPECT_GT(report->summary.fourValentCorners, 0);
+  EXPECT_LT(report->summary.cornerG1ResidualMax, kCornerResidual);
+
+  RecordProperty("worst_angle_deg", std::to_string(check.worstAngleDeg));
+  RecordProperty("max_displacement_rel", std::to_string(moveRel));
+  std::cout << "[local scheme] " << c.name << ": " << net.model.patches.size() << " patches, "
+            << check.sharedEdges << " seams, scheme " << seconds << " s; checker: worst angle "
+            << check.worstAngleDeg << " deg, gap " << check.worstGap << ", folds " << check.folds
+            << "; checkModel: g1 max " << report->summary.g1MaxDeg << " deg, corner G1 residual "
+            << report->summary.cornerG1ResidualMax << "; free-edge move " << freeMove << "; displacement "
+            << moveRel << " x patch size (report: " << result->report.maxDisplacementRel << ")\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Networks, LocalSchemeNetwork, ::testing::ValuesIn(schemeCases()),
+                         [](const ::testing::TestParamInfo<SchemeCase>& p) { return p.param.name; });
+
+// (f) A subset: the cube network is chosen, an extra patch far away is not; it must come back bit-identical.
+TEST(LocalScheme, PatchesOutsideTheSubsetAreBitIdentical) {
+  nt::Network net =
+      nt::buildNetwork(nt::cubeMesh(), nt::sphereShape(), {nt::PatchForm::kBiquarticBSpline, false});
+  Model model = net.model;
+  // The extra patch: a bicubic Bezier from another network moved far away (it would be raised if it were
+  // chosen).
+  const nt::Network far = nt::buildNetwork(nt::icosahedronMesh(), nt::sphereShape(0.5));
+  Patch extra = far.model.patches[7];
+  extra.name = "far";
+  Matrix pts = extra.surface.points();
+  for (int r = 0; r < pts.rows(); ++r) pts.row(r) += Vec3(100.0, -50.0, 25.0).transpose();
+  extra.surface = BSplineSurface(3, 3, extra.surface.knotsU(), extra.surface.knotsV(), 4, 4, pts);
+  model.patches.insert(model.patches.begin() + 5, extra);  // in the middle of the list, not at the end
+
+  LocalSchemeOptions options;
+  for (int p = 0; p < static_cast<int>(model.patches.size()); ++p)
+    if (p != 5) options.patches.push_back(p);
+  const auto result = localG1Scheme(model, options);
+  ASSERT_TRUE(result.isOk()) << result.status().message();
+  const Model& out = result->model;
+  ASSERT_EQ(out.patches.size(), model.patches.size());
+
+  const Patch& kept = out.patches[5];
+  EXPECT_EQ(kept.name, "far");
+  EXPECT_EQ(kept.kind, extra.kind);
+  EXPECT_EQ(kept.surface.degreeU(), extra.surface.degreeU());
+  EXPECT_EQ(kept.surface.degreeV(), extra.surface.degreeV());
+  EXPECT_EQ(kept.surface.knotsU().values(), extra.surface.knotsU().values());
+  EXPECT_EQ(kept.surface.knotsV().values(), extra.surface.knotsV().values());
+  EXPECT_TRUE(kept.surface.points() == extra.surface.points());
+  EXPECT_EQ(kept.surface.weights().size(), extra.surface.weights().size());
+  for (const auto& name : result->report.patchesChanged) EXPECT_NE(name, "far");
+
+  // The chosen network is G1 (independent checker), and the far patch's edges are all free.
+  Model network;
+  for (size_t p = 0; p < out.patches.size(); ++p)
+    if (p != 5) network.patches.push_back(out.patches[p]);
+  const auto check = nt::checkAllSharedEdges(network, kEdgeSamples);
+  EXPECT_EQ(check.sharedEdges, net.numSeams());
+  EXPECT_LT(check.worstAngleDeg, kMaxAngleDeg);
+  EXPECT_EQ(check.folds, 0);
+  EXPECT_EQ(result->report.interiorSeams, net.numSeams());
+}
+
+// The same subset rule between neighbours: choosing only some patches of a fan keeps the others bit-identical
+// and the seams between chosen and unchosen patches where they were (treated as free edges).
+TEST(LocalScheme, UnchosenNeighboursStayAndTheirSeamsStayG0) {
+  const nt::Network net = nt::buildNetwork(nt::fanMesh(6), nt::heightFieldShape());
+  // The quads of the first three triangles (9 patches) are chosen.
+  LocalSchemeOptions options;
+  for (int p = 0; p < 9; ++p) options.patches.push_back(p);
+  const auto result = localG1Scheme(net.model, options);
+  ASSERT_TRUE(result.isOk()) << result.status().message();
+  const Model& out = result->model;
+  for (size_t p = 9; p < out.patches.size(); ++p) {
+    EXPECT_TRUE(out.patches[p].surface.points() == net.model.patches[p].surface.points()) << p;
+    EXPECT_EQ(out.patches[p].surface.knotsU().values(), net.model.patches[p].surface.knotsU().values());
+  }
+  const auto check = nt::checkAllSharedEdges(out, kEdgeSamples);
+  EXPECT_EQ(check.sharedEdges, net.numSeams());  // still exactly G0 everywhere
+  EXPECT_LT(check.worstGap, kMaxGapRel * net.size);
+  EXPECT_EQ(check.folds, 0);
+  // Every seam with both sides chosen is G1.
+  for (size_t i = 0; i < check.edges.size(); ++i) {
+    if (check.edges[i].a < 9 && check.edges[i].b < 9) {
+      EXPECT_LT(check.checks[i].maxAngleDeg, kMaxAngleDeg) << i;
+    }
+  }
+}
+
+}  // namespace
