@@ -1,7 +1,9 @@
-// seam heal FILE -o OUT.json [--continuity G0|G1] [--max-gap D] [--json]
-// Finds every seam whose gap is below --max-gap and joins the open ones by successive joins (repair/heal.h); prints
-// every seam before and after and the worst result. Exit 0 when every such seam meets the requested continuity,
-// 1 otherwise (OUT.json is still written), 2 bad input.
+// seam heal FILE -o OUT.json [--continuity G0|G1] [--method auto|successive|local] [--max-gap D] [--json]
+// Finds every seam whose gap is below --max-gap and joins the open ones region by region (repair/heal.h: successive
+// joins, each step kept only if it makes no seam worse; the local G1 scheme; auto = the better of the two); prints
+// every seam before and after in plain words (gap, kink angle, crease, fold), every region and how far the surfaces
+// moved. Exit 0 when every such seam meets the requested continuity, 1 otherwise (OUT.json is still written and
+// holds everything achieved), 2 bad input.
 #include <fmt/format.h>
 
 #include <memory>
@@ -11,6 +13,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "seam/continuity/model_check.h"
 #include "seam/io/json.h"
 #include "seam/repair/heal.h"
 #include "seam/repair/join.h"
@@ -22,7 +25,7 @@ namespace {
 
 void addHeal(CLI::App& app, int& exit) {
   struct Options {
-    std::string file, out, continuity = "G1";
+    std::string file, out, continuity = "G1", method = "auto";
     std::optional<double> maxGap;
     bool json = false;
   };
@@ -31,6 +34,8 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_option("--continuity", o->continuity, "G0 or G1 (default G1)");
+  cmd->add_option("--method", o->method,
+                  "auto (default: successive, then the local scheme where it falls short), successive or local");
   cmd->add_option("--max-gap", o->maxGap, "Largest gap to close (default 1% of the bounding-box diagonal)");
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
@@ -39,6 +44,9 @@ void addHeal(CLI::App& app, int& exit) {
     auto cont = parseContinuity(o->continuity);
     if (!cont) return printError("--continuity: " + cont.status().message());
     ho.continuity = *cont;
+    auto method = parseHealMethod(o->method);
+    if (!method) return printError("--method: " + method.status().message());
+    ho.method = *method;
     if (o->maxGap && !(*o->maxGap >= 0.0)) return printError("--max-gap must be a non-negative length");
     ho.maxGap = o->maxGap;
     const std::optional<Model> model = loadModel(o->file);
@@ -52,31 +60,60 @@ void addHeal(CLI::App& app, int& exit) {
       j["output"] = o->out;
       printJson(j);
     } else {
+      // The state of a seam in plain words.
+      auto state = [](const SeamReport& x) -> std::string {
+        if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
+        if (x.g1SampledDeg >= kFoldAngleDeg || (x.lambdaRange.hi != 0.0 && x.lambdaRange.lo <= 0.0)) return "fold";
+        if (!meets(x.geometric, GeometricClass::kG1)) return "crease";
+        return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
+      };
       std::vector<std::vector<std::string>> rows;
       for (const HealSeam& s : r.seams) {
-        const std::string after = s.after ? std::string(toString(s.after->geometric)) : "?";
-        rows.push_back({fmt::format("{}:{} / {}:{}", s.a, edgeName(s.aEdge), s.b, edgeName(s.bEdge)), s.action,
-                        s.moved.empty() ? "-" : s.moved, formatNumber(s.before.g0Max),
-                        formatNumber(s.before.g1MaxDeg), std::string(toString(s.before.geometric)),
+        rows.push_back({fmt::format("{}:{} / {}:{}", s.a, edgeName(s.aEdge), s.b, edgeName(s.bEdge)),
+                        std::to_string(s.region + 1), s.action, s.moved.empty() ? "-" : s.moved,
+                        formatNumber(s.before.g0Max), formatNumber(s.before.g1MaxDeg), state(s.before),
                         s.after ? formatNumber(s.after->g0Max) : "?", s.after ? formatNumber(s.after->g1MaxDeg) : "?",
-                        after, s.after && s.after->certified ? "yes" : "no"});
+                        s.after ? state(*s.after) : "?",
+                        fmt::format("{}/{}", s.before.certified ? "yes" : "no",
+                                    s.after && s.after->certified ? "yes" : "no"),
+                        s.worse ? "WORSE" : ""});
       }
-      std::string text = fmt::format("seam heal {} ({} requested, gaps up to {})\n\n", o->file, toString(r.requested),
-                                     formatNumber(r.maxGap));
-      text += formatTable({"seam", "action", "moved", "G0 before", "G1 before", "class", "G0 after", "G1 after",
-                           "class", "certified"},
-                          rows, {false, false, false, true, true, false, true, true, false, false});
+      std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {})\n\n", o->file,
+                                     toString(r.requested), toString(r.method), formatNumber(r.maxGap));
+      text += formatTable({"seam", "region", "action", "moved", "gap before", "kink before (deg)", "before",
+                           "gap after", "kink after (deg)", "after", "certified before/after", ""},
+                          rows, {false, true, false, false, true, true, false, true, true, false, false, false});
+      std::vector<std::vector<std::string>> regions;
+      for (size_t g = 0; g < r.regions.size(); ++g) {
+        const HealRegion& x = r.regions[g];
+        std::string names;
+        for (size_t i = 0; i < x.patches.size() && i < 6; ++i) names += (i ? ", " : "") + x.patches[i];
+        if (x.patches.size() > 6) names += fmt::format(", ... ({} patches)", x.patches.size());
+        regions.push_back({std::to_string(g + 1), names, x.method, fmt::format("{} of {}", x.seamsAchieved, x.seams),
+                           x.achieved ? "yes" : "no", x.note});
+      }
+      text += "\n" + formatTable({"region", "patches", "method", "seams reaching " + std::string(toString(r.requested)),
+                                  "achieved", "note"},
+                                 regions, {true, false, false, false, false, false});
+      for (const HealStep& st : r.steps)
+        if (!st.accepted) text += fmt::format("step reverted: {} stays as it was: {}\n", st.patch, st.reason);
       std::string changed;
       for (const std::string& p : r.patchesChanged) changed += (changed.empty() ? "" : ", ") + p;
       text += fmt::format("\npatches changed: {}\n", changed.empty() ? "none" : changed);
-      text += fmt::format("max control-point displacement: {}, moved points: {}\n", formatNumber(r.maxDisplacement),
-                          r.movedPoints);
-      text += fmt::format("worst after healing: {} (gap {}, angle {} deg)\n", toString(r.worst),
+      text += fmt::format("largest surface displacement: {} ({} of the patch's size{}); control points: {}, moved "
+                          "points: {}\n",
+                          formatNumber(r.maxSurfaceDisplacement), formatNumber(r.maxSurfaceDisplacementRel),
+                          r.surfaceDisplacementCertified ? ", a certified bound" : ", sampled",
+                          formatNumber(r.maxDisplacement), r.movedPoints);
+      text += fmt::format("seams reaching {}: {} of {}; worse than before: {}\n", toString(r.requested),
+                          r.seamsAchieved, r.seamsToReach, r.seamsWorse);
+      text += fmt::format("worst after healing: {} (gap {}, kink angle {} deg)\n", toString(r.worst),
                           formatNumber(r.worstG0), formatNumber(r.worstG1Deg));
       for (const std::string& n : r.notes) text += "note: " + n + "\n";
       text += fmt::format("output: {}\n", o->out);
       text += r.achieved ? fmt::format("{} achieved on every seam\n", toString(r.requested))
-                         : fmt::format("requested {} NOT achieved on every seam; the output was written anyway\n",
+                         : fmt::format("requested {} NOT achieved on every seam; the output holds what was achieved, "
+                                       "the rest is left as it was\n",
                                        toString(r.requested));
       fmt::print("{}", text);
     }

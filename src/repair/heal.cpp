@@ -1,18 +1,38 @@
-// `seam heal`: pair the seams, join the open ones by successive least-squares joins in breadth-first order.
+// `seam heal`: pair the seams, group them into regions, and per region take the best of the successive
+// least-squares joins (each step accepted only if it makes no seam worse), the local G1 scheme and the input.
 #include "seam/repair/heal.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
+#include <memory>
 
 #include "repair/frame_internal.h"
 #include "repair/join_internal.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
+#include "seam/repair/local_scheme.h"
 
 namespace seam {
+
+std::string_view toString(HealMethod m) {
+  switch (m) {
+    case HealMethod::kAuto: return "auto";
+    case HealMethod::kSuccessive: return "successive";
+    case HealMethod::kLocal: return "local";
+  }
+  return "?";
+}
+
+Result<HealMethod> parseHealMethod(std::string_view text) {
+  for (HealMethod m : {HealMethod::kAuto, HealMethod::kSuccessive, HealMethod::kLocal})
+    if (text == toString(m)) return m;
+  return invalidInput(fmt::format("unknown heal method \"{}\" (expected auto, successive or local)", text));
+}
 
 namespace {
 
@@ -22,8 +42,7 @@ struct Work {
   EdgePair pair;
   SeamReport before;
   SeamState state = SeamState::kKept;
-  int mover = -1;  // the patch index that moved for it
-  std::vector<std::string> notes;
+  int region = -1;
 };
 
 std::optional<Interval> rangeOf(const EdgePair& p, bool sideA) {
@@ -31,84 +50,147 @@ std::optional<Interval> rangeOf(const EdgePair& p, bool sideA) {
   return p.fullB ? std::nullopt : std::optional<Interval>(p.overlapB);
 }
 
-}  // namespace
+bool isFold(const SeamReport& r) {
+  const bool lambdaKnown = !(r.lambdaRange.lo == 0.0 && r.lambdaRange.hi == 0.0);
+  return r.g1SampledDeg >= kFoldAngleDeg || (lambdaKnown && r.lambdaRange.lo <= 0.0);
+}
 
-Result<HealResult> healModel(const Model& model, const HealOptions& opt) {
-  if (model.patches.empty()) return invalidInput("the model has no patches");
-  if (opt.continuity != GeometricClass::kG0 && opt.continuity != GeometricClass::kG1)
-    return invalidInput("heal joins G0 or G1 (use `seam join` for G2, seam by seam)");
-  for (const Patch& p : model.patches)
-    if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
-  double diag = model.boundingBox().diagonal();
-  if (!(diag > 0.0)) diag = 1.0;
-  const Tolerances tol = opt.tolerances ? *opt.tolerances : Tolerances::forModelSize(diag);
-  const double maxGap = opt.maxGap ? *opt.maxGap : kDefaultMaxGapRel * diag;
-  SeamOptions so = opt.seam;
-  so.tol = tol;
+/// Why `now` is worse than `ref` ("" when it is not): the reported values (certified bounds when certified) must
+/// not grow beyond the tolerances, the class must not drop, no fold may appear, a certified seam stays certified.
+std::string worseThan(const SeamReport& now, const SeamReport& ref, const Tolerances& tol) {
+  if (now.g0Max > ref.g0Max + tol.distance) return fmt::format("gap {:.3g} -> {:.3g}", ref.g0Max, now.g0Max);
+  if (now.g1MaxDeg > ref.g1MaxDeg + tol.angleDeg)
+    return fmt::format("kink angle {:.3g} -> {:.3g} deg", ref.g1MaxDeg, now.g1MaxDeg);
+  if (static_cast<int>(now.geometric) < static_cast<int>(ref.geometric))
+    return fmt::format("class {} -> {}", toString(ref.geometric), toString(now.geometric));
+  if (isFold(now) && !isFold(ref)) return "a fold (the tangent planes turn over, lambda <= 0)";
+  if (ref.certified && !now.certified) return "no longer certified";
+  return "";
+}
 
-  ModelCheckOptions mco;
-  mco.tolerances = tol;
-  mco.pairingRelTol = std::max(maxGap, tol.distance) / diag;
-  mco.analyzeSeams = false;
-  mco.analyzeCorners = false;
-  auto pairing = pairEdges(model, mco);
-  if (!pairing) return pairing.status();
+double sizeOf(const BSplineSurface& s) {
+  const double d = controlBox(s).diagonal();
+  return d > 0.0 ? d : 1.0;
+}
 
-  HealResult res;
-  res.model = model;
-  HealReport& rep = res.report;
-  rep.requested = opt.continuity;
-  rep.maxGap = maxGap;
+/// A point of `s` at the normalised parameters (a, b) in [0,1]^2.
+Vec3 atNormalised(const BSplineSurface& s, double a, double b) {
+  const Interval du = s.domainU(), dv = s.domainV();
+  return s.evaluate(du.lo + a * du.length(), dv.lo + b * dv.length()).head<3>();
+}
 
-  const int np = static_cast<int>(model.patches.size());
-  std::vector<Work> work;
-  for (const EdgePair& p : pairing->pairs) {
-    Work w;
-    w.pair = p;
-    const Patch& A = model.patches[static_cast<size_t>(p.a.patch)];
-    const Patch& B = model.patches[static_cast<size_t>(p.b.patch)];
-    auto r = analyzeSeam(A, p.a.edge, B, p.b.edge, so, rangeOf(p, true));
-    if (!r) {
-      rep.notes.push_back(fmt::format("seam {}:{} / {}:{} could not be analysed: {}", A.name, edgeName(p.a.edge),
-                                      B.name, edgeName(p.b.edge), r.status().message()));
-      continue;
-    }
-    w.before = *r;
-    if (w.before.g0Max > maxGap) w.state = SeamState::kSkipped;
-    else if (meets(w.before.geometric, opt.continuity)) w.state = SeamState::kKept;
-    else w.state = SeamState::kToJoin;
-    work.push_back(std::move(w));
+/// A point of edge `e` of `s` at the normalised edge parameter t in [0,1].
+Vec3 edgeAt(const BSplineSurface& s, Edge e, double t) {
+  switch (e) {
+    case Edge::U0: return atNormalised(s, 0.0, t);
+    case Edge::U1: return atNormalised(s, 1.0, t);
+    case Edge::V0: return atNormalised(s, t, 0.0);
+    case Edge::V1: return atNormalised(s, t, 1.0);
   }
+  return Vec3::Zero();
+}
 
-  // Vertices: the corner points of every patch, clustered within the gap limit; a seam end at a vertex where three
-  // or more patches have a corner is "interior" (a later patch may have to close it).
+/// How far `after` moved from `before` (see HealPatch).
+HealPatch displacementOf(const Patch& before, const Patch& after, double threshold) {
+  HealPatch hp;
+  hp.name = after.name;
+  hp.size = sizeOf(before.surface);
+  const BSplineSurface& b = before.surface;
+  const BSplineSurface& a = after.surface;
+  const double kt = kKnotRelTol * std::max(1.0, std::max(b.domainU().length(), b.domainV().length()));
+  const bool sameDomain = std::abs(a.domainU().lo - b.domainU().lo) <= kt &&
+                          std::abs(a.domainU().hi - b.domainU().hi) <= kt &&
+                          std::abs(a.domainV().lo - b.domainV().lo) <= kt &&
+                          std::abs(a.domainV().hi - b.domainV().hi) <= kt;
+  bool bound = false;
+  if (sameDomain && a.degreeU() >= b.degreeU() && a.degreeV() >= b.degreeV()) {
+    const Displacement d = controlPointDisplacement(b, a, threshold);
+    hp.maxDisplacement = d.max;
+    hp.movedPoints = d.moved;
+    bound = std::isfinite(d.max) && !a.isRational() && !b.isRational();
+  } else {
+    hp.maxDisplacement = std::numeric_limits<double>::infinity();
+    hp.movedPoints = static_cast<int>(a.points().rows());
+  }
+  constexpr int kGrid = 21;
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j) {
+      const double u = static_cast<double>(i) / (kGrid - 1), v = static_cast<double>(j) / (kGrid - 1);
+      hp.maxSurfaceDisplacementSampled =
+          std::max(hp.maxSurfaceDisplacementSampled, (atNormalised(a, u, v) - atNormalised(b, u, v)).norm());
+    }
+  hp.surfaceDisplacementCertified = bound;
+  hp.maxSurfaceDisplacement = bound ? hp.maxDisplacement : hp.maxSurfaceDisplacementSampled;
+  hp.maxSurfaceDisplacementRel = hp.maxSurfaceDisplacement / hp.size;
+  return hp;
+}
+
+/// One way of healing, judged region by region.
+struct Candidate {
+  std::string method;  // "successive", "local", "none"
+  const Model* model = nullptr;
+  bool acceptable = false;
+  int achieved = 0, moved = 0;
+  double displacement = 0.0;
+  std::vector<std::optional<SeamReport>> after;  // per seam of the region
+  std::string note;                              // why it is not acceptable, or the region's shortfall
+};
+
+struct SuccessiveRun {
+  Model model;
+  std::vector<HealStep> steps;
+  std::vector<int> mover;                         // per work item
+  std::vector<std::vector<std::string>> notes;    // per work item
+};
+
+class Healer {
+ public:
+  Healer(const Model& input, const HealOptions& opt) : in_(input), opt_(opt) {}
+
+  Result<HealResult> run();
+
+ private:
+  std::string seamName(const EdgePair& p) const {
+    return fmt::format("{}:{} / {}:{}", in_.patches[static_cast<size_t>(p.a.patch)].name, edgeName(p.a.edge),
+                       in_.patches[static_cast<size_t>(p.b.patch)].name, edgeName(p.b.edge));
+  }
+  Result<SeamReport> analyse(const Model& m, const EdgePair& p) const {
+    return analyzeSeam(m.patches[static_cast<size_t>(p.a.patch)], p.a.edge, m.patches[static_cast<size_t>(p.b.patch)],
+                       p.b.edge, so_, rangeOf(p, true));
+  }
+  void buildOrder();
+  SuccessiveRun successive(bool strict) const;
+  Candidate judge(const Model& m, std::string method, int region) const;
+  bool freeEdgesKept(const Model& m, int region, std::string* why) const;
+
+  const Model& in_;
+  HealOptions opt_;
+  double diag_ = 1.0, maxGap_ = 0.0;
+  Tolerances tol_;
+  SeamOptions so_;
+  EdgePairing pairing_;
+  int np_ = 0;
+  std::vector<Work> work_;
+  std::vector<std::vector<int>> regionPatches_, regionSeams_;
+  std::vector<int> patchRegion_;
+  std::vector<int> order_;          // patches in the order they move
+  std::vector<char> initialSettled_;
   struct CornerAt {
     Vec3 p;
     int patch;
   };
-  std::vector<CornerAt> corners;
-  for (int i = 0; i < np; ++i) {
-    const BSplineSurface& s = model.patches[static_cast<size_t>(i)].surface;
-    const Interval du = s.domainU(), dv = s.domainV();
-    for (double u : {du.lo, du.hi})
-      for (double v : {dv.lo, dv.hi}) corners.push_back({s.evaluate(u, v).head<3>(), i});
-  }
-  const double vertexTol = std::max(maxGap, tol.distance);
-  auto patchesAt = [&](const Vec3& p) {
-    std::vector<int> out;
-    for (const CornerAt& c : corners)
-      if ((c.p - p).norm() <= vertexTol && std::find(out.begin(), out.end(), c.patch) == out.end())
-        out.push_back(c.patch);
-    return out;
-  };
+  std::vector<CornerAt> corners_;
+  std::vector<std::shared_ptr<Model>> localModels_;  // the local scheme's results (candidates point into them)
+};
 
-  // Order: breadth-first from the roots of each group of seams to join. Roots stay: patches already joined to a
-  // neighbour outside the work (anchored), or else the first patch of the group; of two roots with a seam to join
-  // between them the later one moves.
-  std::vector<std::vector<int>> adj(static_cast<size_t>(np));
-  std::vector<char> anchored(static_cast<size_t>(np), 0);
-  for (size_t k = 0; k < work.size(); ++k) {
-    const Work& w = work[k];
+// Order: breadth-first from the roots of each group of seams to join. Roots stay: patches already joined to a
+// neighbour outside the work (anchored), or else the first patch of the group; of two roots with a seam to join
+// between them the later one moves.
+void Healer::buildOrder() {
+  std::vector<std::vector<int>> adj(static_cast<size_t>(np_));
+  std::vector<char> anchored(static_cast<size_t>(np_), 0);
+  for (size_t k = 0; k < work_.size(); ++k) {
+    const Work& w = work_[k];
     if (w.state == SeamState::kToJoin) {
       adj[static_cast<size_t>(w.pair.a.patch)].push_back(static_cast<int>(k));
       adj[static_cast<size_t>(w.pair.b.patch)].push_back(static_cast<int>(k));
@@ -118,16 +200,16 @@ Result<HealResult> healModel(const Model& model, const HealOptions& opt) {
     }
   }
   auto otherOf = [&](int k, int i) {
-    const Work& w = work[static_cast<size_t>(k)];
+    const Work& w = work_[static_cast<size_t>(k)];
     return w.pair.a.patch == i ? w.pair.b.patch : w.pair.a.patch;
   };
-  std::vector<char> settled(static_cast<size_t>(np), 1), visited(static_cast<size_t>(np), 0);
-  std::vector<int> order;
-  for (int i = 0; i < np; ++i)
-    if (!adj[static_cast<size_t>(i)].empty()) settled[static_cast<size_t>(i)] = 0;
-  for (int seed = 0; seed < np; ++seed) {
+  initialSettled_.assign(static_cast<size_t>(np_), 1);
+  std::vector<char> visited(static_cast<size_t>(np_), 0);
+  for (int i = 0; i < np_; ++i)
+    if (!adj[static_cast<size_t>(i)].empty()) initialSettled_[static_cast<size_t>(i)] = 0;
+  std::vector<char> settled = initialSettled_;
+  for (int seed = 0; seed < np_; ++seed) {
     if (adj[static_cast<size_t>(seed)].empty() || visited[static_cast<size_t>(seed)]) continue;
-    // The group of `seed`.
     std::vector<int> group{seed};
     visited[static_cast<size_t>(seed)] = 1;
     for (size_t g = 0; g < group.size(); ++g)
@@ -148,17 +230,18 @@ Result<HealResult> healModel(const Model& model, const HealOptions& opt) {
       if (!clash) roots.push_back(i);
     }
     if (roots.empty()) roots.push_back(group.front());
-    std::vector<char> queued(static_cast<size_t>(np), 0);
+    std::vector<char> queued(static_cast<size_t>(np_), 0);
     std::deque<int> queue;
     for (int r : roots) {
       settled[static_cast<size_t>(r)] = 1;
+      initialSettled_[static_cast<size_t>(r)] = 1;
       queued[static_cast<size_t>(r)] = 1;
       queue.push_back(r);
     }
     while (!queue.empty()) {
       const int i = queue.front();
       queue.pop_front();
-      if (!settled[static_cast<size_t>(i)]) order.push_back(i);
+      if (!settled[static_cast<size_t>(i)]) order_.push_back(i);
       std::vector<int> next;
       for (int k : adj[static_cast<size_t>(i)]) {
         const int j = otherOf(k, i);
@@ -172,34 +255,65 @@ Result<HealResult> healModel(const Model& model, const HealOptions& opt) {
       }
     }
   }
+}
 
-  // Move each patch once, onto every settled neighbour.
-  for (int s : order) {
-    Patch& S = res.model.patches[static_cast<size_t>(s)];
+// The successive joins. Each step (one patch move) is accepted only if no seam touching the patch gets worse than
+// before the step or than in the input. `strict` = false defers the verdict on a seam whose other patch moves later
+// (that patch's step must then leave it no worse than in the input); the caller re-checks every region at the end
+// and falls back to the strict run when a deferred seam stayed worse.
+SuccessiveRun Healer::successive(bool strict) const {
+  SuccessiveRun run;
+  run.model = in_;
+  run.mover.assign(work_.size(), -1);
+  run.notes.assign(work_.size(), {});
+  std::vector<std::optional<SeamReport>> current(work_.size());
+  for (size_t k = 0; k < work_.size(); ++k) current[k] = work_[k].before;
+  std::vector<char> settled = initialSettled_;
+  std::vector<int> position(static_cast<size_t>(np_), -1);
+  for (size_t i = 0; i < order_.size(); ++i) position[static_cast<size_t>(order_[i])] = static_cast<int>(i);
+  const double vertexTol = std::max(maxGap_, tol_.distance);
+  auto patchesAt = [&](const Vec3& p) {
+    std::vector<int> out;
+    for (const CornerAt& c : corners_)
+      if ((c.p - p).norm() <= vertexTol && std::find(out.begin(), out.end(), c.patch) == out.end())
+        out.push_back(c.patch);
+    return out;
+  };
+  const bool g1 = opt_.continuity == GeometricClass::kG1;
+
+  for (size_t step = 0; step < order_.size(); ++step) {
+    const int s = order_[step];
+    Patch& S = run.model.patches[static_cast<size_t>(s)];
+    HealStep hs;
+    hs.patch = S.name;
+    hs.region = patchRegion_[static_cast<size_t>(s)];
     std::vector<detail::EdgeConstraint> cons;
-    std::vector<int> consWork;
-    std::vector<Edge> locked;
-    for (size_t k = 0; k < work.size(); ++k) {
-      Work& w = work[k];
-      if (w.state == SeamState::kSkipped) continue;
+    std::vector<int> consWork, touching;
+    std::vector<Edge> lockedKept, lockedG0;
+    for (size_t k = 0; k < work_.size(); ++k) {
+      const Work& w = work_[k];
       const bool sIsA = w.pair.a.patch == s, sIsB = w.pair.b.patch == s;
       if (!sIsA && !sIsB) continue;
+      touching.push_back(static_cast<int>(k));
+      if (w.state == SeamState::kSkipped) continue;
       const EdgeRef me = sIsA ? w.pair.a : w.pair.b, other = sIsA ? w.pair.b : w.pair.a;
-      if (other.patch == s) continue;  // a seam of the patch with itself: left alone
+      if (other.patch == s) continue;  // a seam of the patch with itself: left alone (but checked)
       if (!settled[static_cast<size_t>(other.patch)]) {
-        if (w.state == SeamState::kKept) locked.push_back(me.edge);
+        // Not moved yet (this seam is still as in the input): keep what holds already.
+        if (w.state == SeamState::kKept) lockedKept.push_back(me.edge);
+        else if (meets(w.before.geometric, GeometricClass::kG0)) lockedG0.push_back(me.edge);
         continue;
       }
-      const Patch& X = res.model.patches[static_cast<size_t>(other.patch)];
-      auto cur = analyzeSeam(S, me.edge, X, other.edge, so, rangeOf(w.pair, sIsA));
+      const Patch& X = run.model.patches[static_cast<size_t>(other.patch)];
+      auto cur = analyzeSeam(S, me.edge, X, other.edge, so_, rangeOf(w.pair, sIsA));
       if (!cur) {
-        w.notes.push_back("analysis before the join failed: " + cur.status().message());
+        run.notes[k].push_back("analysis before the join failed: " + cur.status().message());
         continue;
       }
       Interval oA = cur->overlapA, oB = cur->overlapB;
       if (w.pair.fullA && w.pair.fullB) {  // whole edge against whole edge: corners within the gap limit meet
         const detail::JoinOverlap ov = detail::cornerSnappedOverlap(S.surface, me.edge, X.surface, other.edge, oA, oB,
-                                                                    cur->reversed, maxGap);
+                                                                    cur->reversed, maxGap_);
         oA = ov.s;
         oB = ov.t;
       }
@@ -231,102 +345,503 @@ Result<HealResult> healModel(const Model& model, const HealOptions& opt) {
       cons.push_back(std::move(c));
       consWork.push_back(static_cast<int>(k));
     }
-    if (cons.empty()) {
-      settled[static_cast<size_t>(s)] = 1;
+    settled[static_cast<size_t>(s)] = 1;
+    if (cons.empty()) continue;
+
+    // The acceptance test: every seam touching the moved patch against its state before the step and the input.
+    std::vector<std::pair<int, SeamReport>> checked;
+    auto rejection = [&](const BSplineSurface& cand) -> std::string {
+      checked.clear();
+      Model& m = run.model;
+      const BSplineSurface keep = m.patches[static_cast<size_t>(s)].surface;
+      m.patches[static_cast<size_t>(s)].surface = cand;
+      std::string why;
+      for (int k : touching) {
+        const Work& w = work_[static_cast<size_t>(k)];
+        const int other = w.pair.a.patch == s ? w.pair.b.patch : w.pair.a.patch;
+        const bool deferred = !strict && other != s && position[static_cast<size_t>(other)] > static_cast<int>(step);
+        if (deferred) continue;
+        auto now = analyse(m, w.pair);
+        if (!now) {
+          why = fmt::format("{}: no longer analysable ({})", seamName(w.pair), now.status().message());
+          break;
+        }
+        if (current[static_cast<size_t>(k)]) {
+          const std::string r = worseThan(*now, *current[static_cast<size_t>(k)], tol_);
+          if (!r.empty()) {
+            why = fmt::format("{}: {} (worse than before the step)", seamName(w.pair), r);
+            break;
+          }
+        }
+        const std::string r = worseThan(*now, w.before, tol_);
+        if (!r.empty()) {
+          why = fmt::format("{}: {} (worse than in the input)", seamName(w.pair), r);
+          break;
+        }
+        checked.emplace_back(k, *now);
+      }
+      m.patches[static_cast<size_t>(s)].surface = keep;
+      return why;
+    };
+
+    // Variants, most conservative first: edges towards patches that have not moved yet locked (rows 0-1 when G1
+    // holds or G0 holds there, as the request needs), then positions only, then nothing locked; each as it is, then
+    // with the degree raised by 1 and 2 (exact) for enough freedom.
+    struct Variant {
+      std::vector<Edge> locked;
+      int rows;
+      std::string note;
+    };
+    std::vector<Variant> variants;
+    std::vector<Edge> lockAll = lockedKept;
+    lockAll.insert(lockAll.end(), lockedG0.begin(), lockedG0.end());
+    if (g1) {
+      variants.push_back({lockAll, 2, ""});
+      if (!lockAll.empty()) variants.push_back({lockAll, 1, "only the positions of edges towards unmoved neighbours kept"});
+    } else {
+      variants.push_back({lockAll, 1, ""});
+    }
+    if (!lockAll.empty()) variants.push_back({{}, 1, "edges towards unmoved neighbours unlocked"});
+
+    struct Tried {
+      BSplineSurface surface;
+      double residual;
+      std::vector<std::string> notes;
+    };
+    std::optional<Tried> chosen;
+    std::vector<Tried> inexact;
+    std::string lastWhy, error;
+    for (const Variant& v : variants) {
+      for (int elevate = 0; elevate < 3 && !chosen; ++elevate) {
+        detail::LsJoinOptions lo;
+        lo.continuity = opt_.continuity;
+        lo.scale = diag_;
+        lo.lockedEdges = v.locked;
+        lo.lockedRows = v.rows;
+        lo.elevate = elevate;
+        auto t = detail::leastSquaresJoin(S.surface, cons, lo);
+        if (!t) {
+          if (error.empty()) error = t.status().message();
+          break;
+        }
+        Tried tr{t->surface, t->residual, {}};
+        if (!v.note.empty()) tr.notes.push_back(v.note);
+        if (elevate > 0) tr.notes.push_back(fmt::format("degree raised by {} (exact) for enough freedom", elevate));
+        if (!t->feasible) {
+          tr.notes.push_back(fmt::format("constraints not met exactly (residual {:.3g})", t->residual));
+          inexact.push_back(std::move(tr));
+          continue;
+        }
+        const std::string why = rejection(tr.surface);
+        if (why.empty()) {
+          chosen = std::move(tr);
+        } else {
+          lastWhy = why;
+          break;  // a larger degree would move the same way: try the next variant
+        }
+      }
+      if (chosen) break;
+    }
+    if (!chosen) {
+      // Inexact joins that still make nothing worse are progress too (smallest residual first, two at most).
+      std::sort(inexact.begin(), inexact.end(), [](const Tried& a, const Tried& b) { return a.residual < b.residual; });
+      for (size_t i = 0; i < std::min<size_t>(2, inexact.size()) && !chosen; ++i) {
+        const std::string why = rejection(inexact[i].surface);
+        if (why.empty()) chosen = std::move(inexact[i]);
+        else if (lastWhy.empty()) lastWhy = why;
+      }
+    }
+    if (chosen) {
+      S = detail::replacedSurface(S, chosen->surface);
+      for (auto& [k, r] : checked) current[static_cast<size_t>(k)] = r;
+      // Seams deferred above now differ from their last analysis.
+      for (int k : touching) {
+        const bool fresh = std::any_of(checked.begin(), checked.end(), [&](const auto& c) { return c.first == k; });
+        if (!fresh) current[static_cast<size_t>(k)].reset();
+      }
+      hs.accepted = true;
+      hs.notes = chosen->notes;
+      for (int k : consWork) {
+        if (work_[static_cast<size_t>(k)].state == SeamState::kToJoin) run.mover[static_cast<size_t>(k)] = s;
+        for (const std::string& n : chosen->notes) run.notes[static_cast<size_t>(k)].push_back(S.name + ": " + n);
+      }
+    } else {
+      hs.accepted = false;
+      hs.reason = !lastWhy.empty() ? lastWhy : (!error.empty() ? "join failed: " + error : "no join found");
+      for (int k : consWork)
+        run.notes[static_cast<size_t>(k)].push_back(fmt::format("{} not moved: {}", S.name, hs.reason));
+    }
+    run.steps.push_back(std::move(hs));
+  }
+  return run;
+}
+
+// Every seam of the region analysed in `m`, compared with the input.
+Candidate Healer::judge(const Model& m, std::string method, int region) const {
+  Candidate c;
+  c.method = std::move(method);
+  c.model = &m;
+  c.acceptable = true;
+  for (int k : regionSeams_[static_cast<size_t>(region)]) {
+    const Work& w = work_[static_cast<size_t>(k)];
+    auto r = &m == &in_ ? Result<SeamReport>(w.before) : analyse(m, w.pair);
+    if (!r) {
+      c.after.emplace_back(std::nullopt);
+      if (c.acceptable) c.note = fmt::format("{}: not analysable ({})", seamName(w.pair), r.status().message());
+      c.acceptable = false;
       continue;
     }
-    detail::LsJoinOptions lo;
-    lo.continuity = opt.continuity;
-    lo.scale = diag;
-    lo.lockedEdges = locked;
-    lo.lockedRows = opt.continuity == GeometricClass::kG0 ? 1 : 2;
-    // First as it is; if the rows cannot carry all the conditions (typically the corner where this patch closes a
-    // vertex of four), raise the degree (exact) by 1, then 2; only then unlock the edges kept for unsettled
-    // neighbours (they will join this patch when their turn comes).
-    Result<detail::LsJoinOutcome> r = Status(ErrorCode::kNoSolution, "not run");
-    std::vector<std::string> tries;
-    for (int attempt = 0; attempt < 6; ++attempt) {
-      const bool unlock = attempt >= 3;
-      if (unlock && locked.empty()) break;
-      detail::LsJoinOptions a = lo;
-      if (unlock) a.lockedEdges.clear();
-      a.elevate = attempt % 3;
-      auto t = detail::leastSquaresJoin(S.surface, cons, a);
-      if (!t) {
-        if (attempt == 0) r = t;
-        break;
-      }
-      if (!r || t->residual < r->residual) r = t;
-      if (t->feasible) {
-        if (unlock) tries.push_back("edges joined before were unlocked to meet every neighbour");
-        if (a.elevate > 0) tries.push_back(fmt::format("degree raised by {} (exact) for enough freedom", a.elevate));
-        break;
-      }
+    const std::string why = worseThan(*r, w.before, tol_);
+    if (!why.empty() && c.acceptable) {
+      c.acceptable = false;
+      c.note = fmt::format("{}: {} (worse than in the input)", seamName(w.pair), why);
     }
+    if (w.state != SeamState::kSkipped && meets(r->geometric, opt_.continuity)) ++c.achieved;
+    c.after.emplace_back(std::move(*r));
+  }
+  for (int i : regionPatches_[static_cast<size_t>(region)]) {
+    const Patch& b = in_.patches[static_cast<size_t>(i)];
+    const Patch& a = m.patches[static_cast<size_t>(i)];
+    if (a.surface.points() == b.surface.points() && a.surface.knotsU().values() == b.surface.knotsU().values() &&
+        a.surface.knotsV().values() == b.surface.knotsV().values())
+      continue;
+    const HealPatch d = displacementOf(b, a, kRoundoff * diag_);
+    c.moved += d.movedPoints;
+    c.displacement = std::max(c.displacement, d.maxSurfaceDisplacement);
+  }
+  return c;
+}
+
+// The region's free edges (and the sides of seams left alone, gap above maxGap) are where they were in the input.
+bool Healer::freeEdgesKept(const Model& m, int region, std::string* why) const {
+  std::vector<EdgeRef> edges;
+  for (const FreeEdge& f : pairing_.freeEdges)
+    if (patchRegion_[static_cast<size_t>(f.edge.patch)] == region) edges.push_back(f.edge);
+  for (int k : regionSeams_[static_cast<size_t>(region)]) {
+    const Work& w = work_[static_cast<size_t>(k)];
+    if (w.state != SeamState::kSkipped) continue;
+    edges.push_back(w.pair.a);
+    edges.push_back(w.pair.b);
+  }
+  constexpr int kSamples = 33;
+  for (const EdgeRef& e : edges) {
+    const BSplineSurface& b = in_.patches[static_cast<size_t>(e.patch)].surface;
+    const BSplineSurface& a = m.patches[static_cast<size_t>(e.patch)].surface;
+    double d = 0.0;
+    for (int i = 0; i < kSamples; ++i) {
+      const double t = static_cast<double>(i) / (kSamples - 1);
+      d = std::max(d, (edgeAt(a, e.edge, t) - edgeAt(b, e.edge, t)).norm());
+    }
+    if (d > tol_.distance) {
+      *why = fmt::format("free edge {}:{} moved by {:.3g}", in_.patches[static_cast<size_t>(e.patch)].name,
+                         edgeName(e.edge), d);
+      return false;
+    }
+  }
+  return true;
+}
+
+Result<HealResult> Healer::run() {
+  const Model& model = in_;
+  if (model.patches.empty()) return invalidInput("the model has no patches");
+  if (opt_.continuity != GeometricClass::kG0 && opt_.continuity != GeometricClass::kG1)
+    return invalidInput("heal joins G0 or G1 (use `seam join` for G2, seam by seam)");
+  if (opt_.method == HealMethod::kLocal && opt_.continuity != GeometricClass::kG1)
+    return invalidInput("the local scheme makes G1 joins of a G0 network: use --method successive or auto for G0");
+  for (const Patch& p : model.patches)
+    if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
+  diag_ = model.boundingBox().diagonal();
+  if (!(diag_ > 0.0)) diag_ = 1.0;
+  tol_ = opt_.tolerances ? *opt_.tolerances : Tolerances::forModelSize(diag_);
+  maxGap_ = opt_.maxGap ? *opt_.maxGap : kDefaultMaxGapRel * diag_;
+  so_ = opt_.seam;
+  so_.tol = tol_;
+
+  ModelCheckOptions mco;
+  mco.tolerances = tol_;
+  mco.pairingRelTol = std::max(maxGap_, tol_.distance) / diag_;
+  mco.analyzeSeams = false;
+  mco.analyzeCorners = false;
+  auto pairing = pairEdges(model, mco);
+  if (!pairing) return pairing.status();
+  pairing_ = std::move(*pairing);
+
+  HealResult res;
+  HealReport& rep = res.report;
+  rep.requested = opt_.continuity;
+  rep.method = opt_.method;
+  rep.maxGap = maxGap_;
+  np_ = static_cast<int>(model.patches.size());
+
+  for (const EdgePair& p : pairing_.pairs) {
+    Work w;
+    w.pair = p;
+    auto r = analyse(model, p);
     if (!r) {
-      for (int k : consWork) work[static_cast<size_t>(k)].notes.push_back("join failed: " + r.status().message());
-    } else {
-      const bool sameKnots = r->surface.knotsU().values() == S.surface.knotsU().values() &&
-                             r->surface.knotsV().values() == S.surface.knotsV().values() &&
-                             r->surface.degreeU() == S.surface.degreeU() && r->surface.degreeV() == S.surface.degreeV();
-      if (!sameKnots) S.kind = PatchKind::kBSpline;
-      S.surface = r->surface;
-      rep.order.push_back(S.name);
-      for (int k : consWork) {
-        Work& w = work[static_cast<size_t>(k)];
-        if (w.state == SeamState::kToJoin) w.mover = s;
-        for (const std::string& n : tries) w.notes.push_back(S.name + ": " + n);
-        if (!r->feasible)
-          w.notes.push_back(fmt::format("{}: constraints not met exactly (residual {:.3g})", S.name, r->residual));
-      }
+      rep.notes.push_back(fmt::format("seam {} could not be analysed: {}", seamName(p), r.status().message()));
+      continue;
     }
-    settled[static_cast<size_t>(s)] = 1;
+    w.before = *r;
+    if (w.before.g0Max > maxGap_) w.state = SeamState::kSkipped;
+    else if (meets(w.before.geometric, opt_.continuity)) w.state = SeamState::kKept;
+    else w.state = SeamState::kToJoin;
+    work_.push_back(std::move(w));
   }
 
-  // Displacements and the after-analysis.
-  for (int i = 0; i < np; ++i) {
+  // Regions: connected components of the graph of seams within maxGap (seams of one patch with itself included).
+  patchRegion_.assign(static_cast<size_t>(np_), -1);
+  {
+    std::vector<int> parent(static_cast<size_t>(np_));
+    for (int i = 0; i < np_; ++i) parent[static_cast<size_t>(i)] = i;
+    auto find = [&](int i) {
+      while (parent[static_cast<size_t>(i)] != i) i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
+      return i;
+    };
+    std::vector<char> inSeam(static_cast<size_t>(np_), 0);
+    for (const Work& w : work_) {
+      inSeam[static_cast<size_t>(w.pair.a.patch)] = inSeam[static_cast<size_t>(w.pair.b.patch)] = 1;
+      if (w.state == SeamState::kSkipped) continue;
+      parent[static_cast<size_t>(find(w.pair.a.patch))] = find(w.pair.b.patch);
+    }
+    std::map<int, int> index;
+    for (int i = 0; i < np_; ++i) {
+      if (!inSeam[static_cast<size_t>(i)]) continue;
+      const int root = find(i);
+      auto [it, fresh] = index.emplace(root, static_cast<int>(regionPatches_.size()));
+      if (fresh) regionPatches_.emplace_back();
+      regionPatches_[static_cast<size_t>(it->second)].push_back(i);
+      patchRegion_[static_cast<size_t>(i)] = it->second;
+    }
+    regionSeams_.assign(regionPatches_.size(), {});
+    for (size_t k = 0; k < work_.size(); ++k) {
+      Work& w = work_[k];
+      w.region = patchRegion_[static_cast<size_t>(w.pair.a.patch)];
+      regionSeams_[static_cast<size_t>(w.region)].push_back(static_cast<int>(k));
+    }
+  }
+  const int nr = static_cast<int>(regionPatches_.size());
+
+  // Vertices: the corner points of every patch, clustered within the gap limit; a seam end at a vertex where three
+  // or more patches have a corner is "interior" (a later patch may have to close it).
+  for (int i = 0; i < np_; ++i) {
+    const BSplineSurface& s = model.patches[static_cast<size_t>(i)].surface;
+    const Interval du = s.domainU(), dv = s.domainV();
+    for (double u : {du.lo, du.hi})
+      for (double v : {dv.lo, dv.hi}) corners_.push_back({s.evaluate(u, v).head<3>(), i});
+  }
+  buildOrder();
+
+  auto regionAchieved = [&](int g, const Candidate& c) {
+    int need = 0;
+    for (int k : regionSeams_[static_cast<size_t>(g)])
+      if (work_[static_cast<size_t>(k)].state != SeamState::kSkipped) ++need;
+    return c.achieved == need;
+  };
+  auto better = [](const Candidate& a, const Candidate& b) {  // a strictly preferred to b
+    if (a.acceptable != b.acceptable) return a.acceptable;
+    if (a.achieved != b.achieved) return a.achieved > b.achieved;
+    const bool aNone = a.method == "none", bNone = b.method == "none";
+    if (aNone != bNone) return !aNone;  // partial improvements that make nothing worse are kept
+    if (a.moved != b.moved) return a.moved < b.moved;
+    return a.displacement < b.displacement;
+  };
+
+  // The successive runs: relaxed first (a seam towards a patch that moves later is judged at that patch's step),
+  // strict for the regions where the relaxed run left a seam worse than in the input or fell short.
+  const bool trySuccessive = opt_.method != HealMethod::kLocal && !order_.empty();
+  std::optional<SuccessiveRun> relaxed, strict;
+  if (trySuccessive) relaxed = successive(false);
+  std::vector<Candidate> best(static_cast<size_t>(nr));
+  std::vector<std::vector<std::string>> regionNotes(static_cast<size_t>(nr));
+  std::vector<const SuccessiveRun*> stepsFrom(static_cast<size_t>(nr), nullptr);
+  for (int g = 0; g < nr; ++g) best[static_cast<size_t>(g)] = judge(model, "none", g);
+  bool needStrict = false;
+  std::vector<Candidate> fromRelaxed(static_cast<size_t>(nr));
+  if (relaxed) {
+    for (int g = 0; g < nr; ++g) {
+      if (regionAchieved(g, best[static_cast<size_t>(g)])) continue;
+      Candidate c = judge(relaxed->model, "successive", g);
+      if (!c.acceptable || !regionAchieved(g, c)) needStrict = true;
+      fromRelaxed[static_cast<size_t>(g)] = std::move(c);
+    }
+    if (needStrict) strict = successive(true);
+  }
+  for (int g = 0; g < nr; ++g) {
+    Candidate& b = best[static_cast<size_t>(g)];
+    if (regionAchieved(g, b)) {
+      b.note = "";
+      continue;
+    }
+    auto consider = [&](Candidate c, const SuccessiveRun* from) {
+      if (!c.acceptable && !c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back(c.method + ": " + c.note);
+      if (from && !stepsFrom[static_cast<size_t>(g)]) stepsFrom[static_cast<size_t>(g)] = from;
+      if (better(c, b)) {
+        b = std::move(c);
+        if (from) stepsFrom[static_cast<size_t>(g)] = from;
+      }
+    };
+    if (relaxed) {
+      Candidate c = std::move(fromRelaxed[static_cast<size_t>(g)]);
+      const bool enough = c.acceptable && regionAchieved(g, c);
+      if (!enough && strict) {
+        // Keep the relaxed run's note only when the strict run is not better.
+        Candidate s = judge(strict->model, "successive", g);
+        if (c.acceptable) consider(std::move(c), &*relaxed);
+        else if (!c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back("successive (deferred checks): " + c.note);
+        consider(std::move(s), &*strict);
+      } else {
+        consider(std::move(c), &*relaxed);
+      }
+    }
+    const bool tryLocal = opt_.continuity == GeometricClass::kG1 &&
+                          (opt_.method == HealMethod::kLocal ||
+                           (opt_.method == HealMethod::kAuto && !regionAchieved(g, b)));
+    if (tryLocal) {
+      LocalSchemeOptions lo;
+      lo.patches = regionPatches_[static_cast<size_t>(g)];
+      lo.maxGap = maxGap_;
+      lo.tolerances = tol_;
+      auto l = localG1Scheme(model, lo);
+      if (!l) {
+        regionNotes[static_cast<size_t>(g)].push_back("local scheme: " + l.status().message());
+      } else {
+        auto keep = std::make_shared<Model>(std::move(l->model));
+        Candidate c = judge(*keep, "local", g);
+        std::string why;
+        if (c.acceptable && !regionAchieved(g, c)) {
+          c.acceptable = false;
+          c.note = fmt::format("{} of {} seams reach G1", c.achieved, regionSeams_[static_cast<size_t>(g)].size());
+        }
+        if (c.acceptable) {
+          for (const auto& a : c.after)
+            if (a && !a->certified) {
+              c.acceptable = false;
+              c.note = fmt::format("{} / {} not certified after", a->a, a->b);
+              break;
+            }
+        }
+        if (c.acceptable && !freeEdgesKept(*keep, g, &why)) {
+          c.acceptable = false;
+          c.note = why;
+        }
+        localModels_.push_back(keep);
+        consider(std::move(c), nullptr);
+      }
+    }
+  }
+
+  // The output: every region from the model of its chosen candidate.
+  res.model = model;
+  for (int g = 0; g < nr; ++g) {
+    const Candidate& c = best[static_cast<size_t>(g)];
+    if (c.method == "none") continue;
+    for (int i : regionPatches_[static_cast<size_t>(g)])
+      res.model.patches[static_cast<size_t>(i)] = c.model->patches[static_cast<size_t>(i)];
+  }
+
+  // The report.
+  for (int g = 0; g < nr; ++g) {
+    const Candidate& c = best[static_cast<size_t>(g)];
+    HealRegion hr;
+    for (int i : regionPatches_[static_cast<size_t>(g)]) hr.patches.push_back(model.patches[static_cast<size_t>(i)].name);
+    for (int k : regionSeams_[static_cast<size_t>(g)])
+      if (work_[static_cast<size_t>(k)].state != SeamState::kSkipped) ++hr.seams;
+    hr.seamsAchieved = c.achieved;
+    hr.method = c.method;
+    hr.achieved = regionAchieved(g, c);
+    std::vector<std::string> notes = regionNotes[static_cast<size_t>(g)];
+    if (!hr.achieved)
+      notes.insert(notes.begin(), fmt::format("{} of {} seams reach {}; the rest is left as good as it was", c.achieved,
+                                              hr.seams, toString(opt_.continuity)));
+    for (const std::string& n : notes) hr.note += (hr.note.empty() ? "" : "; ") + n;
+    rep.regions.push_back(std::move(hr));
+    // The successive steps behind the region's result (or the reasons it is left as it was); none when the local
+    // scheme's result was taken.
+    if (const SuccessiveRun* from = c.method == "local" ? nullptr : stepsFrom[static_cast<size_t>(g)])
+      for (const HealStep& st : from->steps)
+        if (st.region == g) rep.steps.push_back(st);
+  }
+  for (const HealStep& st : rep.steps) {
+    if (!st.accepted) ++rep.stepsReverted;
+    else if (best[static_cast<size_t>(st.region)].method == "successive") rep.order.push_back(st.patch);
+  }
+
+  rep.achieved = true;
+  std::vector<size_t> slot(static_cast<size_t>(nr), 0);
+  std::vector<HealSeam> seams(work_.size());
+  for (int g = 0; g < nr; ++g) {
+    const Candidate& c = best[static_cast<size_t>(g)];
+    const SuccessiveRun* from = c.method == "successive" ? stepsFrom[static_cast<size_t>(g)] : nullptr;
+    const auto& ks = regionSeams_[static_cast<size_t>(g)];
+    for (size_t q = 0; q < ks.size(); ++q) {
+      const int k = ks[q];
+      const Work& w = work_[static_cast<size_t>(k)];
+      HealSeam& hs = seams[static_cast<size_t>(k)];
+      hs.a = model.patches[static_cast<size_t>(w.pair.a.patch)].name;
+      hs.b = model.patches[static_cast<size_t>(w.pair.b.patch)].name;
+      hs.aEdge = w.pair.a.edge;
+      hs.bEdge = w.pair.b.edge;
+      hs.region = g;
+      hs.before = w.before;
+      if (from) {
+        hs.notes = from->notes[static_cast<size_t>(k)];
+        if (from->mover[static_cast<size_t>(k)] >= 0)
+          hs.moved = model.patches[static_cast<size_t>(from->mover[static_cast<size_t>(k)])].name;
+      }
+      hs.action = w.state == SeamState::kSkipped ? "skipped" : (w.state == SeamState::kKept ? "kept" : "joined");
+      if (c.method == "local" && w.state == SeamState::kToJoin) hs.notes.push_back("local G1 scheme");
+      const std::optional<SeamReport>& r = c.after[q];
+      if (r) {
+        hs.after = *r;
+        hs.achieved = meets(r->geometric, opt_.continuity);
+        hs.worse = !worseThan(*r, w.before, tol_).empty();
+        if (w.state != SeamState::kSkipped) {
+          rep.worst = static_cast<GeometricClass>(std::min(static_cast<int>(rep.worst), static_cast<int>(r->geometric)));
+          rep.worstG0 = std::max(rep.worstG0, r->g0Max);
+          rep.worstG1Deg = std::max(rep.worstG1Deg, r->g1MaxDeg);
+        }
+      } else {
+        hs.notes.push_back("analysis after healing failed");
+        hs.worse = true;
+      }
+      if (w.state != SeamState::kSkipped) {
+        ++rep.seamsToReach;
+        if (hs.achieved) ++rep.seamsAchieved;
+        else {
+          rep.achieved = false;
+          if (w.state == SeamState::kToJoin) hs.action = "failed";
+        }
+      }
+      if (hs.worse) ++rep.seamsWorse;
+    }
+  }
+  for (HealSeam& s : seams) rep.seams.push_back(std::move(s));
+
+  // Displacements.
+  for (int i = 0; i < np_; ++i) {
     const Patch& b = model.patches[static_cast<size_t>(i)];
     const Patch& a = res.model.patches[static_cast<size_t>(i)];
     if (a.surface.points() == b.surface.points() && a.surface.knotsU().values() == b.surface.knotsU().values() &&
         a.surface.knotsV().values() == b.surface.knotsV().values())
       continue;
-    const Displacement d = controlPointDisplacement(b.surface, a.surface, kRoundoff * diag);
+    HealPatch hp = displacementOf(b, a, kRoundoff * diag_);
+    hp.region = patchRegion_[static_cast<size_t>(i)];
     rep.patchesChanged.push_back(a.name);
-    rep.maxDisplacement = std::max(rep.maxDisplacement, d.max);
-    rep.movedPoints += d.moved;
+    rep.maxDisplacement = std::max(rep.maxDisplacement, hp.maxDisplacement);
+    rep.movedPoints += hp.movedPoints;
+    rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, hp.maxSurfaceDisplacement);
+    rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, hp.maxSurfaceDisplacementRel);
+    rep.surfaceDisplacementCertified = rep.surfaceDisplacementCertified && hp.surfaceDisplacementCertified;
+    rep.patches.push_back(std::move(hp));
   }
-  rep.achieved = true;
-  for (Work& w : work) {
-    HealSeam hs;
-    const Patch& A = res.model.patches[static_cast<size_t>(w.pair.a.patch)];
-    const Patch& B = res.model.patches[static_cast<size_t>(w.pair.b.patch)];
-    hs.a = A.name;
-    hs.b = B.name;
-    hs.aEdge = w.pair.a.edge;
-    hs.bEdge = w.pair.b.edge;
-    hs.before = w.before;
-    hs.notes = w.notes;
-    hs.action = w.state == SeamState::kSkipped ? "skipped" : (w.state == SeamState::kKept ? "kept" : "joined");
-    if (w.mover >= 0) hs.moved = res.model.patches[static_cast<size_t>(w.mover)].name;
-    auto r = analyzeSeam(A, w.pair.a.edge, B, w.pair.b.edge, so, rangeOf(w.pair, true));
-    if (r) {
-      hs.after = *r;
-      hs.achieved = meets(r->geometric, opt.continuity);
-      if (w.state != SeamState::kSkipped) {
-        rep.worst = static_cast<GeometricClass>(std::min(static_cast<int>(rep.worst), static_cast<int>(r->geometric)));
-        rep.worstG0 = std::max(rep.worstG0, r->g0Max);
-        rep.worstG1Deg = std::max(rep.worstG1Deg, r->g1MaxDeg);
-      }
-    } else {
-      hs.notes.push_back("analysis after healing failed: " + r.status().message());
-    }
-    if (w.state != SeamState::kSkipped && !hs.achieved) {
-      rep.achieved = false;
-      if (w.state == SeamState::kToJoin) hs.action = "failed";
-    }
-    rep.seams.push_back(std::move(hs));
-  }
+  if (rep.stepsReverted > 0)
+    rep.notes.push_back(fmt::format("{} join step(s) reverted because they would have made a seam worse",
+                                    rep.stepsReverted));
   return res;
 }
+
+}  // namespace
+
+Result<HealResult> healModel(const Model& model, const HealOptions& options) { return Healer(model, options).run(); }
 
 }  // namespace seam

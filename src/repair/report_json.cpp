@@ -95,20 +95,61 @@ std::string joinReportJson(const JoinReport& r) {
 std::string healReportJson(const HealReport& r) {
   Json j;
   j["requested"] = std::string(toString(r.requested));
+  j["method"] = std::string(toString(r.method));
   j["max_gap"] = num(r.maxGap);
   Json seams = Json::array();
   for (const HealSeam& s : r.seams)
     seams.push_back(Json{{"before", seamJson(s.before)},
                          {"after", s.after ? seamJson(*s.after) : Json(nullptr)},
+                         {"certified_before", s.before.certified},
+                         {"certified_after", s.after ? Json(s.after->certified) : Json(nullptr)},
+                         {"region", s.region},
                          {"action", s.action},
                          {"moved", s.moved.empty() ? Json(nullptr) : Json(s.moved)},
                          {"achieved", s.achieved},
+                         {"worse", s.worse},
                          {"notes", strings(s.notes)}});
   j["seams"] = seams;
+  Json regions = Json::array();
+  for (const HealRegion& g : r.regions)
+    regions.push_back(Json{{"patches", strings(g.patches)},
+                           {"seams", g.seams},
+                           {"seams_achieved", g.seamsAchieved},
+                           {"method", g.method},
+                           {"achieved", g.achieved},
+                           {"note", g.note}});
+  j["regions"] = regions;
+  Json steps = Json::array();
+  for (const HealStep& s : r.steps)
+    steps.push_back(Json{{"patch", s.patch},
+                         {"region", s.region},
+                         {"accepted", s.accepted},
+                         {"reason", s.reason.empty() ? Json(nullptr) : Json(s.reason)},
+                         {"notes", strings(s.notes)}});
+  j["steps"] = steps;
+  j["steps_reverted"] = r.stepsReverted;
   j["order"] = strings(r.order);
   j["patches_changed"] = strings(r.patchesChanged);
+  Json patches = Json::array();
+  for (const HealPatch& p : r.patches)
+    patches.push_back(Json{{"name", p.name},
+                           {"region", p.region},
+                           {"size", num(p.size)},
+                           {"max_displacement", num(p.maxDisplacement)},
+                           {"moved_points", p.movedPoints},
+                           {"max_surface_displacement", num(p.maxSurfaceDisplacement)},
+                           {"max_surface_displacement_rel", num(p.maxSurfaceDisplacementRel)},
+                           {"max_surface_displacement_sampled", num(p.maxSurfaceDisplacementSampled)},
+                           {"surface_displacement_certified", p.surfaceDisplacementCertified}});
+  j["patches"] = patches;
   j["max_displacement"] = num(r.maxDisplacement);
   j["moved_points"] = r.movedPoints;
+  j["max_surface_displacement"] = num(r.maxSurfaceDisplacement);
+  j["max_surface_displacement_rel"] = num(r.maxSurfaceDisplacementRel);
+  j["surface_displacement_certified"] = r.surfaceDisplacementCertified;
+  j["seams_to_reach"] = r.seamsToReach;
+  j["seams_achieved"] = r.seamsAchieved;
+  j["seams_worse"] = r.seamsWorse;
   j["worst"] = Json{{"geometric", std::string(toString(r.worst))}, {"g0_max", num(r.worstG0)},
                     {"g1_max_deg", num(r.worstG1Deg)}};
   j["achieved"] = r.achieved;

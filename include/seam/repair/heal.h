@@ -1,13 +1,32 @@
 #pragma once
-// `seam heal`: the whole-model version of `seam join`, like CATIA Healing but with a certified verdict. Every seam
-// found by the model check's pairing whose gap is below maxGap and whose continuity is below the requested one is
-// joined; patches are processed in breadth-first order from the first patch of each group of connected seams (the
-// successive joins of Lai-Lian-Cassidy §4.1: each patch moves once, onto all of its already settled neighbours at
-// the same time, corners included). A patch's edge that is already joined to a neighbour that has not moved yet is
-// locked (never moved); one whose neighbour has settled stays a constraint of the solve, so it remains joined.
-// Patches that need not move are bit-identical in the output. Every seam is reported before and after.
+// `seam heal`: the whole-model version of `seam join`, like CATIA Healing but with a certified verdict, and a
+// promise: healing never makes a seam worse than it was in the input.
+//
+// Regions are the connected components of the seam graph (the model check's pairing, seams within maxGap). Every
+// seam whose continuity is below the requested one is to be joined, by one of two methods (HealOptions::method):
+//  * successive: the successive least-squares joins of Lai-Lian-Cassidy §4.1 in breadth-first order from the first
+//    patch of each group (each patch moves once, onto all of its already settled neighbours at the same time,
+//    corners included). A patch's edge that is already joined to a neighbour that has not moved yet is locked; one
+//    whose neighbour has settled stays a constraint of the solve, so it remains joined. Every step (one patch move)
+//    passes an acceptance test: every seam touching the moved patch is analysed (certified analyzeSeam) and compared
+//    with its state before the step and with the input; if any got worse (gap larger by more than tol.distance,
+//    angle larger by more than tol.angleDeg, a lower class, a fold, lost certification) the step is reverted (the
+//    patch stays as it was) and the reason recorded (HealStep). A first run defers the verdict on a seam whose other
+//    patch moves later to that patch's step (which must leave it no worse than in the input); a region where that run
+//    leaves any seam worse than in the input, or falls short, is also run strictly (every seam judged at every step)
+//    and the better of the two that makes nothing worse is kept.
+//  * local: the local G1 scheme (repair/local_scheme.h) on the region's patches, G1 requests only. Its result is
+//    accepted only when every seam of the region is certified, meets G1 and is nowhere worse than in the input, and
+//    the region's free edges stay where they were; otherwise the region is left as it was.
+//  * auto (default): successive; a region it leaves short of the requested continuity is tried with the local
+//    scheme on the input, and whichever achieves more seams without making any worse is kept (ties: fewer moved
+//    points, then the smaller displacement).
+// A region that is not fully achieved keeps its partial improvements only when no seam in it is worse than in the
+// input; otherwise it is reset to the input. Patches that need not move are bit-identical in the output. Every seam
+// is reported before and after, every region with its method and verdict, every patch with its displacement.
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "seam/continuity/seam.h"
@@ -17,11 +36,21 @@
 
 namespace seam {
 
+enum class HealMethod { kAuto, kSuccessive, kLocal };
+std::string_view toString(HealMethod m);  ///< "auto", "successive", "local"
+/// Parses "auto", "successive" or "local" (exact, lower case). Errors: kInvalidInput naming the accepted values.
+Result<HealMethod> parseHealMethod(std::string_view text);
+
+/// A seam whose tangent planes meet at this angle or more (degrees), or whose connecting function lambda is <= 0
+/// somewhere, is a fold: one patch turns back over the other.
+inline constexpr double kFoldAngleDeg = 90.0;
+
 struct HealOptions {
   GeometricClass continuity = GeometricClass::kG1;  ///< G0 or G1 (G2: use `seam join` seam by seam)
+  HealMethod method = HealMethod::kAuto;            ///< local needs a G1 request
   /// Seams with a larger gap are left alone (default kDefaultMaxGapRel x the model's bounding-box diagonal).
   std::optional<double> maxGap;
-  /// Classification tolerances (default Tolerances::forModelSize(diagonal)).
+  /// Classification tolerances (default Tolerances::forModelSize(diagonal)); also the acceptance margins.
   std::optional<Tolerances> tolerances;
   SeamOptions seam;  ///< analysis settings (its `tol` is replaced by the tolerances above)
 };
@@ -29,23 +58,71 @@ struct HealOptions {
 struct HealSeam {
   std::string a, b;
   Edge aEdge = Edge::U0, bEdge = Edge::U0;
-  SeamReport before;
+  int region = -1;                  ///< index into HealReport::regions
+  SeamReport before;                ///< the input (before.certified: the values are certified bounds)
   std::optional<SeamReport> after;  ///< empty when the analysis failed after healing
   std::string moved;                ///< the patch that moved to meet this seam ("" if none did)
-  /// "kept" (already at the requested continuity), "joined", "skipped" (gap above maxGap), "failed".
+  /// "kept" (already at the requested continuity), "joined" (reaches it now), "skipped" (gap above maxGap),
+  /// "failed" (should have been joined and was not; left as good as it was, possibly improved).
   std::string action;
   bool achieved = false;            ///< after.geometric meets the requested continuity
+  /// After is worse than before (larger gap or angle beyond the tolerances, lower class, a fold): never expected,
+  /// the self-check of the promise above.
+  bool worse = false;
   std::vector<std::string> notes;
+};
+
+/// One patch move of the successive joins.
+struct HealStep {
+  std::string patch;
+  int region = -1;
+  bool accepted = false;
+  std::string reason;  ///< why the step was reverted ("" when accepted)
+  std::vector<std::string> notes;  ///< degree raised, edges unlocked, constraints not met exactly
+};
+
+/// A connected component of the seam graph.
+struct HealRegion {
+  std::vector<std::string> patches;
+  int seams = 0, seamsAchieved = 0;
+  std::string method = "none";  ///< what the output holds for the region: "successive", "local" or "none" (input)
+  bool achieved = false;        ///< every seam of the region (within maxGap) meets the requested continuity
+  std::string note;             ///< why a method was not used, why the region was not achieved
+};
+
+/// How far a patch's surface moved. For polynomial patches the largest control-point displacement against the input
+/// expressed in the new knots and degrees bounds the surface's displacement at equal parameters (partition of unity).
+struct HealPatch {
+  std::string name;
+  int region = -1;
+  double size = 0.0;                     ///< bounding-box diagonal of the input patch's control net
+  double maxDisplacement = 0.0;          ///< largest control-point displacement (see above)
+  int movedPoints = 0;
+  double maxSurfaceDisplacement = 0.0;   ///< the bound when certified, else the sampled value
+  bool surfaceDisplacementCertified = false;
+  double maxSurfaceDisplacementSampled = 0.0;  ///< the largest |S_new(u,v) - S_old(u,v)| over a 21 x 21 grid
+  double maxSurfaceDisplacementRel = 0.0;      ///< maxSurfaceDisplacement / size
 };
 
 struct HealReport {
   GeometricClass requested = GeometricClass::kG1;
+  HealMethod method = HealMethod::kAuto;  ///< as requested
   double maxGap = 0.0;
   std::vector<HealSeam> seams;
-  std::vector<std::string> order;           ///< the patches in the order they moved
+  std::vector<HealRegion> regions;         ///< regions with at least one seam
+  std::vector<HealStep> steps;             ///< the successive joins tried (every region, also those not kept)
+  std::vector<std::string> order;          ///< the patches in the order they moved (accepted steps)
   std::vector<std::string> patchesChanged;
-  double maxDisplacement = 0.0;
+  std::vector<HealPatch> patches;          ///< the changed patches
+  double maxDisplacement = 0.0;            ///< largest control-point displacement
   int movedPoints = 0;
+  double maxSurfaceDisplacement = 0.0;     ///< largest over the changed patches
+  double maxSurfaceDisplacementRel = 0.0;  ///< largest over the changed patches (each relative to its own size)
+  bool surfaceDisplacementCertified = true;  ///< every changed patch's value is a certified bound
+  int seamsAchieved = 0;                   ///< seams within maxGap that meet the requested continuity after
+  int seamsToReach = 0;                    ///< seams within maxGap
+  int seamsWorse = 0;                      ///< seams worse than in the input (0 by construction)
+  int stepsReverted = 0;
   GeometricClass worst = GeometricClass::kG2;  ///< worst geometric class over the seams after healing
   double worstG0 = 0.0, worstG1Deg = 0.0;      ///< worst values after healing
   bool achieved = false;                        ///< every seam within maxGap meets the requested continuity
@@ -57,8 +134,9 @@ struct HealResult {
   HealReport report;
 };
 
-/// Heals the model. Errors: kInvalidInput (no patches, a non-3-D patch, continuity other than G0/G1), and those of
-/// the pairing (continuity/model_check.h). Seams that cannot be joined are reported, not errors.
+/// Heals the model. Errors: kInvalidInput (no patches, a non-3-D patch, continuity other than G0/G1, method local
+/// with a G0 request), and those of the pairing (continuity/model_check.h). Seams that cannot be joined, and errors
+/// of the local scheme, are reported, not errors.
 Result<HealResult> healModel(const Model& model, const HealOptions& options = {});
 
 }  // namespace seam

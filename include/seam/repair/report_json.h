@@ -26,8 +26,14 @@ std::string seamRecordJson(const SeamReport& report);
 ///  "strip": {"junctions": [...], "internal_g1_max_deg"}, "notes"}
 std::string joinReportJson(const JoinReport& report);
 
-/// {"requested", "max_gap", "seams": [{"before", "after", "moved", "action", "notes"}], "patches_changed",
-///  "max_displacement", "moved_points", "worst": {...}, "achieved", "notes"}
+/// {"requested", "method", "max_gap", "seams": [{"before", "after" (seam records or null), "certified_before",
+///  "certified_after", "region", "action", "moved", "achieved", "worse", "notes"}], "regions": [{"patches", "seams",
+///  "seams_achieved", "method": "successive"|"local"|"none", "achieved", "note"}], "steps": [{"patch", "region",
+///  "accepted", "reason", "notes"}], "steps_reverted", "order", "patches_changed", "patches": [{"name", "region",
+///  "size", "max_displacement", "moved_points", "max_surface_displacement", "max_surface_displacement_rel",
+///  "max_surface_displacement_sampled", "surface_displacement_certified"}], "max_displacement", "moved_points",
+///  "max_surface_displacement", "max_surface_displacement_rel", "surface_displacement_certified", "seams_to_reach",
+///  "seams_achieved", "seams_worse", "worst": {"geometric", "g0_max", "g1_max_deg"}, "achieved", "notes"}
 std::string healReportJson(const HealReport& report);
 
 /// A §4.1 corner join (`seam corner --json`): {"layout": "three"|"four", "proportionality": {"all_hold",
