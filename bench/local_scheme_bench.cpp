@@ -2,12 +2,15 @@
 // geodesic icosahedron split into quads (60 m^2 bicubic Bezier patches; interior vertices of valence 3, 4, 5, 6).
 //
 //   BM_LocalScheme/m         localG1Scheme on the whole network, one thread (target: >= 6 000 patches, m = 10, < 2 s)
+//   BM_HealLocal/m           seam heal --method local as a library call: pairing, every seam certified before and after,
+//                            the scheme, the acceptance test, displacements (one thread)
 //   BM_LocalSchemeCheck/m    checkModel of the scheme's output (every seam certified), one thread, for comparison
 // The network builder is the tests' (tests/network_support.h), so the benchmark runs on exactly the tested inputs.
 #include <benchmark/benchmark.h>
 
 #include "../tests/network_support.h"
 #include "seam/continuity/model_check.h"
+#include "seam/repair/heal.h"
 #include "seam/repair/local_scheme.h"
 
 namespace {
@@ -55,6 +58,25 @@ void BM_LocalSchemeCheck(benchmark::State& state) {
   state.counters["seams_G1"] = g1;
 }
 BENCHMARK(BM_LocalSchemeCheck)->Arg(2)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_HealLocal(benchmark::State& state) {
+  const seam::Model& model = network(static_cast<int>(state.range(0)));
+  seam::HealOptions o;
+  o.method = seam::HealMethod::kLocal;
+  int achieved = 0;
+  for (auto _ : state) {
+    auto r = seam::healModel(model, o);
+    if (!r) {
+      state.SkipWithError(r.status().message().c_str());
+      return;
+    }
+    achieved = r->report.seamsAchieved;
+    benchmark::DoNotOptimize(r->model.patches.data());
+  }
+  state.counters["patches"] = static_cast<double>(model.patches.size());
+  state.counters["seams_achieved"] = achieved;
+}
+BENCHMARK(BM_HealLocal)->Arg(2)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

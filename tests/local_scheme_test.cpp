@@ -247,3 +247,100 @@ TEST(LocalScheme, UnchosenNeighboursStayAndTheirSeamsStayG0) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------------------------------
+// What the scheme refuses (nothing is changed: an error, never a half-done model) and the even-valence restriction.
+
+namespace {
+
+nt::Network fan(int k, nt::NetworkOptions o = {}) { return nt::buildNetwork(nt::fanMesh(k), nt::heightFieldShape(), o); }
+
+}  // namespace
+
+TEST(LocalScheme, RefusesRationalPatches) {
+  nt::Network net = fan(4);
+  BSplineSurface& s = net.model.patches[2].surface;
+  VecX w = VecX::Ones(s.numU() * s.numV());
+  w[5] = 1.5;
+  s = BSplineSurface(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(), s.points(), w);
+  const auto r = localG1Scheme(net.model);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupported);
+  EXPECT_NE(r.status().message().find("rational"), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find(net.model.patches[2].name), std::string::npos);
+}
+
+TEST(LocalScheme, RefusesInteriorKnotsOtherThanTheMiddle) {
+  nt::Network net = fan(3);
+  net.model.patches[1].surface = net.model.patches[1].surface.withKnotInsertedU(1.0 / 3.0);
+  const auto r = localG1Scheme(net.model);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupported);
+  EXPECT_NE(r.status().message().find("interior knot"), std::string::npos) << r.status().message();
+}
+
+TEST(LocalScheme, RefusesAStraightFreeBoundaryWithUnequalTangentLengths) {
+  // Independent halves of the rim edges: at each rim midpoint the two free edges are (nearly) opposite but of
+  // different lengths, and no symmetric fan with alpha = beta = 1 fits them with the free edges fixed.
+  nt::NetworkOptions o;
+  o.c1MeshEdges = false;
+  const nt::Network net = fan(5, o);
+  const auto r = localG1Scheme(net.model);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kNoSolution);
+  EXPECT_NE(r.status().message().find("boundary vertex"), std::string::npos) << r.status().message();
+}
+
+TEST(LocalScheme, RefusesBadPatchIndices) {
+  const nt::Network net = fan(3);
+  LocalSchemeOptions o;
+  o.patches = {0, 99};
+  const auto r = localG1Scheme(net.model, o);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+}
+
+TEST(LocalScheme, EvenValenceSixAndEightMeetTheCurvatureRestriction) {
+  // At an interior vertex of even valence n >= 6 the corner system is solvable only when
+  // sum_i (-1)^i N . Phi_i''(0) = 0 (docs/algorithms/thesis-abstract.md, stage 3). Break the fan's symmetry so that
+  // the input does not satisfy it, then check the restriction on the OUTPUT edge curves, computed here from sampled
+  // second derivatives of the boundary curves (finite differences), independently of the scheme.
+  for (int k : {6, 8}) {
+    SCOPED_TRACE(k);
+    nt::PolyMesh mesh = nt::fanMesh(k);
+    for (size_t i = 1; i < mesh.vertices.size(); ++i) mesh.vertices[i] *= 1.0 + 0.07 * static_cast<double>(i % 3);
+    const nt::Network net = nt::buildNetwork(mesh, nt::heightFieldShape());
+    const auto r = localG1Scheme(net.model);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    const nt::NetworkCheck check = nt::checkAllSharedEdges(r->model, 40);
+    EXPECT_LT(check.worstAngleDeg, kMaxAngleDeg);
+    EXPECT_EQ(check.folds, 0);
+    // The centre vertex (valence k) and its reported correction.
+    bool found = false;
+    for (const LocalSchemeVertex& v : r->report.vertices)
+      if (!v.boundary && v.valence == k) {
+        found = true;
+        EXPECT_LT(v.cornerResidual, 1e-10);
+        EXPECT_GT(v.curvatureCorrection, 0.0);  // the asymmetric input violated the restriction
+      }
+    EXPECT_TRUE(found);
+  }
+}
+
+TEST(LocalScheme, ValenceThreeAtEveryCubeCornerAndTheSurfaceStaysClose) {
+  // The cube network on the unit sphere: the output stays within 3 % of the radius from the sphere (the input's Coons
+  // patches are within 2.15 %, at the face centres, which the scheme does not touch): it changes the surface little.
+  const nt::Network net = nt::buildNetwork(nt::cubeMesh(), nt::sphereShape());
+  const auto r = localG1Scheme(net.model);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  double worstIn = 0.0, worstOut = 0.0;
+  for (size_t p = 0; p < net.model.patches.size(); ++p)
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j <= 10; ++j) {
+        worstIn = std::max(worstIn, std::abs(nt::pointAt(net.model.patches[p].surface, i / 10.0, j / 10.0).norm() - 1.0));
+        worstOut = std::max(worstOut, std::abs(nt::pointAt(r->model.patches[p].surface, i / 10.0, j / 10.0).norm() - 1.0));
+      }
+  std::cout << "[local scheme] cube sphere: distance to the sphere, input " << worstIn << ", output " << worstOut << "\n";
+  EXPECT_LT(worstOut, 0.03);
+  for (const LocalSchemeVertex& v : r->report.vertices) EXPECT_TRUE(v.valence == 3 || v.valence == 4);
+}

@@ -673,7 +673,8 @@ Result<HealResult> Healer::run() {
       continue;
     }
     auto consider = [&](Candidate c, const SuccessiveRun* from) {
-      if (!c.acceptable && !c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back(c.method + ": " + c.note);
+      if (!c.acceptable && !c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back(
+          (c.method == "local" ? "local scheme rejected: " : c.method + " joins rejected: ") + c.note);
       if (from && !stepsFrom[static_cast<size_t>(g)]) stepsFrom[static_cast<size_t>(g)] = from;
       if (better(c, b)) {
         b = std::move(c);
@@ -687,7 +688,7 @@ Result<HealResult> Healer::run() {
         // Keep the relaxed run's note only when the strict run is not better.
         Candidate s = judge(strict->model, "successive", g);
         if (c.acceptable) consider(std::move(c), &*relaxed);
-        else if (!c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back("successive (deferred checks): " + c.note);
+        else if (!c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back("successive joins rejected: " + c.note);
         consider(std::move(s), &*strict);
       } else {
         consider(std::move(c), &*relaxed);
@@ -703,7 +704,7 @@ Result<HealResult> Healer::run() {
       lo.tolerances = tol_;
       auto l = localG1Scheme(model, lo);
       if (!l) {
-        regionNotes[static_cast<size_t>(g)].push_back("local scheme: " + l.status().message());
+        regionNotes[static_cast<size_t>(g)].push_back("local scheme not applicable: " + l.status().message());
       } else {
         auto keep = std::make_shared<Model>(std::move(l->model));
         Candidate c = judge(*keep, "local", g);
