@@ -10,8 +10,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -23,6 +26,7 @@
 #include "seam/continuity/seam.h"
 #include "seam/io/json.h"
 #include "seam/repair/bicubic.h"
+#include "repair/join_internal.h"
 #include "seam/repair/join.h"
 #include "seam_test_support.h"
 #include "test_helpers.h"
@@ -356,6 +360,281 @@ TEST(LeastSquaresJoin, RefusesGapsAboveMaxGapAndBadOptions) {
   JoinOptions b = opts();
   b.method = JoinMethod::kBSpline;  // random graph surfaces are not C1 bicubic
   EXPECT_EQ(join(c, b).status().code(), ErrorCode::kUnsupported);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Joins never fold (issue 13): a G1 join either reaches G1 with lambda > 0 and consistently oriented normals, or
+// leaves the patch bit-identical; it never makes the seam worse.
+// ---------------------------------------------------------------------------------------------------------------------
+
+/// Test-side G1 angle below which a seam counts as joined: analyzeSeam's default classification tolerance plus the
+/// finite-difference error of the normals below (~1e-9 degrees: 4th-order differences of cubic pieces).
+constexpr double kJoinedAngleDeg = 0.01 + 1e-6;
+/// Samples along the seam for the test-side measures.
+constexpr int kSeamProbeSamples = 200;
+
+/// A pair of bicubic patches in canonical form: both seam edges are V0 (v = 0), sharing the same u (knots, points
+/// and weights of row 0 are equal), the edge a straight segment of the x-axis. T lies at y < 0; S is built at y > 0
+/// with row 1 = P_i0 + c R180(T_i1 - P_i0) + a_i e_x and the same row-1 weights as T (R180 the half turn about the
+/// x-axis), which makes S_v = -c T_v + (x-axis component) along the edge: G1 with lambda = c. S is then turned about
+/// the x-axis by `creaseDeg`; the normals at the edge are perpendicular to the axis, so the crease is exactly that
+/// angle everywhere. `row1Noise` (> 0) perturbs S's row 1 afterwards: a crease varying along the seam. Finally both
+/// get the same random rigid motion.
+struct CreasePair {
+  BSplineSurface S, T;
+};
+CreasePair creasePair(Rng& rng, double creaseDeg, bool rational, double c, double row1Noise) {
+  const int nu = 6, nvT = 5, nvS = 5;
+  const KnotVector ku(seamtest::randomClampedKnots(rng, 3, nu));
+  std::vector<double> x(static_cast<size_t>(nu));
+  double acc = 0.0;
+  for (double& xi : x) xi = (acc += urand(rng, 0.6, 1.4) / nu);
+  Matrix pt(nu * nvT, 3), ps(nu * nvS, 3);
+  VecX wt = rational ? seamtest::randomWeights(rng, nu * nvT) : VecX();
+  VecX ws = rational ? seamtest::randomWeights(rng, nu * nvS) : VecX();
+  for (int i = 0; i < nu; ++i) {
+    const double xi = x[static_cast<size_t>(i)];
+    double y = 0.0;
+    for (int j = 0; j < nvT; ++j) {
+      pt.row(i * nvT + j) << xi + (j ? urand(rng, -0.03, 0.03) : 0.0), -y, j ? urand(rng, -0.15, 0.15) : 0.0;
+      y += urand(rng, 0.15, 0.3);
+    }
+    const Vec3 p0 = pt.row(i * nvT).transpose(), d = pt.row(i * nvT + 1).transpose() - p0;
+    ps.row(i * nvS) = p0.transpose();
+    ps.row(i * nvS + 1) = (p0 + c * Vec3(d.x(), -d.y(), -d.z()) + Vec3(urand(rng, -0.02, 0.02), 0, 0)).transpose();
+    y = ps(i * nvS + 1, 1);
+    for (int j = 2; j < nvS; ++j) {
+      y += urand(rng, 0.15, 0.3);
+      ps.row(i * nvS + j) << xi + urand(rng, -0.03, 0.03), y, urand(rng, -0.15, 0.15);
+    }
+    if (rational) {
+      ws[i * nvS] = wt[i * nvT];
+      ws[i * nvS + 1] = wt[i * nvT + 1];
+    }
+  }
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(seamtest::radians(creaseDeg), Vec3::UnitX()).toRotationMatrix();
+  for (int r = 0; r < ps.rows(); ++r) ps.row(r) = (turn * ps.row(r).transpose()).transpose();
+  if (row1Noise > 0.0)
+    for (int i = 0; i < nu; ++i)
+      for (int k = 0; k < 3; ++k) ps(i * nvS + 1, k) += urand(rng, -row1Noise, row1Noise);
+  const BSplineSurface T(3, 3, ku, KnotVector(seamtest::randomClampedKnots(rng, 3, nvT)), nu, nvT, pt, wt);
+  const BSplineSurface S(3, 3, ku, KnotVector(seamtest::randomClampedKnots(rng, 3, nvS)), nu, nvS, ps, ws);
+  const Eigen::Matrix3d rot = seamtest::randomRotation(rng);
+  const Vec3 shift(urand(rng, -1, 1), urand(rng, -1, 1), urand(rng, -1, 1));
+  return {seamtest::transformed(S, rot, shift), seamtest::transformed(T, rot, shift)};
+}
+
+/// A patch of the model evaluated in the canonical parameters of creasePair, undoing orientEdge(s, e, reverse) (the
+/// canonical domain is [0,1]^2, and reversal maps t to 1 - t there).
+struct Oriented {
+  const BSplineSurface* s = nullptr;
+  Edge e = Edge::V0;
+  bool reverse = false;
+  [[nodiscard]] Vec3 at(double u, double v) const {
+    const double ur = reverse ? 1.0 - u : u;
+    switch (e) {
+      case Edge::V0: return s->evaluate(ur, v).head<3>();
+      case Edge::V1: return s->evaluate(ur, 1.0 - v).head<3>();
+      case Edge::U0: return s->evaluate(v, ur).head<3>();
+      case Edge::U1: return s->evaluate(1.0 - v, ur).head<3>();
+    }
+    return Vec3::Zero();
+  }
+  /// d/du by a 4th-order central difference (one-sided near u = 0, 1), d/dv at v = 0 by the 4-point one-sided
+  /// formula (exact for cubics up to round-off).
+  [[nodiscard]] Vec3 du(double u, double v) const {
+    const double h = 1e-4;
+    const double c = std::clamp(u, 2 * h, 1.0 - 2 * h);
+    return (-at(c + 2 * h, v) + 8.0 * at(c + h, v) - 8.0 * at(c - h, v) + at(c - 2 * h, v)) / (12.0 * h) +
+           (u - c) * (at(c + h, v) - 2.0 * at(c, v) + at(c - h, v)) / (h * h);
+  }
+  [[nodiscard]] Vec3 dvAtEdge(double u) const {
+    const double h = 1e-4;
+    return (-11.0 * at(u, 0.0) + 18.0 * at(u, h) - 9.0 * at(u, 2 * h) + 2.0 * at(u, 3 * h)) / (6.0 * h);
+  }
+};
+
+/// The seam measured by the test itself, in the convention of seam.h with A = S (the moving patch), B = T:
+/// n_A = A_t x A_out, n_B = B_t x B_cross; lambda from the least-squares fit B_cross = lambda A_out + kappa A_t.
+struct SeamProbe {
+  double maxAngleDeg = 0.0, minAngleDeg = 180.0, minLambda = std::numeric_limits<double>::infinity(), maxGap = 0.0;
+};
+SeamProbe probeSeam(const Oriented& S, const Oriented& T) {
+  SeamProbe p;
+  for (int k = 0; k < kSeamProbeSamples; ++k) {
+    const double u = (k + 0.5) / kSeamProbeSamples;
+    const Vec3 aT = S.du(u, 0.0), aOut = -S.dvAtEdge(u);
+    const Vec3 bT = T.du(u, 0.0), bCross = T.dvAtEdge(u);
+    const double ang = seamtest::angleDeg(aT.cross(aOut), bT.cross(bCross));
+    p.maxAngleDeg = std::max(p.maxAngleDeg, ang);
+    p.minAngleDeg = std::min(p.minAngleDeg, ang);
+    Eigen::Matrix<double, 3, 2> m;
+    m << aOut, aT;
+    const Eigen::Vector2d lk = (m.transpose() * m).ldlt().solve(m.transpose() * bCross);
+    p.minLambda = std::min(p.minLambda, lk[0]);
+    p.maxGap = std::max(p.maxGap, (S.at(u, 0.0) - T.at(u, 0.0)).norm());
+  }
+  return p;
+}
+
+bool bitIdentical(const BSplineSurface& a, const BSplineSurface& b) {
+  return a.points() == b.points() && a.weights() == b.weights() && a.knotsU().values() == b.knotsU().values() &&
+         a.knotsV().values() == b.knotsV().values() && a.degreeU() == b.degreeU() && a.degreeV() == b.degreeV();
+}
+
+/// Largest |after - before| of a moved patch on a 41 x 41 grid (not the report's 33 x 33 one).
+double surfaceDistance(const BSplineSurface& before, const BSplineSurface& after) {
+  double worst = 0.0;
+  const Interval du = before.domainU(), dv = before.domainV();
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j) {
+      const double u = du.lo + du.length() * i / 40.0, v = dv.lo + dv.length() * j / 40.0;
+      worst = std::max(worst, (test::refSurfacePoint(after, u, v) - test::refSurfacePoint(before, u, v)).norm());
+    }
+  return worst;
+}
+
+struct FoldOutcome {
+  bool achieved = false;
+  double lambdaMin = 0.0, angleBefore = 0.0, angleAfter = 0.0, displacement = 0.0, displacementRel = 0.0;
+  bool lambdaFixed = false;
+};
+
+/// Joins S (edge eS, reversed or not) to T (edge eT) with G1 and checks the no-fold contract with the test's own
+/// measures. `exactCrease`: the construction's crease angle, verified first (negative: not uniform).
+FoldOutcome checkNoFold(const CreasePair& cp, Edge eS, bool revS, Edge eT, bool revT, double exactCrease) {
+  FoldOutcome o;
+  Model m;
+  m.patches.push_back(patch("T", orientEdge(cp.T, eT, revT)));
+  m.patches.push_back(patch("S", orientEdge(cp.S, eS, revS)));
+  const Oriented S0{&m.patches[1].surface, eS, revS}, T0{&m.patches[0].surface, eT, revT};
+  // The orientation helper and its inverse agree (self-check of the test's parameter map).
+  for (double u : {0.1, 0.5, 0.93})
+    for (double v : {0.0, 0.3}) {
+      EXPECT_LE((S0.at(u, v) - cp.S.evaluate(u, v).head<3>()).norm(), 1e-12);
+      EXPECT_LE((T0.at(u, v) - cp.T.evaluate(u, v).head<3>()).norm(), 1e-12);
+    }
+  const SeamProbe before = probeSeam(S0, T0);
+  o.angleBefore = before.maxAngleDeg;
+  EXPECT_LE(before.maxGap, 1e-12) << "the edges are shared exactly";
+  if (exactCrease >= 0.0) {
+    EXPECT_NEAR(before.maxAngleDeg, exactCrease, 1e-6);
+    EXPECT_NEAR(before.minAngleDeg, exactCrease, 1e-6);
+  }
+  JoinOptions opt = opts();
+  opt.continuity = GeometricClass::kG1;
+  auto r = joinSeam(m, "S", eS, "T", eT, opt);
+  EXPECT_TRUE(r.isOk()) << r.status().message();
+  if (!r) return o;
+  const JoinReport& rep = r->report;
+  const BSplineSurface& S1 = r->model.patches[1].surface;
+  EXPECT_TRUE(bitIdentical(r->model.patches[0].surface, m.patches[0].surface)) << "T was not asked to move";
+  const Oriented Sa{&S1, eS, revS}, Ta{&r->model.patches[0].surface, eT, revT};
+  const SeamProbe after = probeSeam(Sa, Ta);
+  o.achieved = rep.achieved;
+  o.angleAfter = after.maxAngleDeg;
+  for (const std::string& n : rep.notes) o.lambdaFixed = o.lambdaFixed || n.find("lambda fixed") != std::string::npos;
+  // Never worse (test-side: the join's rule compares certified bounds with tol.angleDeg = 0.01 degrees).
+  EXPECT_LE(after.maxAngleDeg, before.maxAngleDeg + kJoinedAngleDeg);
+  if (rep.achieved) {
+    EXPECT_FALSE(rep.reverted);
+    EXPECT_TRUE(rep.after.certified);
+    EXPECT_TRUE(rep.lambdaMin.has_value());
+    o.lambdaMin = rep.lambdaMin.value_or(-1.0);
+    EXPECT_GT(o.lambdaMin, 0.0);
+    EXPECT_LE(after.maxAngleDeg, kJoinedAngleDeg) << "claimed G1";
+    EXPECT_GT(after.minLambda, 0.0) << "fold (test-side lambda)";
+    EXPECT_LE(after.maxGap, kExactGapRel * sizeOf(cp.S));
+    // The reported surface displacement: the certified bound holds against the test's own grid, the sampled value
+    // lies below it, and the relative value is the bound over the patch's control-box diagonal.
+    const double actual = surfaceDistance(m.patches[1].surface, S1);
+    EXPECT_GT(actual, 0.0);
+    EXPECT_LE(actual, rep.maxSurfaceDisplacement * (1.0 + 1e-9) + 1e-12);
+    EXPECT_LE(rep.maxSurfaceDisplacementSampled, rep.maxSurfaceDisplacement * (1.0 + 1e-9) + 1e-12);
+    EXPECT_GE(rep.maxSurfaceDisplacementSampled, 0.5 * actual) << "33 x 33 samples miss half the displacement?";
+    const Matrix& P = m.patches[1].surface.points();
+    const double diag = (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm();
+    EXPECT_NEAR(rep.maxSurfaceDisplacementRel, rep.maxSurfaceDisplacement / diag, 1e-12);
+    if (!S1.isRational() && !m.patches[1].surface.isRational()) {
+      EXPECT_DOUBLE_EQ(rep.maxSurfaceDisplacement, rep.maxDisplacement) << "polynomial: the control-point bound";
+    }
+    o.displacement = rep.maxSurfaceDisplacement;
+    o.displacementRel = rep.maxSurfaceDisplacementRel;
+  } else {
+    EXPECT_TRUE(bitIdentical(S1, m.patches[1].surface)) << "not achieved: the patch must be left as it was";
+    EXPECT_EQ(rep.movedPoints, 0);
+    EXPECT_EQ(rep.maxSurfaceDisplacement, 0.0);
+    EXPECT_TRUE(rep.patchesChanged.empty());
+    EXPECT_FALSE(rep.lambdaMin.has_value());
+  }
+  return o;
+}
+
+TEST(JoinNeverFolds, CreasesBothOrientationsPolynomialAndRational) {
+  Rng rng(13013);
+  for (double crease : {10.0, 47.0, 90.0, 135.0}) {
+    for (bool rational : {false, true}) {
+      for (int combo = 0; combo < 4; ++combo) {
+        const bool revS = (combo & 1) != 0, revT = (combo & 2) != 0;
+        const Edge eS = kAllEdges[static_cast<size_t>(combo)];
+        const Edge eT = kAllEdges[static_cast<size_t>((combo + 1 + static_cast<int>(crease) / 10) % 4)];
+        const CreasePair cp = creasePair(rng, crease, rational, urand(rng, 0.5, 2.0), 0.0);
+        SCOPED_TRACE(::testing::Message() << "crease " << crease << (rational ? " rational" : " polynomial")
+                                          << " S:" << edgeName(eS) << (revS ? " reversed" : "") << " T:"
+                                          << edgeName(eT) << (revT ? " reversed" : ""));
+        const FoldOutcome o = checkNoFold(cp, eS, revS, eT, revT, crease);
+        // Polynomial: the first row of S is free and the knots correspond, so G1 with a positive constant lambda
+        // always has a solution: every crease must be joined (with lambda fixed where the free solve would fold).
+        // Rational: the homogeneous equations may admit only folded solutions (or non-positive weights); then the
+        // patch must be left as it was, which checkNoFold verifies.
+        if (!rational) {
+          EXPECT_TRUE(o.achieved);
+        }
+        std::printf("crease %5.1f %-10s S:%s%s T:%s%s  achieved %d  lambdaMin %.4g%s  angle %.3g -> %.3g deg  "
+                    "surface displacement %.4g (%.3g rel)\n",
+                    crease, rational ? "rational" : "polynomial", std::string(edgeName(eS)).c_str(),
+                    revS ? "r" : " ", std::string(edgeName(eT)).c_str(), revT ? "r" : " ", o.achieved ? 1 : 0,
+                    o.lambdaMin, o.lambdaFixed ? " (fixed)" : "", o.angleBefore, o.angleAfter, o.displacement,
+                    o.displacementRel);
+      }
+    }
+  }
+}
+
+TEST(JoinNeverFolds, RandomCreasesNeverWorseNeverFolded) {
+  Rng rng(13031);
+  int achieved = 0, fixedLambda = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const bool rational = trial % 2 == 1;
+    const double crease = urand(rng, 0.0, 150.0);
+    const double noise = seamtest::irand(rng, 0, 1) ? urand(rng, 0.0, 0.08) : 0.0;
+    const CreasePair cp = creasePair(rng, crease, rational, urand(rng, 0.3, 3.0), noise);
+    const Edge eS = kAllEdges[static_cast<size_t>(seamtest::irand(rng, 0, 3))];
+    const Edge eT = kAllEdges[static_cast<size_t>(seamtest::irand(rng, 0, 3))];
+    const bool revS = seamtest::irand(rng, 0, 1) == 1, revT = seamtest::irand(rng, 0, 1) == 1;
+    SCOPED_TRACE(::testing::Message() << "trial " << trial << " crease " << crease << " noise " << noise
+                                      << (rational ? " rational" : " polynomial"));
+    const FoldOutcome o = checkNoFold(cp, eS, revS, eT, revT, noise > 0.0 ? -1.0 : crease);
+    achieved += o.achieved ? 1 : 0;
+    fixedLambda += o.lambdaFixed ? 1 : 0;
+  }
+  std::printf("random creases: %d of 40 joined, lambda fixed in %d\n", achieved, fixedLambda);
+}
+
+TEST(JoinNeverFolds, CertifiedMinimumOfAPolynomial) {
+  // p(t) = (t - 0.3)^2 - 0.01 = t^2 - 0.6 t + 0.08: minimum -0.01 at t = 0.3 (calculus), although the Bernstein
+  // coefficients (0.08, -0.22, 0.48) alone only bound it below by -0.22.
+  Matrix c(3, 1);
+  c << 0.08, 0.08 - 0.3, 0.48;
+  const detail::CertifiedMin m = detail::certifiedMinimum(BernsteinPoly(c), 1e-12);
+  EXPECT_LE(m.lower, -0.01);
+  EXPECT_NEAR(m.lower, -0.01, 1e-11);
+  EXPECT_NEAR(m.attained, -0.01, 1e-11);
+  EXPECT_NEAR(m.at, 0.3, 1e-5);
+  // Positive coefficients certify at once.
+  Matrix d(2, 1);
+  d << 0.5, 2.0;
+  EXPECT_DOUBLE_EQ(detail::certifiedMinimum(BernsteinPoly(d), 1e-12).lower, 0.5);
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

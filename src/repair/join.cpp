@@ -58,6 +58,47 @@ Displacement controlPointDisplacement(const BSplineSurface& before, const BSplin
   return d;
 }
 
+SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSplineSurface& after, int grid) {
+  const BSplineSurface ref = detail::expressedLike(before, after);
+  SurfaceDisplacement d;
+  if (ref.numU() != after.numU() || ref.numV() != after.numV()) {
+    d.bound = d.sampled = std::numeric_limits<double>::infinity();
+    return d;
+  }
+  const int nv = after.numV();
+  const int pu = after.degreeU(), pv = after.degreeV();
+  const std::vector<double>& ku = after.knotsU().values();
+  const std::vector<double>& kv = after.knotsV().values();
+  auto pt = [](const BSplineSurface& s, int i, int j) -> Vec3 { return s.points().row(i * s.numV() + j).head<3>(); };
+  // Certified bound, knot cell by knot cell: S1 - S0 = sum a1_i (P1_i - P0_i) + sum (a1_i - a0_i) (P0_i - c) with
+  // the rational basis functions a = w N / W; a1_i / a0_i lies in [1/rho, rho], rho = max r / min r, so
+  // sum |a1_i - a0_i| <= rho - 1, and |P0_i - c| <= half the box diagonal (c its centre).
+  for (int a = pu; a < after.numU(); ++a) {
+    if (!(ku[static_cast<size_t>(a + 1)] > ku[static_cast<size_t>(a)])) continue;
+    for (int b = pv; b < nv; ++b) {
+      if (!(kv[static_cast<size_t>(b + 1)] > kv[static_cast<size_t>(b)])) continue;
+      double moved = 0.0, rLo = std::numeric_limits<double>::infinity(), rHi = 0.0;
+      BoundingBox box;
+      for (int i = a - pu; i <= a; ++i)
+        for (int j = b - pv; j <= b; ++j) {
+          moved = std::max(moved, (pt(after, i, j) - pt(ref, i, j)).norm());
+          const double r = after.weight(i, j) / ref.weight(i, j);
+          rLo = std::min(rLo, r);
+          rHi = std::max(rHi, r);
+          box.add(pt(ref, i, j));
+        }
+      d.bound = std::max(d.bound, moved + (rHi / rLo - 1.0) * 0.5 * box.diagonal());
+    }
+  }
+  const Interval du = after.domainU(), dv = after.domainV();
+  for (int i = 0; i < grid; ++i)
+    for (int j = 0; j < grid; ++j) {
+      const double u = du.lo + du.length() * i / (grid - 1), v = dv.lo + dv.length() * j / (grid - 1);
+      d.sampled = std::max(d.sampled, (after.evaluate(u, v).head<3>() - before.evaluate(u, v).head<3>()).norm());
+    }
+  return d;
+}
+
 namespace {
 
 SeamReport mergeReports(const std::vector<SeamReport>& parts) {
@@ -338,13 +379,15 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       c.target = detail::targetFromFrame(st.Tf, st.rangeS, st.c0, st.c1, order);
       auto r = detail::leastSquaresJoin(st.S->surface, {c}, lo);
       if (!r) return r.status();
-      rep.insertedKnotsU = r->insertedKnotsU;
-      rep.insertedKnotsV = r->insertedKnotsV;
-      rep.elevatedU = r->elevatedU;
-      rep.elevatedV = r->elevatedV;
       for (const std::string& n : r->notes) rep.notes.push_back(n);
-      if (order >= 1 && !r->lambda.empty()) rep.lambdaMin = r->lambdaMin;
-      res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, r->surface);
+      if (!r->unchanged) {  // else the patch stays bit-identical (the fold test refused every solution)
+        rep.insertedKnotsU = r->insertedKnotsU;
+        rep.insertedKnotsV = r->insertedKnotsV;
+        rep.elevatedU = r->elevatedU;
+        rep.elevatedV = r->elevatedV;
+        if (opt.continuity != GeometricClass::kG0 && !r->lambda.empty()) rep.lambdaMin = r->lambdaMin;
+        res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, r->surface);
+      }
     } else {
       // Both sides move onto the common middle: S's own data and T's data over S's edge parameter.
       const detail::SeamTarget own = detail::targetFromFrame(st.Sf, st.rangeS, st.rangeS.lo, 1.0, 1);
@@ -383,47 +426,100 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       ct.target = detail::mappedTarget(midT, a, b);
       auto rt = detail::leastSquaresJoin(st.T->surface, {ct}, lo);
       if (!rt) return rt.status();
-      rep.insertedKnotsU = rs->insertedKnotsU;
-      rep.insertedKnotsV = rs->insertedKnotsV;
-      rep.elevatedU = rs->elevatedU;
-      rep.elevatedV = rs->elevatedV;
       for (const std::string& n : rs->notes) rep.notes.push_back(fmt::format("{}: {}", moveName, n));
       for (const std::string& n : rt->notes) rep.notes.push_back(fmt::format("{}: {}", toName, n));
-      rep.lambdaMin = std::min(rs->lambdaMin, rt->lambdaMin);
-      rep.notes.push_back(fmt::format("average: both edges moved onto their middle; cross derivatives balanced with "
-                                      "lambda0 = {:.6g}",
-                                      lambda0));
-      res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, rs->surface);
-      res.model.patches[static_cast<size_t>(it)] = detail::replacedSurface(*st.T, rt->surface);
+      if (rs->unchanged || rt->unchanged) {
+        rep.notes.push_back("average: one side cannot reach the middle without folding; both left as they were");
+      } else {
+        rep.insertedKnotsU = rs->insertedKnotsU;
+        rep.insertedKnotsV = rs->insertedKnotsV;
+        rep.elevatedU = rs->elevatedU;
+        rep.elevatedV = rs->elevatedV;
+        if (opt.continuity != GeometricClass::kG0) rep.lambdaMin = std::min(rs->lambdaMin, rt->lambdaMin);
+        rep.notes.push_back(fmt::format("average: both edges moved onto their middle; cross derivatives balanced "
+                                        "with lambda0 = {:.6g}",
+                                        lambda0));
+        res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, rs->surface);
+        res.model.patches[static_cast<size_t>(it)] = detail::replacedSurface(*st.T, rt->surface);
+      }
     }
   }
 
-  // ---- what changed, and the referee's verdict.
+  // ---- the referee's verdict: never worse than before (else the input, unchanged).
+  const auto samePatch = [](const Patch& a, const Patch& b) {
+    return a.surface.knotsU().values() == b.surface.knotsU().values() &&
+           a.surface.knotsV().values() == b.surface.knotsV().values() && a.surface.points() == b.surface.points() &&
+           a.surface.weights() == b.surface.weights() && a.surface.degreeU() == b.surface.degreeU() &&
+           a.surface.degreeV() == b.surface.degreeV();
+  };
+  const bool changed = !samePatch(model.patches[static_cast<size_t>(is)], res.model.patches[static_cast<size_t>(is)]) ||
+                       !samePatch(model.patches[static_cast<size_t>(it)], res.model.patches[static_cast<size_t>(it)]);
+  if (changed) {
+    const Patch& Sa = res.model.patches[static_cast<size_t>(is)];
+    const Patch& Ta = res.model.patches[static_cast<size_t>(it)];
+    auto after = pieceBreaks.size() >= 3 ? analyzeSeamPiecewise(Sa, moveEdge, Ta, toEdge, st.seamOpt, pieceBreaks)
+                                         : analyzeSeam(Sa, moveEdge, Ta, toEdge, st.seamOpt);
+    if (!after) return after.status().withContext("after the join");
+    rep.after = *after;
+    const SeamReport& b = rep.before;
+    const SeamReport& a = rep.after;
+    std::vector<std::string> worse;
+    // Certified after-bounds against the worst values found before (lower bounds of the before maxima): the seam's
+    // true after-maximum is then at most its true before-maximum plus the tolerance.
+    if (a.g1MaxDeg > b.g1SampledDeg + st.tol.angleDeg)
+      worse.push_back(fmt::format("the G1 angle would grow from {:.6g} to {:.6g} degrees", b.g1SampledDeg, a.g1MaxDeg));
+    if (a.g0Max > b.g0Sampled + st.tol.distance)
+      worse.push_back(fmt::format("the gap would grow from {:.6g} to {:.6g}", b.g0Sampled, a.g0Max));
+    if (static_cast<int>(a.geometric) < static_cast<int>(b.geometric))
+      worse.push_back(fmt::format("the seam would drop from {} to {}", toString(b.geometric), toString(a.geometric)));
+    if (opt.continuity != GeometricClass::kG0) {
+      const bool sampledLambda = !(a.lambdaRange.lo == 0.0 && a.lambdaRange.hi == 0.0);  // set when normals exist
+      if (rep.lambdaMin && !(*rep.lambdaMin > 0.0))
+        worse.push_back(fmt::format("lambda would reach {:.4g} (a fold)", *rep.lambdaMin));
+      else if (sampledLambda && !(a.lambdaRange.lo > 0.0))
+        worse.push_back(fmt::format("lambda would reach {:.4g} on the seam (a fold)", a.lambdaRange.lo));
+    }
+    if (!worse.empty()) {
+      std::string why = worse.front();
+      for (size_t k = 1; k < worse.size(); ++k) why += "; " + worse[k];
+      rep.notes.push_back(fmt::format("join reverted, the input is returned unchanged: {}", why));
+      res.model = model;
+      rep.reverted = true;
+    }
+  }
+  if (!changed || rep.reverted) {
+    rep.after = rep.before;
+    rep.lambdaMin.reset();
+    rep.insertedKnotsU.clear();
+    rep.insertedKnotsV.clear();
+    rep.elevatedU = rep.elevatedV = 0;
+    rep.junctions.clear();
+    rep.stripInternalG1MaxDeg.reset();
+  }
+
+  // ---- what changed.
   for (int idx : {is, it}) {
     const Patch& before0 = model.patches[static_cast<size_t>(idx)];
     const Patch& after0 = res.model.patches[static_cast<size_t>(idx)];
-    const Displacement d = controlPointDisplacement(before0.surface, after0.surface, moveThreshold);
-    const bool sameRep = before0.surface.knotsU().values() == after0.surface.knotsU().values() &&
-                         before0.surface.knotsV().values() == after0.surface.knotsV().values() &&
-                         before0.surface.points() == after0.surface.points();
-    if (d.moved > 0 || !sameRep) {
+    if (!samePatch(before0, after0)) {
+      const Displacement d = controlPointDisplacement(before0.surface, after0.surface, moveThreshold);
+      const SurfaceDisplacement sd = surfaceDisplacement(before0.surface, after0.surface);
       if (std::find(rep.patchesChanged.begin(), rep.patchesChanged.end(), after0.name) == rep.patchesChanged.end())
         rep.patchesChanged.push_back(after0.name);
       rep.maxDisplacement = std::max(rep.maxDisplacement, d.max);
       rep.movedPoints += d.moved;
+      rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, sd.bound);
+      rep.maxSurfaceDisplacementSampled = std::max(rep.maxSurfaceDisplacementSampled, sd.sampled);
+      const double size = controlBox(before0.surface).diagonal();
+      if (size > 0.0) rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, sd.bound / size);
     }
     if (is == it) break;
   }
-  const Patch& Sa = res.model.patches[static_cast<size_t>(is)];
-  const Patch& Ta = res.model.patches[static_cast<size_t>(it)];
-  auto after = pieceBreaks.size() >= 3 ? analyzeSeamPiecewise(Sa, moveEdge, Ta, toEdge, st.seamOpt, pieceBreaks)
-                                       : analyzeSeam(Sa, moveEdge, Ta, toEdge, st.seamOpt);
-  if (!after) return after.status().withContext("after the join");
-  rep.after = *after;
   rep.achieved = meets(rep.after.geometric, opt.continuity);
   if (!rep.achieved)
-    rep.notes.push_back(fmt::format("requested {} not achieved: the seam is {} after the join",
-                                    toString(opt.continuity), toString(rep.after.geometric)));
+    rep.notes.push_back(fmt::format("requested {} not achieved: the seam is {} after the join{}",
+                                    toString(opt.continuity), toString(rep.after.geometric),
+                                    changed && !rep.reverted ? "" : " (left as it was)"));
   if (!rep.after.certified) rep.notes.push_back("the after-analysis is sampled, not certified");
   return res;
 }

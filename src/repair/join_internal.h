@@ -28,6 +28,22 @@ namespace seam::detail {
 /// The constraint rows are normalised to unit size; the residual of an exact solve is round-off, ~1e-13 relative.
 inline constexpr double kConstraintRelTol = 1e-9;
 
+/// Joins never fold (docs/algorithms/lai-lian-cassidy.md, "Joins never fold"). The G1 connecting function lambda of a
+/// join must stay above this fraction of lambda0, the geometric ratio of the moving patch's cross derivative to the
+/// target's (components normal to the seam tangent, sampled before the join; in homogeneous units when rational). A
+/// lambda at or below 0 folds the patch back over its neighbour; a lambda that is positive but far below lambda0
+/// squeezes the first moved row onto the edge, so that the patch's normal nearly vanishes at the seam. 1 % of the
+/// patch's own cross derivative is clearly regular and never binds for a join that only straightens a kink.
+inline constexpr double kLambdaFloorRel = 1e-2;
+
+/// The minimum of a scalar polynomial on [0,1], certified: `lower` <= min p <= `attained` = p(at). Branch and bound on
+/// the Bernstein coefficients (their minimum bounds p from below on each piece, the end coefficients are values);
+/// pieces are split until their bound is within `tolAbs` of the best value found (or at depth `maxDepth`).
+struct CertifiedMin {
+  double lower = 0.0, attained = 0.0, at = 0.0;
+};
+CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDepth = 40);
+
 /// The fixed side of a seam as seen from the moving patch: polynomial pieces over intervals of the moving patch's
 /// own edge parameter u (homogeneous coordinates when `rational`). Cross derivatives are taken INTO the target with
 /// respect to the target's across parameter.
@@ -96,10 +112,22 @@ struct LsJoinOutcome {
   int elevatedU = 0, elevatedV = 0;  ///< degree raised by
   std::vector<std::string> notes;
   std::vector<BernsteinPoly> lambda, kappa;  ///< per constraint (global over the seam range)
-  double lambdaMin = 0.0;            ///< smallest value of lambda over all seams (sampled; a fold when <= 0)
+  /// Certified lower bound of lambda over all seams (certifiedMinimum, tight to ~1e-9 relative); +inf for G0.
+  double lambdaMin = 0.0;
+  /// Per constraint: the geometric ratio lambda0 (see kLambdaFloorRel) and whether lambda had to be fixed to it
+  /// because the free solve's lambda was not certified above kLambdaFloorRel x lambda0.
+  std::vector<double> lambda0;
+  std::vector<char> lambdaFixed;
+  /// The constraints could not be met without a fold (lambda fixed and still infeasible): `surface` is the input
+  /// surface unchanged (no knots inserted, no elevation) and `feasible` is false.
+  bool unchanged = false;
 };
 
-/// Moves rows of `s` so that each constrained edge meets its target with the requested continuity. Errors:
+/// Moves rows of `s` so that each constrained edge meets its target with the requested continuity. G1/G2: lambda > 0
+/// is a constraint, not an afterthought. The free solve (lambda, kappa, nu unknown) is kept when its lambda is
+/// certified above kLambdaFloorRel x lambda0 on the whole seam; otherwise that seam's lambda is fixed to the constant
+/// lambda0 (the system stays linear, kappa and nu stay free) and the rows are solved again from the input. When the
+/// fixed-lambda system is infeasible too, the outcome is `unchanged` (the input surface, with a note). Errors:
 /// kUnsupported (G2 for rational patches, an unclamped edge), kInvalidInput (empty target).
 Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s, const std::vector<EdgeConstraint>& constraints,
                                        const LsJoinOptions& options);

@@ -61,6 +61,37 @@ BernsteinPoly reducedToEffectiveDegree(const BernsteinPoly& p) {
   return cur;
 }
 
+CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDepth) {
+  CertifiedMin r;
+  r.lower = r.attained = std::numeric_limits<double>::infinity();
+  if (p.empty()) return r;
+  struct Item {
+    BernsteinPoly q;
+    double lo, hi;
+    int depth;
+  };
+  std::vector<Item> stack{{p, 0.0, 1.0, 0}};
+  while (!stack.empty()) {
+    Item it = std::move(stack.back());
+    stack.pop_back();
+    const Eigen::VectorXd c = it.q.coeffs().col(0);
+    // The end coefficients are values of p: candidates for the attained minimum.
+    if (c[0] < r.attained) { r.attained = c[0]; r.at = it.lo; }
+    if (c[c.size() - 1] < r.attained) { r.attained = c[c.size() - 1]; r.at = it.hi; }
+    const double bound = c.minCoeff();  // convex hull: p >= bound on this piece
+    if (bound >= r.attained - tolAbs || it.depth >= maxDepth) {
+      r.lower = std::min(r.lower, bound);
+      continue;
+    }
+    auto [left, right] = it.q.subdivided(0.5);
+    const double mid = 0.5 * (it.lo + it.hi);
+    stack.push_back({std::move(right), mid, it.hi, it.depth + 1});
+    stack.push_back({std::move(left), it.lo, mid, it.depth + 1});
+  }
+  r.lower = std::min(r.lower, r.attained);
+  return r;
+}
+
 namespace {
 
 /// The Bezier pieces of a polynomial B-spline curve (homogeneous coefficients stay as they are).
@@ -100,6 +131,53 @@ SeamTarget homogenized(const SeamTarget& t) {
     p.cross2 = homogenizedPoly(p.cross2, 0.0);
   }
   return h;
+}
+
+/// Euclidean point, derivative and weight from homogeneous values (w P, w) and their derivative; plain 3-D values
+/// when the data are not homogeneous (weight 1).
+struct EuclidDerivative {
+  Vec3 point, derivative;
+  double weight = 1.0;
+};
+EuclidDerivative euclidean(const VecX& h, const VecX& dh, bool homogeneous) {
+  if (!homogeneous) return {h.head<3>(), dh.head<3>(), 1.0};
+  const double w = h[3];
+  const Vec3 p = h.head<3>() / w;
+  return {p, (dh.head<3>() - dh[3] * p) / w, w};
+}
+
+/// lambda0 of kLambdaFloorRel: the mean over the seam of |S_n,perp| / |T_n,perp| (Euclidean cross derivatives,
+/// components normal to the seam tangent) times w_S / w_T, which converts the Euclidean ratio to the homogeneous
+/// equation's lambda (S^h = rho T^h with rho = w_S / w_T). `frame` is the moving patch's edge frame (edge V0, the
+/// derivative in v points into it), `target` the (homogenized when `homogeneous`) target. 1 when undefined.
+double geometricLambda(const BSplineSurface& frame, const SeamTarget& target, bool homogeneous) {
+  const BSplineCurve P = frame.homogeneousCrossDerivative(Edge::V0, 0);
+  const BSplineCurve N = frame.homogeneousCrossDerivative(Edge::V0, 1);
+  const bool frameH = frame.isRational();
+  const Interval rg = target.range();
+  constexpr int kSamples = 33;
+  double sum = 0.0;
+  int count = 0;
+  for (int k = 0; k < kSamples; ++k) {
+    const double u = rg.lo + rg.length() * (k + 0.5) / kSamples;
+    const TargetPiece* tp = &target.pieces.back();
+    for (const TargetPiece& p : target.pieces)
+      if (u >= p.u.lo && u <= p.u.hi) { tp = &p; break; }
+    const double t = (u - tp->u.lo) / tp->u.length();
+    const EuclidDerivative tn = euclidean(tp->point(t), tp->cross1(t), homogeneous);
+    const EuclidDerivative tt = euclidean(tp->point(t), tp->point.derivative()(t), homogeneous);
+    const EuclidDerivative sn = euclidean(P.evaluate(u), N.evaluate(u), frameH);
+    const double tl = tt.derivative.norm();
+    if (!(tl > 0.0)) continue;
+    const Vec3 e = tt.derivative / tl;
+    const double tPerp = (tn.derivative - tn.derivative.dot(e) * e).norm();
+    const double sPerp = (sn.derivative - sn.derivative.dot(e) * e).norm();
+    if (!(tPerp > 0.0)) continue;
+    sum += sPerp / tPerp * (sn.weight / tn.weight);
+    ++count;
+  }
+  const double l0 = count > 0 ? sum / count : 1.0;
+  return l0 > 0.0 && std::isfinite(l0) ? l0 : 1.0;
 }
 
 /// The local Bernstein coefficients of a global polynomial of degree d on [range] restricted to [lo, hi], as a
@@ -509,6 +587,8 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
 
   // ---- one stage: rows [rowLo, rowHi] of every edge are unknown; order-k equations for k in [kLo, kHi].
   std::vector<Eigen::VectorXd> lambdaC(constraints.size()), kappaC(constraints.size());
+  // Per constraint: lambda fixed to these global coefficients (empty: lambda is an unknown).
+  std::vector<Eigen::VectorXd> fixedLambda(constraints.size());
   auto stage = [&](int rowLo, int rowHi, int kLo, int kHi, std::vector<char> fixedMask) -> Result<double> {
     std::vector<int> slot(static_cast<size_t>(mv.H.rows()), -1);
     std::vector<int> points;
@@ -536,7 +616,7 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
           dl = std::min(dl, (p - qnn) / 2);
           dk = std::min({dk, (p - q + 2) / 2, p - (qn - 1) - dl});
         }
-        b[1].degree = std::max(dl, 0);
+        b[1].degree = fixedLambda[c].size() > 0 ? -1 : std::max(dl, 0);
         b[2].degree = std::max(dk, 0);
         if (rational) b[3].degree = std::max(p - q, 0);
       }
@@ -576,7 +656,13 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
             if (rational) terms.push_back({&sb[c][0], Tp, -1.0});
             else known = known + Tp;  // S = T
           } else if (k == 1) {
-            terms.push_back({&sb[c][1], Tn, +1.0});
+            if (fixedLambda[c].size() > 0) {  // S_n - kappa T_t - nu T = -lambda T_n with lambda known
+              const Eigen::MatrixXd Rl =
+                  restrictionMatrix(static_cast<int>(fixedLambda[c].size()) - 1, rg, sp.lo, sp.hi);
+              known = known - product(polyFromCoeffs(Rl * fixedLambda[c]), Tn);
+            } else {
+              terms.push_back({&sb[c][1], Tn, +1.0});
+            }
             terms.push_back({&sb[c][2], Tt, -1.0});
             if (rational) terms.push_back({&sb[c][3], Tp, -1.0});
           } else {
@@ -656,7 +742,7 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
       for (int cc = 0; cc < dimH; ++cc) mv.H(points[i], cc) = sol.x[static_cast<Eigen::Index>(i) * dimH + cc];
     if (kLo <= 1 && kHi >= 1)
       for (size_t c = 0; c < constraints.size(); ++c) {
-        lambdaC[c] = sol.x.segment(sb[c][1].offset, sb[c][1].size());
+        lambdaC[c] = fixedLambda[c].size() > 0 ? fixedLambda[c] : Eigen::VectorXd(sol.x.segment(sb[c][1].offset, sb[c][1].size()));
         kappaC[c] = sol.x.segment(sb[c][2].offset, sb[c][2].size());
       }
     double dataScale = opt.scale;
@@ -665,9 +751,41 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
   };
 
   std::vector<char> none(static_cast<size_t>(mv.H.rows()), 0);
-  auto r1 = stage(0, std::min(K, 1), 0, std::min(K, 1), none);
-  if (!r1) return r1.status();
-  out.residual = *r1;
+  // G0 and G1 rows; for G1/G2 the fold test: lambda must be certified above kLambdaFloorRel x lambda0 on every seam,
+  // else that seam's lambda is fixed to lambda0 and the rows are solved again from the input (each round fixes at
+  // least one more seam, so this ends).
+  out.lambda0.assign(constraints.size(), 1.0);
+  out.lambdaFixed.assign(constraints.size(), 0);
+  if (K >= 1)
+    for (size_t c = 0; c < constraints.size(); ++c) out.lambda0[c] = geometricLambda(ed[c].frame, targets[c], rational);
+  const Matrix H0 = mv.H;
+  std::vector<CertifiedMin> lamMin(constraints.size());
+  for (;;) {
+    auto r1 = stage(0, std::min(K, 1), 0, std::min(K, 1), none);
+    if (!r1) return r1.status();
+    out.residual = *r1;
+    if (K == 0) break;
+    bool again = false;
+    for (size_t c = 0; c < constraints.size(); ++c) {
+      const BernsteinPoly lam = polyFromCoeffs(lambdaC[c]);
+      const double floor = kLambdaFloorRel * out.lambda0[c];
+      lamMin[c] = certifiedMinimum(lam, 1e-9 * std::max(out.lambda0[c], lam.maxAbsCoeff()));
+      if (lamMin[c].lower > floor || out.lambdaFixed[c]) continue;
+      out.notes.push_back(fmt::format(
+          "edge {}: the free solve's lambda reaches {:.4g} at u = {:.6g} (floor {:.3g} = {} x lambda0): {}; lambda "
+          "fixed to lambda0 = {:.6g}, kappa{} free",
+          edgeName(constraints[c].edge), lamMin[c].attained,
+          targets[c].range().lo + lamMin[c].at * targets[c].range().length(), floor, kLambdaFloorRel,
+          lamMin[c].attained <= 0.0 ? "the patch would fold back over its neighbour"
+                                    : "the moved rows would be squeezed onto the edge",
+          out.lambda0[c], rational ? " and nu" : ""));
+      fixedLambda[c] = Eigen::VectorXd::Constant(1, out.lambda0[c]);
+      out.lambdaFixed[c] = 1;
+      again = true;
+    }
+    if (!again) break;
+    mv.H = H0;
+  }
   if (K == 2) {
     // Rows 0 and 1 of every constrained edge are final; row 2 and the second-order functions are solved next.
     std::vector<char> fixedMask(static_cast<size_t>(mv.H.rows()), 0);
@@ -682,19 +800,13 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
   }
   out.feasible = out.residual <= kConstraintRelTol;
 
-  // Connecting functions and the fold test.
+  // Connecting functions (lambda certified above its floor by the loop above, or fixed to lambda0).
   out.lambdaMin = std::numeric_limits<double>::infinity();
   for (size_t c = 0; c < constraints.size() && K >= 1; ++c) {
-    const BernsteinPoly lam = polyFromCoeffs(lambdaC[c]), kap = polyFromCoeffs(kappaC[c]);
-    out.lambda.push_back(lam);
-    out.kappa.push_back(kap);
-    double mn = lam.coeffs().minCoeff();
-    if (!(mn > 0.0))
-      for (int i = 0; i <= 64; ++i) mn = std::min(mn, lam.scalar(i / 64.0));
-    out.lambdaMin = std::min(out.lambdaMin, mn);
+    out.lambda.push_back(polyFromCoeffs(lambdaC[c]));
+    out.kappa.push_back(polyFromCoeffs(kappaC[c]));
+    out.lambdaMin = std::min(out.lambdaMin, out.lambdaFixed[c] ? out.lambda0[c] : lamMin[c].lower);
   }
-  if (K >= 1 && !(out.lambdaMin > 0.0))
-    out.notes.push_back(fmt::format("lambda reaches {:.3g}: the join folds the patch back over its neighbour", out.lambdaMin));
 
   if (rational) {
     for (Eigen::Index i = 0; i < mv.H.rows(); ++i)
@@ -704,6 +816,21 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
         for (Eigen::Index j = 0; j < mv.H.rows(); ++j) mv.H(j, dimH - 1) = std::max(mv.H(j, dimH - 1), kRoundoff);
         break;
       }
+  }
+  const bool anyFixed = std::any_of(out.lambdaFixed.begin(), out.lambdaFixed.end(), [](char f) { return f != 0; });
+  if (anyFixed && !out.feasible) {
+    // Without the fold the constraints cannot be met: leave the patch as it was.
+    out.notes.push_back(fmt::format("cannot reach G{} without folding the patch; left as it was ({} with lambda "
+                                    "fixed)",
+                                    K, out.residual > kConstraintRelTol
+                                           ? fmt::format("residual {:.3g}", out.residual)
+                                           : std::string("a weight would become non-positive")));
+    out.surface = s0;
+    out.unchanged = true;
+    out.insertedKnotsU.clear();
+    out.insertedKnotsV.clear();
+    out.elevatedU = out.elevatedV = 0;
+    return out;
   }
   out.surface = BSplineSurface::fromHomogeneous(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(),
                                                 mv.H, rational);

@@ -60,7 +60,18 @@ struct JoinReport {
   SeamReport before, after;
   GeometricClass requested = GeometricClass::kG1;
   bool achieved = false;          ///< after.geometric meets the requested continuity
+  /// The join was undone because it would have made the seam worse or folded the patch (see joinSeam): the model is
+  /// the input, after == before, nothing moved, and `notes` say why.
+  bool reverted = false;
   double maxDisplacement = 0.0;   ///< largest control-point displacement (against the input expressed in the new knots)
+  /// Largest displacement of the SURFACE (same parameters before and after), over the changed patches: a certified
+  /// upper bound (surfaceDisplacement: for polynomial patches the largest control-point displacement, by the
+  /// partition of unity), and the largest value found on a 33 x 33 grid of each changed patch's domain.
+  double maxSurfaceDisplacement = 0.0;
+  double maxSurfaceDisplacementSampled = 0.0;
+  /// maxSurfaceDisplacement divided by the bounding-box diagonal of the moved patch's control points (the largest
+  /// ratio over the changed patches).
+  double maxSurfaceDisplacementRel = 0.0;
   int movedPoints = 0;            ///< control points displaced by more than kRoundoff x the model size
   std::vector<std::string> patchesChanged;
   std::vector<double> insertedKnotsU, insertedKnotsV;  ///< knots inserted into the moved patch (its own parameters)
@@ -68,7 +79,9 @@ struct JoinReport {
   std::vector<StripJunction> junctions;                ///< bezier-strip: the junctions and their l
   /// bezier-strip: the worst tangent-plane angle inside the strip across the wrinkled junctions (certified, degrees).
   std::optional<double> stripInternalG1MaxDeg;
-  std::optional<double> lambdaMin;  ///< least squares: smallest value of the connecting function lambda
+  /// Least squares, G1/G2: certified lower bound of the connecting function lambda of the kept join (> 0: joins never
+  /// fold); empty when the join was reverted or left the patch unchanged.
+  std::optional<double> lambdaMin;
   std::vector<std::string> notes;
 };
 
@@ -77,7 +90,16 @@ struct JoinResult {
   JoinReport report;
 };
 
-/// Joins edge `moveEdge` of patch `moveName` to edge `toEdge` of patch `toName`. Errors: kNotFound (no such patch,
+/// Joins edge `moveEdge` of patch `moveName` to edge `toEdge` of patch `toName`.
+///
+/// A join never makes the seam worse (docs/algorithms/lai-lian-cassidy.md, "Joins never fold"): the input model is
+/// returned unchanged (bit-identical, report.reverted, achieved = false unless the input already met the request)
+/// when, by the certified before/after analysis, the after G1 angle bound exceeds the worst angle found before by
+/// more than tol.angleDeg, the after gap bound exceeds the worst gap found before by more than tol.distance, the
+/// geometric class drops, or (G1/G2 requests) lambda is not positive. The least-squares join keeps lambda > 0 as a
+/// constraint (leastSquaresJoin), so a kept G1 join has a certified lambdaMin > 0.
+///
+/// Errors: kNotFound (no such patch,
 /// or the edges do not overlap), kInvalidInput (the same edge twice, non-3-D patches, a gap above maxGap, options that
 /// the method does not take), kUnsupported (a method that does not apply to these patches, with the reason),
 /// kDegenerate (a collapsed edge). A join that runs but misses the requested continuity is not an error: see
@@ -91,6 +113,17 @@ struct Displacement {
   int moved = 0;
 };
 Displacement controlPointDisplacement(const BSplineSurface& before, const BSplineSurface& after, double threshold);
+
+/// Displacement of the surface itself, max over (u, v) of |after(u, v) - before(u, v)|, for `after` a refinement /
+/// elevation of `before` with moved control points (same domain and parametrisation). `bound` is certified: per knot
+/// cell, with before expressed in after's knots and r_i = w_after,i / w_before,i over the cell's active points,
+/// max_i |P_after,i - P_before,i| + (max r / min r - 1) x (half the diagonal of the before points' box), which for
+/// polynomial patches is the largest control-point displacement (partition of unity). `sampled` is the largest value
+/// on a `grid` x `grid` lattice of the domain (<= the true maximum <= bound). +inf when the nets do not correspond.
+struct SurfaceDisplacement {
+  double bound = 0.0, sampled = 0.0;
+};
+SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSplineSurface& after, int grid = 33);
 
 /// Seam analysis over consecutive sub-ranges of A's edge (A's own parameter), merged into one report: for a
 /// correspondence that is affine on each sub-range but not globally (the Bezier strip matches span i to span i).
