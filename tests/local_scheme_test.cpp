@@ -344,3 +344,76 @@ TEST(LocalScheme, ValenceThreeAtEveryCubeCornerAndTheSurfaceStaysClose) {
   EXPECT_LT(worstOut, 0.03);
   for (const LocalSchemeVertex& v : r->report.vertices) EXPECT_TRUE(v.valence == 3 || v.valence == 4);
 }
+
+TEST(LocalScheme, AKeptCreaseLoopStaysACreaseAndTheRestBecomesG1) {
+  // Design creases: the 8 seams around one cube face of the cube sphere (a closed loop through 4 cube corners and 4
+  // edge midpoints) are kept. Every other seam becomes G1; the kept ones stay exactly G0, keep their boundary curves,
+  // and stay creases (test-side sampling: at least half their input angle, no fold).
+  const nt::Network net = nt::buildNetwork(nt::cubeMesh(), nt::sphereShape());
+  // The face: the 4 quads around one face centre; its loop: the seams between one of them and a quad outside.
+  int centre = -1;
+  for (size_t v = 0; v < net.vertices.size(); ++v)
+    if (net.vertices[v].kind == nt::VertexKind::kFaceCentre) {
+      centre = static_cast<int>(v);
+      break;
+    }
+  ASSERT_GE(centre, 0);
+  std::set<int> face;
+  for (const auto& c : net.vertices[static_cast<size_t>(centre)].corners) face.insert(c.patch);
+  ASSERT_EQ(face.size(), 4u);
+  LocalSchemeOptions o;
+  std::vector<std::pair<std::pair<int, Edge>, std::pair<int, Edge>>> loop;
+  for (const auto& e : net.edges)
+    if (e.sides.size() == 2 && (face.count(e.sides[0].first) != face.count(e.sides[1].first))) {
+      o.keepEdges.push_back(e.sides[0]);
+      loop.push_back({e.sides[0], e.sides[1]});
+    }
+  ASSERT_EQ(loop.size(), 8u);
+  const auto r = localG1Scheme(net.model, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->report.interiorSeams, net.numSeams() - 8);
+  auto isLoop = [&](int a, Edge ea) {
+    for (const auto& [x, y] : loop)
+      if (x == std::make_pair(a, ea) || y == std::make_pair(a, ea)) return true;
+    return false;
+  };
+  const nt::NetworkCheck check = nt::checkAllSharedEdges(r->model, 40);
+  const nt::NetworkCheck checkIn = nt::checkAllSharedEdges(net.model, 40);
+  ASSERT_EQ(check.edges.size(), checkIn.edges.size());
+  int creases = 0;
+  for (size_t i = 0; i < check.edges.size(); ++i) {
+    const auto& se = check.edges[i];
+    if (isLoop(se.a, se.ea)) {
+      ++creases;
+      EXPECT_GT(check.checks[i].maxAngleDeg, 0.5 * checkIn.checks[i].maxAngleDeg);
+      EXPECT_LT(check.checks[i].maxGap, 1e-12);
+      EXPECT_FALSE(check.checks[i].fold());
+    } else {
+      EXPECT_LT(check.checks[i].maxAngleDeg, kMaxAngleDeg);
+    }
+  }
+  EXPECT_EQ(creases, 8);
+  for (const auto& [x, y] : loop) {
+    EXPECT_LT(nt::edgeDistance(net.model.patches[static_cast<size_t>(x.first)].surface, x.second,
+                               r->model.patches[static_cast<size_t>(x.first)].surface, x.second),
+              1e-12);
+    EXPECT_LT(nt::edgeDistance(net.model.patches[static_cast<size_t>(y.first)].surface, y.second,
+                               r->model.patches[static_cast<size_t>(y.first)].surface, y.second),
+              1e-12);
+  }
+}
+
+TEST(LocalScheme, RefusesACreaseThatEndsAtAVertex) {
+  // One kept seam alone: at its ends all other seams would share one tangent plane and flatten the crease.
+  const nt::Network net = nt::buildNetwork(nt::cubeMesh(), nt::sphereShape());
+  LocalSchemeOptions o;
+  for (const auto& e : net.edges)
+    if (e.sides.size() == 2) {
+      o.keepEdges.push_back(e.sides[0]);
+      break;
+    }
+  const auto r = localG1Scheme(net.model, o);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupported);
+  EXPECT_NE(r.status().message().find("crease"), std::string::npos) << r.status().message();
+}

@@ -266,11 +266,24 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
     if (local.count(d.edge.patch))
       return unsupported(fmt::format("patch \"{}\" has a collapsed edge {} (a pole)",
                                      model.patches[static_cast<size_t>(d.edge.patch)].name, edgeName(d.edge.edge)));
-  std::map<Slot, Slot> partner;
+  std::map<Slot, Slot> partner, keptPartner;
   std::vector<NetEdge> edges;
   for (const EdgePair& pr : pairing->pairs) {
     const bool ina = local.count(pr.a.patch) > 0, inb = local.count(pr.b.patch) > 0;
     if (!ina || !inb) continue;
+    const auto kept = [&](int patch, Edge e) {
+      return std::find(opt.keepEdges.begin(), opt.keepEdges.end(), std::make_pair(patch, e)) != opt.keepEdges.end();
+    };
+    if (kept(pr.a.patch, pr.a.edge) || kept(pr.b.patch, pr.b.edge)) {
+      // A kept seam: both sides stay free edges; remember the pairing to find creases that end at a vertex.
+      for (int end = 0; end < 2; ++end) {
+        Slot a{local[pr.a.patch], pr.a.edge, end};
+        Slot b{local[pr.b.patch], pr.b.edge, pr.reversed ? 1 - end : end};
+        keptPartner[a] = b;
+        keptPartner[b] = a;
+      }
+      continue;
+    }
     const std::string& na = model.patches[static_cast<size_t>(pr.a.patch)].name;
     const std::string& nb = model.patches[static_cast<size_t>(pr.b.patch)].name;
     if (!pr.fullA || !pr.fullB)
@@ -383,6 +396,16 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
     for (const auto& cr : v.corners) sum += grid[static_cast<size_t>(cr[0])].at(cr[1] ? kGrid - 1 : 0, cr[2] ? kGrid - 1 : 0);
     v.p = sum / n;
     if (boundary) v.p = grid[static_cast<size_t>(v.edges.front().slots[0].patch)].at(v.edges.front().slots[0], 0, 0);
+    if (boundary && v.edges.size() >= 3) {
+      // A kept seam (design crease) that ends here: its two sides open the fan. G1 on every other seam of the fan
+      // would put all its patches in one tangent plane at the vertex and flatten the crease there: refused.
+      auto kp = keptPartner.find(v.edges.front().slots.front());
+      if (kp != keptPartner.end() && kp->second == v.edges.back().slots.front())
+        return unsupported(fmt::format(
+            "a kept crease ends at the vertex ({:.6g}, {:.6g}, {:.6g}): making the other {} seams there G1 would "
+            "flatten the crease at that vertex",
+            v.p.x(), v.p.y(), v.p.z(), v.edges.size() - 2));
+    }
     const int vid = static_cast<int>(vertices.size());
     for (int i = 0; i < static_cast<int>(v.edges.size()); ++i)
       for (const Slot& s : v.edges[static_cast<size_t>(i)].slots) slotVertexEdge[s] = {vid, i};

@@ -20,6 +20,7 @@
 //     (gamma(1/2) = 0, gamma C1 at the middle), with the smallest change of the cross-boundary vectors.
 // The output patches are biquintic B-splines (C1 inside at the knot 1/2); the report says so.
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,12 @@ struct LocalSchemeOptions {
   /// Patches to work on (indices into Model::patches); empty: every patch. Seams between a chosen patch and one
   /// that is not chosen are treated as free edges (they stay where they are).
   std::vector<int> patches;
+  /// Edges (model patch index, edge) kept as free edges even where they pair with a chosen neighbour: design creases
+  /// that must not be smoothed (heal passes the seams whose kink is above its crease angle). Both sides of such a
+  /// seam keep their boundary curve, so the seam stays G0 and keeps its crease. A kept crease must end where it meets
+  /// another kept edge or a free edge: where it ends alone at a vertex, G1 on the other seams there would flatten it
+  /// at that vertex, and the scheme refuses (kUnsupported).
+  std::vector<std::pair<int, Edge>> keepEdges;
   /// Two corners closer than this are one vertex, edges closer than this pair (default kDefaultMaxGapRel x the
   /// model's bounding-box diagonal, as heal).
   std::optional<double> maxGap;
