@@ -194,6 +194,24 @@ void checkSplitReproduces(const SplitPair& sp, bool inU) {
     }
 }
 
+TEST(SeamSplit, WithoutTheG2CertificateAG2SeamIsClaimedG1AtMost) {
+  // SeamOptions::certifyG2 = false skips the G2 subdivision: the G0/G1 verdict is unchanged, the class is capped at
+  // G1 (the split of one C2 surface is G2 by construction, and the full analysis says so).
+  Rng rng(3002);
+  const SplitPair sp = randomSplitU(rng, 3, false);
+  SeamOptions o;
+  o.certifyG2 = false;
+  auto full = analyze(sp.a, Edge::U1, sp.b, Edge::U0);
+  auto fast = analyze(sp.a, Edge::U1, sp.b, Edge::U0, o);
+  ASSERT_TRUE(full && fast);
+  EXPECT_EQ(full->geometric, GeometricClass::kG2);
+  EXPECT_EQ(fast->geometric, GeometricClass::kG1);
+  EXPECT_TRUE(fast->certified);
+  EXPECT_TRUE(fast->g1Identity);
+  EXPECT_EQ(full->g1MaxDeg, fast->g1MaxDeg);
+  EXPECT_EQ(full->g0Max, fast->g0Max);
+}
+
 TEST(SeamSplit, BicubicSplitInUIsG2AndC2) {
   Rng rng(3001);
   for (int trial = 0; trial < 4; ++trial) {

@@ -1003,7 +1003,9 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     // G2: only meaningful for a G1 seam.
     bool g2Ready = rep.g1Identity;
     for (const Piece& pc : pieces) g2Ready = g2Ready && pc.g2Available;
-    if (g2Ready) {
+    if (!opt.certifyG2) {
+      rep.notes.push_back("G2 not certified (not requested): the G2 values are samples");
+    } else if (g2Ready) {
       rep.g2Identity = true;
       for (const Piece& pc : pieces)
         if (pc.rho.num.maxAbsCoeff() > kIdentityRelTol * pc.rhoScale) rep.g2Identity = false;
@@ -1047,6 +1049,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   // ---- classification.
   const auto& tol = opt.tol;
   rep.geometric = classifyGeometric(rep, tol);
+  // Without the G2 certificate a certified seam is claimed G1 at most (G2 from samples alone is not a verdict).
+  if (!opt.certifyG2 && rep.certified && rep.geometric == GeometricClass::kG2) rep.geometric = GeometricClass::kG1;
   // Parametric continuity only where the parametrisations match: affine correspondence with |slope| = 1.
   const double slope = rep.overlapB.length() / rep.overlapA.length();
   const bool matching = rep.correspondence == Correspondence::kAffine && std::abs(slope - 1.0) <= kMatchingSlopeTol;

@@ -64,6 +64,10 @@ struct SeamOptions {
   int maxBoundWork = 20000;
   int maxCertifiedDegree = 256;   ///< polynomial data above this degree are sampled instead (certified = false)
   bool keepSamples = false;       ///< fill SeamReport::samples (for reports and plots)
+  /// Certify the G2 bound of G1 seams (subdivision of the Lemma 2 polynomials). false: the G2 values are the start
+  /// samples only (a note says so) — for callers that need G0/G1 verdicts (heal of G0/G1 requests), where the G2
+  /// subdivision of high-degree seams is most of the cost.
+  bool certifyG2 = true;
 };
 
 struct SeamReport {
