@@ -26,6 +26,8 @@
 #include "seam/io/json.h"
 #include "seam/repair/bicubic.h"
 #include "seam/repair/corner_join.h"
+#include "seam/repair/heal.h"
+#include "seam/repair/join.h"
 #include "seam_test_support.h"
 #include "test_helpers.h"
 
@@ -53,6 +55,10 @@ constexpr double kPlausibleDisplacementRel = 0.1;
 /// Scaled G1 compatibility residual at the 4-valent vertex (Johansson's relations, corner.h) of an exact G1 vertex:
 /// round-off of least-squares connecting functions; the default angle tolerance as a sine is ~1.7e-4.
 constexpr double kVertexG1Residual = 1e-6;
+/// The reported before (certified, the seam's own correspondence) against the dense closest-point reference of the
+/// input: the bounds are tight to boundRelGap = 25 % (refereeOptions) and the correspondences differ where there is
+/// a gap of 2e-3 x size.
+constexpr double kBeforeSlackRel = 0.3;
 
 using seamtest::refereeOptions;
 CornerJoinOptions cornerOptions() {
@@ -169,6 +175,94 @@ double maxPointDiff(const BSplineSurface& a, const BSplineSurface& b) {
   return (a.points() - b.points()).rowwise().norm().maxCoeff();
 }
 
+bool bitIdentical(const BSplineSurface& x, const BSplineSurface& y) {
+  return x.degreeU() == y.degreeU() && x.degreeV() == y.degreeV() && x.knotsU().values() == y.knotsU().values() &&
+         x.knotsV().values() == y.knotsV().values() && x.points() == y.points() && x.weights() == y.weights();
+}
+
+/// Never worse, by test-side sampling: every seam of the report measured by the dense reference in the input and in
+/// the output; the output's gap and angle may not exceed the input's by more than the tolerances. The report's
+/// before must be present, not worse, and agree with the input's dense values (certified bounds are not below the
+/// sampled values; the correspondence may differ from the closest point where there is a gap, hence the slack).
+void expectNoSeamWorse(const Model& in, const Model& out, const CornerJoinReport& rep,
+                       const std::vector<std::optional<Interval>>& bRangesIn = {},
+                       const std::vector<std::optional<Interval>>& bRangesOut = {}) {
+  const Tolerances tol = Tolerances::forModelSize(in.boundingBox().diagonal());
+  EXPECT_FALSE(rep.reverted);
+  EXPECT_EQ(rep.seamsWorse, 0);
+  for (size_t k = 0; k < rep.seams.size(); ++k) {
+    const CornerSeam& s = rep.seams[k];
+    ASSERT_TRUE(s.before.has_value()) << s.a << "/" << s.b;
+    EXPECT_FALSE(s.worse) << s.a << "/" << s.b << ": " << s.worseWhy;
+    EXPECT_TRUE(s.worseWhy.empty());
+    seamtest::RefOptions ro;
+    ro.samples = kDenseSamples;
+    ro.g2 = false;
+    if (k < bRangesIn.size() && bRangesIn[k]) ro.bRange = *bRangesIn[k];
+    const seamtest::RefMeasures before =
+        seamtest::denseReference(in.findPatch(s.a)->surface, s.aEdge, in.findPatch(s.b)->surface, s.bEdge, ro);
+    ro.bRange = Interval{0.0, -1.0};
+    if (k < bRangesOut.size() && bRangesOut[k]) ro.bRange = *bRangesOut[k];
+    const seamtest::RefMeasures after =
+        seamtest::denseReference(out.findPatch(s.a)->surface, s.aEdge, out.findPatch(s.b)->surface, s.bEdge, ro);
+    EXPECT_LE(after.g0, before.g0 + tol.distance) << s.a << "/" << s.b;
+    EXPECT_LE(after.g1Deg, before.g1Deg + tol.angleDeg) << s.a << "/" << s.b;
+    // A certified before bounds the input's values from above: the closest-point gap sampled here is at most the
+    // gap along any correspondence; the angle depends on the correspondence where there is a gap (hence the slack).
+    // Sampled (uncertified) befores are not compared.
+    // Compared over the overlap the report paired (the dense reference's two-way distance over whole edges also
+    // counts an end of one edge overshooting the other).
+    if (s.before->certified) {
+      seamtest::RefOptions ov = ro;
+      ov.aRange = s.before->overlapA;
+      ov.bRange = s.before->overlapB;
+      const seamtest::RefMeasures paired =
+          seamtest::denseReference(in.findPatch(s.a)->surface, s.aEdge, in.findPatch(s.b)->surface, s.bEdge, ov);
+      EXPECT_GE(s.before->g0Max, paired.g0 - tol.distance) << s.a << "/" << s.b;
+      EXPECT_GE(s.before->g1MaxDeg, paired.g1Deg * (1.0 - kBeforeSlackRel) - tol.angleDeg) << s.a << "/" << s.b;
+    }
+  }
+}
+
+/// The surface displacement against a test-side route: for every changed patch whose knots and degrees did not
+/// change, the certified bound is the largest control-point displacement (partition of unity), computed here; the
+/// surface's own displacement sampled here on a grid never exceeds the bound; the relative value is the bound over
+/// the input patch's control-box diagonal.
+void expectSurfaceDisplacement(const Model& in, const Model& out, const CornerJoinReport& rep, bool sameKnots) {
+  double sampled = 0.0, cp = 0.0, rel = 0.0;
+  for (size_t k = 0; k < in.patches.size(); ++k) {
+    const BSplineSurface& a = in.patches[k].surface;
+    const BSplineSurface& b = out.patches[k].surface;
+    if (bitIdentical(a, b)) continue;
+    if (sameKnots) {
+      const double d = maxPointDiff(a, b);
+      cp = std::max(cp, d);
+      rel = std::max(rel, d / seamtest::patchScale(a));
+    }
+    const Interval du = a.domainU(), dv = a.domainV();
+    constexpr int kGrid = 41;
+    for (int i = 0; i < kGrid; ++i)
+      for (int j = 0; j < kGrid; ++j) {
+        const double u = du.lo + du.length() * i / (kGrid - 1), v = dv.lo + dv.length() * j / (kGrid - 1);
+        sampled = std::max(sampled, (b.evaluate(u, v).head<3>() - a.evaluate(u, v).head<3>()).norm());
+      }
+  }
+  EXPECT_GT(sampled, 0.0);
+  EXPECT_LE(sampled, rep.maxSurfaceDisplacement * (1.0 + kHandRatioTol));
+  EXPECT_LE(rep.maxSurfaceDisplacementSampled, rep.maxSurfaceDisplacement * (1.0 + kHandRatioTol));
+  if (sameKnots) {
+    EXPECT_NEAR(rep.maxSurfaceDisplacement, cp, kHandRatioTol * cp);
+    EXPECT_NEAR(rep.maxSurfaceDisplacementRel, rel, kHandRatioTol * rel);
+  } else {
+    EXPECT_GT(rep.maxSurfaceDisplacementRel, 0.0);
+  }
+  // Theorem 1 only rebuilds the perturbed rows. (The fallbacks move more: the Bezier strip of a pair whose knots
+  // differ by 3 % moves its patch by up to ~0.2 of the patch's size, which is what it is, not a bound under test.)
+  if (sameKnots) {
+    EXPECT_LT(rep.maxSurfaceDisplacementRel, kPlausibleDisplacementRel);
+  }
+}
+
 TEST(CornerJoin3, CutFromOneSurfaceConditionsHoldAndTheorem1RecoversTheRows) {
   Rng rng(4101);
   for (int trial = 0; trial < 3; ++trial) {
@@ -206,6 +300,8 @@ TEST(CornerJoin3, CutFromOneSurfaceConditionsHoldAndTheorem1RecoversTheRows) {
     EXPECT_LE(maxPointDiff(r->model.findPatch("S^")->surface, f.Sh), kRecoveryRel * size);
     EXPECT_TRUE(r->model.findPatch("S~")->surface.points() == f.St.points());
     expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+    expectNoSeamWorse(m, r->model, r->report, hatRanges(m), hatRanges(r->model));
+    expectSurfaceDisplacement(m, r->model, r->report, true);
   }
 }
 
@@ -225,6 +321,8 @@ TEST(CornerJoin3, PerturbedNearEverySeamAndTheCornerJoinsG1) {
     for (const CornerJoinStep& s : r->report.steps) EXPECT_EQ(s.method, JoinMethod::kBSpline) << s.reason;
     EXPECT_TRUE(m.findPatch("S~")->surface.points() == r->model.findPatch("S~")->surface.points());
     expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+    expectNoSeamWorse(m, r->model, r->report, hatRanges(m), hatRanges(r->model));
+    expectSurfaceDisplacement(m, r->model, r->report, true);
     EXPECT_GT(r->report.maxDisplacement, 0.0);
     EXPECT_LT(r->report.maxDisplacement, kPlausibleDisplacementRel * size);
   }
@@ -258,6 +356,8 @@ TEST(CornerJoin3, Theorem1FromTheFarCornerOfSWhenSHatReachesPastSTilde) {
     // Independent route: S^ is a piece of F, so it comes back, including d_{2m^+1} from the end formula (3.10).
     EXPECT_LE(maxPointDiff(r->model.findPatch("S^")->surface, f.Sh), kRecoveryRel * size);
     expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+    expectNoSeamWorse(m, r->model, r->report, hatRanges(m), hatRanges(r->model));
+    expectSurfaceDisplacement(m, r->model, r->report, true);
   }
 }
 
@@ -331,6 +431,8 @@ TEST(CornerJoin3, NonProportionalKnotsAreReportedAndTheFallbackJoinsG1) {
     EXPECT_EQ(r->report.steps[0].method, JoinMethod::kBezierStrip) << r->report.steps[0].reason;
     EXPECT_EQ(r->report.steps[1].method, JoinMethod::kLeastSquares) << r->report.steps[1].reason;
     expectSeamsG1(r->model, r->report, size, 3, hatRanges(r->model));
+    expectNoSeamWorse(m, r->model, r->report, hatRanges(m), hatRanges(r->model));
+    expectSurfaceDisplacement(m, r->model, r->report, false);
     // And with the least-squares fallback for the first join too.
     CornerJoinOptions ls = cornerOptions();
     ls.fallback = JoinMethod::kLeastSquares;
@@ -338,6 +440,8 @@ TEST(CornerJoin3, NonProportionalKnotsAreReportedAndTheFallbackJoinsG1) {
     ASSERT_TRUE(r2.isOk()) << r2.status().message();
     EXPECT_EQ(r2->report.steps[0].method, JoinMethod::kLeastSquares);
     expectSeamsG1(r2->model, r2->report, size, 3, hatRanges(r2->model));
+    expectNoSeamWorse(m, r2->model, r2->report, hatRanges(m), hatRanges(r2->model));
+    expectSurfaceDisplacement(m, r2->model, r2->report, false);
   }
 }
 
@@ -404,6 +508,8 @@ TEST(CornerJoin4, GridCutFromOneSurfaceRecoversAndJoinsG1AtTheVertex) {
                 kRecoveryRel * size)
           << "S" << k + 1;
     expectSeamsG1(r->model, r->report, size, 4);
+    expectNoSeamWorse(m, r->model, r->report);
+    expectSurfaceDisplacement(m, r->model, r->report, true);
     EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
   }
 }
@@ -423,6 +529,8 @@ TEST(CornerJoin4, GridPerturbedNearEverySeamJoinsG1AtTheVertex) {
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_TRUE(r->proportionality->allHold);
     expectSeamsG1(r->model, r->report, size, 4);
+    expectNoSeamWorse(m, r->model, r->report);
+    expectSurfaceDisplacement(m, r->model, r->report, true);
     EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
   }
 }
@@ -459,7 +567,111 @@ TEST(CornerJoin4, NonProportionalPairIsReportedAndJoinedByTheFallback) {
   // The compound S3 u S4 moved onto S1 u S2 (healModel keeps the two already joined, anchored patches S1, S2).
   EXPECT_EQ(r->report.steps[2].moved, (std::vector<std::string>{"S3", "S4"}));
   expectSeamsG1(r->model, r->report, size, 4);
+  expectNoSeamWorse(m, r->model, r->report);
+  expectSurfaceDisplacement(m, r->model, r->report, false);
   EXPECT_LE(vertexG1Residual(r->model), kVertexG1Residual);
+}
+
+/// The affine fold x -> a + (x - a) cos(theta), z -> z + (x - a) sin(theta) (y kept): fixes the plane x = a pointwise,
+/// so a patch on x >= a whose edge lies on x = a stays attached along it and meets its neighbour with a crease there.
+BSplineSurface folded(const BSplineSurface& s, double a, double thetaDeg) {
+  const double th = thetaDeg * seamtest::kPi / 180.0;
+  Matrix p = s.points();
+  for (Eigen::Index r = 0; r < p.rows(); ++r) {
+    const double dx = p(r, 0) - a;
+    p(r, 0) = a + dx * std::cos(th);
+    p(r, 2) += dx * std::sin(th);
+  }
+  return BSplineSurface(3, 3, s.knotsU(), s.knotsV(), s.numU(), s.numV(), std::move(p));
+}
+
+/// The grid with S2 and S3 folded by theta about x = a, and S3's first interior u-breakpoint moved by 3 % (the
+/// compound chain fails).
+std::array<BSplineSurface, 4> foldedGrid(const Grid2x2& g, double theta) {
+  const double a = g.s[1].domainU().lo;
+  std::array<BSplineSurface, 4> s = g.s;
+  s[1] = folded(s[1], a, theta);
+  s[2] = folded(s[2], a, theta);
+  std::vector<double> bu3 = s[2].knotsU().breakpoints();
+  bu3[1] += 0.03 * (bu3[2] - bu3[1]);
+  s[2] = withBreaks(s[2], bu3, s[2].knotsV().breakpoints());
+  return s;
+}
+
+TEST(CornerJoin4, JoinsThatWouldHarmANeighbourSeamAreUndoneBitIdentical) {
+  // S2 and S3 (u > a) folded by theta about the plane x = a: creases on S1/S2 and S3/S4, while S2/S3 and S4/S1 stay
+  // G1 (each pair moved together). S3's first interior u-breakpoint moved by 3 % breaks the compound chain, so the
+  // compounds go to healModel. Theorem 1 straightens S2 onto S1 and S4 onto S3 by moving their rows 0, 1, which
+  // pulls S2's edge off S3 and S4's edge off S1 near the vertex by a large fraction of a span (far above the gap
+  // limit, so healModel leaves them): the successive joins would open S4/S1, a G1 seam of the input. Expected: the
+  // input back, bit-identical, achieved = false, and the report naming S4/S1 and its gap.
+  for (double theta : {45.0, 135.0}) {
+    Rng rng(4110);
+    const Grid2x2 g = grid2x2(rng);
+    const double size = seamtest::patchScale(g.F);
+    const std::array<BSplineSurface, 4> s = foldedGrid(g, theta);
+    const Model m = modelOf(s);
+    const Tolerances tol = Tolerances::forModelSize(m.boundingBox().diagonal());
+    auto r = joinFourPatchCorner(m, g.corner, cornerOptions());
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_TRUE(r->proportionality.has_value());
+    EXPECT_TRUE(r->proportionality->find(CornerCondition::kPair12Proportional)->holds);
+    EXPECT_FALSE(r->proportionality->find(CornerCondition::kCompoundChain)->holds);
+    const CornerJoinReport& rep = r->report;
+    EXPECT_TRUE(rep.reverted) << theta;
+    EXPECT_FALSE(rep.achieved);
+    ASSERT_EQ(r->model.patches.size(), m.patches.size());
+    for (size_t k = 0; k < m.patches.size(); ++k) {
+      EXPECT_EQ(r->model.patches[k].name, m.patches[k].name);
+      EXPECT_TRUE(bitIdentical(r->model.patches[k].surface, m.patches[k].surface)) << m.patches[k].name;
+    }
+    EXPECT_EQ(rep.maxDisplacement, 0.0);
+    EXPECT_EQ(rep.maxSurfaceDisplacement, 0.0);
+    EXPECT_EQ(rep.maxSurfaceDisplacementRel, 0.0);
+    ASSERT_EQ(rep.seams.size(), 4u);
+    EXPECT_GE(rep.seamsWorse, 1);
+    const CornerSeam& s41 = rep.seams[3];
+    EXPECT_EQ(s41.a, "S4");
+    EXPECT_EQ(s41.b, "S1");
+    EXPECT_TRUE(s41.worse);
+    EXPECT_NE(s41.worseWhy.find("gap would grow"), std::string::npos) << s41.worseWhy;
+    bool named = false;
+    for (const std::string& n : rep.notes) named = named || (n.find("S4:v0 / S1:v1") != std::string::npos &&
+                                                             n.find("undone") != std::string::npos);
+    EXPECT_TRUE(named);
+    // The report's after is the input's seam (the model is the input); independent: the dense reference of the
+    // input's S4/S1 seam is G1 with no gap, and so is the reported after.
+    for (const CornerSeam& x : rep.seams) {
+      ASSERT_TRUE(x.before.has_value());
+      EXPECT_EQ(x.after.g0Max, x.before->g0Max);
+      EXPECT_EQ(x.after.g1MaxDeg, x.before->g1MaxDeg);
+      EXPECT_EQ(x.after.geometric, x.before->geometric);
+    }
+    seamtest::RefOptions ro;
+    ro.samples = kDenseSamples;
+    ro.g2 = false;
+    const seamtest::RefMeasures in41 = seamtest::denseReference(s[3], Edge::V0, s[0], Edge::V1, ro);
+    EXPECT_LE(in41.g0, kExactGapRel * size);
+    EXPECT_LE(in41.g1Deg, kExactAngleDeg);
+    EXPECT_TRUE(atLeastG1(s41.after.geometric));
+
+    // Independent route to "would be worse": the same successive joins by the public entry points (Theorem 1 for
+    // each pair by joinSeam, then healModel on the four), measured by the dense reference: S4/S1 opens.
+    JoinOptions jo;
+    jo.method = JoinMethod::kBSpline;
+    jo.seam = refereeOptions();
+    auto j1 = joinSeam(m, "S2", Edge::U0, "S1", Edge::U1, jo);
+    ASSERT_TRUE(j1.isOk()) << j1.status().message();
+    auto j2 = joinSeam(j1->model, "S4", Edge::U1, "S3", Edge::U0, jo);
+    ASSERT_TRUE(j2.isOk()) << j2.status().message();
+    HealOptions ho;
+    ho.seam = refereeOptions();
+    auto h = healModel(j2->model, ho);
+    ASSERT_TRUE(h.isOk()) << h.status().message();
+    const seamtest::RefMeasures out41 = seamtest::denseReference(h->model.findPatch("S4")->surface, Edge::V0,
+                                                                 h->model.findPatch("S1")->surface, Edge::V1, ro);
+    EXPECT_GT(out41.g0, in41.g0 + 1e3 * tol.distance) << theta;
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -558,8 +770,24 @@ TEST(CornerCli, ReportsTheConditionsAndJoins) {
   ASSERT_EQ(j["steps"].size(), 2u);
   EXPECT_EQ(j["steps"][0]["method"], "bspline");
   EXPECT_EQ(j["steps"][1]["method"], "bspline");
-  EXPECT_EQ(j["seams"].size(), 3u);
+  ASSERT_EQ(j["seams"].size(), 3u);
   EXPECT_TRUE(j["achieved"].get<bool>());
+  EXPECT_FALSE(j["reverted"].get<bool>());
+  EXPECT_EQ(j["seams_worse"], 0);
+  for (const auto& x : j["seams"]) {
+    // Before and after per seam, certified flags, nothing worse; the S/S~ seam (S's rows destroyed) improves.
+    ASSERT_TRUE(x["before"].is_object());
+    EXPECT_TRUE(x["after"].is_object());
+    EXPECT_TRUE(x["certified_after"].get<bool>());
+    EXPECT_FALSE(x["worse"].get<bool>());
+    EXPECT_TRUE(x["worse_why"].is_null());
+    EXPECT_LE(x["after"]["g1_max_deg"].get<double>(), x["before"]["g1_max_deg"].get<double>() + 0.01);
+  }
+  EXPECT_EQ(j["seams"][0]["a"], "S");
+  EXPECT_GT(j["seams"][0]["before"]["g1_max_deg"].get<double>(), 0.01);
+  EXPECT_GT(j["max_surface_displacement"].get<double>(), 0.0);
+  EXPECT_GT(j["max_surface_displacement_rel"].get<double>(), 0.0);
+  EXPECT_LE(j["max_surface_displacement_sampled"].get<double>(), j["max_surface_displacement"].get<double>());
   auto back = io::readModelJson(out);
   ASSERT_TRUE(back.isOk());
   EXPECT_EQ(back->patches.size(), 3u);
@@ -567,6 +795,34 @@ TEST(CornerCli, ReportsTheConditionsAndJoins) {
   const auto [rc2, text2] = run("--three 'S:v0:u0' 'S~:v1:u0' 'S^:u1'");
   EXPECT_EQ(rc2, 0) << text2;
   EXPECT_NE(text2.find("ratio-chain"), std::string::npos) << text2;
+  for (const char* w : {"gap before", "kink before (deg)", "kink after (deg)", "certified before/after", "gap",
+                        "tangent (G1)", "largest surface displacement"})
+    EXPECT_NE(text2.find(w), std::string::npos) << w << "\n" << text2;
+  // Four patches whose joins would open a G1 seam: exit 1, the output is the input, the report says why.
+  {
+    Rng rg(4110);
+    const Model m4 = modelOf(foldedGrid(grid2x2(rg), 45.0));
+    ASSERT_TRUE(io::writeModelJson(m4, in).isOk());
+    const auto [rc4, text4] = run("--four 'S1:u1:v1' 'S2:v1:u0' 'S3:u0:v0' 'S4:v0:u1' --json");
+    EXPECT_EQ(rc4, 1) << text4;
+    const nlohmann::json j4 = nlohmann::json::parse(text4);
+    EXPECT_TRUE(j4["reverted"].get<bool>());
+    EXPECT_FALSE(j4["achieved"].get<bool>());
+    EXPECT_GE(j4["seams_worse"].get<int>(), 1);
+    EXPECT_TRUE(j4["seams"][3]["worse"].get<bool>());
+    EXPECT_NE(j4["seams"][3]["worse_why"].get<std::string>().find("gap would grow"), std::string::npos);
+    EXPECT_EQ(j4["max_surface_displacement"].get<double>(), 0.0);
+    auto back4 = io::readModelJson(out);
+    ASSERT_TRUE(back4.isOk());
+    ASSERT_EQ(back4->patches.size(), 4u);
+    for (size_t k = 0; k < 4; ++k)
+      EXPECT_TRUE(bitIdentical(back4->patches[k].surface, m4.patches[k].surface)) << k;
+    const auto [rc5, text5] = run("--four 'S1:u1:v1' 'S2:v1:u0' 'S3:u0:v0' 'S4:v0:u1'");
+    EXPECT_EQ(rc5, 1) << text5;
+    for (const char* w : {"WORSE", "(undone)", "left as it was", "gap would grow"})
+      EXPECT_NE(text5.find(w), std::string::npos) << w << "\n" << text5;
+    ASSERT_TRUE(io::writeModelJson(m, in).isOk());
+  }
   const auto [rc3, text3] = run("--three 'S:v0:v1' 'S~:v1:u0' 'S^:u1'");
   EXPECT_EQ(rc3, 2) << text3;
   EXPECT_NE(text3.find("do not meet at a corner"), std::string::npos) << text3;

@@ -498,6 +498,7 @@ struct FoldOutcome {
   bool achieved = false;
   double lambdaMin = 0.0, angleBefore = 0.0, angleAfter = 0.0, displacement = 0.0, displacementRel = 0.0;
   bool lambdaFixed = false;
+  bool weightsFixedInfeasible = false;  ///< rational: the weights-fixed system had no solution
 };
 
 /// Joins S (edge eS, reversed or not) to T (edge eT) with G1 and checks the no-fold contract with the test's own
@@ -533,10 +534,20 @@ FoldOutcome checkNoFold(const CreasePair& cp, Edge eS, bool revS, Edge eT, bool 
   const SeamProbe after = probeSeam(Sa, Ta);
   o.achieved = rep.achieved;
   o.angleAfter = after.maxAngleDeg;
-  for (const std::string& n : rep.notes) o.lambdaFixed = o.lambdaFixed || n.find("lambda fixed") != std::string::npos;
+  for (const std::string& n : rep.notes) {
+    o.lambdaFixed = o.lambdaFixed || n.find("lambda fixed") != std::string::npos;
+    o.weightsFixedInfeasible = o.weightsFixedInfeasible || n.find("weights fixed the seam equations have no") != std::string::npos;
+  }
   // Never worse (test-side: the join's rule compares certified bounds with tol.angleDeg = 0.01 degrees).
   EXPECT_LE(after.maxAngleDeg, before.maxAngleDeg + kJoinedAngleDeg);
-  if (rep.achieved) {
+  const bool unmoved = bitIdentical(S1, m.patches[1].surface);
+  if (rep.achieved && unmoved) {
+    // Achieved without moving: only when the input already met G1 (the join found nothing better, or was capped).
+    EXPECT_LE(before.maxAngleDeg, kJoinedAngleDeg) << "achieved without moving a creased patch";
+    EXPECT_EQ(rep.maxSurfaceDisplacement, 0.0);
+    EXPECT_EQ(rep.movedPoints, 0);
+    EXPECT_FALSE(rep.lambdaMin.has_value());
+  } else if (rep.achieved) {
     EXPECT_FALSE(rep.reverted);
     EXPECT_TRUE(rep.after.certified);
     EXPECT_TRUE(rep.lambdaMin.has_value());
@@ -591,11 +602,11 @@ TEST(JoinNeverFolds, CreasesBothOrientationsPolynomialAndRational) {
           EXPECT_TRUE(o.achieved);
         }
         std::printf("crease %5.1f %-10s S:%s%s T:%s%s  achieved %d  lambdaMin %.4g%s  angle %.3g -> %.3g deg  "
-                    "surface displacement %.4g (%.3g rel)\n",
+                    "surface displacement %.4g (%.3g rel)%s\n",
                     crease, rational ? "rational" : "polynomial", std::string(edgeName(eS)).c_str(),
                     revS ? "r" : " ", std::string(edgeName(eT)).c_str(), revT ? "r" : " ", o.achieved ? 1 : 0,
                     o.lambdaMin, o.lambdaFixed ? " (fixed)" : "", o.angleBefore, o.angleAfter, o.displacement,
-                    o.displacementRel);
+                    o.displacementRel, o.weightsFixedInfeasible ? "  [weights-fixed solve infeasible]" : "");
       }
     }
   }
@@ -619,6 +630,65 @@ TEST(JoinNeverFolds, RandomCreasesNeverWorseNeverFolded) {
     fixedLambda += o.lambdaFixed ? 1 : 0;
   }
   std::printf("random creases: %d of 40 joined, lambda fixed in %d\n", achieved, fixedLambda);
+}
+
+TEST(JoinNeverFolds, RationalPairAlreadyG1ComesBackUnmoved) {
+  // A rational pair built G1 with lambda = c > 0 (creasePair with no crease): the join must report G1 achieved and
+  // leave the surface where it was (the weights-fixed solve or the cap may not move an already joined patch far).
+  Rng rng(13099);
+  for (int combo = 0; combo < 4; ++combo) {
+    const bool revS = (combo & 1) != 0, revT = (combo & 2) != 0;
+    const Edge eS = kAllEdges[static_cast<size_t>(combo)];
+    const Edge eT = kAllEdges[static_cast<size_t>((combo + 2) % 4)];
+    const CreasePair cp = creasePair(rng, 0.0, true, urand(rng, 0.5, 2.0), 0.0);
+    SCOPED_TRACE(::testing::Message() << "S:" << edgeName(eS) << " T:" << edgeName(eT));
+    const FoldOutcome o = checkNoFold(cp, eS, revS, eT, revT, 0.0);
+    EXPECT_TRUE(o.achieved);
+    EXPECT_LE(o.angleAfter, kJoinedAngleDeg);
+    EXPECT_LE(o.displacementRel, 1e-9) << "an already G1 rational pair moved";
+    std::printf("rational, already G1: S:%s%s T:%s%s achieved %d surface displacement %.3g (%.3g rel)\n",
+                std::string(edgeName(eS)).c_str(), revS ? "r" : " ", std::string(edgeName(eT)).c_str(),
+                revT ? "r" : " ", o.achieved ? 1 : 0, o.displacement, o.displacementRel);
+  }
+}
+
+TEST(JoinNeverFolds, DisplacementCapRevertsLargeMoves) {
+  // A 47-degree polynomial crease moves S by ~0.2 x its size: under a cap of 0.02 the join is undone, bit-identical.
+  Rng rng(13111);
+  const CreasePair cp = creasePair(rng, 47.0, false, 1.0, 0.0);
+  Model m;
+  m.patches.push_back(patch("T", cp.T));
+  m.patches.push_back(patch("S", cp.S));
+  JoinOptions opt = opts();
+  auto free = joinSeam(m, "S", Edge::V0, "T", Edge::V0, opt);
+  ASSERT_TRUE(free.isOk()) << free.status().message();
+  ASSERT_TRUE(free->report.achieved);
+  const double rel = free->report.maxSurfaceDisplacementRel;
+  EXPECT_GT(rel, 0.02);
+  EXPECT_LE(rel, kMaxJoinDisplacementRel);
+  opt.maxDisplacementRel = 0.5 * rel;
+  auto capped = joinSeam(m, "S", Edge::V0, "T", Edge::V0, opt);
+  ASSERT_TRUE(capped.isOk()) << capped.status().message();
+  const JoinReport& rep = capped->report;
+  EXPECT_TRUE(rep.reverted);
+  EXPECT_FALSE(rep.achieved);
+  EXPECT_TRUE(bitIdentical(capped->model.patches[1].surface, m.patches[1].surface));
+  EXPECT_EQ(rep.maxSurfaceDisplacement, 0.0);
+  EXPECT_TRUE(rep.patchesChanged.empty());
+  bool noted = false;
+  for (const std::string& n : rep.notes) noted = noted || n.find("would move the patch by") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // Just above the measured displacement the join is kept.
+  opt.maxDisplacementRel = rel * 1.01;
+  auto kept = joinSeam(m, "S", Edge::V0, "T", Edge::V0, opt);
+  ASSERT_TRUE(kept.isOk());
+  EXPECT_TRUE(kept->report.achieved);
+  EXPECT_FALSE(kept->report.reverted);
+  // Bad values.
+  opt.maxDisplacementRel = -1.0;
+  EXPECT_FALSE(joinSeam(m, "S", Edge::V0, "T", Edge::V0, opt).isOk());
+  opt.maxDisplacementRel = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(joinSeam(m, "S", Edge::V0, "T", Edge::V0, opt).isOk());
 }
 
 TEST(JoinNeverFolds, CertifiedMinimumOfAPolynomial) {
@@ -796,6 +866,33 @@ TEST(JoinCli, WritesTheJoinedModelAndReportsBeforeAndAfter) {
   EXPECT_EQ(r.exit, 2) << r.out;
   r = runCli("join " + in.string() + " " + edges + " --max-gap 1e-12 -o " + out.string());
   EXPECT_EQ(r.exit, 2) << r.out;
+  for (const char* bad : {"-1", "nan", "abc"}) {
+    r = runCli("join " + in.string() + " " + edges + " --max-displacement " + bad + " -o " + out.string());
+    EXPECT_EQ(r.exit, 2) << bad << ": " << r.out;
+  }
+  // The displacement fields, in JSON and in the table; a cap of 0 undoes any join (exit 1, the input written).
+  r = runCli("join " + in.string() + " " + edges + " -o " + out.string() + " --json");
+  ASSERT_EQ(r.exit, 0) << r.out;
+  {
+    const nlohmann::json jj = nlohmann::json::parse(r.out);
+    for (const char* key : {"reverted", "max_surface_displacement", "max_surface_displacement_sampled",
+                            "max_surface_displacement_rel", "lambda_fixed", "lambda0", "weights_fixed"})
+      EXPECT_TRUE(jj.contains(key)) << key;
+    EXPECT_FALSE(jj["reverted"].get<bool>());
+    EXPECT_GT(jj["max_surface_displacement"].get<double>(), 0.0);
+    EXPECT_LE(jj["max_surface_displacement_sampled"].get<double>(),
+              jj["max_surface_displacement"].get<double>() * (1.0 + 1e-9));
+  }
+  r = runCli("join " + in.string() + " " + edges + " -o " + out.string());
+  EXPECT_NE(r.out.find("surface moved by at most"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("% of the patch size"), std::string::npos) << r.out;
+  r = runCli("join " + in.string() + " " + edges + " --max-displacement 0 -o " + out.string() + " --json");
+  EXPECT_EQ(r.exit, 1) << r.out;
+  {
+    const nlohmann::json jj = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(jj["reverted"].get<bool>());
+    EXPECT_EQ(jj["max_surface_displacement"].get<double>(), 0.0);
+  }
   r = runCli("join " + (dir / "missing.json").string() + " " + edges + " -o " + out.string());
   EXPECT_EQ(r.exit, 2) << r.out;
 }

@@ -5,6 +5,8 @@
 // conditions hold, the fallback otherwise).
 //   --three: S:<edge against S~>:<edge along S^>  S~:<edge against S>:<edge along S^>  S^:<edge meeting both>
 //   --four:  Sk:<edge against S(k+1)>:<edge against S(k-1)> for k = 1..4 in cyclic order around the vertex.
+// Every seam is reported before and after (gap, kink angle, crease / fold, certified) with the largest surface
+// displacement; a join that would make any seam worse is undone (the output is then the input).
 // Exit 0 when every seam at the corner is G1, 1 otherwise (OUT.json is still written), 2 bad input.
 #include <fmt/format.h>
 
@@ -15,8 +17,10 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "seam/continuity/model_check.h"
 #include "seam/io/json.h"
 #include "seam/repair/corner_join.h"
+#include "seam/repair/heal.h"
 #include "seam/repair/report_json.h"
 
 namespace seam::cli {
@@ -58,23 +62,45 @@ std::string conditionsTable(const std::vector<ConditionCheck>& checks) {
   return formatTable({"condition", "residual", "tolerance", "holds", "worst"}, rows, {false, true, true, false, false});
 }
 
+// The state of a seam in plain words (as `seam heal` says it).
+std::string state(const SeamReport& x) {
+  if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
+  if (x.g1SampledDeg >= kFoldAngleDeg || (x.lambdaRange.hi != 0.0 && x.lambdaRange.lo <= 0.0)) return "fold";
+  if (!meets(x.geometric, GeometricClass::kG1)) return "crease";
+  return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
+}
+
 std::string reportText(const CornerJoinReport& r) {
   std::string text;
   for (const CornerJoinStep& s : r.steps) {
     std::string moved, onto;
     for (const std::string& m : s.moved) moved += (moved.empty() ? "" : ", ") + m;
     for (const std::string& m : s.onto) onto += (onto.empty() ? "" : ", ") + m;
-    text += fmt::format("join {} onto {}: {} ({}); max displacement {}, {} points\n", moved, onto, toString(s.method),
-                        s.reason, formatNumber(s.maxDisplacement), s.movedPoints);
+    if (moved.empty()) moved = "nothing";
+    text += fmt::format("join {} onto {}{}: {} ({}); max displacement {}, {} points\n", moved, onto,
+                        r.reverted ? " (undone)" : "", toString(s.method), s.reason, formatNumber(s.maxDisplacement),
+                        s.movedPoints);
     for (const std::string& n : s.notes) text += "  note: " + n + "\n";
   }
   std::vector<std::vector<std::string>> rows;
-  for (const CornerSeam& s : r.seams)
+  for (const CornerSeam& s : r.seams) {
+    const SeamReport* b = s.before ? &*s.before : nullptr;
     rows.push_back({fmt::format("{}:{} / {}:{}", s.a, edgeName(s.aEdge), s.b, edgeName(s.bEdge)),
-                    formatNumber(s.after.g0Max), formatNumber(s.after.g1MaxDeg), std::string(toString(s.after.geometric)),
-                    s.after.certified ? "yes" : "no"});
-  text += "\n" + formatTable({"seam", "G0 gap", "G1 angle (deg)", "geometric", "certified"}, rows,
-                             {false, true, true, false, false});
+                    b ? formatNumber(b->g0Max) : "?", b ? formatNumber(b->g1MaxDeg) : "?", b ? state(*b) : "?",
+                    formatNumber(s.after.g0Max), formatNumber(s.after.g1MaxDeg), state(s.after),
+                    fmt::format("{}/{}", b && b->certified ? "yes" : "no", s.after.certified ? "yes" : "no"),
+                    s.worse ? "WORSE: " + s.worseWhy : ""});
+  }
+  text += "\n" + formatTable({"seam", "gap before", "kink before (deg)", "before", "gap after", "kink after (deg)",
+                              "after", "certified before/after", ""},
+                             rows, {false, true, true, false, true, true, false, false, false});
+  if (r.reverted)
+    text += fmt::format("the joins would make {} seam(s) worse: every patch is left as it was\n", r.seamsWorse);
+  else
+    text += fmt::format("largest surface displacement: {} ({} of the patch's size, a certified bound; {} found on a "
+                        "grid); control points: {}\n",
+                        formatNumber(r.maxSurfaceDisplacement), formatNumber(r.maxSurfaceDisplacementRel),
+                        formatNumber(r.maxSurfaceDisplacementSampled), formatNumber(r.maxDisplacement));
   for (const std::string& n : r.notes) text += "note: " + n + "\n";
   return text;
 }
@@ -138,7 +164,9 @@ void addCorner(CLI::App& app, int& exit) {
           for (const std::string& n : p.notes) text += "note: " + n + "\n";
         }
         text += reportText(res->report) + fmt::format("output: {}\n", o->out);
-        text += achieved ? "G1 achieved\n" : "G1 NOT achieved at every seam; the output was written anyway\n";
+        text += achieved ? "G1 achieved\n"
+                         : (res->report.reverted ? "G1 NOT achieved: the corner is left as it was (output = input)\n"
+                                                 : "G1 NOT achieved at every seam; the output was written anyway\n");
         fmt::print("{}", text);
       }
     } else {
@@ -163,7 +191,9 @@ void addCorner(CLI::App& app, int& exit) {
                                        c.patches[2], c.patches[3]);
         if (res->proportionality) text += conditionsTable(res->proportionality->checks) + "\n";
         text += reportText(res->report) + fmt::format("output: {}\n", o->out);
-        text += achieved ? "G1 achieved\n" : "G1 NOT achieved at every seam; the output was written anyway\n";
+        text += achieved ? "G1 achieved\n"
+                         : (res->report.reverted ? "G1 NOT achieved: the corner is left as it was (output = input)\n"
+                                                 : "G1 NOT achieved at every seam; the output was written anyway\n");
         fmt::print("{}", text);
       }
     }

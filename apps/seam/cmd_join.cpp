@@ -1,10 +1,11 @@
 // seam join FILE --move S:v0 --to T:v0 [--continuity G0|G1|G2] [--method auto|bspline|bezier-strip|least-squares]
-//           [--ell L] [--average] [--max-gap D] -o OUT.json [--json]
+//           [--ell L] [--average] [--max-gap D] [--max-displacement REL] -o OUT.json [--json]
 // Moves the fewest rows of control points of S (or of S and T with --average) so that the seam meets the requested
 // continuity, writes the model to OUT.json (atomically; the input is never overwritten unless -o names it), and
 // prints the seam before and after. Exit 0 achieved, 1 not achieved (OUT.json is still written), 2 bad input.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,7 +61,7 @@ void addJoin(CLI::App& app, int& exit) {
   struct Options {
     std::string file, move, to, out;
     std::string continuity = "G1", method = "auto";
-    std::optional<double> ell, maxGap;
+    std::optional<double> ell, maxGap, maxDisplacement;
     bool average = false, json = false;
   };
   auto o = std::make_shared<Options>();
@@ -73,6 +74,9 @@ void addJoin(CLI::App& app, int& exit) {
   cmd->add_option("--ell", o->ell, "bezier-strip: the free parameter l = xi2/xi0 (default: least displacement)");
   cmd->add_flag("--average", o->average, "Move both patches onto their common middle (least-squares)");
   cmd->add_option("--max-gap", o->maxGap, "Largest gap to close (default 1% of the bounding-box diagonal)");
+  cmd->add_option("--max-displacement", o->maxDisplacement,
+                  "Largest surface displacement, as a multiple of the moved patch's size (default 1: a join that "
+                  "would move a patch by more than its own size is undone)");
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
@@ -91,6 +95,11 @@ void addJoin(CLI::App& app, int& exit) {
     jo.average = o->average;
     if (o->maxGap && !(*o->maxGap >= 0.0)) return printError("--max-gap must be a non-negative length");
     jo.maxGap = o->maxGap;
+    if (o->maxDisplacement) {
+      if (!(*o->maxDisplacement >= 0.0) || !std::isfinite(*o->maxDisplacement))
+        return printError("--max-displacement must be a non-negative multiple of the patch size");
+      jo.maxDisplacementRel = *o->maxDisplacement;
+    }
     const std::optional<Model> model = loadModel(o->file);
     if (!model) return;
     auto res = joinSeam(*model, mv->patch, mv->edge, to->patch, to->edge, jo);
@@ -109,6 +118,14 @@ void addJoin(CLI::App& app, int& exit) {
         text += fmt::format("proportional knots (Def. 3.1): {}\n", yesNo(*r.proportionalKnots));
       text += "\n" + measureTable(r.before, r.after) + "\n";
       text += fmt::format("max control-point displacement: {}\n", formatNumber(r.maxDisplacement));
+      text += fmt::format("surface moved by at most {} (certified; {} found on a grid), {} % of the patch size\n",
+                          formatNumber(r.maxSurfaceDisplacement), formatNumber(r.maxSurfaceDisplacementSampled),
+                          formatNumber(100.0 * r.maxSurfaceDisplacementRel));
+      if (r.reverted) text += "the join was undone: the model is the input, unchanged (see the notes)\n";
+      if (r.lambdaFixed && r.lambda0)
+        text += fmt::format("lambda fixed to lambda0 = {} (the free solve would have folded the patch)\n",
+                            formatNumber(*r.lambda0));
+      if (r.weightsFixed) text += "rational: the moved rows kept their weights\n";
       std::string changed;
       for (const std::string& p : r.patchesChanged) changed += (changed.empty() ? "" : ", ") + p;
       text += fmt::format("moved points: {} (patches changed: {})\n", r.movedPoints, changed.empty() ? "none" : changed);

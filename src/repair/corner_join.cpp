@@ -480,24 +480,95 @@ Result<detail::LsJoinOutcome> lsOntoNeighbours(const Model& m, int mover, Edge m
   return best;
 }
 
-void finishReport(const Model& input, const Model& out, const std::vector<CornerSeam>& seams, const Setup& st,
+bool isFold(const SeamReport& r) {
+  const bool lambdaKnown = !(r.lambdaRange.lo == 0.0 && r.lambdaRange.hi == 0.0);
+  return r.g1SampledDeg >= kFoldAngleDeg || (lambdaKnown && r.lambdaRange.lo <= 0.0);
+}
+
+// What the joins made worse on a seam, in plain words ("" when nothing): the certified values after against those
+// of the input (the same rule as joinSeam and healModel).
+std::string worseThan(const SeamReport& now, const SeamReport& ref, const Tolerances& tol) {
+  std::vector<std::string> why;
+  if (now.g0Max > ref.g0Max + tol.distance)
+    why.push_back(fmt::format("the gap would grow from {:.6g} to {:.6g}", ref.g0Max, now.g0Max));
+  if (now.g1MaxDeg > ref.g1MaxDeg + tol.angleDeg)
+    why.push_back(fmt::format("the kink angle would grow from {:.6g} to {:.6g} degrees", ref.g1MaxDeg, now.g1MaxDeg));
+  if (static_cast<int>(now.geometric) < static_cast<int>(ref.geometric))
+    why.push_back(fmt::format("it would drop from {} to {}", toString(ref.geometric), toString(now.geometric)));
+  if (isFold(now) && !isFold(ref))
+    why.push_back(fmt::format("it would fold (the tangent planes turn over: {:.4g} degrees, lambda down to {:.4g})",
+                              now.g1SampledDeg, now.lambdaRange.lo));
+  if (ref.certified && !now.certified) why.push_back("its values would no longer be certified");
+  std::string out;
+  for (const std::string& w : why) out += (out.empty() ? "" : "; ") + w;
+  return out;
+}
+
+bool samePatch(const Patch& a, const Patch& b) {
+  return a.surface.degreeU() == b.surface.degreeU() && a.surface.degreeV() == b.surface.degreeV() &&
+         a.surface.knotsU().values() == b.surface.knotsU().values() &&
+         a.surface.knotsV().values() == b.surface.knotsV().values() && a.surface.points() == b.surface.points() &&
+         a.surface.weights() == b.surface.weights();
+}
+
+std::string seamName(const CornerSeam& s) {
+  return fmt::format("{}:{} / {}:{}", s.a, edgeName(s.aEdge), s.b, edgeName(s.bEdge));
+}
+
+// The verdict on the corner: every seam after against the input; any seam worse undoes every join (`out` becomes
+// the input). Then the displacements of what stays.
+void finishReport(const Model& input, Model& out, const std::vector<CornerSeam>& seams, const Setup& st,
                   CornerJoinReport& rep) {
   rep.seams = seams;
-  rep.achieved = true;
+  std::string why;
+  for (CornerSeam& s : rep.seams) {
+    if (!s.before) continue;
+    s.worseWhy = worseThan(s.after, *s.before, st.tol);
+    s.worse = !s.worseWhy.empty();
+    if (s.worse) {
+      ++rep.seamsWorse;
+      why += fmt::format("{}seam {}: {}", why.empty() ? "" : "; ", seamName(s), s.worseWhy);
+    }
+  }
+  rep.reverted = rep.seamsWorse > 0;
+  if (rep.reverted) {
+    out = input;
+    for (CornerSeam& s : rep.seams) {
+      if (s.before) {
+        s.after = *s.before;
+        s.achieved = meets(s.after.geometric, GeometricClass::kG1);
+      } else {
+        s.achieved = false;  // the input's seam could not be analysed: nothing to claim for it
+      }
+    }
+    rep.notes.push_back(fmt::format("the corner join is undone and the input returned unchanged, since it would make "
+                                    "{} seam(s) worse: {}",
+                                    rep.seamsWorse, why));
+  }
+  rep.achieved = !rep.reverted;
   for (const CornerSeam& s : rep.seams) {
     rep.achieved = rep.achieved && s.achieved;
     rep.worstG0 = std::max(rep.worstG0, s.after.g0Max);
     rep.worstG1Deg = std::max(rep.worstG1Deg, s.after.g1MaxDeg);
   }
   for (size_t i = 0; i < input.patches.size(); ++i) {
-    const Displacement d =
-        controlPointDisplacement(input.patches[i].surface, out.patches[i].surface, kRoundoff * st.diag);
+    const Patch& p0 = input.patches[i];
+    const Patch& p1 = out.patches[i];
+    if (samePatch(p0, p1)) continue;
+    const Displacement d = controlPointDisplacement(p0.surface, p1.surface, kRoundoff * st.diag);
     rep.maxDisplacement = std::max(rep.maxDisplacement, d.max);
+    const SurfaceDisplacement sd = surfaceDisplacement(p0.surface, p1.surface);
+    rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, sd.bound);
+    rep.maxSurfaceDisplacementSampled = std::max(rep.maxSurfaceDisplacementSampled, sd.sampled);
+    const double size = controlBox(p0.surface).diagonal();
+    if (size > 0.0) rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, sd.bound / size);
   }
 }
 
-Result<CornerSeam> seamAfter(const Model& m, int a, Edge ea, int b, Edge eb, const Setup& st,
-                             const std::vector<double>& pieceBreaks = {}) {
+// The seam between edge ea of patch a and eb of patch b (indices into both models): before in the input (plain
+// analysis), after in `m` (span by span when `pieceBreaks` are given).
+Result<CornerSeam> seamAfter(const Model& input, const Model& m, int a, Edge ea, int b, Edge eb, const Setup& st,
+                             std::vector<std::string>& notes, const std::vector<double>& pieceBreaks = {}) {
   const Patch& A = m.patches[static_cast<size_t>(a)];
   const Patch& B = m.patches[static_cast<size_t>(b)];
   auto r = pieceBreaks.size() >= 3 ? analyzeSeamPiecewise(A, ea, B, eb, st.so, pieceBreaks)
@@ -511,6 +582,13 @@ Result<CornerSeam> seamAfter(const Model& m, int a, Edge ea, int b, Edge eb, con
   s.bEdge = eb;
   s.after = *r;
   s.achieved = meets(r->geometric, GeometricClass::kG1);
+  auto before = analyzeSeam(input.patches[static_cast<size_t>(a)], ea, input.patches[static_cast<size_t>(b)], eb, st.so);
+  if (before) {
+    s.before = *before;
+  } else {
+    notes.push_back(fmt::format("seam {}: no analysis of the input ({}), so it cannot be compared with the result",
+                                seamName(s), before.status().message()));
+  }
   return s;
 }
 
@@ -682,11 +760,11 @@ Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const Thre
                                                      false);
     pieceBreaks = fsOwn.knotsU().breakpoints();
   }
-  auto s1 = seamAfter(res.model, tf.is, c.sToTilde, tf.it, c.tildeToS, st, pieceBreaks);
+  auto s1 = seamAfter(model, res.model, tf.is, c.sToTilde, tf.it, c.tildeToS, st, rep.notes, pieceBreaks);
   if (!s1) return s1.status();
   seams.push_back(*s1);
   for (const auto& [ix, ex] : std::vector<std::pair<int, Edge>>{{tf.is, c.sToHat}, {tf.it, c.tildeToHat}}) {
-    auto s = seamAfter(res.model, ix, ex, tf.ih, c.hatEdge, st);
+    auto s = seamAfter(model, res.model, ix, ex, tf.ih, c.hatEdge, st, rep.notes);
     if (!s) return s.status();
     seams.push_back(*s);
   }
@@ -927,7 +1005,8 @@ Result<FourPatchJoinResult> joinFourPatchCorner(const Model& model, const FourPa
     const bool pairSeam = k == 0 || k == 2;
     if (pairSeam && rep.steps[static_cast<size_t>(k / 2)].method == JoinMethod::kBezierStrip)
       breaks = detail::toEdgeFrame(P(res.model, k).surface, N[static_cast<size_t>(k)], false).knotsU().breakpoints();
-    auto s = seamAfter(res.model, I(k), N[static_cast<size_t>(k)], I(k1), Pv[static_cast<size_t>(k1)], st, breaks);
+    auto s = seamAfter(model, res.model, I(k), N[static_cast<size_t>(k)], I(k1), Pv[static_cast<size_t>(k1)], st,
+                       rep.notes, breaks);
     if (!s) return s.status();
     seams.push_back(*s);
   }

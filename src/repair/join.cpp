@@ -232,6 +232,10 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
   if (opt.average && (opt.method == JoinMethod::kBSpline || opt.method == JoinMethod::kBezierStrip))
     return invalidInput("--average moves both patches: only the least-squares method does that");
   if (opt.average && is == it) return invalidInput("--average needs two different patches");
+  if (!(opt.maxDisplacementRel >= 0.0))
+    return invalidInput(fmt::format("the largest displacement must be a non-negative multiple of the patch size, not "
+                                    "{}",
+                                    opt.maxDisplacementRel));
   if (opt.average && opt.continuity == GeometricClass::kG2)
     return Status(ErrorCode::kUnsupported, "--average is implemented for G0 and G1");
 
@@ -386,6 +390,12 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
         rep.elevatedU = r->elevatedU;
         rep.elevatedV = r->elevatedV;
         if (opt.continuity != GeometricClass::kG0 && !r->lambda.empty()) rep.lambdaMin = r->lambdaMin;
+        for (size_t k = 0; k < r->lambdaFixed.size(); ++k)
+          if (r->lambdaFixed[k]) {
+            rep.lambdaFixed = true;
+            rep.lambda0 = std::min(rep.lambda0.value_or(r->lambda0[k]), r->lambda0[k]);
+          }
+        rep.weightsFixed = r->weightsFixed;
         res.model.patches[static_cast<size_t>(is)] = detail::replacedSurface(*st.S, r->surface);
       }
     } else {
@@ -436,6 +446,13 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
         rep.elevatedU = rs->elevatedU;
         rep.elevatedV = rs->elevatedV;
         if (opt.continuity != GeometricClass::kG0) rep.lambdaMin = std::min(rs->lambdaMin, rt->lambdaMin);
+        for (const detail::LsJoinOutcome* o : {&*rs, &*rt})
+          for (size_t c = 0; c < o->lambdaFixed.size(); ++c)
+            if (o->lambdaFixed[c]) {
+              rep.lambdaFixed = true;
+              rep.lambda0 = std::min(rep.lambda0.value_or(o->lambda0[c]), o->lambda0[c]);
+            }
+        rep.weightsFixed = rs->weightsFixed && rt->weightsFixed;
         rep.notes.push_back(fmt::format("average: both edges moved onto their middle; cross derivatives balanced "
                                         "with lambda0 = {:.6g}",
                                         lambda0));
@@ -479,6 +496,24 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       else if (sampledLambda && !(a.lambdaRange.lo > 0.0))
         worse.push_back(fmt::format("lambda would reach {:.4g} on the seam (a fold)", a.lambdaRange.lo));
     }
+    // The displacement cap: a join may not move a patch by more than maxDisplacementRel x its own size (certified).
+    double worstRel = 0.0;
+    for (int idx : {is, it}) {
+      const Patch& p0 = model.patches[static_cast<size_t>(idx)];
+      const Patch& p1 = res.model.patches[static_cast<size_t>(idx)];
+      if (!samePatch(p0, p1)) {
+        const double size = controlBox(p0.surface).diagonal();
+        const double bound = surfaceDisplacement(p0.surface, p1.surface).bound;
+        worstRel = std::max(worstRel, size > 0.0 ? bound / size : std::numeric_limits<double>::infinity());
+      }
+      if (is == it) break;
+    }
+    if (worstRel > opt.maxDisplacementRel) {
+      rep.notes.push_back(fmt::format("the join would move the patch by {:.3g} x its size; left as it was (limit {:.3g} "
+                                      "x, --max-displacement)",
+                                      worstRel, opt.maxDisplacementRel));
+      worse.push_back(fmt::format("the surface would move by {:.3g} x the patch size", worstRel));
+    }
     if (!worse.empty()) {
       std::string why = worse.front();
       for (size_t k = 1; k < worse.size(); ++k) why += "; " + worse[k];
@@ -490,6 +525,9 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
   if (!changed || rep.reverted) {
     rep.after = rep.before;
     rep.lambdaMin.reset();
+    rep.lambdaFixed = false;
+    rep.lambda0.reset();
+    rep.weightsFixed = false;
     rep.insertedKnotsU.clear();
     rep.insertedKnotsV.clear();
     rep.elevatedU = rep.elevatedV = 0;

@@ -118,6 +118,9 @@ struct LsJoinOutcome {
   /// because the free solve's lambda was not certified above kLambdaFloorRel x lambda0.
   std::vector<double> lambda0;
   std::vector<char> lambdaFixed;
+  /// Rational: the solve kept the moved rows' weights (Cartesian unknowns); false when that had no solution and the
+  /// weights were solved for too (or for polynomial patches).
+  bool weightsFixed = false;
   /// The constraints could not be met without a fold (lambda fixed and still infeasible): `surface` is the input
   /// surface unchanged (no knots inserted, no elevation) and `feasible` is false.
   bool unchanged = false;

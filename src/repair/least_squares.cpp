@@ -589,6 +589,8 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
   std::vector<Eigen::VectorXd> lambdaC(constraints.size()), kappaC(constraints.size());
   // Per constraint: lambda fixed to these global coefficients (empty: lambda is an unknown).
   std::vector<Eigen::VectorXd> fixedLambda(constraints.size());
+  // Rational: the moving rows' weights are known (not unknowns); the equations stay linear in the Cartesian points.
+  bool weightsFixed = false;
   auto stage = [&](int rowLo, int rowHi, int kLo, int kHi, std::vector<char> fixedMask) -> Result<double> {
     std::vector<int> slot(static_cast<size_t>(mv.H.rows()), -1);
     std::vector<int> points;
@@ -601,7 +603,9 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
           slot[static_cast<size_t>(g)] = static_cast<int>(points.size());
           points.push_back(g);
         }
-    int n = static_cast<int>(points.size()) * dimH;
+    // Unknown coordinates per moved point: all homogeneous ones, or (weights fixed) w P only, the weight known.
+    const int perPt = (rational && weightsFixed) ? dimH - 1 : dimH;
+    int n = static_cast<int>(points.size()) * perPt;
     // Scalar blocks per constraint: 0 rho, 1 lambda, 2 kappa, 3 nu (stage G0/G1); 4 mu, 5 nu2 (G2).
     std::vector<std::array<ScalarBlock, 6>> sb(constraints.size());
     for (size_t c = 0; c < constraints.size(); ++c) {
@@ -706,7 +710,7 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
                   if (wj == 0.0) continue;
                   const int g = gridIndex(s, edge, static_cast<int>(ai), j);
                   const int sl = slot[static_cast<size_t>(g)];
-                  if (sl >= 0) row[sl * dimH + cc] += ea * wj;
+                  if (sl >= 0 && cc < perPt) row[sl * perPt + cc] += ea * wj;
                   else rhs -= ea * wj * mv.H(g, cc);
                 }
               }
@@ -730,16 +734,18 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
         }
       }
     }
-    // Objective: displacement of the points (weights scaled by the model size), nothing on the scalars.
+    // Objective: displacement of the points, nothing on the scalars. Free weights: homogeneous displacement, weight
+    // changes scaled by the model size. Weights fixed: the Cartesian displacement |P - P0| = |w P - w P0| / w.
     Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n), wgt = Eigen::VectorXd::Zero(n);
     for (size_t i = 0; i < points.size(); ++i)
-      for (int cc = 0; cc < dimH; ++cc) {
-        x0[static_cast<Eigen::Index>(i) * dimH + cc] = mv.H(points[i], cc);
-        wgt[static_cast<Eigen::Index>(i) * dimH + cc] = (rational && cc == dimH - 1) ? opt.scale : 1.0;
+      for (int cc = 0; cc < perPt; ++cc) {
+        x0[static_cast<Eigen::Index>(i) * perPt + cc] = mv.H(points[i], cc);
+        wgt[static_cast<Eigen::Index>(i) * perPt + cc] =
+            !rational ? 1.0 : (weightsFixed ? 1.0 / mv.H(points[i], dimH - 1) : (cc == dimH - 1 ? opt.scale : 1.0));
       }
     const Solution sol = solveConstrained(sys, x0, wgt);
     for (size_t i = 0; i < points.size(); ++i)
-      for (int cc = 0; cc < dimH; ++cc) mv.H(points[i], cc) = sol.x[static_cast<Eigen::Index>(i) * dimH + cc];
+      for (int cc = 0; cc < perPt; ++cc) mv.H(points[i], cc) = sol.x[static_cast<Eigen::Index>(i) * perPt + cc];
     if (kLo <= 1 && kHi >= 1)
       for (size_t c = 0; c < constraints.size(); ++c) {
         lambdaC[c] = fixedLambda[c].size() > 0 ? fixedLambda[c] : Eigen::VectorXd(sol.x.segment(sb[c][1].offset, sb[c][1].size()));
@@ -760,10 +766,20 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
     for (size_t c = 0; c < constraints.size(); ++c) out.lambda0[c] = geometricLambda(ed[c].frame, targets[c], rational);
   const Matrix H0 = mv.H;
   std::vector<CertifiedMin> lamMin(constraints.size());
+  std::vector<std::string> rowNotes;
+  // Rows 0..min(K,1) from the input, with lambda fixed where the solve would fold; the residual.
+  auto solveRows = [&]() -> Result<double> {
+  mv.H = H0;
+  rowNotes.clear();
+  for (size_t c = 0; c < constraints.size(); ++c) {
+    fixedLambda[c] = Eigen::VectorXd();
+    out.lambdaFixed[c] = 0;
+  }
+  double residual = 0.0;
   for (;;) {
     auto r1 = stage(0, std::min(K, 1), 0, std::min(K, 1), none);
     if (!r1) return r1.status();
-    out.residual = *r1;
+    residual = *r1;
     if (K == 0) break;
     bool again = false;
     for (size_t c = 0; c < constraints.size(); ++c) {
@@ -771,7 +787,7 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
       const double floor = kLambdaFloorRel * out.lambda0[c];
       lamMin[c] = certifiedMinimum(lam, 1e-9 * std::max(out.lambda0[c], lam.maxAbsCoeff()));
       if (lamMin[c].lower > floor || out.lambdaFixed[c]) continue;
-      out.notes.push_back(fmt::format(
+      rowNotes.push_back(fmt::format(
           "edge {}: the free solve's lambda reaches {:.4g} at u = {:.6g} (floor {:.3g} = {} x lambda0): {}; lambda "
           "fixed to lambda0 = {:.6g}, kappa{} free",
           edgeName(constraints[c].edge), lamMin[c].attained,
@@ -786,6 +802,31 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
     if (!again) break;
     mv.H = H0;
   }
+  return residual;
+  };
+  // Rational: first with the moved rows' weights fixed (the Cartesian points and the connecting functions are the
+  // unknowns, the displacement is Cartesian); only when that has no solution are the weights solved for too.
+  if (rational) {
+    weightsFixed = true;
+    auto rf = solveRows();
+    if (!rf) return rf.status();
+    if (*rf <= kConstraintRelTol) {
+      out.weightsFixed = true;
+      out.residual = *rf;
+      out.notes.push_back("rational: solved with the moved rows' weights fixed (Cartesian displacement)");
+    } else {
+      out.notes.push_back(fmt::format("rational: with the moved rows' weights fixed the seam equations have no "
+                                      "solution (residual {:.3g}); solved again with the weights as unknowns",
+                                      *rf));
+      weightsFixed = false;
+    }
+  }
+  if (!out.weightsFixed) {
+    auto rr = solveRows();
+    if (!rr) return rr.status();
+    out.residual = *rr;
+  }
+  for (std::string& n : rowNotes) out.notes.push_back(std::move(n));
   if (K == 2) {
     // Rows 0 and 1 of every constrained edge are final; row 2 and the second-order functions are solved next.
     std::vector<char> fixedMask(static_cast<size_t>(mv.H.rows()), 0);

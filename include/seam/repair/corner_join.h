@@ -130,20 +130,45 @@ struct CornerJoinStep {
   std::vector<std::string> notes;
 };
 
-/// A seam at the corner after all joins.
+/// A seam at the corner, before and after all joins.
 struct CornerSeam {
   std::string a, b;
   Edge aEdge = Edge::U0, bEdge = Edge::U0;
+  /// The same pair of edges in the INPUT model (analyzeSeam; empty only when that analysis failed, with a note in
+  /// CornerJoinReport::notes: the seam then cannot be compared).
+  std::optional<SeamReport> before;
+  /// After all joins (span by span where a pair was joined by the Bezier strip). When the corner was reverted
+  /// (CornerJoinReport::reverted) this is `before`: the model is the input (a seam without `before` then keeps the
+  /// analysis of the undone result, with achieved = false).
   SeamReport after;
   bool achieved = false;  ///< after.geometric is G1 or better
+  /// The joins made this seam worse than in the input (certified values: the gap bound grew by more than
+  /// tol.distance, the angle bound by more than tol.angleDeg, the class dropped, a fold appeared, or a certified seam
+  /// lost its certificate). Any worse seam reverts the whole corner; `worseWhy` says what got worse, in plain words,
+  /// with the values the joins would have left.
+  bool worse = false;
+  std::string worseWhy;
 };
 
 struct CornerJoinReport {
-  std::vector<CornerJoinStep> steps;
+  std::vector<CornerJoinStep> steps;  ///< the joins run (also when they were undone, see `reverted`)
   std::vector<CornerSeam> seams;
-  bool achieved = false;         ///< every seam is G1 or better
-  double maxDisplacement = 0.0;  ///< over all patches, against the input
-  double worstG0 = 0.0, worstG1Deg = 0.0;
+  /// Every seam is G1 or better (false whenever the joins were reverted).
+  bool achieved = false;
+  /// A corner join never makes a seam worse: when any seam got worse, every join is undone, the model returned is
+  /// the input (bit-identical), each seam's after is its before, and the displacements are 0.
+  bool reverted = false;
+  int seamsWorse = 0;            ///< seams the joins made worse (the reason for the revert)
+  double maxDisplacement = 0.0;  ///< largest control-point displacement over all patches, against the input
+  /// Largest displacement of the SURFACE against the input over the changed patches (same parameters before and
+  /// after): a certified bound (surfaceDisplacement in repair/join.h; for polynomial patches the largest control-
+  /// point displacement against the input expressed in the output's knots and degrees), the largest value found on
+  /// a 33 x 33 grid of each changed patch's domain, and the bound over the moved patch's size (the diagonal of its
+  /// input control points' bounding box; the largest ratio over the changed patches).
+  double maxSurfaceDisplacement = 0.0;
+  double maxSurfaceDisplacementSampled = 0.0;
+  double maxSurfaceDisplacementRel = 0.0;
+  double worstG0 = 0.0, worstG1Deg = 0.0;  ///< over the seams' `after`
   std::vector<std::string> notes;
 };
 
@@ -169,6 +194,9 @@ Result<ThreePatchProportionality> checkThreePatchCorner(const Model& model, cons
 /// The successive joins of §4.1 for three surfaces: S onto S~, then S^ onto S* u S~. Errors: those of
 /// checkThreePatchCorner (kUnsupported only with method kBSpline), kNoSolution (kBSpline and a condition fails), and
 /// those of the joins. A join that misses G1 is not an error: see CornerJoinReport::achieved.
+///
+/// Never worse: each of the three seams is analysed in the input and after the joins (certified); when any seam got
+/// worse (see CornerSeam::worse) the input model is returned unchanged with report.reverted and achieved = false.
 Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const ThreePatchCorner& corner,
                                                   const CornerJoinOptions& options = {});
 
@@ -180,6 +208,7 @@ Result<FourPatchProportionality> checkFourPatchCorner(const Model& model, const 
 /// The successive joins for four surfaces: S2 onto S1, S4 onto S3, then S3 u S4 onto S1 u S2. With every condition
 /// this is Theorem 1 throughout (the compound join is done as S3 onto S2 and S4 onto S1, which the conditions make
 /// the same as Theorem 1 on the compounds); otherwise the pairs by the fallback and the compounds by healModel.
+/// Never worse, as joinThreePatchCorner: the four seams before and after, the input returned when one got worse.
 Result<FourPatchJoinResult> joinFourPatchCorner(const Model& model, const FourPatchCorner& corner,
                                                 const CornerJoinOptions& options = {});
 

@@ -35,6 +35,11 @@ Result<GeometricClass> parseContinuity(std::string_view name);
 /// as the pairing tolerance of `seam check`, docs/tolerances.md).
 inline constexpr double kDefaultMaxGapRel = 0.01;
 
+/// Default largest surface displacement of a join, relative to the moved patch's size (the bounding-box diagonal of
+/// its control points): a join may not move a patch by more than its own size (docs/algorithms/lai-lian-cassidy.md,
+/// "Joins never fold").
+inline constexpr double kMaxJoinDisplacementRel = 1.0;
+
 struct JoinOptions {
   JoinMethod method = JoinMethod::kAuto;
   GeometricClass continuity = GeometricClass::kG1;  ///< G0, G1 or G2 (G2: least squares, polynomial patches)
@@ -45,6 +50,9 @@ struct JoinOptions {
   bool average = false;
   /// Refuse to join edges farther apart than this (default kDefaultMaxGapRel x the model's bounding-box diagonal).
   std::optional<double> maxGap;
+  /// Revert a join whose certified surface displacement (JoinReport::maxSurfaceDisplacementRel) exceeds this
+  /// multiple of the moved patch's size. Must be >= 0.
+  double maxDisplacementRel = kMaxJoinDisplacementRel;
   /// Classification tolerances for the before/after analysis (default Tolerances::forModelSize(diagonal)).
   std::optional<Tolerances> tolerances;
   /// Settings of the before/after seam analysis (its `tol` is replaced by the tolerances above).
@@ -82,6 +90,12 @@ struct JoinReport {
   /// Least squares, G1/G2: certified lower bound of the connecting function lambda of the kept join (> 0: joins never
   /// fold); empty when the join was reverted or left the patch unchanged.
   std::optional<double> lambdaMin;
+  /// Least squares, G1: lambda had to be fixed to the geometric ratio lambda0 (the free solve would have folded or
+  /// squeezed the rows), and that lambda0 (the smallest over the moved patches). Empty / false when not fixed.
+  bool lambdaFixed = false;
+  std::optional<double> lambda0;
+  /// Least squares, rational: the kept solution left the moved rows' weights as they were (Cartesian solve).
+  bool weightsFixed = false;
   std::vector<std::string> notes;
 };
 
@@ -96,7 +110,8 @@ struct JoinResult {
 /// returned unchanged (bit-identical, report.reverted, achieved = false unless the input already met the request)
 /// when, by the certified before/after analysis, the after G1 angle bound exceeds the worst angle found before by
 /// more than tol.angleDeg, the after gap bound exceeds the worst gap found before by more than tol.distance, the
-/// geometric class drops, or (G1/G2 requests) lambda is not positive. The least-squares join keeps lambda > 0 as a
+/// geometric class drops, (G1/G2 requests) lambda is not positive, or the certified surface displacement
+/// exceeds options.maxDisplacementRel x the moved patch's size (JoinReport::maxSurfaceDisplacementRel). The least-squares join keeps lambda > 0 as a
 /// constraint (leastSquaresJoin), so a kept G1 join has a certified lambdaMin > 0.
 ///
 /// Errors: kNotFound (no such patch,
