@@ -44,6 +44,12 @@ struct CertifiedMin {
 };
 CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDepth = 40);
 
+/// min sum_k w_k^2 (x_k - x0_k)^2 subject to C x = d (w_k = 0: free, minimum norm), by the nullspace method
+/// (rank-revealing QR of C^T with the threshold kIdentityRelTol). `residual` (if given): max |C x - d|. Used by the
+/// joins and by the local scheme's corner and edge systems.
+Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
+                                        const Eigen::VectorXd& w, double* residual = nullptr);
+
 /// The fixed side of a seam as seen from the moving patch: polynomial pieces over intervals of the moving patch's
 /// own edge parameter u (homogeneous coordinates when `rational`). Cross derivatives are taken INTO the target with
 /// respect to the target's across parameter.

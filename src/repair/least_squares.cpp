@@ -92,6 +92,30 @@ CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDept
   return r;
 }
 
+Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
+                                        const Eigen::VectorXd& weight, double* residual) {
+  const Eigen::Index n = C.cols();
+  if (C.rows() == 0) {
+    if (residual) *residual = 0.0;
+    return x0;
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
+  qr.setThreshold(kIdentityRelTol);
+  const Eigen::Index rank = qr.rank();
+  const Eigen::MatrixXd Q = qr.householderQ();
+  const Eigen::MatrixXd Z = Q.rightCols(n - rank);
+  Eigen::VectorXd x = C.completeOrthogonalDecomposition().solve(d);
+  if (n - rank > 0) {
+    const Eigen::MatrixXd A = weight.asDiagonal() * Z;
+    const Eigen::VectorXd b = weight.asDiagonal() * (x0 - x);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+    cod.setThreshold(kIdentityRelTol);
+    x += Z * cod.solve(b);
+  }
+  if (residual) *residual = (C * x - d).cwiseAbs().maxCoeff();
+  return x;
+}
+
 namespace {
 
 /// The Bezier pieces of a polynomial B-spline curve (homogeneous coefficients stay as they are).
@@ -245,7 +269,6 @@ struct Solution {
   double residual = 0.0;
 };
 
-/// min sum_k weight_k^2 (x_k - x0_k)^2 subject to C x = d (weight 0: free), by the nullspace method.
 Solution solveConstrained(const System& sys, const Eigen::VectorXd& x0, const Eigen::VectorXd& weight) {
   const auto m = static_cast<Eigen::Index>(sys.rows.size());
   const Eigen::Index n = sys.n;
@@ -260,22 +283,7 @@ Solution solveConstrained(const System& sys, const Eigen::VectorXd& x0, const Ei
     C.row(r) = sys.rows[static_cast<size_t>(r)].transpose();
     d[r] = sys.rhs[static_cast<size_t>(r)];
   }
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
-  qr.setThreshold(kIdentityRelTol);
-  const Eigen::Index rank = qr.rank();
-  const Eigen::MatrixXd Q = qr.householderQ();
-  const Eigen::MatrixXd Z = Q.rightCols(n - rank);
-  const Eigen::VectorXd xp = C.completeOrthogonalDecomposition().solve(d);
-  Eigen::VectorXd x = xp;
-  if (n - rank > 0) {
-    const Eigen::MatrixXd A = weight.asDiagonal() * Z;
-    const Eigen::VectorXd b = weight.asDiagonal() * (x0 - xp);
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
-    cod.setThreshold(kIdentityRelTol);
-    x += Z * cod.solve(b);
-  }
-  sol.x = x;
-  sol.residual = (C * x - d).cwiseAbs().maxCoeff();
+  sol.x = constrainedLeastSquares(C, d, x0, weight, &sol.residual);
   return sol;
 }
 

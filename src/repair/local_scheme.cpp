@@ -107,28 +107,6 @@ Matrix halfRow(const Grid& g, const Slot& s, int k) {
   return r;
 }
 
-/// min sum w_k^2 (x_k - x0_k)^2 subject to C x = d (w_k = 0: free, minimum norm), by the nullspace method.
-Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
-                                        const Eigen::VectorXd& w, double* residual) {
-  const Eigen::Index n = C.cols();
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
-  qr.setThreshold(kIdentityRelTol);
-  const Eigen::Index rank = qr.rank();
-  const Eigen::MatrixXd Q = qr.householderQ();
-  const Eigen::MatrixXd Z = Q.rightCols(n - rank);
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> c0(C);
-  c0.setThreshold(kIdentityRelTol);
-  Eigen::VectorXd x = c0.solve(d);
-  if (n - rank > 0) {
-    const Eigen::MatrixXd A = w.asDiagonal() * Z;
-    const Eigen::VectorXd b = w.asDiagonal() * (x0 - x);
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
-    cod.setThreshold(kIdentityRelTol);
-    x += Z * cod.solve(b);
-  }
-  if (residual) *residual = C.rows() ? (C * x - d).cwiseAbs().maxCoeff() : 0.0;
-  return x;
-}
 
 BernsteinPoly polyOf(const Matrix& rows) { return BernsteinPoly(rows); }
 
@@ -614,7 +592,7 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
       if (evenCorrection) w[3 * nc + ni + r] = opt.curvatureWeight;
     }
     double resid = 0.0;
-    const Eigen::VectorXd x = constrainedLeastSquares(C, d, x0, w, &resid);
+    const Eigen::VectorXd x = detail::constrainedLeastSquares(C, d, x0, w, &resid);
     double scale = d.cwiseAbs().maxCoeff();
     for (const VertexEdge& ve : v.edges) scale = std::max(scale, ve.t.norm());
     const double rel = resid / std::max(scale, std::numeric_limits<double>::min());
@@ -727,7 +705,7 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
           d[row + c] = rhs;
         }
     double resid = 0.0;
-    const Eigen::VectorXd x = constrainedLeastSquares(Cm, d, x0, w, &resid);
+    const Eigen::VectorXd x = detail::constrainedLeastSquares(Cm, d, x0, w, &resid);
     double scale = d.cwiseAbs().maxCoeff();
     scale = std::max(scale, (P[1] - P[0]).norm());
     edgeResidualMax = std::max(edgeResidualMax, resid / std::max(scale, std::numeric_limits<double>::min()));
