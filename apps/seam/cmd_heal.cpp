@@ -1,6 +1,9 @@
-// seam heal FILE -o OUT.json [--continuity G0|G1] [--method auto|successive|local] [--max-gap D] [--json]
+// seam heal FILE -o OUT.json [--continuity G0|G1] [--method auto|successive|local] [--max-gap D] [--max-angle DEG]
+//           [--json]
 // Finds every seam whose gap is below --max-gap and joins the open ones region by region (repair/heal.h: successive
-// joins, each step kept only if it makes no seam worse; the local G1 scheme; auto = the better of the two); prints
+// joins, each step kept only if it makes no seam worse; the local G1 scheme; auto = the better of the two, the
+// smaller displacement where both reach the request); seams kinked by more than --max-angle (default 20 degrees)
+// are design creases and left alone ("crease kept"); prints
 // every seam before and after in plain words (gap, kink angle, crease, fold), every region and how far the surfaces
 // moved. Exit 0 when every such seam meets the requested continuity, 1 otherwise (OUT.json is still written and
 // holds everything achieved), 2 bad input.
@@ -26,7 +29,7 @@ namespace {
 void addHeal(CLI::App& app, int& exit) {
   struct Options {
     std::string file, out, continuity = "G1", method = "auto";
-    std::optional<double> maxGap;
+    std::optional<double> maxGap, maxAngle;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -37,6 +40,8 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("--method", o->method,
                   "auto (default: successive, then the local scheme where it falls short), successive or local");
   cmd->add_option("--max-gap", o->maxGap, "Largest gap to close (default 1% of the bounding-box diagonal)");
+  cmd->add_option("--max-angle", o->maxAngle,
+                  "Seams kinked by more than this (degrees, in (0, 180]) are design creases, left alone (default 20)");
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
     exit = kExitBadInput;
@@ -49,6 +54,9 @@ void addHeal(CLI::App& app, int& exit) {
     ho.method = *method;
     if (o->maxGap && !(*o->maxGap >= 0.0)) return printError("--max-gap must be a non-negative length");
     ho.maxGap = o->maxGap;
+    if (o->maxAngle && !(*o->maxAngle > 0.0 && *o->maxAngle <= 180.0))
+      return printError("--max-angle must be an angle in degrees in (0, 180]");
+    ho.maxAngleDeg = o->maxAngle;
     const std::optional<Model> model = loadModel(o->file);
     if (!model) return;
     auto res = healModel(*model, ho);
@@ -78,8 +86,10 @@ void addHeal(CLI::App& app, int& exit) {
                                     s.after && s.after->certified ? "yes" : "no"),
                         s.worse ? "WORSE" : ""});
       }
-      std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {})\n\n", o->file,
-                                     toString(r.requested), toString(r.method), formatNumber(r.maxGap));
+      std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {}, creases above {} deg "
+                                     "kept)\n\n",
+                                     o->file, toString(r.requested), toString(r.method), formatNumber(r.maxGap),
+                                     formatNumber(r.maxAngleDeg));
       text += formatTable({"seam", "region", "action", "moved", "gap before", "kink before (deg)", "before",
                            "gap after", "kink after (deg)", "after", "certified before/after", ""},
                           rows, {false, true, false, false, true, true, false, true, true, false, false, false});
@@ -95,8 +105,15 @@ void addHeal(CLI::App& app, int& exit) {
       text += "\n" + formatTable({"region", "patches", "method", "seams reaching " + std::string(toString(r.requested)),
                                   "achieved", "note"},
                                  regions, {true, false, false, false, false, false});
-      for (const HealStep& st : r.steps)
+      for (const HealStep& st : r.steps) {
         if (!st.accepted) text += fmt::format("step reverted: {} stays as it was: {}\n", st.patch, st.reason);
+        else if (!st.kept)
+          text += fmt::format("step not kept: {} stays as it was (region {} keeps {})\n", st.patch, st.region + 1,
+                              r.regions[static_cast<size_t>(st.region)].method);
+      }
+      if (r.creasesKept > 0)
+        text += fmt::format("design creases kept (kink above {} deg, left alone): {}\n", formatNumber(r.maxAngleDeg),
+                            r.creasesKept);
       std::string changed;
       for (const std::string& p : r.patchesChanged) changed += (changed.empty() ? "" : ", ") + p;
       text += fmt::format("\npatches changed: {}\n", changed.empty() ? "none" : changed);

@@ -42,6 +42,7 @@ struct Work {
   EdgePair pair;
   SeamReport before;
   SeamState state = SeamState::kKept;
+  bool crease = false;  // skipped as a design crease (kink angle above maxAngleDeg), not for its gap
   int region = -1;
 };
 
@@ -131,7 +132,9 @@ struct Candidate {
   const Model* model = nullptr;
   bool acceptable = false;
   int achieved = 0, moved = 0;
-  double displacement = 0.0;
+  bool changed = false;          // some patch of the region differs from the input
+  double displacement = 0.0;     // largest surface displacement
+  double displacementRel = 0.0;  // largest surface displacement relative to its patch's size
   std::vector<std::optional<SeamReport>> after;  // per seam of the region
   std::string note;                              // why it is not acceptable, or the region's shortfall
 };
@@ -162,6 +165,7 @@ class Healer {
   SuccessiveRun successive(bool strict) const;
   Candidate judge(const Model& m, std::string method, int region) const;
   bool freeEdgesKept(const Model& m, int region, std::string* why) const;
+  std::string leftAloneBroken(const Model& m, int k, const SeamReport& now, int region) const;
 
   const Model& in_;
   HealOptions opt_;
@@ -172,6 +176,7 @@ class Healer {
   int np_ = 0;
   std::vector<Work> work_;
   std::vector<std::vector<int>> regionPatches_, regionSeams_;
+  std::vector<std::vector<int>> regionFrozen_;  // skipped seams (gaps, creases) with a side in the region
   std::vector<int> patchRegion_;
   std::vector<int> order_;          // patches in the order they move
   std::vector<char> initialSettled_;
@@ -289,13 +294,17 @@ SuccessiveRun Healer::successive(bool strict) const {
     hs.region = patchRegion_[static_cast<size_t>(s)];
     std::vector<detail::EdgeConstraint> cons;
     std::vector<int> consWork, touching;
-    std::vector<Edge> lockedKept, lockedG0;
+    std::vector<Edge> lockedKept, lockedG0, frozen;
     for (size_t k = 0; k < work_.size(); ++k) {
       const Work& w = work_[k];
       const bool sIsA = w.pair.a.patch == s, sIsB = w.pair.b.patch == s;
       if (!sIsA && !sIsB) continue;
       touching.push_back(static_cast<int>(k));
-      if (w.state == SeamState::kSkipped) continue;
+      if (w.state == SeamState::kSkipped) {  // left alone (design crease, wide gap): its side never moves
+        if (sIsA) frozen.push_back(w.pair.a.edge);
+        if (sIsB) frozen.push_back(w.pair.b.edge);
+        continue;
+      }
       const EdgeRef me = sIsA ? w.pair.a : w.pair.b, other = sIsA ? w.pair.b : w.pair.a;
       if (other.patch == s) continue;  // a seam of the patch with itself: left alone (but checked)
       if (!settled[static_cast<size_t>(other.patch)]) {
@@ -359,7 +368,8 @@ SuccessiveRun Healer::successive(bool strict) const {
       for (int k : touching) {
         const Work& w = work_[static_cast<size_t>(k)];
         const int other = w.pair.a.patch == s ? w.pair.b.patch : w.pair.a.patch;
-        const bool deferred = !strict && other != s && position[static_cast<size_t>(other)] > static_cast<int>(step);
+        const bool deferred = !strict && other != s && w.state != SeamState::kSkipped &&
+                              position[static_cast<size_t>(other)] > static_cast<int>(step);
         if (deferred) continue;
         auto now = analyse(m, w.pair);
         if (!now) {
@@ -378,6 +388,13 @@ SuccessiveRun Healer::successive(bool strict) const {
           why = fmt::format("{}: {} (worse than in the input)", seamName(w.pair), r);
           break;
         }
+        if (w.state == SeamState::kSkipped) {
+          const std::string moved = leftAloneBroken(m, k, *now, -1);
+          if (!moved.empty()) {
+            why = moved;
+            break;
+          }
+        }
         checked.emplace_back(k, *now);
       }
       m.patches[static_cast<size_t>(s)].surface = keep;
@@ -392,16 +409,22 @@ SuccessiveRun Healer::successive(bool strict) const {
       int rows;
       std::string note;
     };
+    // The sides of seams left alone (design creases, wide gaps) are locked in every variant (rows 0-1 where the
+    // variant allows; the acceptance test rejects any change of their boundary curve or kink angle).
     std::vector<Variant> variants;
     std::vector<Edge> lockAll = lockedKept;
     lockAll.insert(lockAll.end(), lockedG0.begin(), lockedG0.end());
-    if (g1) {
+    const bool anyLocked = !lockAll.empty();
+    lockAll.insert(lockAll.end(), frozen.begin(), frozen.end());
+    if (g1 || !frozen.empty()) {
       variants.push_back({lockAll, 2, ""});
-      if (!lockAll.empty()) variants.push_back({lockAll, 1, "only the positions of edges towards unmoved neighbours kept"});
+      if (anyLocked || !g1)
+        variants.push_back({lockAll, 1, g1 ? "only the positions of edges towards unmoved neighbours kept" : ""});
     } else {
       variants.push_back({lockAll, 1, ""});
     }
-    if (!lockAll.empty()) variants.push_back({{}, 1, "edges towards unmoved neighbours unlocked"});
+    if (anyLocked) variants.push_back({frozen, frozen.empty() ? 1 : 2, "edges towards unmoved neighbours unlocked"});
+    if (anyLocked && !frozen.empty()) variants.push_back({frozen, 1, "edges towards unmoved neighbours unlocked"});
 
     struct Tried {
       BSplineSurface surface;
@@ -410,7 +433,7 @@ SuccessiveRun Healer::successive(bool strict) const {
     };
     std::optional<Tried> chosen;
     std::vector<Tried> inexact;
-    std::string lastWhy, error;
+    std::string lastWhy, error, unchangedWhy;
     for (const Variant& v : variants) {
       for (int elevate = 0; elevate < 3 && !chosen; ++elevate) {
         detail::LsJoinOptions lo;
@@ -423,6 +446,15 @@ SuccessiveRun Healer::successive(bool strict) const {
         if (!t) {
           if (error.empty()) error = t.status().message();
           break;
+        }
+        if (t->unchanged) {
+          // The solver left the patch as it was (the constraints cannot be met without a fold): no move, whatever
+          // the residual; a higher degree may still help.
+          if (unchangedWhy.empty()) {
+            unchangedWhy = "the join leaves the patch as it was";
+            for (const std::string& n : t->notes) unchangedWhy += ": " + n;
+          }
+          continue;
         }
         Tried tr{t->surface, t->residual, {}};
         if (!v.note.empty()) tr.notes.push_back(v.note);
@@ -451,6 +483,14 @@ SuccessiveRun Healer::successive(bool strict) const {
         else if (lastWhy.empty()) lastWhy = why;
       }
     }
+    if (chosen && chosen->surface.degreeU() == S.surface.degreeU() &&
+        chosen->surface.degreeV() == S.surface.degreeV() &&
+        chosen->surface.knotsU().values() == S.surface.knotsU().values() &&
+        chosen->surface.knotsV().values() == S.surface.knotsV().values() &&
+        chosen->surface.points() == S.surface.points() && chosen->surface.weights() == S.surface.weights()) {
+      chosen.reset();  // bit for bit the patch it was: not a move
+      if (lastWhy.empty()) lastWhy = "the join leaves the patch as it was";
+    }
     if (chosen) {
       S = detail::replacedSurface(S, chosen->surface);
       for (auto& [k, r] : checked) current[static_cast<size_t>(k)] = r;
@@ -467,7 +507,10 @@ SuccessiveRun Healer::successive(bool strict) const {
       }
     } else {
       hs.accepted = false;
-      hs.reason = !lastWhy.empty() ? lastWhy : (!error.empty() ? "join failed: " + error : "no join found");
+      hs.reason = !lastWhy.empty()        ? lastWhy
+                  : !unchangedWhy.empty() ? unchangedWhy
+                  : !error.empty()        ? "join failed: " + error
+                                          : "no join found";
       for (int k : consWork)
         run.notes[static_cast<size_t>(k)].push_back(fmt::format("{} not moved: {}", S.name, hs.reason));
     }
@@ -506,10 +549,51 @@ Candidate Healer::judge(const Model& m, std::string method, int region) const {
         a.surface.knotsV().values() == b.surface.knotsV().values())
       continue;
     const HealPatch d = displacementOf(b, a, kRoundoff * diag_);
+    c.changed = true;
     c.moved += d.movedPoints;
     c.displacement = std::max(c.displacement, d.maxSurfaceDisplacement);
+    c.displacementRel = std::max(c.displacementRel, d.maxSurfaceDisplacementRel);
   }
+  // Seams left alone (design creases, wide gaps) with a side in the region: that side must not have moved.
+  if (c.changed)
+    for (int k : regionFrozen_[static_cast<size_t>(region)]) {
+      const Work& w = work_[static_cast<size_t>(k)];
+      auto r = analyse(m, w.pair);
+      std::string why = r ? leftAloneBroken(m, k, *r, region) : "not analysable: " + r.status().message();
+      if (r && why.empty()) why = worseThan(*r, w.before, tol_);
+      if (!why.empty() && c.acceptable) {
+        c.acceptable = false;
+        c.note = fmt::format("{} (left alone): {}", seamName(w.pair), why);
+      }
+    }
   return c;
+}
+
+// Why a seam that is left alone (skipped: design crease or wide gap) is no longer as in the input ("" when it is):
+// the sides in `region` (every side when region < 0) keep their boundary curve, the kink angle and the gap stay.
+std::string Healer::leftAloneBroken(const Model& m, int k, const SeamReport& now, int region) const {
+  const Work& w = work_[static_cast<size_t>(k)];
+  const std::string what = w.crease ? "design crease" : "seam above the gap limit";
+  if (std::abs(now.g1MaxDeg - w.before.g1MaxDeg) > tol_.angleDeg)
+    return fmt::format("{} {}: kink angle {:.6g} -> {:.6g} deg", what, seamName(w.pair), w.before.g1MaxDeg,
+                       now.g1MaxDeg);
+  if (std::abs(now.g0Max - w.before.g0Max) > tol_.distance)
+    return fmt::format("{} {}: gap {:.3g} -> {:.3g}", what, seamName(w.pair), w.before.g0Max, now.g0Max);
+  constexpr int kSamples = 33;
+  for (const EdgeRef& e : {w.pair.a, w.pair.b}) {
+    if (region >= 0 && patchRegion_[static_cast<size_t>(e.patch)] != region) continue;
+    const BSplineSurface& b = in_.patches[static_cast<size_t>(e.patch)].surface;
+    const BSplineSurface& a = m.patches[static_cast<size_t>(e.patch)].surface;
+    double d = 0.0;
+    for (int i = 0; i < kSamples; ++i) {
+      const double t = static_cast<double>(i) / (kSamples - 1);
+      d = std::max(d, (edgeAt(a, e.edge, t) - edgeAt(b, e.edge, t)).norm());
+    }
+    if (d > tol_.distance)
+      return fmt::format("{} {}: edge {}:{} moved by {:.3g}", what, seamName(w.pair),
+                         in_.patches[static_cast<size_t>(e.patch)].name, edgeName(e.edge), d);
+  }
+  return "";
 }
 
 // The region's free edges (and the sides of seams left alone, gap above maxGap) are where they were in the input.
@@ -550,12 +634,17 @@ Result<HealResult> Healer::run() {
     return invalidInput("the local scheme makes G1 joins of a G0 network: use --method successive or auto for G0");
   for (const Patch& p : model.patches)
     if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
+  const double maxAngle = opt_.maxAngleDeg ? *opt_.maxAngleDeg : kDefaultMaxHealAngleDeg;
+  if (!(maxAngle > 0.0 && maxAngle <= 180.0))
+    return invalidInput(fmt::format("the crease angle must be in (0, 180] degrees (got {})", maxAngle));
   diag_ = model.boundingBox().diagonal();
   if (!(diag_ > 0.0)) diag_ = 1.0;
   tol_ = opt_.tolerances ? *opt_.tolerances : Tolerances::forModelSize(diag_);
   maxGap_ = opt_.maxGap ? *opt_.maxGap : kDefaultMaxGapRel * diag_;
   so_ = opt_.seam;
   so_.tol = tol_;
+  // Heal decides on G0/G1 only: the G2 subdivision of every seam (most of the cost on biquintic seams) is skipped.
+  so_.certifyG2 = false;
 
   ModelCheckOptions mco;
   mco.tolerances = tol_;
@@ -571,6 +660,7 @@ Result<HealResult> Healer::run() {
   rep.requested = opt_.continuity;
   rep.method = opt_.method;
   rep.maxGap = maxGap_;
+  rep.maxAngleDeg = maxAngle;
   np_ = static_cast<int>(model.patches.size());
 
   for (const EdgePair& p : pairing_.pairs) {
@@ -582,8 +672,12 @@ Result<HealResult> Healer::run() {
       continue;
     }
     w.before = *r;
-    if (w.before.g0Max > maxGap_) w.state = SeamState::kSkipped;
-    else if (meets(w.before.geometric, opt_.continuity)) w.state = SeamState::kKept;
+    if (w.before.g0Max > maxGap_) {
+      w.state = SeamState::kSkipped;
+    } else if (w.before.g1MaxDeg > maxAngle) {  // a design crease: left alone
+      w.state = SeamState::kSkipped;
+      w.crease = true;
+    } else if (meets(w.before.geometric, opt_.continuity)) w.state = SeamState::kKept;
     else w.state = SeamState::kToJoin;
     work_.push_back(std::move(w));
   }
@@ -618,6 +712,15 @@ Result<HealResult> Healer::run() {
       w.region = patchRegion_[static_cast<size_t>(w.pair.a.patch)];
       regionSeams_[static_cast<size_t>(w.region)].push_back(static_cast<int>(k));
     }
+    regionFrozen_.assign(regionPatches_.size(), {});
+    for (size_t k = 0; k < work_.size(); ++k) {
+      const Work& w = work_[k];
+      if (w.state != SeamState::kSkipped) continue;
+      const int ra = patchRegion_[static_cast<size_t>(w.pair.a.patch)];
+      const int rb = patchRegion_[static_cast<size_t>(w.pair.b.patch)];
+      regionFrozen_[static_cast<size_t>(ra)].push_back(static_cast<int>(k));
+      if (rb != ra) regionFrozen_[static_cast<size_t>(rb)].push_back(static_cast<int>(k));
+    }
   }
   const int nr = static_cast<int>(regionPatches_.size());
 
@@ -640,8 +743,10 @@ Result<HealResult> Healer::run() {
   auto better = [](const Candidate& a, const Candidate& b) {  // a strictly preferred to b
     if (a.acceptable != b.acceptable) return a.acceptable;
     if (a.achieved != b.achieved) return a.achieved > b.achieved;
-    const bool aNone = a.method == "none", bNone = b.method == "none";
+    // A candidate that changed nothing is the input ("none").
+    const bool aNone = a.method == "none" || !a.changed, bNone = b.method == "none" || !b.changed;
     if (aNone != bNone) return !aNone;  // partial improvements that make nothing worse are kept
+    if (a.displacementRel != b.displacementRel) return a.displacementRel < b.displacementRel;
     if (a.moved != b.moved) return a.moved < b.moved;
     return a.displacement < b.displacement;
   };
@@ -654,6 +759,8 @@ Result<HealResult> Healer::run() {
   std::vector<Candidate> best(static_cast<size_t>(nr));
   std::vector<std::vector<std::string>> regionNotes(static_cast<size_t>(nr));
   std::vector<const SuccessiveRun*> stepsFrom(static_cast<size_t>(nr), nullptr);
+  std::vector<std::string> comparison(static_cast<size_t>(nr));        // auto: successive against local
+  std::vector<double> succRel(static_cast<size_t>(nr), -1.0), localRel(static_cast<size_t>(nr), -1.0);
   for (int g = 0; g < nr; ++g) best[static_cast<size_t>(g)] = judge(model, "none", g);
   bool needStrict = false;
   std::vector<Candidate> fromRelaxed(static_cast<size_t>(nr));
@@ -694,14 +801,24 @@ Result<HealResult> Healer::run() {
         consider(std::move(c), &*relaxed);
       }
     }
+    // auto: the local scheme too (G1), also where the successive joins reach the request: the smaller displacement
+    // wins between two that achieve as much.
     const bool tryLocal = opt_.continuity == GeometricClass::kG1 &&
-                          (opt_.method == HealMethod::kLocal ||
-                           (opt_.method == HealMethod::kAuto && !regionAchieved(g, b)));
+                          (opt_.method == HealMethod::kLocal || opt_.method == HealMethod::kAuto);
+    const bool compare = opt_.method == HealMethod::kAuto && b.method == "successive" && b.changed && b.acceptable;
+    const double successiveRel = compare ? b.displacementRel : -1.0;
+    const int successiveAchieved = b.achieved;
     if (tryLocal) {
       LocalSchemeOptions lo;
       lo.patches = regionPatches_[static_cast<size_t>(g)];
       lo.maxGap = maxGap_;
       lo.tolerances = tol_;
+      // Seams left alone (design creases, gaps above maxGap) stay free edges: both sides keep their boundary curves.
+      for (int k : regionFrozen_[static_cast<size_t>(g)]) {
+        const Work& w = work_[static_cast<size_t>(k)];
+        lo.keepEdges.emplace_back(w.pair.a.patch, w.pair.a.edge);
+        lo.keepEdges.emplace_back(w.pair.b.patch, w.pair.b.edge);
+      }
       auto l = localG1Scheme(model, lo);
       if (!l) {
         regionNotes[static_cast<size_t>(g)].push_back("local scheme not applicable: " + l.status().message());
@@ -726,8 +843,28 @@ Result<HealResult> Healer::run() {
           c.note = why;
         }
         localModels_.push_back(keep);
+        if (c.acceptable) localRel[static_cast<size_t>(g)] = c.displacementRel;
+        if (compare && c.acceptable) {
+          const bool localWins = better(c, b);
+          std::string how = fmt::format("successive moved {:.3g} % of a patch, local {:.3g} %",
+                                        100.0 * successiveRel, 100.0 * c.displacementRel);
+          if (c.achieved != successiveAchieved)
+            how = fmt::format("successive reaches {} seams, local {}; ", successiveAchieved, c.achieved) + how;
+          comparison[static_cast<size_t>(g)] = how + (localWins ? ": local kept" : ": successive kept");
+        }
         consider(std::move(c), nullptr);
       }
+    }
+    if (compare) succRel[static_cast<size_t>(g)] = successiveRel;
+  }
+
+  // A candidate that changed nothing is the input: the region's method is "none".
+  for (int g = 0; g < nr; ++g) {
+    Candidate& c = best[static_cast<size_t>(g)];
+    if (c.method != "none" && !c.changed) {
+      regionNotes[static_cast<size_t>(g)].push_back(c.method + " joins left every patch as it was");
+      c.method = "none";
+      c.model = &model;
     }
   }
 
@@ -750,21 +887,27 @@ Result<HealResult> Healer::run() {
     hr.seamsAchieved = c.achieved;
     hr.method = c.method;
     hr.achieved = regionAchieved(g, c);
+    hr.successiveDisplacementRel = succRel[static_cast<size_t>(g)];
+    hr.localDisplacementRel = localRel[static_cast<size_t>(g)];
     std::vector<std::string> notes = regionNotes[static_cast<size_t>(g)];
+    if (!comparison[static_cast<size_t>(g)].empty()) notes.insert(notes.begin(), comparison[static_cast<size_t>(g)]);
     if (!hr.achieved)
       notes.insert(notes.begin(), fmt::format("{} of {} seams reach {}; the rest is left as good as it was", c.achieved,
                                               hr.seams, toString(opt_.continuity)));
     for (const std::string& n : notes) hr.note += (hr.note.empty() ? "" : "; ") + n;
     rep.regions.push_back(std::move(hr));
-    // The successive steps behind the region's result (or the reasons it is left as it was); none when the local
-    // scheme's result was taken.
-    if (const SuccessiveRun* from = c.method == "local" ? nullptr : stepsFrom[static_cast<size_t>(g)])
+    // The successive steps behind the region's result (or the reasons it is left as it was); kept only when the
+    // region's result is that run.
+    if (const SuccessiveRun* from = stepsFrom[static_cast<size_t>(g)])
       for (const HealStep& st : from->steps)
-        if (st.region == g) rep.steps.push_back(st);
+        if (st.region == g) {
+          rep.steps.push_back(st);
+          rep.steps.back().kept = st.accepted && c.method == "successive" && c.model == &from->model;
+        }
   }
   for (const HealStep& st : rep.steps) {
     if (!st.accepted) ++rep.stepsReverted;
-    else if (best[static_cast<size_t>(st.region)].method == "successive") rep.order.push_back(st.patch);
+    if (st.kept) rep.order.push_back(st.patch);
   }
 
   rep.achieved = true;
@@ -772,7 +915,11 @@ Result<HealResult> Healer::run() {
   std::vector<HealSeam> seams(work_.size());
   for (int g = 0; g < nr; ++g) {
     const Candidate& c = best[static_cast<size_t>(g)];
-    const SuccessiveRun* from = c.method == "successive" ? stepsFrom[static_cast<size_t>(g)] : nullptr;
+    const SuccessiveRun* from =
+        c.method == "successive" && stepsFrom[static_cast<size_t>(g)] &&
+                c.model == &stepsFrom[static_cast<size_t>(g)]->model
+            ? stepsFrom[static_cast<size_t>(g)]
+            : nullptr;
     const auto& ks = regionSeams_[static_cast<size_t>(g)];
     for (size_t q = 0; q < ks.size(); ++q) {
       const int k = ks[q];
@@ -789,9 +936,20 @@ Result<HealResult> Healer::run() {
         if (from->mover[static_cast<size_t>(k)] >= 0)
           hs.moved = model.patches[static_cast<size_t>(from->mover[static_cast<size_t>(k)])].name;
       }
-      hs.action = w.state == SeamState::kSkipped ? "skipped" : (w.state == SeamState::kKept ? "kept" : "joined");
+      hs.action = w.state == SeamState::kSkipped ? (w.crease ? "crease kept" : "skipped")
+                                                 : (w.state == SeamState::kKept ? "kept" : "joined");
+      if (w.crease) {
+        ++rep.creasesKept;
+        hs.notes.push_back(fmt::format("design crease: kink angle {:.4g} deg above {:.4g} deg, left alone",
+                                       w.before.g1MaxDeg, maxAngle));
+      }
       if (c.method == "local" && w.state == SeamState::kToJoin) hs.notes.push_back("local G1 scheme");
-      const std::optional<SeamReport>& r = c.after[q];
+      std::optional<SeamReport> r = c.after[q];
+      // A seam between two regions: both sides as they are in the output.
+      if (patchRegion_[static_cast<size_t>(w.pair.b.patch)] != g) {
+        auto fin = analyse(res.model, w.pair);
+        r = fin ? std::optional<SeamReport>(*fin) : std::nullopt;
+      }
       if (r) {
         hs.after = *r;
         hs.achieved = meets(r->geometric, opt_.continuity);
@@ -836,7 +994,8 @@ Result<HealResult> Healer::run() {
     rep.patches.push_back(std::move(hp));
   }
   if (rep.stepsReverted > 0)
-    rep.notes.push_back(fmt::format("{} join step(s) reverted because they would have made a seam worse",
+    rep.notes.push_back(fmt::format("{} join step(s) reverted: each would have made a seam worse or could not move "
+                                    "the patch without a fold (the reason is given per step)",
                                     rep.stepsReverted));
   return res;
 }

@@ -71,12 +71,19 @@ std::string joinReportJson(const JoinReport& r) {
   j["achieved"] = r.achieved;
   j["before"] = seamJson(r.before);
   j["after"] = seamJson(r.after);
+  j["reverted"] = r.reverted;
   j["max_displacement"] = num(r.maxDisplacement);
+  j["max_surface_displacement"] = num(r.maxSurfaceDisplacement);
+  j["max_surface_displacement_sampled"] = num(r.maxSurfaceDisplacementSampled);
+  j["max_surface_displacement_rel"] = num(r.maxSurfaceDisplacementRel);
   j["moved_points"] = r.movedPoints;
   j["patches_changed"] = strings(r.patchesChanged);
   j["inserted_knots"] = Json{{"u", numbers(r.insertedKnotsU)}, {"v", numbers(r.insertedKnotsV)}};
   j["elevated"] = Json::array({r.elevatedU, r.elevatedV});
   j["lambda_min"] = r.lambdaMin ? num(*r.lambdaMin) : Json(nullptr);
+  j["lambda_fixed"] = r.lambdaFixed;
+  j["lambda0"] = r.lambda0 ? num(*r.lambda0) : Json(nullptr);
+  j["weights_fixed"] = r.weightsFixed;
   if (r.method == JoinMethod::kBezierStrip) {
     Json js = Json::array();
     for (const StripJunction& J : r.junctions)
@@ -97,6 +104,7 @@ std::string healReportJson(const HealReport& r) {
   j["requested"] = std::string(toString(r.requested));
   j["method"] = std::string(toString(r.method));
   j["max_gap"] = num(r.maxGap);
+  j["max_angle_deg"] = num(r.maxAngleDeg);
   Json seams = Json::array();
   for (const HealSeam& s : r.seams)
     seams.push_back(Json{{"before", seamJson(s.before)},
@@ -117,6 +125,11 @@ std::string healReportJson(const HealReport& r) {
                            {"seams_achieved", g.seamsAchieved},
                            {"method", g.method},
                            {"achieved", g.achieved},
+                           {"successive_displacement_rel", g.successiveDisplacementRel >= 0.0
+                                                               ? num(g.successiveDisplacementRel)
+                                                               : Json(nullptr)},
+                           {"local_displacement_rel",
+                            g.localDisplacementRel >= 0.0 ? num(g.localDisplacementRel) : Json(nullptr)},
                            {"note", g.note}});
   j["regions"] = regions;
   Json steps = Json::array();
@@ -124,6 +137,7 @@ std::string healReportJson(const HealReport& r) {
     steps.push_back(Json{{"patch", s.patch},
                          {"region", s.region},
                          {"accepted", s.accepted},
+                         {"kept", s.kept},
                          {"reason", s.reason.empty() ? Json(nullptr) : Json(s.reason)},
                          {"notes", strings(s.notes)}});
   j["steps"] = steps;
@@ -148,6 +162,7 @@ std::string healReportJson(const HealReport& r) {
   j["max_surface_displacement_rel"] = num(r.maxSurfaceDisplacementRel);
   j["surface_displacement_certified"] = r.surfaceDisplacementCertified;
   j["seams_to_reach"] = r.seamsToReach;
+  j["creases_kept"] = r.creasesKept;
   j["seams_achieved"] = r.seamsAchieved;
   j["seams_worse"] = r.seamsWorse;
   j["worst"] = Json{{"geometric", std::string(toString(r.worst))}, {"g0_max", num(r.worstG0)},
@@ -186,10 +201,26 @@ Json cornerReportJson(const CornerJoinReport& r, Json proportionality, const cha
                          {"notes", strings(s.notes)}});
   j["steps"] = steps;
   Json seams = Json::array();
-  for (const CornerSeam& s : r.seams) seams.push_back(Json{{"after", seamJson(s.after)}, {"achieved", s.achieved}});
+  for (const CornerSeam& s : r.seams)
+    seams.push_back(Json{{"a", s.a},
+                         {"a_edge", std::string(edgeName(s.aEdge))},
+                         {"b", s.b},
+                         {"b_edge", std::string(edgeName(s.bEdge))},
+                         {"before", s.before ? seamJson(*s.before) : Json(nullptr)},
+                         {"after", seamJson(s.after)},
+                         {"certified_before", s.before ? Json(s.before->certified) : Json(nullptr)},
+                         {"certified_after", s.after.certified},
+                         {"achieved", s.achieved},
+                         {"worse", s.worse},
+                         {"worse_why", s.worseWhy.empty() ? Json(nullptr) : Json(s.worseWhy)}});
   j["seams"] = seams;
   j["achieved"] = r.achieved;
+  j["reverted"] = r.reverted;
+  j["seams_worse"] = r.seamsWorse;
   j["max_displacement"] = num(r.maxDisplacement);
+  j["max_surface_displacement"] = num(r.maxSurfaceDisplacement);
+  j["max_surface_displacement_rel"] = num(r.maxSurfaceDisplacementRel);
+  j["max_surface_displacement_sampled"] = num(r.maxSurfaceDisplacementSampled);
   j["worst"] = Json{{"g0_max", num(r.worstG0)}, {"g1_max_deg", num(r.worstG1Deg)}};
   j["notes"] = strings(r.notes);
   return j;
