@@ -114,12 +114,7 @@ HealPatch displacementOf(const Patch& before, const Patch& after, double thresho
     hp.movedPoints = static_cast<int>(a.points().rows());
   }
   constexpr int kGrid = 21;
-  for (int i = 0; i < kGrid; ++i)
-    for (int j = 0; j < kGrid; ++j) {
-      const double u = static_cast<double>(i) / (kGrid - 1), v = static_cast<double>(j) / (kGrid - 1);
-      hp.maxSurfaceDisplacementSampled =
-          std::max(hp.maxSurfaceDisplacementSampled, (atNormalised(a, u, v) - atNormalised(b, u, v)).norm());
-    }
+  hp.maxSurfaceDisplacementSampled = sampledSurfaceDistance(b, a, kGrid);
   hp.surfaceDisplacementCertified = bound;
   hp.maxSurfaceDisplacement = bound ? hp.maxDisplacement : hp.maxSurfaceDisplacementSampled;
   hp.maxSurfaceDisplacementRel = hp.maxSurfaceDisplacement / hp.size;

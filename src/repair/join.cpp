@@ -90,13 +90,21 @@ SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSpl
       d.bound = std::max(d.bound, moved + (rHi / rLo - 1.0) * 0.5 * box.diagonal());
     }
   }
-  const Interval du = after.domainU(), dv = after.domainV();
-  for (int i = 0; i < grid; ++i)
-    for (int j = 0; j < grid; ++j) {
-      const double u = du.lo + du.length() * i / (grid - 1), v = dv.lo + dv.length() * j / (grid - 1);
-      d.sampled = std::max(d.sampled, (after.evaluate(u, v).head<3>() - before.evaluate(u, v).head<3>()).norm());
-    }
+  d.sampled = sampledSurfaceDistance(before, after, grid);
   return d;
+}
+
+double sampledSurfaceDistance(const BSplineSurface& a, const BSplineSurface& b, int grid) {
+  auto lattice = [grid](Interval iv) {
+    std::vector<double> t(static_cast<size_t>(grid));
+    for (int i = 0; i < grid; ++i) t[static_cast<size_t>(i)] = iv.lo + iv.length() * i / (grid - 1);
+    t.back() = iv.hi;
+    return t;
+  };
+  Matrix pa, pb;
+  GridEvaluator(a, lattice(a.domainU()), lattice(a.domainV())).evaluate(&pa, nullptr, nullptr);
+  GridEvaluator(b, lattice(b.domainU()), lattice(b.domainV())).evaluate(&pb, nullptr, nullptr);
+  return (pa.leftCols(3) - pb.leftCols(3)).rowwise().norm().maxCoeff();
 }
 
 namespace {

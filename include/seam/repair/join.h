@@ -139,6 +139,9 @@ struct SurfaceDisplacement {
   double bound = 0.0, sampled = 0.0;
 };
 SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSplineSurface& after, int grid = 33);
+/// Largest distance between two surfaces at equal normalised parameters on a grid x grid lattice of each one's domain
+/// (batch evaluation, GridEvaluator).
+double sampledSurfaceDistance(const BSplineSurface& a, const BSplineSurface& b, int grid);
 
 /// Seam analysis over consecutive sub-ranges of A's edge (A's own parameter), merged into one report: for a
 /// correspondence that is affine on each sub-range but not globally (the Bezier strip matches span i to span i).
