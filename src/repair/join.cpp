@@ -391,6 +391,23 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       c.target = detail::targetFromFrame(st.Tf, st.rangeS, st.c0, st.c1, order);
       auto r = detail::leastSquaresJoin(st.S->surface, {c}, lo);
       if (!r) return r.status();
+      // Rational sides: the connecting functions of the homogeneous equations need more degree than the patch's
+      // own (the weight equation w_Sn = -lambda w_Tn + kappa w_Tt + nu w_T is solvable with lambda > 0 only when
+      // kappa and nu may have about the degree of the edge's weights): raise the degree (exact) and try again.
+      const bool rationalJoin = st.S->surface.isRational() || st.T->surface.isRational();
+      const bool alreadyMet = meets(st.before.geometric, opt.continuity);  // nothing to gain from a higher degree
+      for (int elevate = 1; rationalJoin && !alreadyMet && elevate <= kRationalJoinMaxElevation && (r->unchanged || !r->feasible);
+           ++elevate) {
+        detail::LsJoinOptions le = lo;
+        le.elevate = elevate;
+        auto re = detail::leastSquaresJoin(st.S->surface, {c}, le);
+        if (!re) break;
+        if (!re->unchanged && re->feasible) {
+          re->notes.insert(re->notes.begin(),
+                           fmt::format("rational join: degree raised by {} for the connecting functions", elevate));
+          r = std::move(re);
+        }
+      }
       for (const std::string& n : r->notes) rep.notes.push_back(n);
       if (!r->unchanged) {  // else the patch stays bit-identical (the fold test refused every solution)
         rep.insertedKnotsU = r->insertedKnotsU;

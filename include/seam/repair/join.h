@@ -39,6 +39,9 @@ inline constexpr double kDefaultMaxGapRel = 0.01;
 /// its control points): a join may not move a patch by more than its own size (docs/algorithms/lai-lian-cassidy.md,
 /// "Joins never fold").
 inline constexpr double kMaxJoinDisplacementRel = 1.0;
+/// A rational G1 join that has no solution with the patch's own degree is retried with the degree raised by up to
+/// this much (exact elevation: more degree for the connecting functions of the homogeneous equations).
+inline constexpr int kRationalJoinMaxElevation = 3;
 
 struct JoinOptions {
   JoinMethod method = JoinMethod::kAuto;
