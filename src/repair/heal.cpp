@@ -174,6 +174,9 @@ class Healer {
   std::vector<std::vector<int>> regionFrozen_;  // skipped seams (gaps, creases) with a side in the region
   std::vector<int> patchRegion_;
   std::vector<int> order_;          // patches in the order they move
+  /// Regions the successive runs leave out (auto: the local scheme already reached G1 there and the region has
+  /// vertices of valence other than 4, which successive joins cannot close).
+  std::vector<char> skipSuccessive_;
   std::vector<char> initialSettled_;
   struct CornerAt {
     Vec3 p;
@@ -272,17 +275,20 @@ SuccessiveRun Healer::successive(bool strict) const {
   std::vector<int> position(static_cast<size_t>(np_), -1);
   for (size_t i = 0; i < order_.size(); ++i) position[static_cast<size_t>(order_[i])] = static_cast<int>(i);
   const double vertexTol = std::max(maxGap_, tol_.distance);
-  auto patchesAt = [&](const Vec3& p) {
+  auto patchesAt = [&](const Vec3& p) {  // corners_ is sorted by x: only the slab |x - p.x| <= vertexTol is scanned
     std::vector<int> out;
-    for (const CornerAt& c : corners_)
-      if ((c.p - p).norm() <= vertexTol && std::find(out.begin(), out.end(), c.patch) == out.end())
-        out.push_back(c.patch);
+    auto it = std::lower_bound(corners_.begin(), corners_.end(), p.x() - vertexTol,
+                               [](const CornerAt& c, double x) { return c.p.x() < x; });
+    for (; it != corners_.end() && it->p.x() <= p.x() + vertexTol; ++it)
+      if ((it->p - p).norm() <= vertexTol && std::find(out.begin(), out.end(), it->patch) == out.end())
+        out.push_back(it->patch);
     return out;
   };
   const bool g1 = opt_.continuity == GeometricClass::kG1;
 
   for (size_t step = 0; step < order_.size(); ++step) {
     const int s = order_[step];
+    if (!skipSuccessive_.empty() && skipSuccessive_[static_cast<size_t>(patchRegion_[static_cast<size_t>(s)])]) continue;
     Patch& S = run.model.patches[static_cast<size_t>(s)];
     HealStep hs;
     hs.patch = S.name;
@@ -727,6 +733,7 @@ Result<HealResult> Healer::run() {
     for (double u : {du.lo, du.hi})
       for (double v : {dv.lo, dv.hi}) corners_.push_back({s.evaluate(u, v).head<3>(), i});
   }
+  std::sort(corners_.begin(), corners_.end(), [](const CornerAt& a, const CornerAt& b) { return a.p.x() < b.p.x(); });
   buildOrder();
 
   auto regionAchieved = [&](int g, const Candidate& c) {
@@ -748,20 +755,72 @@ Result<HealResult> Healer::run() {
 
   // The successive runs: relaxed first (a seam towards a patch that moves later is judged at that patch's step),
   // strict for the regions where the relaxed run left a seam worse than in the input or fell short.
-  const bool trySuccessive = opt_.method != HealMethod::kLocal && !order_.empty();
+  std::vector<Candidate> best(static_cast<size_t>(nr));
+  for (int g = 0; g < nr; ++g) best[static_cast<size_t>(g)] = judge(model, "none", g);
+  // The local scheme per region (G1; method local or auto), before the successive runs: auto leaves the successive
+  // joins out of a region where the local scheme reached G1 and some vertex has a valence other than 4 (successive
+  // joins cannot close such vertices; on large networks they would only cost time).
+  const bool tryLocal = opt_.continuity == GeometricClass::kG1 &&
+                        (opt_.method == HealMethod::kLocal || opt_.method == HealMethod::kAuto);
+  std::vector<std::optional<Candidate>> localCand(static_cast<size_t>(nr));
+  std::vector<std::string> localNote(static_cast<size_t>(nr));
+  skipSuccessive_.assign(static_cast<size_t>(nr), 0);
+  for (int g = 0; g < nr && tryLocal; ++g) {
+    if (regionAchieved(g, best[static_cast<size_t>(g)])) continue;
+    LocalSchemeOptions lo;
+    lo.patches = regionPatches_[static_cast<size_t>(g)];
+    lo.maxGap = maxGap_;
+    lo.tolerances = tol_;
+    // Seams left alone (design creases, gaps above maxGap) stay free edges: both sides keep their boundary curves.
+    for (int k : regionFrozen_[static_cast<size_t>(g)]) {
+      const Work& w = work_[static_cast<size_t>(k)];
+      lo.keepEdges.emplace_back(w.pair.a.patch, w.pair.a.edge);
+      lo.keepEdges.emplace_back(w.pair.b.patch, w.pair.b.edge);
+    }
+    auto l = localG1Scheme(model, lo);
+    if (!l) {
+      localNote[static_cast<size_t>(g)] = "local scheme not applicable: " + l.status().message();
+      continue;
+    }
+    const std::vector<int> valences = l->report.valences;
+    auto keep = std::make_shared<Model>(std::move(l->model));
+    Candidate c = judge(*keep, "local", g);
+    std::string why;
+    if (c.acceptable && !regionAchieved(g, c)) {
+      c.acceptable = false;
+      c.note = fmt::format("{} of {} seams reach G1", c.achieved, regionSeams_[static_cast<size_t>(g)].size());
+    }
+    if (c.acceptable) {
+      for (const auto& a : c.after)
+        if (a && !a->certified) {
+          c.acceptable = false;
+          c.note = fmt::format("{} / {} not certified after", a->a, a->b);
+          break;
+        }
+    }
+    if (c.acceptable && !freeEdgesKept(*keep, g, &why)) {
+      c.acceptable = false;
+      c.note = why;
+    }
+    localModels_.push_back(keep);
+    const bool irregular = std::any_of(valences.begin(), valences.end(), [](int n) { return n != 4; });
+    if (opt_.method == HealMethod::kAuto && c.acceptable && irregular) skipSuccessive_[static_cast<size_t>(g)] = 1;
+    localCand[static_cast<size_t>(g)] = std::move(c);
+  }
+  bool anySuccessive = false;
+  for (int g = 0; g < nr; ++g) anySuccessive = anySuccessive || !skipSuccessive_[static_cast<size_t>(g)];
+  const bool trySuccessive = opt_.method != HealMethod::kLocal && !order_.empty() && anySuccessive;
   std::optional<SuccessiveRun> relaxed, strict;
   if (trySuccessive) relaxed = successive(false);
-  std::vector<Candidate> best(static_cast<size_t>(nr));
   std::vector<std::vector<std::string>> regionNotes(static_cast<size_t>(nr));
   std::vector<const SuccessiveRun*> stepsFrom(static_cast<size_t>(nr), nullptr);
   std::vector<std::string> comparison(static_cast<size_t>(nr));        // auto: successive against local
   std::vector<double> succRel(static_cast<size_t>(nr), -1.0), localRel(static_cast<size_t>(nr), -1.0);
-  for (int g = 0; g < nr; ++g) best[static_cast<size_t>(g)] = judge(model, "none", g);
   bool needStrict = false;
   std::vector<Candidate> fromRelaxed(static_cast<size_t>(nr));
   if (relaxed) {
     for (int g = 0; g < nr; ++g) {
-      if (regionAchieved(g, best[static_cast<size_t>(g)])) continue;
+      if (regionAchieved(g, best[static_cast<size_t>(g)]) || skipSuccessive_[static_cast<size_t>(g)]) continue;
       Candidate c = judge(relaxed->model, "successive", g);
       if (!c.acceptable || !regionAchieved(g, c)) needStrict = true;
       fromRelaxed[static_cast<size_t>(g)] = std::move(c);
@@ -783,7 +842,7 @@ Result<HealResult> Healer::run() {
         if (from) stepsFrom[static_cast<size_t>(g)] = from;
       }
     };
-    if (relaxed) {
+    if (relaxed && !skipSuccessive_[static_cast<size_t>(g)]) {
       Candidate c = std::move(fromRelaxed[static_cast<size_t>(g)]);
       const bool enough = c.acceptable && regionAchieved(g, c);
       if (!enough && strict) {
@@ -798,58 +857,28 @@ Result<HealResult> Healer::run() {
     }
     // auto: the local scheme too (G1), also where the successive joins reach the request: the smaller displacement
     // wins between two that achieve as much.
-    const bool tryLocal = opt_.continuity == GeometricClass::kG1 &&
-                          (opt_.method == HealMethod::kLocal || opt_.method == HealMethod::kAuto);
     const bool compare = opt_.method == HealMethod::kAuto && b.method == "successive" && b.changed && b.acceptable;
     const double successiveRel = compare ? b.displacementRel : -1.0;
     const int successiveAchieved = b.achieved;
-    if (tryLocal) {
-      LocalSchemeOptions lo;
-      lo.patches = regionPatches_[static_cast<size_t>(g)];
-      lo.maxGap = maxGap_;
-      lo.tolerances = tol_;
-      // Seams left alone (design creases, gaps above maxGap) stay free edges: both sides keep their boundary curves.
-      for (int k : regionFrozen_[static_cast<size_t>(g)]) {
-        const Work& w = work_[static_cast<size_t>(k)];
-        lo.keepEdges.emplace_back(w.pair.a.patch, w.pair.a.edge);
-        lo.keepEdges.emplace_back(w.pair.b.patch, w.pair.b.edge);
+    if (tryLocal && localCand[static_cast<size_t>(g)]) {
+      Candidate c = *localCand[static_cast<size_t>(g)];
+      if (c.acceptable) localRel[static_cast<size_t>(g)] = c.displacementRel;
+      if (compare && c.acceptable) {
+        const bool localWins = better(c, b);
+        std::string how = fmt::format("successive moved {:.3g} % of a patch, local {:.3g} %",
+                                      100.0 * successiveRel, 100.0 * c.displacementRel);
+        if (c.achieved != successiveAchieved)
+          how = fmt::format("successive reaches {} seams, local {}; ", successiveAchieved, c.achieved) + how;
+        comparison[static_cast<size_t>(g)] = how + (localWins ? ": local kept" : ": successive kept");
       }
-      auto l = localG1Scheme(model, lo);
-      if (!l) {
-        regionNotes[static_cast<size_t>(g)].push_back("local scheme not applicable: " + l.status().message());
-      } else {
-        auto keep = std::make_shared<Model>(std::move(l->model));
-        Candidate c = judge(*keep, "local", g);
-        std::string why;
-        if (c.acceptable && !regionAchieved(g, c)) {
-          c.acceptable = false;
-          c.note = fmt::format("{} of {} seams reach G1", c.achieved, regionSeams_[static_cast<size_t>(g)].size());
-        }
-        if (c.acceptable) {
-          for (const auto& a : c.after)
-            if (a && !a->certified) {
-              c.acceptable = false;
-              c.note = fmt::format("{} / {} not certified after", a->a, a->b);
-              break;
-            }
-        }
-        if (c.acceptable && !freeEdgesKept(*keep, g, &why)) {
-          c.acceptable = false;
-          c.note = why;
-        }
-        localModels_.push_back(keep);
-        if (c.acceptable) localRel[static_cast<size_t>(g)] = c.displacementRel;
-        if (compare && c.acceptable) {
-          const bool localWins = better(c, b);
-          std::string how = fmt::format("successive moved {:.3g} % of a patch, local {:.3g} %",
-                                        100.0 * successiveRel, 100.0 * c.displacementRel);
-          if (c.achieved != successiveAchieved)
-            how = fmt::format("successive reaches {} seams, local {}; ", successiveAchieved, c.achieved) + how;
-          comparison[static_cast<size_t>(g)] = how + (localWins ? ": local kept" : ": successive kept");
-        }
-        consider(std::move(c), nullptr);
-      }
+      consider(std::move(c), nullptr);
+    } else if (tryLocal && !localNote[static_cast<size_t>(g)].empty()) {
+      regionNotes[static_cast<size_t>(g)].push_back(localNote[static_cast<size_t>(g)]);
     }
+    if (skipSuccessive_[static_cast<size_t>(g)])
+      regionNotes[static_cast<size_t>(g)].push_back(
+          "successive joins not tried: the local scheme reached G1 and the region has vertices where other than 4 "
+          "patches meet, which successive joins cannot close");
     if (compare) succRel[static_cast<size_t>(g)] = successiveRel;
   }
 
