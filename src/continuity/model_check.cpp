@@ -918,4 +918,13 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   return report;
 }
 
+Result<EdgePairing> pairEdgesWithin(const Model& model, const Tolerances& tol, double maxGap, double diagonal) {
+  ModelCheckOptions mco;
+  mco.tolerances = tol;
+  mco.pairingRelTol = std::max(maxGap, tol.distance) / diagonal;
+  mco.analyzeSeams = false;
+  mco.analyzeCorners = false;
+  return pairEdges(model, mco);
+}
+
 }  // namespace seam

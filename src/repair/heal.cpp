@@ -91,6 +91,17 @@ Vec3 edgeAt(const BSplineSurface& s, Edge e, double t) {
   return Vec3::Zero();
 }
 
+/// Largest distance between edge `e` of two versions of a patch (33 samples at equal normalised parameters).
+double edgeMovement(const BSplineSurface& before, const BSplineSurface& after, Edge e) {
+  constexpr int kSamples = 33;
+  double d = 0.0;
+  for (int i = 0; i < kSamples; ++i) {
+    const double t = static_cast<double>(i) / (kSamples - 1);
+    d = std::max(d, (edgeAt(after, e, t) - edgeAt(before, e, t)).norm());
+  }
+  return d;
+}
+
 /// How far `after` moved from `before` (see HealPatch).
 HealPatch displacementOf(const Patch& before, const Patch& after, double threshold) {
   HealPatch hp;
@@ -580,16 +591,10 @@ std::string Healer::leftAloneBroken(const Model& m, int k, const SeamReport& now
                        now.g1MaxDeg);
   if (std::abs(now.g0Max - w.before.g0Max) > tol_.distance)
     return fmt::format("{} {}: gap {:.3g} -> {:.3g}", what, seamName(w.pair), w.before.g0Max, now.g0Max);
-  constexpr int kSamples = 33;
   for (const EdgeRef& e : {w.pair.a, w.pair.b}) {
     if (region >= 0 && patchRegion_[static_cast<size_t>(e.patch)] != region) continue;
-    const BSplineSurface& b = in_.patches[static_cast<size_t>(e.patch)].surface;
-    const BSplineSurface& a = m.patches[static_cast<size_t>(e.patch)].surface;
-    double d = 0.0;
-    for (int i = 0; i < kSamples; ++i) {
-      const double t = static_cast<double>(i) / (kSamples - 1);
-      d = std::max(d, (edgeAt(a, e.edge, t) - edgeAt(b, e.edge, t)).norm());
-    }
+    const double d = edgeMovement(in_.patches[static_cast<size_t>(e.patch)].surface,
+                                  m.patches[static_cast<size_t>(e.patch)].surface, e.edge);
     if (d > tol_.distance)
       return fmt::format("{} {}: edge {}:{} moved by {:.3g}", what, seamName(w.pair),
                          in_.patches[static_cast<size_t>(e.patch)].name, edgeName(e.edge), d);
@@ -608,15 +613,9 @@ bool Healer::freeEdgesKept(const Model& m, int region, std::string* why) const {
     edges.push_back(w.pair.a);
     edges.push_back(w.pair.b);
   }
-  constexpr int kSamples = 33;
   for (const EdgeRef& e : edges) {
-    const BSplineSurface& b = in_.patches[static_cast<size_t>(e.patch)].surface;
-    const BSplineSurface& a = m.patches[static_cast<size_t>(e.patch)].surface;
-    double d = 0.0;
-    for (int i = 0; i < kSamples; ++i) {
-      const double t = static_cast<double>(i) / (kSamples - 1);
-      d = std::max(d, (edgeAt(a, e.edge, t) - edgeAt(b, e.edge, t)).norm());
-    }
+    const double d = edgeMovement(in_.patches[static_cast<size_t>(e.patch)].surface,
+                                  m.patches[static_cast<size_t>(e.patch)].surface, e.edge);
     if (d > tol_.distance) {
       *why = fmt::format("free edge {}:{} moved by {:.3g}", in_.patches[static_cast<size_t>(e.patch)].name,
                          edgeName(e.edge), d);
@@ -647,12 +646,7 @@ Result<HealResult> Healer::run() {
   // Heal decides on G0/G1 only: the G2 subdivision of every seam (most of the cost on biquintic seams) is skipped.
   so_.certifyG2 = false;
 
-  ModelCheckOptions mco;
-  mco.tolerances = tol_;
-  mco.pairingRelTol = std::max(maxGap_, tol_.distance) / diag_;
-  mco.analyzeSeams = false;
-  mco.analyzeCorners = false;
-  auto pairing = pairEdges(model, mco);
+  auto pairing = pairEdgesWithin(model, tol_, maxGap_, diag_);
   if (!pairing) return pairing.status();
   pairing_ = std::move(*pairing);
 

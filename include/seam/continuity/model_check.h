@@ -140,6 +140,10 @@ struct EdgePairing {
 };
 Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& options = {});
 
+/// The pairing used by the repairs (join, heal, the local scheme): edges closer than max(maxGap, tol.distance) pair,
+/// no seam or corner analysis. `diagonal` is the model's bounding-box diagonal.
+Result<EdgePairing> pairEdgesWithin(const Model& model, const Tolerances& tol, double maxGap, double diagonal);
+
 /// True when `c` is at least `required` (G2 >= G1 >= G0 >= none).
 inline bool meets(GeometricClass c, GeometricClass required) { return static_cast<int>(c) >= static_cast<int>(required); }
 
