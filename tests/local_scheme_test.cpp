@@ -328,8 +328,8 @@ TEST(LocalScheme, EvenValenceSixAndEightMeetTheCurvatureRestriction) {
 }
 
 TEST(LocalScheme, ValenceThreeAtEveryCubeCornerAndTheSurfaceStaysClose) {
-  // The cube network on the unit sphere: the output stays within 3 % of the radius from the sphere (the input's Coons
-  // patches are within 2.15 %, at the face centres, which the scheme does not touch): it changes the surface little.
+  // The cube network on the unit sphere: the output is no farther from the sphere than the input's Coons patches
+  // (2.15 % of the radius, at the face centres, which the scheme does not touch) plus 0.5 % of the radius.
   const nt::Network net = nt::buildNetwork(nt::cubeMesh(), nt::sphereShape());
   const auto r = localG1Scheme(net.model);
   ASSERT_TRUE(r.isOk()) << r.status().message();
@@ -341,7 +341,7 @@ TEST(LocalScheme, ValenceThreeAtEveryCubeCornerAndTheSurfaceStaysClose) {
         worstOut = std::max(worstOut, std::abs(nt::pointAt(r->model.patches[p].surface, i / 10.0, j / 10.0).norm() - 1.0));
       }
   std::cout << "[local scheme] cube sphere: distance to the sphere, input " << worstIn << ", output " << worstOut << "\n";
-  EXPECT_LT(worstOut, 0.03);
+  EXPECT_LE(worstOut, worstIn + 0.005);
   for (const LocalSchemeVertex& v : r->report.vertices) EXPECT_TRUE(v.valence == 3 || v.valence == 4);
 }
 
