@@ -311,6 +311,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                                  {"free_edges", r->freeEdges.size()},
                                  {"non_manifold_edges", r->nonManifoldEdges.size()},
                                  {"degenerate_edges", r->degenerateEdges},
+                                 {"loose_edges", r->looseEdges},
                                  {"agree_with_occt_g1", r->occtAgreement}}}};
     if (require) out["summary"]["below_required"] = below;
     printJson(out);
@@ -331,10 +332,10 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     fmt::print("\nnon-manifold edges ({}):", r->nonManifoldEdges.size());
     for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges) fmt::print(" {}", e.edge);
     fmt::print("\n\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}; {} free edges, {} "
-               "non-manifold, {} degenerate; OpenCASCADE agrees on G1-or-not for {} of {}\n",
+               "non-manifold, {} degenerate, {} loose (bound no face); OpenCASCADE agrees on G1-or-not for {} of {}\n",
                r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
                toString(r->worstGeometric), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
-               r->occtAgreement, r->seams.size());
+               r->looseEdges, r->occtAgreement, r->seams.size());
   }
   return require && below > 0 ? kExitGeometryProblem : kExitOk;
 }

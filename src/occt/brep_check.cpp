@@ -407,6 +407,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
         if (std::none_of(around.begin(), around.end(), [&](const TopoDS_Face& g) { return g.IsSame(f); }))
           around.push_back(f);
       }
+      if (around.empty()) {  // a loose edge: a 3-D curve of the file that bounds no face
+        ++out.looseEdges;
+        continue;
+      }
       if (around.size() > 2) {
         BRepNonManifoldEdge nm{i, {}, edgeMidpoint(edge)};
         for (const TopoDS_Face& f : around) nm.faces.push_back(faceName(faceMap.FindIndex(f)));

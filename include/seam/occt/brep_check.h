@@ -76,6 +76,7 @@ struct BRepCheckReport {
   std::vector<BRepFreeEdge> freeEdges;
   std::vector<BRepNonManifoldEdge> nonManifoldEdges;
   int degenerateEdges = 0;
+  int looseEdges = 0;         ///< edges of the file that bound no face (loose 3-D curves): not seams, counted only
   int certifiedSeams = 0;
   std::array<int, 4> geometric{};  ///< counts per GeometricClass
   GeometricClass worstGeometric = GeometricClass::kG2;
