@@ -4,8 +4,11 @@
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -484,6 +487,58 @@ TEST(JsonValidation, DegreeTooHighForThePoints) {
   EXPECT_EQ(errorOf(j), "model.json: curve \"C1\": degree 3 needs at least 4 control points, found 3");
 }
 
+TEST(JsonValidation, OverflowingDegreeIsNamedNotPrintedNegative) {
+  Json j = validModel();
+  j["patches"][0]["degree"] = {std::numeric_limits<std::int64_t>::max(), 1};
+  EXPECT_EQ(errorOf(j),
+            "model.json: patch \"S1\": u degree 9223372036854775807 is too large (at most 2147483646, and at most "
+            "the number of control points in that direction minus 1, here 4)");
+  j = validModel();
+  j["curves"][0]["degree"] = std::numeric_limits<std::int64_t>::max();
+  EXPECT_EQ(errorOf(j),
+            "model.json: curve \"C1\": degree 9223372036854775807 is too large (at most 2147483646, and at most the "
+            "number of control points minus 1, here 2)");
+  // The largest degree that still fits keeps the usual message (degree + 1 computed without overflow).
+  j = validModel();
+  j["patches"][0]["degree"] = {2147483646, 1};
+  EXPECT_EQ(errorOf(j),
+            "model.json: patch \"S1\": u degree 2147483646 needs at least 2147483647 control points in that "
+            "direction, found 5");
+}
+
+TEST(JsonValidation, DeepNestingIsRefusedBeforeParsing) {
+  // 80 000 levels overflowed the stack while the message was built (issue 15); 257 is already refused, 256 is
+  // parsed (and then rejected as a model for what it is).
+  auto nested = [](int depth) {
+    return "{\"patches\": [{\"name\": " + std::string(static_cast<size_t>(depth), '[') +
+           std::string(static_cast<size_t>(depth), ']') + "}]}";
+  };
+  EXPECT_EQ(errorOfText(nested(80000)),
+            // '{' '[' '{' then the brackets from column 23: the 254th (column 276) is level 257.
+            "model.json: not valid as a model: line 1, column 276: arrays and objects nested more than 256 deep (a "
+            "model needs 6 levels)");
+  EXPECT_THAT(errorOfText(nested(254)), HasSubstr("nested more than 256 deep"));  // 3 + 254 = 257 levels
+  EXPECT_EQ(errorOfText(nested(253)),
+            "model.json: patches[0]: \"name\" must be a non-empty string, found " + std::string(40, '[') + "...");
+  // Brackets inside strings do not count.
+  Json j = validModel();
+  j["patches"][0]["name"] = std::string(1000, '[');
+  EXPECT_TRUE(io::parseModelJson(j.dump(), "model.json").isOk());
+}
+
+TEST(JsonValidation, NulByteIsRefusedWithItsPosition) {
+  const std::string valid = validModel().dump(1);
+  ASSERT_TRUE(io::parseModelJson(valid, "model.json").isOk());
+  // Text after a NUL byte used to be ignored.
+  EXPECT_EQ(errorOfText(valid + std::string(1, '\0') + "garbage"),
+            fmt::format("model.json: not valid JSON: line {}, column 2: a NUL byte (JSON text cannot hold one; the "
+                        "file is binary or damaged)",
+                        std::count(valid.begin(), valid.end(), '\n') + 1));
+  EXPECT_EQ(errorOfText(std::string("{\"patches\": \"a\0b\"}", 18)),
+            "model.json: not valid JSON: line 1, column 15: a NUL byte (JSON text cannot hold one; the file is "
+            "binary or damaged)");
+}
+
 TEST(JsonValidation, KnotCountMustMatchPointsAndDegree) {
   // The example of the issue: 6 control points of degree 3 need 10 knots.
   Json j = validModel();
@@ -829,6 +884,85 @@ TEST(FileIo, ReadMissingFile) {
   EXPECT_EQ(d.status().message(), dir.path().string() + ": cannot read file: it is a directory");
 }
 
+TEST(FileIo, NonRegularInputsAreRefusedWithoutBlocking) {
+  TempDir dir;
+  // A FIFO with no writer would block a plain open(); /dev/zero would be read until memory runs out.
+  const fs::path fifo = dir.path() / "pipe.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  Result<Model> r = io::readModel(fifo);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kIoError);
+  EXPECT_EQ(r.status().message(), fifo.string() + ": cannot read file: not a regular file (a FIFO)");
+  const fs::path zero = dir.path() / "zero.bpt";
+  fs::create_symlink("/dev/zero", zero);
+  r = io::readModel(zero);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().message(), zero.string() + ": cannot read file: not a regular file (a character device)");
+  const fs::path folder = dir.path() / "folder.bpt";
+  fs::create_directory(folder);
+  r = io::readModel(folder);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().message(), folder.string() + ": cannot read file: it is a directory");
+  // A symbolic link to a regular file is read.
+  const fs::path target = dir.path() / "model.json";
+  writeText(target, validModel().dump());
+  fs::create_symlink(target, dir.path() / "link.json");
+  EXPECT_TRUE(io::readModel(dir.path() / "link.json").isOk());
+}
+
+TEST(FileIo, SizeLimitIsCheckedBeforeReading) {
+  TempDir dir;
+  const fs::path file = dir.path() / "big.json";
+  writeText(file, std::string(1000, ' '));
+  EXPECT_TRUE(io::readFile(file, 1000).isOk());
+  const Result<std::string> r = io::readFile(file, 999);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().message(), file.string() + ": cannot read file: too large (1000 bytes, at most 999 are read)");
+  EXPECT_EQ(io::checkInputFile(file, 999).message(), r.status().message());
+  EXPECT_TRUE(io::checkInputFile(file).isOk());
+}
+
+TEST(FileIo, AtomicWriteRefusesNonRegularTargetsAndLeavesThemAlone) {
+  TempDir dir;
+  const fs::path real = dir.path() / "real.json";
+  writeText(real, "original");
+  const fs::path link = dir.path() / "link.json";
+  fs::create_symlink(real, link);
+  Status s = io::writeFileAtomically(link, "new");
+  ASSERT_FALSE(s.isOk());
+  EXPECT_EQ(s.code(), ErrorCode::kIoError);
+  EXPECT_EQ(s.message(), link.string() + ": cannot write: refusing to replace a symbolic link (only a regular file "
+                                         "or a new name can be an output)");
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(readText(real), "original");
+  const fs::path fifo = dir.path() / "pipe.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  s = io::writeFileAtomically(fifo, "new");
+  EXPECT_EQ(s.message(), fifo.string() + ": cannot write: refusing to replace a FIFO (only a regular file or a new "
+                                         "name can be an output)");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  s = io::writeFileAtomically("/dev/null", "new");
+  EXPECT_EQ(s.message(), "/dev/null: cannot write: refusing to replace a character device (only a regular file or "
+                         "a new name can be an output)");
+  s = io::writeFileAtomically(dir.path(), "new");
+  EXPECT_EQ(s.message(), dir.path().string() + ": cannot write: it is a directory");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"link.json", "pipe.obj", "real.json"}));
+}
+
+TEST(FileIo, LongestLegalOutputNameWorks) {
+  // 255 bytes is the file-name limit of ext4/tmpfs; a temporary name derived from the output's name would not fit.
+  TempDir dir;
+  for (const size_t length : {249u, 255u}) {
+    const fs::path file = dir.path() / (std::string(length - 5, 'a') + ".json");
+    ASSERT_EQ(file.filename().string().size(), length);
+    const Status s = io::writeFileAtomically(file, "content");
+    ASSERT_TRUE(s.isOk()) << s.message();
+    EXPECT_EQ(readText(file), "content");
+    fs::remove(file);
+  }
+  EXPECT_TRUE(dir.entries().empty());
+}
+
 TEST(FileIo, ReadModelDispatchesOnTheExtension) {
   TempDir dir;
   const fs::path upper = dir.path() / "MODEL.JSON";
@@ -947,7 +1081,120 @@ TEST(Bpt, MalformedFiles) {
   EXPECT_EQ(
       message("1\r\n100000 100000\r\n0 0 0\r\n"),
       "bad.bpt: patch P0: file ends before the 100001 x 100001 control points of degree 100000 100000 (only "
-      "1 lines left)");
+      "3 numbers left, 30000600003 needed)");
+  // Degrees that overflow (du + 1) are refused by name, never printed as a negative count of points.
+  EXPECT_EQ(message("1\n9223372036854775807 1\n0 0 0\n"),
+            "bad.bpt: patch P0: line 2: degrees 9223372036854775807 1: too large (at most 2147483646)");
+  EXPECT_EQ(message("1\n1 99999999999999999999\n0 0 0\n"),
+            "bad.bpt: patch P0: line 2: expected the degrees \"du dv\" (two integers), found "
+            "\"1 99999999999999999999\"");
+}
+
+// The .bpt variants found in the wild (issue 18): comments, the whole file on one line, one degree pair shared by
+// all patches. Every expected point is written here by hand, not taken from the reader.
+
+/// Two patches: P0 of degree 1 x 2 (6 points), P1 of degree 1 x 1 (4 points), row-major with i along u.
+struct HandPatch {
+  int du, dv;
+  std::vector<std::array<double, 3>> points;
+};
+const std::vector<HandPatch> kTwoPatches = {
+    {1, 2, {{0, 0, 0}, {0, 1, 0.5}, {0, 2, 1}, {1, 0, 0}, {1, 1, -0.25}, {1, 2, 1.5}}},
+    {1, 1, {{2, 0, 0}, {2, 1, 0}, {3, 0, 0.125}, {3, 1, 7e-3}}},
+};
+
+/// Checks that `m` holds exactly `expected`, point by point (bit-exact: the numbers are short decimals).
+void expectPatches(const Result<Model>& m, const std::vector<HandPatch>& expected, const std::string& what) {
+  ASSERT_TRUE(m.isOk()) << what << ": " << m.status().message();
+  ASSERT_EQ(m->patches.size(), expected.size()) << what;
+  for (size_t k = 0; k < expected.size(); ++k) {
+    const BSplineSurface& s = m->patches[k].surface;
+    EXPECT_EQ(m->patches[k].name, fmt::format("P{}", k)) << what;
+    ASSERT_EQ(s.degreeU(), expected[k].du) << what;
+    ASSERT_EQ(s.degreeV(), expected[k].dv) << what;
+    for (int i = 0; i <= expected[k].du; ++i) {
+      for (int j = 0; j <= expected[k].dv; ++j) {
+        const std::array<double, 3>& p = expected[k].points[static_cast<size_t>(i * (expected[k].dv + 1) + j)];
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(s.point(i, j)[c], p[static_cast<size_t>(c)]) << what << " P" << k;
+      }
+    }
+  }
+}
+
+TEST(Bpt, CommentLinesAndTrailingComments) {
+  const std::string text =
+      "# Two patches, written by hand\n"
+      "2   # patch count\n"
+      "# first patch\n"
+      "1 2\n0 0 0\n0 1 0.5  # a trailing comment\n0 2 1\n1 0 0\n1 1 -0.25\n1 2 1.5\n"
+      "   # an indented comment line\n"
+      "1 1\r\n2 0 0\r\n2 1 0\r\n3 0 0.125\r\n3 1 7e-3\r\n"
+      "#\n";
+  expectPatches(io::parseBpt(text, "comments.bpt"), kTwoPatches, "comments");
+}
+
+TEST(Bpt, WholeFileOnOneLine) {
+  const std::string text =
+      "2 1 2 0 0 0 0 1 0.5 0 2 1 1 0 0 1 1 -0.25 1 2 1.5 1 1 2 0 0 2 1 0 3 0 0.125 3 1 7e-3";
+  expectPatches(io::parseBpt(text, "oneline.bpt"), kTwoPatches, "one line");
+  // Several points per line, tabs, and a comment at the end.
+  const std::string rows = "2\n1 2\n0 0 0\t0 1 0.5 0 2 1\n1 0 0 1 1 -0.25 1 2 1.5\n1 1 2 0 0 2 1 0\n3 0 0.125 3 1 7e-3 #end";
+  expectPatches(io::parseBpt(rows, "rows.bpt"), kTwoPatches, "rows");
+}
+
+TEST(Bpt, OneDegreeLineSharedByAllPatches) {
+  // Three bilinear patches after a single "1 1".
+  const std::vector<HandPatch> expected = {
+      {1, 1, {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}}},
+      {1, 1, {{1, 0, 0}, {1, 1, 0}, {2, 0, 0.5}, {2, 1, 0.5}}},
+      {1, 1, {{2, 0, 0.5}, {2, 1, 0.5}, {3, 0, -1.5}, {3, 1, 2.25}}},
+  };
+  const std::string text =
+      "3\n1 1\n"
+      "0 0 0\n0 1 0\n1 0 0\n1 1 0\n"
+      "1 0 0\n1 1 0\n2 0 0.5\n2 1 0.5\n"
+      "2 0 0.5\n2 1 0.5\n3 0 -1.5\n3 1 2.25\n";
+  expectPatches(io::parseBpt(text, "shared.bpt"), expected, "shared degrees");
+  // The same on one line with a comment.
+  std::string oneLine = "# shared degrees\n";
+  for (const char c : text) oneLine += c == '\n' ? ' ' : c;
+  expectPatches(io::parseBpt(oneLine, "shared1.bpt"), expected, "shared degrees, one line");
+  // Bicubic patches sharing "3 3" (16 points each).
+  std::string cubic = "2 3 3";
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) cubic += fmt::format(" {} {} {}", i + 3 * k, j, k == 0 ? i * j : -i);
+  const Result<Model> m = io::parseBpt(cubic, "cubic.bpt");
+  ASSERT_TRUE(m.isOk()) << m.status().message();
+  ASSERT_EQ(m->patches.size(), 2u);
+  EXPECT_EQ(m->patches[1].surface.degreeU(), 3);
+  EXPECT_EQ(m->patches[0].surface.point(2, 3)[2], 6.0);   // i * j
+  EXPECT_EQ(m->patches[1].surface.point(3, 1)[0], 6.0);   // i + 3
+  EXPECT_EQ(m->patches[1].surface.point(3, 1)[2], -3.0);  // -i
+}
+
+TEST(Bpt, MalformedVariantsStillNamePatchAndLine) {
+  auto message = [](const std::string& text) {
+    const Result<Model> r = io::parseBpt(text, "bad.bpt");
+    EXPECT_FALSE(r.isOk()) << text;
+    return r.isOk() ? std::string() : r.status().message();
+  };
+  // One line: the bad number of the second patch is on line 1.
+  EXPECT_EQ(message("2 1 1 0 0 0 0 1 0 1 0 0 1 1 0 1 1 2 0 0 2 1 0 3 0 x 3 1 0"),
+            "bad.bpt: patch P1: line 1: \"x\" is not a finite number");
+  // Shared degrees: the count fits, the bad number is reported in patch P1 on its line.
+  EXPECT_EQ(message("2\n1 1\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n1 0 0\n1 1 nan\n2 0 0\n2 1 0\n"),
+            "bad.bpt: patch P1: line 8: \"nan\" is not a finite number");
+  // A comment does not hide a missing number: the line holds two.
+  EXPECT_EQ(message("1\n1 1\n0 0 0\n0 1 # 0\n1 0 0\n1 1 0\n"),
+            "bad.bpt: patch P0: line 4: expected a point \"x y z\" (3 numbers), found \"0 1\"");
+  // A file of comments only is empty.
+  EXPECT_EQ(message("# nothing\n# here\n"),
+            "bad.bpt: empty file (expected the number of patches on the first line)");
+  // Neither layout fits: one point short in the last patch.
+  EXPECT_EQ(message("2 1 1 0 0 0 0 1 0 1 0 0 1 1 0 1 1 2 0 0 2 1 0 3 0 0"),
+            "bad.bpt: patch P1: file ends before the 2 x 2 control points of degree 1 1 (only 9 numbers left, 12 "
+            "needed)");
 }
 
 }  // namespace

@@ -8,8 +8,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <new>
 #include <string>
 #include <system_error>
 
@@ -35,13 +34,30 @@ std::string lowercase(std::string s) {
   return s;
 }
 
-/// A temporary name next to `file` that no other writer (thread or process) uses at the same time.
+/// How many temporary names writeFileAtomically tries before giving up (a name is taken only when a stale temporary
+/// of an earlier process with the same id is still there).
+constexpr int kMaxTemporaryAttempts = 100;
+
+/// A short temporary name next to `file` that no other writer (thread or process) uses at the same time. Short on
+/// purpose: a name derived from the output's own name would exceed the file system's limit (255 bytes) for long
+/// but legal output names.
 fs::path temporaryNameFor(const fs::path& file) {
   static std::atomic<unsigned long> counter{0};
   const unsigned long n = counter.fetch_add(1);
   fs::path name = file;
-  name.replace_filename(fmt::format(".{}.tmp.{}.{}", file.filename().string(), ::getpid(), n));
+  name.replace_filename(fmt::format(".seam-{}-{}.tmp", ::getpid(), n));
   return name;
+}
+
+/// "a FIFO", "a character device", ... for a file type that is neither a regular file nor a directory.
+std::string kindOf(mode_t mode) {
+  if (S_ISLNK(mode)) return "a symbolic link";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISDIR(mode)) return "a directory";
+  return "not a regular file";
 }
 
 /// Writes all of `content` to `fd`, retrying on short writes and EINTR; returns 0 or an errno value.
@@ -62,30 +78,92 @@ int writeAll(int fd, const std::string& content) {
 
 }  // namespace
 
-Result<std::string> readFile(const fs::path& file) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(file, ec);
-  if (!fs::exists(status)) return ioError(file, "cannot read file: no such file");
-  if (fs::is_directory(status)) return ioError(file, "cannot read file: it is a directory");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return ioError(file, "cannot open file: " + errnoText(errno));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) return ioError(file, "error while reading file");
-  return buffer.str();
+Status checkInputFile(const fs::path& file, std::uintmax_t maxBytes) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) {
+    const int err = errno;  // captured before anything else can change it
+    if (err == ENOENT || err == ENOTDIR) return ioError(file, "cannot read file: no such file");
+    return ioError(file, "cannot read file: " + errnoText(err));
+  }
+  if (S_ISDIR(st.st_mode)) return ioError(file, "cannot read file: it is a directory");
+  if (!S_ISREG(st.st_mode)) return ioError(file, "cannot read file: not a regular file (" + kindOf(st.st_mode) + ")");
+  if (static_cast<std::uintmax_t>(st.st_size) > maxBytes) {
+    return ioError(file, fmt::format("cannot read file: too large ({} bytes, at most {} are read)", st.st_size,
+                                     maxBytes));
+  }
+  return Status::ok();
+}
+
+Result<std::string> readFile(const fs::path& file, std::uintmax_t maxBytes) {
+  if (Status s = checkInputFile(file, maxBytes); !s) return s;
+  // O_NONBLOCK: should the file have been replaced by a FIFO since the check, opening it does not block.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) {
+    const int err = errno;
+    return ioError(file, "cannot open file: " + errnoText(err));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return ioError(file, "cannot read file: not a regular file");
+  }
+  std::string content;
+  try {
+    content.reserve(static_cast<size_t>(st.st_size));
+    constexpr size_t kChunk = size_t{1} << 16;  // bytes per read call
+    char buffer[kChunk];
+    while (true) {
+      const ssize_t got = ::read(fd, buffer, kChunk);
+      if (got < 0) {
+        const int err = errno;
+        if (err == EINTR) continue;
+        ::close(fd);
+        return ioError(file, "error while reading file: " + errnoText(err));
+      }
+      if (got == 0) break;
+      content.append(buffer, static_cast<size_t>(got));
+      if (content.size() > maxBytes) {  // the file grew while being read
+        ::close(fd);
+        return ioError(file, fmt::format("cannot read file: too large (more than {} bytes)", maxBytes));
+      }
+    }
+  } catch (const std::bad_alloc&) {
+    ::close(fd);
+    return ioError(file, fmt::format("cannot read file: too large to hold in memory ({} bytes)", st.st_size));
+  }
+  ::close(fd);
+  return content;
+}
+
+Status checkOutputFile(const fs::path& file) {
+  if (file.filename().empty()) return ioError(file, "cannot write: the path names no file");
+  struct stat st {};
+  if (::lstat(file.c_str(), &st) != 0) return Status::ok();  // does not exist yet (or the folder is missing)
+  if (S_ISREG(st.st_mode)) return Status::ok();
+  if (S_ISDIR(st.st_mode)) return ioError(file, "cannot write: it is a directory");
+  return ioError(file, "cannot write: refusing to replace " + kindOf(st.st_mode) +
+                           " (only a regular file or a new name can be an output)");
 }
 
 Status writeFileAtomically(const fs::path& file, const std::string& content) {
-  if (file.filename().empty()) return ioError(file, "cannot write: the path names no file");
-  const fs::path temp = temporaryNameFor(file);
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) return ioError(file, "cannot create temporary file " + temp.string() + ": " + errnoText(errno));
+  if (Status s = checkOutputFile(file); !s) return s;
+  fs::path temp;
+  int fd = -1;
+  for (int attempt = 0; attempt < kMaxTemporaryAttempts && fd < 0; ++attempt) {
+    temp = temporaryNameFor(file);
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0) {
+    const int err = errno;
+    return ioError(file, "cannot create temporary file " + temp.string() + ": " + errnoText(err));
+  }
   // Replacing a file keeps its permission bits (a new file gets 0666 minus the umask).
   struct stat existing {};
   if (::stat(file.c_str(), &existing) == 0) ::fchmod(fd, existing.st_mode & 07777);
   int err = writeAll(fd, content);
   if (err == 0 && ::fsync(fd) != 0) err = errno;
-  if (::close(fd) != 0 && err == 0) err = errno;
+  if (::close(fd) != 0 && err == 0) err = errno;  // (errno read right after each failing call)
   if (err != 0) {
     ::unlink(temp.c_str());
     return ioError(file, "cannot write temporary file " + temp.string() + ": " + errnoText(err));
@@ -108,8 +186,13 @@ Status writeFileAtomically(const fs::path& file, const std::string& content) {
 
 Result<Model> readModel(const fs::path& file) {
   const std::string ext = lowercase(file.extension().string());
-  if (ext == ".json") return readModelJson(file);
-  if (ext == ".bpt") return readBpt(file);
+  if (ext == ".json" || ext == ".bpt") {
+    try {
+      return ext == ".json" ? readModelJson(file) : readBpt(file);
+    } catch (const std::bad_alloc&) {
+      return ioError(file, "the model is too large: out of memory while reading it");
+    }
+  }
   if (ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs") {
     return Status(ErrorCode::kUnsupported,
                   file.string() + ": STEP/IGES support needs a build with SEAM_WITH_OCCT");

@@ -62,6 +62,50 @@ std::string lineColumn(std::string_view text, size_t offset) {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
+// A scan before parsing: nesting depth and NUL bytes.
+
+/// Deepest nesting of arrays and objects accepted in a model file. A model needs 6 levels (the top object,
+/// "patches", a patch, its rows, a row, a point); deeper text is refused before it is parsed, because nlohmann's
+/// printing of a value for a message recurses once per level and a file nested 80 000 deep overflowed the stack.
+constexpr int kMaxJsonDepth = 256;
+
+/// Rejects what no model file holds and what would harm the parser: a NUL byte anywhere (text after it would be
+/// silently ignored by some readers) and arrays/objects nested deeper than kMaxJsonDepth.
+Status scanJsonText(std::string_view text, std::string_view src) {
+  bool inString = false;
+  int depth = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\0') {
+      return invalidInput(fmt::format("{}: not valid JSON: {}: a NUL byte (JSON text cannot hold one; the file is "
+                                      "binary or damaged)",
+                                      src, lineColumn(text, i)));
+    }
+    if (inString) {
+      if (c == '\\') {
+        ++i;  // the escaped character cannot end the string
+        if (i < text.size() && text[i] == '\0') --i;  // report the NUL on the next round
+      } else if (c == '"') {
+        inString = false;
+      }
+      continue;
+    }
+    if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        return invalidInput(fmt::format("{}: not valid as a model: {}: arrays and objects nested more than {} "
+                                        "deep (a model needs 6 levels)",
+                                        src, lineColumn(text, i), kMaxJsonDepth));
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return Status::ok();
+}
+
+// ---------------------------------------------------------------------------------------------------------------
 // Number literals that overflow a double (1e999). nlohmann rejects them without saying where; we rewrite each
 // into a marker string so that the model reader can report the object and the field that holds it.
 
@@ -139,6 +183,9 @@ std::string withoutExceptionId(const char* what) {
 
 // ---------------------------------------------------------------------------------------------------------------
 // Reading.
+
+/// Largest degree read from a file: degrees are stored as int and degree + 1 (the points it needs) must fit too.
+constexpr long long kMaxDegree = std::numeric_limits<int>::max() - 1;
 
 std::optional<long long> asInteger(const Json& j) {
   if (j.is_number_unsigned()) {
@@ -406,6 +453,11 @@ class ModelReader {
   Status checkDegree(long long degree, int numPoints, const std::string& where,
                      const std::string& dir) const {
     if (degree < 1) return fail(where, fmt::format("{}degree is {}, must be at least 1", dir, degree));
+    if (degree > kMaxDegree) {
+      return fail(where, fmt::format("{}degree {} is too large (at most {}, and at most the number of control "
+                                     "points{} minus 1, here {})",
+                                     dir, degree, kMaxDegree, dir.empty() ? "" : " in that direction", numPoints - 1));
+    }
     if (degree > numPoints - 1) {
       return fail(where, fmt::format("{}degree {} needs at least {} control points{}, found {}", dir, degree,
                                      degree + 1, dir.empty() ? "" : " in that direction", numPoints));
@@ -688,6 +740,7 @@ void appendCurve(std::string& out, const Curve& curve) {
 
 Result<Model> parseModelJson(std::string_view text, std::string_view source) {
   const std::string src(source);
+  if (Status s = scanJsonText(text, src); !s) return s;
   Json root;
   try {
     root = Json::parse(text);
@@ -712,6 +765,8 @@ Result<Model> parseModelJson(std::string_view text, std::string_view source) {
     return invalidInput(src + ": " + e.what());
   }
 }
+
+Status checkJsonText(std::string_view text, std::string_view source) { return scanJsonText(text, source); }
 
 Result<Model> readModelJson(const std::filesystem::path& file) {
   Result<std::string> text = readFile(file);

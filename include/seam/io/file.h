@@ -1,5 +1,7 @@
 #pragma once
-// File helpers shared by every reader and writer.
+// File helpers shared by every reader and writer: the input checks (a regular file of bounded size, so that a FIFO,
+// /dev/zero or a directory is refused instead of blocking or exhausting memory) and the atomic writer.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -8,10 +10,33 @@
 
 namespace seam::io {
 
-/// Reads a whole file; kIoError naming the file when it cannot be read.
-Result<std::string> readFile(const std::filesystem::path& file);
-/// Writes `content` to a temporary file next to `file`, then renames it over `file` (never a partial file).
+/// Largest model file that the text readers (.json, .bpt) load into memory: 256 MiB. A JSON model of 10^6 control
+/// points is about 60 MB; parsing holds several times the file's size in memory, so larger files are refused with a
+/// message instead of running out of memory.
+inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{256} << 20;
+
+/// Largest STEP/IGES file handed to OpenCASCADE: 2 GiB (real assemblies reach a few hundred MB).
+inline constexpr std::uintmax_t kMaxCadFileBytes = std::uintmax_t{2} << 30;
+
+/// Checks that `file` names an existing regular file (symbolic links followed) of at most `maxBytes` bytes, without
+/// opening it. kIoError naming the file otherwise: "cannot read file: no such file", "cannot read file: it is a
+/// directory", "cannot read file: not a regular file (a FIFO)" (or a character device, a block device, a socket),
+/// "cannot read file: too large (N bytes, at most M are read)".
+Status checkInputFile(const std::filesystem::path& file, std::uintmax_t maxBytes = kMaxModelFileBytes);
+
+/// Reads a whole file after checkInputFile (a FIFO or a device is never opened for reading, so it cannot block);
+/// kIoError naming the file when it cannot be read.
+Result<std::string> readFile(const std::filesystem::path& file, std::uintmax_t maxBytes = kMaxModelFileBytes);
+
+/// Checks that `file` may be written: it does not exist yet, or it is a regular file (not a symbolic link, a FIFO,
+/// a device node or a directory, which an atomic rename would silently replace). kIoError naming the file otherwise:
+/// "refusing to replace a symbolic link", "refusing to replace a FIFO", ..., "it is a directory".
+Status checkOutputFile(const std::filesystem::path& file);
+
+/// Writes `content` to a temporary file next to `file` (a short name ".seam-<pid>-<n>.tmp", so that any legal file
+/// name works), then renames it over `file`: never a partial file. Refuses what checkOutputFile refuses.
 Status writeFileAtomically(const std::filesystem::path& file, const std::string& content);
+
 /// Reads a model by extension: .json, .bpt (Newell Bezier patch text format); later .step/.stp/.iges/.igs.
 Result<Model> readModel(const std::filesystem::path& file);
 
