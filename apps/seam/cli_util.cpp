@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <new>
 
 #include "seam/io/file.h"
 #include "seam/io/json.h"
@@ -110,8 +111,12 @@ void printError(std::string_view message) {
   std::cerr << "seam: error: " << message << "\n";
 }
 
-std::optional<Model> loadModel(const std::filesystem::path& file) {
+namespace {
+
+std::optional<Model> loadModelUnguarded(const std::filesystem::path& file) {
   if (isCadFile(file)) {
+    // A directory, a FIFO or a device is refused here with the same words as for .json/.bpt.
+    if (!checkInputPath(file)) return std::nullopt;
 #ifdef SEAM_HAVE_OCCT
     Result<occt::CadImport> cad = occt::readCadFile(file);
     if (!cad) {
@@ -146,9 +151,59 @@ std::optional<Model> loadModel(const std::filesystem::path& file) {
   return std::move(model).value();
 }
 
+}  // namespace
+
+std::optional<Model> loadModel(const std::filesystem::path& file) {
+  try {
+    return loadModelUnguarded(file);
+  } catch (const std::bad_alloc&) {
+    printError(fmt::format("{}: the model is too large: out of memory while reading it", file.string()));
+    return std::nullopt;
+  }
+}
+
+bool checkInputPath(const std::filesystem::path& file) {
+  const Status s = io::checkInputFile(file, isCadFile(file) ? io::kMaxCadFileBytes : io::kMaxModelFileBytes);
+  if (!s) printError(s.message());
+  return s.isOk();
+}
+
+bool checkModelText(const std::filesystem::path& file) {
+  if (lowerExtension(file) != ".json") return true;
+  const Result<std::string> text = io::readFile(file);
+  const Status s = text ? io::checkJsonText(*text, file.string()) : text.status();
+  if (!s) printError(s.message());
+  return s.isOk();
+}
+
+bool checkOutputPath(const std::filesystem::path& in, const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  bool same = fs::exists(out, ec) && fs::exists(in, ec) && fs::equivalent(in, out, ec);
+  if (!same && !ec) {
+    const fs::path a = fs::weakly_canonical(in, ec);
+    const fs::path b = ec ? fs::path() : fs::weakly_canonical(out, ec);
+    same = !ec && a == b;
+  }
+  if (same) {
+    printError(fmt::format("{}: the output would overwrite the input {}; choose another output file", out.string(),
+                           in.string()));
+    return false;
+  }
+  if (Status s = io::checkOutputFile(out); !s) {
+    printError(s.message());
+    return false;
+  }
+  return true;
+}
+
 bool saveModel(const Model& model, const std::filesystem::path& file) {
   const std::string ext = lowerExtension(file);
-  Status st;
+  Status st = io::checkOutputFile(file);  // the STEP/IGES writer renames over the target too
+  if (!st.isOk()) {
+    printError(st.message());
+    return false;
+  }
   if (isCadFile(file)) {
 #ifdef SEAM_HAVE_OCCT
     st = occt::writeCadFile(model, file, *occt::cadFormatOf(file));

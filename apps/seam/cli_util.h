@@ -43,6 +43,16 @@ bool validToleranceOptions(const ToleranceOverrides& overrides);
 /// (the command then exits with kExitBadInput).
 std::optional<Model> loadModel(const std::filesystem::path& file);
 
+/// False (with the message on stderr) when `file` is not a regular file of at most the size its format may have
+/// (io::checkInputFile: kMaxCadFileBytes for STEP/IGES, kMaxModelFileBytes otherwise). loadModel calls it; the
+/// commands that hand a STEP/IGES file to OpenCASCADE directly (the B-rep check and report) call it first.
+bool checkInputPath(const std::filesystem::path& file);
+
+/// For readers outside io::readModel (the expression models of gcn and extend): a .json file that
+/// io::checkJsonText refuses (a NUL byte, nesting deeper than a model can need) or that is not a readable regular
+/// file gets its message on stderr and false; other extensions true.
+bool checkModelText(const std::filesystem::path& file);
+
 /// JSON text: objects indented by two spaces, arrays of numbers/strings on one line, doubles with round-trip
 /// precision, non-finite doubles as null. Ends with a newline.
 std::string jsonText(const OrderedJson& value);
@@ -64,6 +74,12 @@ std::string formatTable(const std::vector<std::string>& header,
 /// Writes a model by extension (.json; .step/.stp/.iges/.igs when built with OpenCASCADE), atomically; on failure
 /// prints the message on stderr and returns false. Every command that writes a model uses it.
 bool saveModel(const Model& model, const std::filesystem::path& file);
+
+/// False (with a message on stderr) when `out` cannot be the output of a command reading `in`: it is the input
+/// itself (std::filesystem::equivalent: the same file under another name, a hard link), or an existing symbolic
+/// link, FIFO, device node or directory (io::checkOutputFile). Every command that writes a file calls it before
+/// doing any work, so that the input is never overwritten.
+bool checkOutputPath(const std::filesystem::path& in, const std::filesystem::path& out);
 
 /// Writes `content` to `file` atomically; on failure prints the message on stderr and returns false.
 bool writeOutputFile(const std::filesystem::path& file, const std::string& content);

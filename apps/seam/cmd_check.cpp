@@ -352,6 +352,7 @@ int runCheck(const CheckOptions& o) {
   }
   if (!validToleranceOptions(o.tol)) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
+  if (isCadFile(o.file) && !checkInputPath(o.file)) return kExitBadInput;  // a directory, FIFO, device: not OCCT's
   if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require);
 #endif
   const std::optional<Model> model = loadModel(o.file);

@@ -24,9 +24,7 @@ void addConvert(CLI::App& app, int& exit) {
   cmd->add_option("OUT", options->out, "Output file (.json, .step/.stp, .iges/.igs)")->required();
   cmd->callback([options, &exit]() {
     const std::filesystem::path in(options->in), out(options->out);
-    std::error_code ec;
-    if (std::filesystem::exists(out, ec) && std::filesystem::equivalent(in, out, ec)) {
-      printError(fmt::format("{}: the output would overwrite the input", out.string()));
+    if (!checkOutputPath(in, out)) {
       exit = kExitBadInput;
       return;
     }

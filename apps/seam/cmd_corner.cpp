@@ -136,6 +136,7 @@ void addCorner(CLI::App& app, int& exit) {
     co.fallback = *fb;
     if (o->maxGap && !(*o->maxGap >= 0.0)) return printError("--max-gap must be a non-negative length");
     co.maxGap = o->maxGap;
+    if (!checkOutputPath(o->file, o->out)) return;
     const std::optional<Model> model = loadModel(o->file);
     if (!model) return;
     bool achieved = false;

@@ -219,6 +219,10 @@ std::string fillTable(const FillResult& fill, const FillCheck* check, const Mode
 }
 
 void runFill(const FillCliOptions& o, int& exit) {
+  if (!checkOutputPath(o.file, o.output)) {
+    exit = kExitBadInput;
+    return;
+  }
   const std::optional<Model> model = loadModel(o.file);
   if (!model) {
     exit = kExitBadInput;

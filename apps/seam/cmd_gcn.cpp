@@ -185,6 +185,7 @@ int runGcn(const GcnCliOptions& o, bool orderGiven) {
     printError(fmt::format("--order {} out of range [0, {}]", o.order, rational::kMaxGcnOrder));
     return kExitBadInput;
   }
+  if (!checkModelText(o.file)) return kExitBadInput;
   auto model = rational::readModelWithExpressions(o.file);
   if (!model) {
     printError(model.status().message());

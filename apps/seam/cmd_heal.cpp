@@ -57,10 +57,17 @@ void addHeal(CLI::App& app, int& exit) {
     if (o->maxAngle && !(*o->maxAngle > 0.0 && *o->maxAngle <= 180.0))
       return printError("--max-angle must be an angle in degrees in (0, 180]");
     ho.maxAngleDeg = o->maxAngle;
+    if (!checkOutputPath(o->file, o->out)) return;
     const std::optional<Model> model = loadModel(o->file);
     if (!model) return;
+    if (model->patches.empty()) {  // only curves, or nothing: the output is the input, unchanged
+      if (!saveModel(*model, o->out)) return;
+      fmt::print("{}: the model has no patches: nothing to heal; wrote {} unchanged\n", o->file, o->out);
+      exit = kExitOk;
+      return;
+    }
     auto res = healModel(*model, ho);
-    if (!res) return printError(res.status().message());
+    if (!res) return printError(fmt::format("{}: {}", o->file, res.status().message()));
     const HealReport& r = res->report;
     if (!saveModel(res->model, o->out)) return;  // .json, .step/.stp, .iges/.igs by extension
     if (o->json) {

@@ -100,6 +100,7 @@ void addJoin(CLI::App& app, int& exit) {
         return printError("--max-displacement must be a non-negative multiple of the patch size");
       jo.maxDisplacementRel = *o->maxDisplacement;
     }
+    if (!checkOutputPath(o->file, o->out)) return;
     const std::optional<Model> model = loadModel(o->file);
     if (!model) return;
     auto res = joinSeam(*model, mv->patch, mv->edge, to->patch, to->edge, jo);

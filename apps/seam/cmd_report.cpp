@@ -24,6 +24,15 @@ namespace seam::cli {
 
 namespace {
 
+/// `name` with every control character (bytes below 0x20 and 0x7f) replaced by '_'.
+std::string objSafeName(std::string name) {
+  for (char& c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) c = '_';
+  }
+  return name;
+}
+
 struct ReportOptions {
   std::string file, out;
   ToleranceOverrides tol;
@@ -72,17 +81,22 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
 
 int runReport(const ReportOptions& o) {
   if (!validToleranceOptions(o.tol)) return kExitBadInput;
+  if (!checkOutputPath(o.file, o.out)) return kExitBadInput;
   report::HtmlReportOptions ro;
   ro.title = "seam report: " + std::filesystem::path(o.file).filename().string();
   ro.maxPlottedSeams = o.maxPlots;
 #ifdef SEAM_HAVE_OCCT
-  if (isCadFile(o.file)) return runBRepReport(o, ro);
+  if (isCadFile(o.file)) {
+    // A directory, a FIFO or a device: the same message as for .json/.bpt (never handed to OpenCASCADE).
+    if (!checkInputPath(o.file)) return kExitBadInput;
+    return runBRepReport(o, ro);
+  }
 #endif
   const std::optional<Model> model = loadModel(o.file);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {
-    printError(fmt::format("{}: the model has no patches", o.file));
-    return kExitBadInput;
+    fmt::print("{}: the model has no patches: nothing to check (no report written)\n", o.file);
+    return kExitOk;
   }
   ModelCheckOptions mo;
   mo.tolerances = o.tol.appliedTo(Tolerances::forModelSize(model->boundingBox().diagonal()));
@@ -120,10 +134,24 @@ void addExportMesh(CLI::App& app, int& exit) {
   cmd->add_option("--per-span", o->perSpan, "Grid cells per Bezier span and direction (default 8)")
       ->check(CLI::Range(1, 1024));
   cmd->callback([o, &exit]() {
-    const std::optional<Model> model = loadModel(o->file);
+    if (!checkOutputPath(o->file, o->out)) {
+      exit = kExitBadInput;
+      return;
+    }
+    std::optional<Model> model = loadModel(o->file);
     if (!model) {
       exit = kExitBadInput;
       return;
+    }
+    // An OBJ line "o <name>" ends at the line break: control characters in a name (a newline would start a
+    // line of its own) are written as '_', with a note.
+    for (Patch& p : model->patches) {
+      const std::string safe = objSafeName(p.name);
+      if (safe == p.name) continue;
+      std::cerr << fmt::format("seam: note: {}: a patch name holds control characters; it is written to the OBJ "
+                               "file as \"{}\" (each replaced by '_')\n",
+                               o->file, safe);
+      p.name = safe;
     }
     report::MeshOptions mo;
     mo.samplesPerSpan = o->perSpan;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -33,11 +34,25 @@ int main(int argc, char** argv) {
       return app.exit(e);
     } catch (const CLI::ParseError& e) {
       std::cout.flush();
+      // "seam xyz": CLI11 says only "A subcommand is required"; name the word and list the commands.
+      if (argc > 1 && argv[1][0] != '-' &&
+          std::none_of(commands.begin(), commands.end(),
+                       [&](const seam::cli::CommandEntry& c) { return c.name == argv[1]; })) {
+        std::string names;
+        for (const seam::cli::CommandEntry& c : commands) names += (names.empty() ? "" : ", ") + c.name;
+        std::cerr << "seam: error: unknown command '" << argv[1] << "' (the commands are: " << names
+                  << ")\nRun 'seam --help' for usage.\n";
+        return kExitBadInput;
+      }
       std::cerr << "seam: error: " << e.what()
                 << "\nRun 'seam --help' or 'seam <command> --help' for usage.\n";
       return kExitBadInput;
     }
     return exitCode;
+  } catch (const std::bad_alloc&) {
+    std::cout.flush();
+    std::cerr << "seam: error: out of memory: the input is too large for this machine\n";
+    return kExitBadInput;
   } catch (const std::exception& e) {
     std::cout.flush();
     std::cerr << "seam: error: " << e.what() << "\n";
