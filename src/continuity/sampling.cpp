@@ -20,6 +20,21 @@ Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, co
   return C.transpose() * II * C;
 }
 
+double chartConditioning(const Vec3& a, const Vec3& b) {
+  const double size = a.squaredNorm() + b.squaredNorm();
+  return size > 0.0 ? a.cross(b).norm() / size : 0.0;
+}
+
+std::optional<Vec3> limitNormal(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, double side) {
+  const Vec3 n = a.cross(b);
+  const double size = a.squaredNorm() + b.squaredNorm();
+  if (n.norm() > kNormalVanishRel * size) return Vec3(n.normalized());
+  const Vec3 dn = da.cross(b) + a.cross(db);
+  const double dsize = 2.0 * (a.norm() + b.norm()) * (da.norm() + db.norm());
+  if (!(dn.norm() > kNormalVanishRel * dsize) || !std::isfinite(dn.norm())) return std::nullopt;
+  return Vec3(side * dn.normalized());
+}
+
 double spectralNorm(const Eigen::Matrix2d& m) {
   const Eigen::Matrix2d s = 0.5 * (m + m.transpose());
   const double tr = 0.5 * (s(0, 0) + s(1, 1));

@@ -3,6 +3,7 @@
 // the B-rep edge check (occt/brep_check.cpp).
 #include <Eigen/Dense>
 #include <functional>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,6 +20,23 @@ inline constexpr int kGoldenIterations = 40;
 /// su, sv and second partials suu, suv, svv, expressed in the orthonormal tangent frame (e1, e2).
 Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, const Vec3& suv, const Vec3& svv,
                              const Vec3& n, const Vec3& e1, const Vec3& e2);
+
+/// A normal N = a x b (a, b tangent vectors of a chart) shorter than this fraction of |a|^2 + |b|^2 is vanishing
+/// (a pole, a collapsed edge): its direction is round-off there, and the sampled routes use its one-sided limit
+/// along the edge instead (limitNormal). 1e-8 keeps the direction noise near 1e-8 rad.
+inline constexpr double kNormalVanishRel = 1e-8;
+/// A chart whose conditioning |a x b| / (|a|^2 + |b|^2) is below this gives curvatures with relative round-off
+/// ~ 1e-16 / conditioning^2: the sampled routes do not measure curvature there (1e-6 relative at the threshold).
+inline constexpr double kCurvatureChartRel = 1e-5;
+
+/// |a x b| / (|a|^2 + |b|^2) (0 for a zero chart): 1/2 for an orthonormal chart, 0 for a degenerate one.
+double chartConditioning(const Vec3& a, const Vec3& b);
+
+/// The unit normal of the chart (a, b) along a curve on which a and b have derivatives da and db: (a x b)/|a x b|
+/// where that is well defined (kNormalVanishRel), else the one-sided limit of the normalised cross product along
+/// the curve, side * N'/|N'| with N' = da x b + a x db (side +1 when the curve leaves the vanishing point, -1 when
+/// it arrives there). nullopt when the limit vanishes too.
+std::optional<Vec3> limitNormal(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, double side);
 
 /// Spectral norm of the symmetric part of m (largest |normal curvature| difference over all directions).
 double spectralNorm(const Eigen::Matrix2d& m);

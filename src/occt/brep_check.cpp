@@ -40,8 +40,6 @@ namespace {
 
 /// Minimum samples along a sampled edge (issue: >= 64 per span).
 constexpr int kMinSamples = 64;
-/// A normal shorter than this fraction of |S_u| |S_v| is treated as vanishing (pole).
-constexpr double kVanishingNormalRel = 1e-12;
 /// Normal curvatures below this / (model size) count as flat when forming relative jumps (as in analyzeSeam).
 constexpr double kFlatCurvatureRatio = 1e-3;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
@@ -54,6 +52,10 @@ constexpr const char* kSampledNote =
     "sampled through the pcurves of the shared B-rep edge (trimmed faces): not certified";
 /// Points per edge polyline (drawings in reports).
 constexpr int kPolylinePoints = 24;
+/// Gauss-Newton steps that move B's partner point to the point of B's edge closest to A's (sampled route), and the
+/// step, relative to B's parameter range, below which the iteration has converged.
+constexpr int kPartnerIterations = 12;
+constexpr double kPartnerStepRel = 1e-15;
 
 Vec3 toVec(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
 Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
@@ -69,6 +71,12 @@ std::string continuityName(GeomAbs_Shape s) {
     case GeomAbs_CN: return "CN";
   }
   return "?";
+}
+
+/// The type name of a pcurve under its trims ("Geom2d_Circle", ...).
+std::string basisName(Handle(Geom2d_Curve) c) {
+  while (const auto t = Handle(Geom2d_TrimmedCurve)::DownCast(c)) c = t->BasisCurve();
+  return c->DynamicType()->Name();
 }
 
 /// The side of the face's parameter box that the edge's pcurve runs along from corner to corner, if any.
@@ -89,13 +97,43 @@ struct FaceSide {
 struct PointData {
   Vec3 point = Vec3::Zero();
   double g0 = 0, g1 = 0, g2 = 0, curvature = 0;
-  bool normalsOk = true;
+  bool normalsOk = true;    // G1 measured (normals or their one-sided limits)
+  bool curvatureOk = true;  // curvatures measured (well-conditioned charts)
 };
 
-/// Measures at edge parameter t (A's pcurve parameter; B's is mapped affinely onto its own range).
+/// B's edge parameter of the point of B's edge closest to A's edge point at t (A's pcurve parameter): from the
+/// affine map of the two pcurve ranges (exact where the edge has SameParameter pcurves), refined by Gauss-Newton
+/// steps on |S_B(c_B(s)) - S_A(c_A(t))|^2 so that the correspondence comes from the geometry, never from the
+/// assumption that both pcurves share the edge's parameter.
+double partnerParameter(const FaceSide& A, const FaceSide& B, double t) {
+  double s = B.first + (t - A.first) / (A.last - A.first) * (B.last - B.first);
+  const gp_Pnt2d uvA = A.pcurve->Value(t);
+  const gp_Pnt p = A.surface->Value(uvA.X(), uvA.Y());
+  const double range = B.last - B.first;
+  for (int it = 0; it < kPartnerIterations; ++it) {
+    gp_Pnt2d uv;
+    gp_Vec2d d;
+    B.pcurve->D1(s, uv, d);
+    gp_Pnt q;
+    gp_Vec su, sv;
+    B.surface->D1(uv.X(), uv.Y(), q, su, sv);
+    const Vec3 c1 = toVec(su) * d.X() + toVec(sv) * d.Y();
+    const double c1n2 = c1.squaredNorm();
+    if (!(c1n2 > 0.0)) break;  // a pole of B's edge: keep the affine partner
+    const double step = (toVec(p) - toVec(q)).dot(c1) / c1n2;
+    const double next = std::clamp(s + step, B.first, B.last);
+    if (!std::isfinite(next)) break;
+    const bool done = std::abs(next - s) <= kPartnerStepRel * range;
+    s = next;
+    if (done) break;
+  }
+  return s;
+}
+
+/// Measures at edge parameter t (A's pcurve parameter; B's partner point by partnerParameter).
 PointData measure(const FaceSide& A, const FaceSide& B, double t) {
   PointData m;
-  const double s = B.first + (t - A.first) / (A.last - A.first) * (B.last - B.first);
+  const double s = partnerParameter(A, B, t);
   gp_Pnt2d uvA, uvB;
   gp_Vec2d dA, dB;
   A.pcurve->D1(t, uvA, dA);
@@ -107,19 +145,26 @@ PointData measure(const FaceSide& A, const FaceSide& B, double t) {
   m.point = toVec(pa);
   m.g0 = (toVec(pa) - toVec(pb)).norm();
   const Vec3 Au = toVec(au), Av = toVec(av), Bu = toVec(bu), Bv = toVec(bv);
-  const Vec3 nA = A.sign * Au.cross(Av), nB = B.sign * Bu.cross(Bv);
-  if (!(nA.norm() > kVanishingNormalRel * Au.norm() * Av.norm()) ||
-      !(nB.norm() > kVanishingNormalRel * Bu.norm() * Bv.norm())) {
-    m.normalsOk = false;
-    return m;
-  }
-  m.g1 = std::atan2(nA.cross(nB).norm(), nA.dot(nB));
+  // Unit normals, or next to a pole their one-sided limits along the edge (derivatives of S_u, S_v along it).
+  auto sideOf = [](double lo, double hi, double x) { return x - lo <= hi - x ? 1.0 : -1.0; };
+  const std::optional<Vec3> uA = seam::detail::limitNormal(
+      Au, Av, toVec(auu) * dA.X() + toVec(auv) * dA.Y(), toVec(auv) * dA.X() + toVec(avv) * dA.Y(),
+      sideOf(A.first, A.last, t));
+  const std::optional<Vec3> uB = seam::detail::limitNormal(
+      Bu, Bv, toVec(buu) * dB.X() + toVec(buv) * dB.Y(), toVec(buv) * dB.X() + toVec(bvv) * dB.Y(),
+      sideOf(B.first, B.last, s));
   const Vec3 T = Au * dA.X() + Av * dA.Y();
-  if (!(T.norm() > 0.0)) {
-    m.normalsOk = false;
+  if (!uA || !uB || !(T.norm() > 0.0)) {
+    m.normalsOk = m.curvatureOk = false;
     return m;
   }
-  const Vec3 nhA = nA.normalized(), nhB = nB.normalized();
+  const Vec3 nhA = A.sign * *uA, nhB = B.sign * *uB;
+  m.g1 = std::atan2(nhA.cross(nhB).norm(), nhA.dot(nhB));
+  if (seam::detail::chartConditioning(Au, Av) < seam::detail::kCurvatureChartRel ||
+      seam::detail::chartConditioning(Bu, Bv) < seam::detail::kCurvatureChartRel) {
+    m.curvatureOk = false;  // next to a pole: curvatures are round-off over a vanishing normal
+    return m;
+  }
   const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
   const Eigen::Matrix2d SA = seam::detail::shapeInFrame(Au, Av, toVec(auu), toVec(auv), toVec(avv), nhA, e1, e2);
   const Eigen::Matrix2d SB = seam::detail::shapeInFrame(Bu, Bv, toVec(buu), toVec(buv), toVec(bvv), nhB, e1, e2);
@@ -154,7 +199,7 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   bool degenerate = false;
   for (const PointData& m : ms) {
     curvRef = std::max(curvRef, m.curvature);
-    degenerate |= !m.normalsOk;
+    degenerate |= !m.curvatureOk;
   }
   auto best = [&](auto get) {
     std::vector<double> v(ms.size());
@@ -173,7 +218,7 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
     rep.g1Worst = at(t);
   }
   {
-    const auto [t, v] = best([](const PointData& m) { return m.normalsOk ? m.g2 : 0.0; });
+    const auto [t, v] = best([](const PointData& m) { return m.curvatureOk ? m.g2 : 0.0; });
     rep.g2Max = rep.g2Sampled = v;
     rep.g2RelMax = rep.g2RelSampled = v / curvRef;
     rep.g2Worst = at(t);
@@ -255,6 +300,14 @@ Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
       if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize)
         return why("the patch does not reproduce the face's surface in its own parameters (a converted analytic "
                    "surface: its pcurves are in angular parameters)");
+      // The B-spline form of the pcurve must keep the pcurve's own parameter (the edge's): a circle or ellipse
+      // becomes a rational B-spline whose parameter differs from the angle by up to ~0.016 rad, and evaluating the
+      // other face at the same parameter would then measure a gap of 2 R sin(error / 2) that is not there.
+      const gp_Pnt2d o = f.pcurve->Value(t);
+      if ((x - toVec(f.surface->Value(o.X(), o.Y()))).norm() > kSameParametrisationRel * modelSize)
+        return why(fmt::format("the pcurve's B-spline form has another parameter than the pcurve itself (a {} "
+                               "converted to a rational B-spline): no common parameter with the other face",
+                               basisName(f.pcurve)));
     }
     return side;
   } catch (const Standard_Failure& e) {
@@ -469,7 +522,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
         A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
         B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
         seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
-        if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
+        if (!BRep_Tool::SameParameter(edge) || !BRep_Tool::SameRange(edge)) {
+          seam.report.notes.push_back("not certified: the edge's pcurves do not share its parameter (no SameParameter "
+                                      "/ SameRange): measured by closest points");
+        } else if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
           const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
           const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
           if (sideA && sideB)
