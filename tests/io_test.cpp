@@ -959,6 +959,11 @@ TEST(FileIo, LongestLegalOutputNameWorks) {
     ASSERT_TRUE(s.isOk()) << s.message();
     EXPECT_EQ(readText(file), "content");
     fs::remove(file);
+    // The temporary name is short and in the same folder (a rename never crosses file systems).
+    const fs::path temp = io::temporaryPathFor(file);
+    EXPECT_EQ(temp.parent_path(), file.parent_path());
+    EXPECT_LT(temp.filename().string().size(), 40u);
+    EXPECT_NE(io::temporaryPathFor(file), temp) << "two calls give two names";
   }
   EXPECT_TRUE(dir.entries().empty());
 }

@@ -38,17 +38,6 @@ std::string lowercase(std::string s) {
 /// of an earlier process with the same id is still there).
 constexpr int kMaxTemporaryAttempts = 100;
 
-/// A short temporary name next to `file` that no other writer (thread or process) uses at the same time. Short on
-/// purpose: a name derived from the output's own name would exceed the file system's limit (255 bytes) for long
-/// but legal output names.
-fs::path temporaryNameFor(const fs::path& file) {
-  static std::atomic<unsigned long> counter{0};
-  const unsigned long n = counter.fetch_add(1);
-  fs::path name = file;
-  name.replace_filename(fmt::format(".seam-{}-{}.tmp", ::getpid(), n));
-  return name;
-}
-
 /// "a FIFO", "a character device", ... for a file type that is neither a regular file nor a directory.
 std::string kindOf(mode_t mode) {
   if (S_ISLNK(mode)) return "a symbolic link";
@@ -77,6 +66,16 @@ int writeAll(int fd, const std::string& content) {
 }
 
 }  // namespace
+
+// Short on purpose: a name derived from the output's own name would exceed the file system's limit (255 bytes)
+// for long but legal output names.
+fs::path temporaryPathFor(const fs::path& file) {
+  static std::atomic<unsigned long> counter{0};
+  const unsigned long n = counter.fetch_add(1);
+  fs::path name = file;
+  name.replace_filename(fmt::format(".seam-{}-{}.tmp", ::getpid(), n));
+  return name;
+}
 
 Status checkInputFile(const fs::path& file, std::uintmax_t maxBytes) {
   struct stat st {};
@@ -150,7 +149,7 @@ Status writeFileAtomically(const fs::path& file, const std::string& content) {
   fs::path temp;
   int fd = -1;
   for (int attempt = 0; attempt < kMaxTemporaryAttempts && fd < 0; ++attempt) {
-    temp = temporaryNameFor(file);
+    temp = temporaryPathFor(file);
     fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0 && errno != EEXIST) break;
   }

@@ -33,6 +33,11 @@ Result<std::string> readFile(const std::filesystem::path& file, std::uintmax_t m
 /// "refusing to replace a symbolic link", "refusing to replace a FIFO", ..., "it is a directory".
 Status checkOutputFile(const std::filesystem::path& file);
 
+/// A short temporary name in the folder of `file`, unique within this process and across processes
+/// (".seam-<pid>-<n>.tmp"): short on purpose, so that a legal output name of up to 255 bytes still works. For writers
+/// that rename a temporary over their output (the STEP/IGES writer); create it with O_EXCL.
+std::filesystem::path temporaryPathFor(const std::filesystem::path& file);
+
 /// Writes `content` to a temporary file next to `file` (a short name ".seam-<pid>-<n>.tmp", so that any legal file
 /// name works), then renames it over `file`: never a partial file. Refuses what checkOutputFile refuses.
 Status writeFileAtomically(const std::filesystem::path& file, const std::string& content);
