@@ -3,8 +3,13 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <signal.h>
+
+#include <array>
+#include <chrono>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "seam/occt/cad_io.h"
@@ -20,8 +25,36 @@ struct ParamBox {
 /// kIsoEdgeRelTol of the box size; with `wholeSide`, only when it also runs from one corner of that side to the other.
 std::optional<Edge> boxSideOf(const TopoDS_Edge& edge, const TopoDS_Face& face, const ParamBox& box, bool wholeSide);
 
-/// Reads a STEP or IGES file into one shape; errors name the file.
-Result<TopoDS_Shape> readShape(const std::filesystem::path& file, CadFormat format);
+/// While alive, OpenCASCADE's handlers catch SIGSEGV, SIGBUS, SIGILL and SIGFPE (floating-point traps off): a crash
+/// inside OpenCASCADE, under a try block that starts with OCC_CATCH_SIGNALS (compiled with OCC_CONVERT_SIGNALS, as
+/// cad_io.cpp is), jumps back there and is thrown as a Standard_Failure of kind OSD_Signal. On destruction the
+/// previous handlers and trap mask come back, so a crash in seam's own code still crashes (and sanitizers still
+/// report). Only the outermost of nested guards installs; the handlers are process-wide, so no other thread may run
+/// OpenCASCADE unguarded meanwhile. See docs/reliability.md, "OpenCASCADE guards".
+class OcctSignalGuard {
+ public:
+  OcctSignalGuard();
+  ~OcctSignalGuard();
+  OcctSignalGuard(const OcctSignalGuard&) = delete;
+  OcctSignalGuard& operator=(const OcctSignalGuard&) = delete;
+
+ private:
+  bool outer_ = false;
+  int traps_ = 0;                          ///< floating-point exceptions that trapped before
+  std::array<struct sigaction, 4> saved_{};  ///< previous handlers of the guarded signals
+};
+
+/// Upper bound on OpenCASCADE's transfer of a file's roots into shapes (shape healing included): a corrupt file can
+/// keep the healing busy for minutes; every real file seam has met transfers in a few seconds.
+constexpr std::chrono::seconds kTransferTimeLimit{60};
+
+/// Reads a STEP or IGES file into one shape; errors name the file. Roots that fail to transfer, and entities the
+/// reader could not load, are counted in `warnings`; without `warnings`, they are kept for the next convertFaces of
+/// the same file on this thread (which puts them first in CadImport::warnings). A transfer running past `timeLimit`
+/// is an error.
+Result<TopoDS_Shape> readShape(const std::filesystem::path& file, CadFormat format,
+                               std::vector<std::string>* warnings = nullptr,
+                               std::chrono::seconds timeLimit = kTransferTimeLimit);
 
 /// One patch per face, in the given order (faces that fail are skipped with a warning naming them; CadImport::faces
 /// stays aligned with the patches, and CadFace::patch is "F<n>" with n the face's 1-based position).

@@ -1,6 +1,12 @@
+// OCC_CATCH_SIGNALS converts a signal raised inside OpenCASCADE into a Standard_Failure only when this macro is set
+// (Debian's OpenCASCADE is built with it; see docs/reliability.md, "OpenCASCADE guards").
+#ifndef OCC_CONVERT_SIGNALS
+#define OCC_CONVERT_SIGNALS
+#endif
 #include "seam/occt/cad_io.h"
 
 #include "occt/cad_internal.h"
+#include "seam/io/file.h"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -29,9 +35,17 @@
 #include <Interface_Static.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
+#include <Message_ProgressIndicator.hxx>
+#include <Message_ProgressRange.hxx>
+#include <OSD.hxx>
+#include <OSD_Signal.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_InterfaceModel.hxx>
 #include <Precision.hxx>
 #include <STEPControl_Reader.hxx>
+#include <XSControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -47,10 +61,16 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cfenv>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <fstream>
+#include <iterator>
+#include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 
 namespace seam::occt {
 
@@ -82,6 +102,106 @@ void silenceOcct() {
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
+}
+
+/// Signals converted into Standard_Failure by detail::OcctSignalGuard (SIGFPE is caught too, with traps off it
+/// should not be raised).
+constexpr std::array<int, 4> kGuardedSignals{SIGSEGV, SIGBUS, SIGILL, SIGFPE};
+/// Nesting depth of OcctSignalGuard in this thread (only the outermost installs handlers).
+thread_local int guardDepth = 0;
+
+/// Warnings of the last readShape on this thread that was given no `warnings` list (the B-rep check reads the shape
+/// and then converts its faces): convertFaces of the same file puts them first in CadImport::warnings.
+thread_local std::pair<fs::path, std::vector<std::string>> pendingReadWarnings;
+
+/// True when the failure is a signal caught inside OpenCASCADE (a crash, converted by OcctSignalGuard).
+bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
+
+/// Stops OpenCASCADE's progress-aware loops (the transfer, shape healing) once a deadline has passed.
+class DeadlineIndicator : public Message_ProgressIndicator {
+ public:
+  explicit DeadlineIndicator(std::chrono::seconds limit) : deadline_(std::chrono::steady_clock::now() + limit) {}
+  Standard_Boolean UserBreak() override {
+    if (std::chrono::steady_clock::now() > deadline_) expired_ = true;
+    return expired_;
+  }
+  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
+  [[nodiscard]] bool expired() const { return expired_; }
+
+ private:
+  std::chrono::steady_clock::time_point deadline_;
+  bool expired_ = false;
+};
+
+/// OpenCASCADE treats magnitudes beyond Precision::Infinite() (2e100) as infinite and its shape healing can run for
+/// minutes on them (issue 15): a STEP or IGES file holding a real of magnitude 1e100 or more (or one that overflows,
+/// like 1E+999) is refused before OpenCASCADE sees it. No CAD coordinate, weight or knot comes near.
+constexpr double kMaxCadReal = 1e100;
+/// Exponents below this cannot reach kMaxCadReal with any sensible mantissa: they are not parsed at all.
+constexpr int kMinSuspectExponent = 80;
+/// IGES: fixed 80-column records; the data of the parameter section ('P' in column 73) is in columns 1 to 64.
+constexpr size_t kIgesSectionColumn = 72;
+constexpr size_t kIgesDataColumns = 64;
+
+/// The first real in `text` (parameter data of a STEP or IGES file) whose magnitude is at least kMaxCadReal or not
+/// finite; its text is returned.
+std::optional<std::string> hugeReal(std::string_view text) {
+  for (size_t i = 1; i + 1 < text.size(); ++i) {
+    const char c = text[i];
+    if (c != 'E' && c != 'e' && c != 'D' && c != 'd') continue;
+    const char before = text[i - 1];
+    if (!std::isdigit(static_cast<unsigned char>(before)) && before != '.') continue;
+    size_t j = i + 1;
+    if (text[j] == '+') ++j;
+    int exponent = 0;
+    size_t digits = 0;
+    for (; j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])); ++j, ++digits)
+      exponent = std::min(exponent * 10 + (text[j] - '0'), 100000);
+    if (digits == 0 || exponent < kMinSuspectExponent) continue;
+    size_t start = i;
+    while (start > 0 && (std::isdigit(static_cast<unsigned char>(text[start - 1])) || text[start - 1] == '.' ||
+                         text[start - 1] == '-' || text[start - 1] == '+'))
+      --start;
+    std::string token(text.substr(start, j - start));
+    std::replace_if(token.begin(), token.end(), [](char x) { return x == 'D' || x == 'd'; }, 'E');
+    const double v = std::strtod(token.c_str(), nullptr);
+    if (!(std::abs(v) < kMaxCadReal)) return std::string(text.substr(start, j - start));
+  }
+  return std::nullopt;
+}
+
+/// Refuses a STEP or IGES file holding a real beyond kMaxCadReal (STEP: outside quoted strings; IGES: the
+/// parameter data section).
+Status checkReals(const fs::path& file, CadFormat format) {
+  std::ifstream is(file, std::ios::binary);
+  if (!is) return {ErrorCode::kIoError, fmt::format("{}: cannot read the file", file.string())};
+  const std::string all((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
+  std::string data;
+  data.reserve(all.size());
+  if (format == CadFormat::kStep) {
+    bool quoted = false;
+    for (char c : all) {
+      if (c == '\'') quoted = !quoted;
+      data.push_back(quoted ? ' ' : c);
+    }
+  } else {
+    size_t pos = 0;
+    while (pos < all.size()) {
+      size_t end = all.find('\n', pos);
+      if (end == std::string::npos) end = all.size();
+      std::string_view line(all.data() + pos, end - pos);
+      if (line.size() > kIgesSectionColumn && line[kIgesSectionColumn] == 'P') {
+        data.append(line.substr(0, kIgesDataColumns));
+        data.push_back(' ');
+      }
+      pos = end + 1;
+    }
+  }
+  if (const std::optional<std::string> r = hugeReal(data))
+    return invalidInput(fmt::format("{}: the real {} is beyond +-{:g}, which OpenCASCADE treats as infinite; the file "
+                                    "is corrupt (refused before shape healing)",
+                                    file.string(), *r, kMaxCadReal));
+  return Status::ok();
 }
 
 Status ioError(const fs::path& file, const std::string& what) {
@@ -169,6 +289,32 @@ bool naturallyBounded(const TopoDS_Face& face, const detail::ParamBox& box, int&
 }  // namespace
 
 namespace detail {
+Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vector<std::string>* warnings,
+                               std::chrono::seconds timeLimit);
+}  // namespace detail
+
+namespace {
+
+/// Reads the written temporary file `temp` back and checks that it holds `faces` faces (errors name `file`).
+Status verifyWritten(const fs::path& temp, const fs::path& file, CadFormat format, int faces) {
+  std::vector<std::string> warnings;
+  Result<TopoDS_Shape> back = detail::readShape(temp, format, &warnings, detail::kTransferTimeLimit);
+  if (!back)
+    return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
+                                    file.string(), back.status().message()));
+  int n = 0;
+  for (TopExp_Explorer ex(*back, TopAbs_FACE); ex.More(); ex.Next()) ++n;
+  if (n != faces)
+    return invalidInput(fmt::format("{}: OpenCASCADE wrote {} faces for {} patches (it drops surfaces it cannot "
+                                    "represent: huge or tiny coordinates or knots, all control points equal); "
+                                    "nothing written",
+                                    file.string(), n, faces));
+  return Status::ok();
+}
+
+}  // namespace
+
+namespace detail {
 
 std::optional<Edge> boxSideOf(const TopoDS_Edge& edge, const TopoDS_Face& face, const ParamBox& box, bool wholeSide) {
   double f = 0.0, l = 0.0;
@@ -197,35 +343,97 @@ std::optional<Edge> boxSideOf(const TopoDS_Edge& edge, const TopoDS_Face& face, 
   return std::nullopt;
 }
 
-/// Reads the file into one shape (STEP or IGES), with OpenCASCADE's errors turned into messages.
-Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format) {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return ioError(file, "cannot read: no such file");
-  silenceOcct();
-  try {
-    if (format == CadFormat::kStep) {
-      STEPControl_Reader reader;
-      const IFSelect_ReturnStatus st = reader.ReadFile(file.c_str());
-      if (st != IFSelect_RetDone) return Status(ErrorCode::kInvalidInput, fmt::format("{}: not a readable STEP file", file.string()));
-      if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
-        return Status(ErrorCode::kInvalidInput,
-                      fmt::format("{}: the STEP file holds no shape or surface that can be transferred", file.string()));
-      return reader.OneShape();
-    }
-    IGESControl_Controller::Init();
-    IGESControl_Reader reader;
-    const IFSelect_ReturnStatus st = reader.ReadFile(file.c_str());
-    if (st != IFSelect_RetDone) return Status(ErrorCode::kInvalidInput, fmt::format("{}: not a readable IGES file", file.string()));
-    if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
-      return Status(ErrorCode::kInvalidInput,
-                    fmt::format("{}: the IGES file holds no shape or surface that can be transferred", file.string()));
-    return reader.OneShape();
-  } catch (const Standard_Failure& f) {
-    return Status(ErrorCode::kInvalidInput,
-                  fmt::format("{}: OpenCASCADE failed to read the file: {}", file.string(), f.GetMessageString()));
-  }
+OcctSignalGuard::OcctSignalGuard() {
+  if (guardDepth++ > 0) return;
+  outer_ = true;
+  // OSD::SetSignal replaces the handlers of many signals (SIGINT, SIGHUP, ...): all are saved, and all but the
+  // guarded ones put back at once (Ctrl-C still ends seam).
+  std::array<struct sigaction, NSIG> before{};
+  for (int sig = 1; sig < NSIG; ++sig) ::sigaction(sig, nullptr, &before[static_cast<size_t>(sig)]);
+  traps_ = fegetexcept();
+  OSD::SetSignal(OSD_SignalMode_Set, false);
+  for (int sig = 1; sig < NSIG; ++sig)
+    if (std::find(kGuardedSignals.begin(), kGuardedSignals.end(), sig) == kGuardedSignals.end())
+      ::sigaction(sig, &before[static_cast<size_t>(sig)], nullptr);  // SIGKILL/SIGSTOP: refused, never changed
+  for (size_t k = 0; k < kGuardedSignals.size(); ++k) saved_[k] = before[static_cast<size_t>(kGuardedSignals[k])];
 }
 
+OcctSignalGuard::~OcctSignalGuard() {
+  --guardDepth;
+  if (!outer_) return;
+  for (size_t k = 0; k < kGuardedSignals.size(); ++k) ::sigaction(kGuardedSignals[k], &saved_[k], nullptr);
+  fedisableexcept(FE_ALL_EXCEPT);
+  if (traps_ != 0) feenableexcept(traps_);
+}
+
+/// Reads the file into one shape (STEP or IGES), with OpenCASCADE's errors, crashes and overlong transfers turned
+/// into messages.
+Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vector<std::string>* warnings,
+                               std::chrono::seconds timeLimit) {
+  if (Status st = io::checkInputFile(file, io::kMaxCadFileBytes); !st) return st;  // a FIFO, a directory, too large
+  if (Status st = checkReals(file, format); !st) return st;
+  silenceOcct();
+  const char* kind = format == CadFormat::kStep ? "STEP" : "IGES";
+  const std::string name = file.string();
+  OcctSignalGuard guard;
+  try {
+    OCC_CATCH_SIGNALS
+    if (format == CadFormat::kIges) IGESControl_Controller::Init();
+    std::unique_ptr<XSControl_Reader> reader;
+    if (format == CadFormat::kStep)
+      reader = std::make_unique<STEPControl_Reader>();
+    else
+      reader = std::make_unique<IGESControl_Reader>();
+    const IFSelect_ReturnStatus st = reader->ReadFile(file.c_str());
+    if (st != IFSelect_RetDone) return invalidInput(fmt::format("{}: not a readable {} file", name, kind));
+    // Entities the reader could not load (a truncated or corrupted file) are dropped by OpenCASCADE: count them.
+    // (Interface_InterfaceModel::IsErrorEntity; WS()->ModelCheckList() throws on valid IGES files.)
+    int failedEntities = 0;
+    const Handle(Interface_InterfaceModel) model = reader->Model();
+    for (int k = 1; k <= model->NbEntities(); ++k)
+      if (model->IsErrorEntity(k)) ++failedEntities;
+    // The reader stops at an entity it cannot parse (OpenCASCADE catches its own crash there, once the guard's
+    // handlers are in place) and keeps what it loaded before: that partial model is not the file.
+    if (const Handle(Interface_Check)& global = model->GlobalCheck(); global->HasFailed())
+      return invalidInput(fmt::format("{}: OpenCASCADE's {} reader reports \"{}\" ({} entities loaded); the file is "
+                                      "corrupt or truncated",
+                                      name, kind, global->CFail(1), model->NbEntities()));
+    const int roots = reader->NbRootsForTransfer();
+    const Handle(DeadlineIndicator) deadline = new DeadlineIndicator(timeLimit);
+    const int transferred = reader->TransferRoots(deadline->Start());
+    if (deadline->expired())
+      return invalidInput(fmt::format("{}: OpenCASCADE's transfer of the {} roots (shape healing) was stopped after "
+                                      "{} s; the file is probably corrupt (huge or inconsistent values)",
+                                      name, kind, timeLimit.count()));
+    if (transferred == 0 || reader->NbShapes() == 0)
+      return invalidInput(fmt::format("{}: the {} file holds no shape or surface that can be transferred{}", name,
+                                      kind,
+                                      failedEntities > 0
+                                          ? fmt::format(" ({} entities failed to load: truncated or corrupt?)",
+                                                        failedEntities)
+                                          : std::string()));
+    std::vector<std::string> pending;
+    if (warnings == nullptr) warnings = &pending;
+    {
+      if (failedEntities > 0)
+        warnings->push_back(fmt::format("{}: {} entities of the {} file failed to load (truncated or corrupt?); "
+                                        "the shapes that refer to them are missing or incomplete",
+                                        name, failedEntities, kind));
+      if (transferred < roots)
+        warnings->push_back(fmt::format("{}: only {} of {} root entities transferred to shapes; the rest of the model "
+                                        "is missing",
+                                        name, transferred, roots));
+    }
+    // Without `warnings` (the B-rep check), they go with the faces of this file to convertFaces on this thread.
+    pendingReadWarnings = {file, std::move(pending)};
+    return reader->OneShape();
+  } catch (const Standard_Failure& f) {
+    if (isSignal(f))
+      return invalidInput(fmt::format("{}: OpenCASCADE crashed reading the {} file ({}); the file is corrupt",
+                                      name, kind, f.GetMessageString()));
+    return invalidInput(fmt::format("{}: OpenCASCADE failed to read the file: {}", name, f.GetMessageString()));
+  }
+}
 
 }  // namespace detail
 
@@ -240,23 +448,50 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
   const std::optional<CadFormat> format = cadFormatOf(file);
   if (!format)
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
-  Result<TopoDS_Shape> shape = detail::readShape(file, *format);
+  std::vector<std::string> readWarnings;
+  Result<TopoDS_Shape> shape = detail::readShape(file, *format, &readWarnings);
   if (!shape) return shape.status();
   std::vector<TopoDS_Face> faces;
   for (TopExp_Explorer ex(*shape, TopAbs_FACE); ex.More(); ex.Next()) faces.push_back(TopoDS::Face(ex.Current()));
-  return detail::convertFaces(file, faces, options);
+  Result<CadImport> out = detail::convertFaces(file, faces, options);
+  if (out) out->warnings.insert(out->warnings.begin(), readWarnings.begin(), readWarnings.end());
+  return out;
 }
 
 namespace detail {
+
+Result<CadImport> convertFacesUnguarded(const fs::path& file, const std::vector<TopoDS_Face>& faces,
+                                        const CadReadOptions& options, int& current);
 
 Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Face>& faces,
                                const CadReadOptions& options) {
   CadImport out;
   if (faces.empty())
     return Status(ErrorCode::kInvalidInput, fmt::format("{}: the file contains no faces or surfaces", file.string()));
+  // A crash inside OpenCASCADE (a corrupt face) ends the conversion with an error: the state it leaves is not
+  // trusted for the other faces.
+  OcctSignalGuard guard;
+  int current = 0;  // the face being converted, for the message
+  try {
+    OCC_CATCH_SIGNALS
+    Result<CadImport> out = convertFacesUnguarded(file, faces, options, current);
+    if (out && pendingReadWarnings.first == file)
+      out->warnings.insert(out->warnings.begin(), pendingReadWarnings.second.begin(), pendingReadWarnings.second.end());
+    pendingReadWarnings = {};
+    return out;
+  } catch (const Standard_Failure& f) {
+    return invalidInput(fmt::format("{}: face {}: OpenCASCADE {}: {}", file.string(), current,
+                                    isSignal(f) ? "crashed (the file is corrupt)" : "failed", f.GetMessageString()));
+  }
+}
+
+Result<CadImport> convertFacesUnguarded(const fs::path& file, const std::vector<TopoDS_Face>& faces,
+                                        const CadReadOptions& options, int& current) {
+  CadImport out;
   // Model size for the approximation tolerance: the parameter-box corners of every face, evaluated.
   BoundingBox box;
   for (const TopoDS_Face& f : faces) {
+    ++current;
     try {
       double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
       BRepTools::UVBounds(f, u0, u1, v0, v1);
@@ -267,14 +502,15 @@ Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Fa
           const gp_Pnt p = s->Value(u, v);
           box.add(Vec3(p.X(), p.Y(), p.Z()));
         }
-    } catch (const Standard_Failure&) {
+    } catch (const Standard_Failure& failure) {
+      if (isSignal(failure)) throw;
     }
   }
   const double approxTol = options.approximationRelTol * std::max(box.empty() ? 1.0 : box.diagonal(), 1e-300);
 
   int index = 0;
   for (const TopoDS_Face& face : faces) {
-    ++index;
+    current = ++index;
     const std::string name = fmt::format("F{}", index);
     CadFace info;
     info.patch = name;
@@ -341,6 +577,7 @@ Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Fa
       out.model.patches.push_back({name, PatchKind::kBSpline, std::move(s).value()});
       out.faces.push_back(info);
     } catch (const Standard_Failure& f) {
+      if (isSignal(f)) throw;
       // One unreadable face does not lose the model: it is skipped, and said so.
       out.warnings.push_back(fmt::format("{}: face {} ({}) skipped: OpenCASCADE failed: {}", file.string(), index,
                                          info.surfaceType, f.GetMessageString()));
@@ -359,7 +596,9 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
   const double tol = options.sewingTolerance.value_or(1e-6 * model.boundingBox().diagonal());
   const fs::path temp = file.parent_path() / fmt::format(".{}.seam-tmp-{}{}", file.stem().string(), ::getpid(),
                                                           file.extension().string());
+  detail::OcctSignalGuard guard;
   try {
+    OCC_CATCH_SIGNALS
     std::vector<TopoDS_Face> faces;
     for (const Patch& p : model.patches) {
       if (p.surface.dim() != 3)
@@ -421,7 +660,15 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
   } catch (const Standard_Failure& f) {
     std::error_code ec;
     fs::remove(temp, ec);
-    return ioError(file, std::string("OpenCASCADE failed: ") + f.GetMessageString());
+    return invalidInput(fmt::format("{}: OpenCASCADE {} writing the model: {}", file.string(),
+                                    isSignal(f) ? "crashed" : "failed", f.GetMessageString()));
+  }
+  // What was written is read back: OpenCASCADE drops faces it cannot represent (knots near +-1e307, all control
+  // points equal, coordinates near 1e+-300) without an error.
+  if (Status st = verifyWritten(temp, file, format, static_cast<int>(model.patches.size())); !st) {
+    std::error_code ec;
+    fs::remove(temp, ec);
+    return st;
   }
   std::error_code ec;
   fs::rename(temp, file, ec);
