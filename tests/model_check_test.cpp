@@ -429,5 +429,121 @@ TEST(TeaSet, TeaspoonHasThreeSmallGaps) {
   EXPECT_NEAR((gaps[{13, 15}]), 0.0007, 0.0001);
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// Issue 15: extreme values and duplicated faces.
+
+/// A bilinear patch over [x0, x0 + size] x [0, size] in z = 0 (weights optional).
+Patch flatPatch(const std::string& name, double x0, double size, VecX weights = {}) {
+  Matrix pts(4, 3);
+  pts << x0, 0, 0, x0, size, 0, x0 + size, 0, 0, x0 + size, size, 0;
+  return {name, PatchKind::kBSpline,
+          BSplineSurface::create(1, 1, {0, 0, 1, 1}, {0, 0, 1, 1}, 2, 2, pts, std::move(weights)).value()};
+}
+
+TEST(ModelCheckExtreme, WeightsNear1e308AreRefusedNotLooped) {
+  // Weights of 1e308 overflow the homogeneous coordinates: the edges are not finite. check used to loop in the
+  // spatial hash until memory ran out; now it refuses with a message naming the patch and the edge.
+  Model m;
+  VecX w(4);
+  w << 1e308, 1e308, 1e308, 1e308;
+  m.patches.push_back(flatPatch("A", 0.0, 2.0, w));
+  m.patches.push_back(flatPatch("B", 2.0, 2.0));
+  const Result<ModelCheckReport> r = checkModel(m);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_NE(r.status().message().find("patch \"A\""), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find("not finite"), std::string::npos) << r.status().message();
+}
+
+TEST(ModelCheckExtreme, CoordinatesNear1e300StillPairAndFindCorners) {
+  // Two patches sharing an edge, of size 1e300 translated by 1e307: the hash keys are computed in a scaled frame, so
+  // the shared edge is still found (independent route: the patches are built to share x = x0 + size).
+  {
+    Model m;
+    const double scale = 1e300, x0 = 1e307;
+    m.patches.push_back(flatPatch("A", x0, scale));
+    m.patches.push_back(flatPatch("B", x0 + scale, scale));
+    const Result<ModelCheckReport> r = checkModel(m);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->seams.size(), 1u) << scale;
+    EXPECT_EQ(r->seams[0].pair.a, (EdgeRef{0, Edge::U1}));
+    EXPECT_EQ(r->seams[0].pair.b, (EdgeRef{1, Edge::U0}));
+    EXPECT_EQ(r->freeEdges.size(), 6u);
+    // The two shared corners are vertices of two patches each.
+    int twoPatchVertices = 0;
+    for (const ModelCorner& c : r->corners) twoPatchVertices += c.report.corners.size() == 2 ? 1 : 0;
+    EXPECT_EQ(twoPatchVertices, 2) << scale;
+  }
+  // Size 1e-300: below any distance tolerance (every edge collapses); checked without overflow or a hang.
+  Model tiny;
+  tiny.patches.push_back(flatPatch("A", 0.0, 1e-300));
+  tiny.patches.push_back(flatPatch("B", 1e-300, 1e-300));
+  EXPECT_TRUE(checkModel(tiny).isOk());
+}
+
+TEST(ModelCheckExtreme, SubnormalKnotsDoNotOverflowTheCornerGrid) {
+  // Knots near 5e-324 and points near 1e-320: the corner tolerance is subnormal; keys stay in range (UBSan).
+  Model m;
+  for (int k = 0; k < 2; ++k) {
+    Matrix pts(4, 3);
+    const double x0 = k * 1e-320;
+    pts << x0, 0, 0, x0, 1e-320, 0, x0 + 1e-320, 0, 0, x0 + 1e-320, 1e-320, 0;
+    const std::vector<double> knots{0, 0, 5e-324, 5e-324};
+    m.patches.push_back(
+        {k == 0 ? "A" : "B", PatchKind::kBSpline, BSplineSurface::create(1, 1, knots, knots, 2, 2, pts).value()});
+  }
+  const Result<ModelCheckReport> r = checkModel(m);
+  if (r.isOk()) {
+    EXPECT_LE(r->corners.size(), 8u);
+  } else {
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+  }
+}
+
+TEST(ModelCheckCoincident, IdenticalPatchesAreReportedAsCoincidentEdgesNotPairedQuadratically) {
+  // N copies of one patch (a duplicated face): every edge has N - 1 coincident partners. The 4 groups are reported
+  // with all N edges each; only the first two copies of each edge are paired (one seam per edge), so the
+  // pairing stays O(N log N).
+  constexpr int kCopies = 2000;
+  Model m;
+  for (int k = 0; k < kCopies; ++k) m.patches.push_back(flatPatch("P" + std::to_string(k), 0.0, 1.0));
+  ModelCheckOptions o;
+  o.analyzeCorners = false;
+  const Result<ModelCheckReport> r = checkModel(m, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_EQ(r->coincidentEdges.size(), 4u);
+  for (const CoincidentEdges& c : r->coincidentEdges) {
+    ASSERT_EQ(c.edges.size(), static_cast<size_t>(kCopies));
+    EXPECT_TRUE(std::is_sorted(c.edges.begin(), c.edges.end()));
+    for (const EdgeRef& e : c.edges) EXPECT_EQ(e.edge, c.edges.front().edge);
+  }
+  EXPECT_EQ(r->summary.coincidentEdgeGroups, 4);
+  EXPECT_EQ(r->seams.size(), 4u);  // copies 0 and 1 of each edge
+  for (const ModelSeam& s : r->seams) {
+    EXPECT_EQ(s.pair.a.patch, 0);
+    EXPECT_EQ(s.pair.b.patch, 1);
+  }
+  EXPECT_TRUE(r->freeEdges.empty());
+}
+
+TEST(ModelCheckCoincident, TwoCoincidentEdgesAreAnOrdinarySeam) {
+  // Exactly two coincident edges are a seam, not a defect; a third copy makes a group of three.
+  Model m;
+  m.patches.push_back(flatPatch("A", 0.0, 1.0));
+  m.patches.push_back(flatPatch("B", 1.0, 1.0));
+  Result<ModelCheckReport> r = checkModel(m);
+  ASSERT_TRUE(r.isOk());
+  EXPECT_TRUE(r->coincidentEdges.empty());
+  EXPECT_EQ(r->seams.size(), 1u);
+  m.patches.push_back(flatPatch("B2", 1.0, 1.0));  // B duplicated
+  r = checkModel(m);
+  ASSERT_TRUE(r.isOk());
+  ASSERT_FALSE(r->coincidentEdges.empty());
+  const std::vector<EdgeRef> shared{{0, Edge::U1}, {1, Edge::U0}, {2, Edge::U0}};
+  bool found = false;
+  for (const CoincidentEdges& c : r->coincidentEdges) found = found || c.edges == shared;
+  EXPECT_TRUE(found);
+}
+
 }  // namespace
 }  // namespace seam

@@ -227,6 +227,19 @@ std::string edgeLists(const Model& m, const ModelCheckReport& r) {
   for (const DegenerateEdge& d : r.degenerateEdges)
     out += fmt::format("  {}:{} at {}\n", patchName(m, d.edge.patch), edgeName(d.edge.edge),
                        formatVector(d.point.data(), 3));
+  if (!r.coincidentEdges.empty()) {  // duplicated faces: listed only when there are some
+    constexpr size_t kNamesShown = 8;  // per group; a group can hold thousands of edges
+    out += fmt::format("\ncoincident edges / duplicated faces ({} groups; only the first two edges of each are "
+                       "paired)\n",
+                       r.coincidentEdges.size());
+    for (const CoincidentEdges& c : r.coincidentEdges) {
+      out += fmt::format("  {} edges at {}:", c.edges.size(), formatVector(c.point.data(), 3));
+      for (size_t k = 0; k < std::min(c.edges.size(), kNamesShown); ++k)
+        out += fmt::format(" {}:{}", patchName(m, c.edges[k].patch), edgeName(c.edges[k].edge));
+      if (c.edges.size() > kNamesShown) out += fmt::format(" ... and {} more", c.edges.size() - kNamesShown);
+      out += "\n";
+    }
+  }
   return out;
 }
 
@@ -432,11 +445,19 @@ int runCheck(const CheckOptions& o) {
       degenerate.push_back({{"patch", patchName(*model, d.edge.patch)},
                             {"edge", std::string(edgeName(d.edge.edge))},
                             {"point", point(d.point)}});
+    OrderedJson coincident = OrderedJson::array();
+    for (const CoincidentEdges& c : report.coincidentEdges) {
+      OrderedJson edges = OrderedJson::array();
+      for (const EdgeRef& e : c.edges)
+        edges.push_back({{"patch", patchName(*model, e.patch)}, {"edge", std::string(edgeName(e.edge))}});
+      coincident.push_back({{"point", point(c.point)}, {"edges", edges}});
+    }
     printJson(OrderedJson{{"tolerances", tolerancesJson(report.tolerances, pairing)},
                           {"seams", seams},
                           {"corners", corners},
                           {"free_edges", free},
                           {"degenerate_edges", degenerate},
+                          {"coincident_edges", coincident},
                           {"summary", summaryJson(report, require)}});
   } else {
     std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}\n\n", o.file,

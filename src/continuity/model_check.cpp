@@ -114,6 +114,11 @@ constexpr double kMaxClaimedFraction = 0.5;
 /// An edge whose bounding box covers more grid cells than this is tested against every edge by bounding boxes
 /// instead (a few very long edges must not blow up the index).
 constexpr long kMaxCellsPerEdge = 4096;
+/// Doubles below this magnitude that are integers are exact (2^52): quantised keys are compared exactly.
+constexpr double kExactIntegerDouble = 4503599627370496.0;
+/// Largest cell index per axis of the corner-proximity grid (keys stay far from overflowing a long when a neighbour
+/// offset is added; a wider model gets coarser cells, same result).
+constexpr double kMaxCornerCells = 1e12;
 /// Relative slack on parameters: an overlap reaching within this fraction of an edge's domain length (plus the
 /// pair's distance) of its end covers that end.
 constexpr double kParamRelSlack = 1e-9;
@@ -126,6 +131,7 @@ struct EdgeInfo {
   double length = 0.0;  ///< control-polygon length (>= arc length)
   double width = 0.0;   ///< extent of the patch across the edge
   bool collapsed = false;
+  bool coincidentExtra = false;  ///< a third or later copy of a coincident edge: left out of the pairing
   Vec3 start = Vec3::Zero(), end = Vec3::Zero();
   /// Unit directions in which the edge leaves its start and its end point (chords to the points at 1/64 of the
   /// domain from each end, robust where the first derivative vanishes).
@@ -147,6 +153,12 @@ std::vector<double> normalizedKnots(const BSplineCurve& c) {
   return k;
 }
 
+/// |d|, without overflowing in the squares when the coordinates are near 1e300 (the scaled norm only then).
+double safeNorm(const Vec3& d) {
+  const double n = d.norm();
+  return std::isfinite(n) ? n : d.stableNorm();
+}
+
 EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
   EdgeInfo info;
   info.ref = {index, e};
@@ -156,7 +168,7 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
   info.box = controlBox(info.curve);
   info.unitKnots = normalizedKnots(info.curve);
   const Matrix& P = info.curve.points();
-  for (Eigen::Index i = 1; i < P.rows(); ++i) info.length += (P.row(i) - P.row(i - 1)).head<3>().norm();
+  for (Eigen::Index i = 1; i < P.rows(); ++i) info.length += safeNorm((P.row(i) - P.row(i - 1)).head<3>().transpose());
   info.collapsed = detail::controlExtent(info.curve) <= collapseTol;
   info.start = info.curve.point3(info.domain.lo);
   info.end = info.curve.point3(info.domain.hi);
@@ -172,7 +184,7 @@ void setWidths(EdgeInfo& e0, EdgeInfo& e1) {
   double w = 0.0;
   for (double f : {0.25, 0.5, 0.75}) {
     const double t = e0.domain.lo + f * e0.domain.length();
-    w = std::max(w, (e0.curve.point3(t) - e1.curve.point3(t)).norm());
+    w = std::max(w, safeNorm(e0.curve.point3(t) - e1.curve.point3(t)));
   }
   e0.width = e1.width = w;
 }
@@ -477,6 +489,9 @@ std::vector<Interval> uncovered(const std::vector<Interval>& claimed, const Inte
   return out;
 }
 
+/// True when every coordinate of the box is finite.
+bool finiteBox(const BoundingBox& b) { return b.min.allFinite() && b.max.allFinite(); }
+
 /// Candidate pairs from a uniform grid over the inflated edge boxes: sorted (cell, edge) keys, then every two edges
 /// that share a cell. Edge i's box is inflated by inflate[i]; two edges within inflate[i] + inflate[j] of each other
 /// always share a cell. Edges covering too many cells are compared with every edge by box.
@@ -484,7 +499,11 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   std::vector<int> active;
   std::vector<double> sizes;
   for (int i = 0; i < static_cast<int>(edges.size()); ++i) {
-    if (edges[static_cast<size_t>(i)].collapsed) continue;
+    // Collapsed edges and extra copies of coincident edges pair with nothing; non-finite ones are refused by
+    // runPairing (never keyed: no cell of NaN).
+    const EdgeInfo& e = edges[static_cast<size_t>(i)];
+    if (e.collapsed || e.coincidentExtra || !finiteBox(e.box) || !std::isfinite(inflateOf[static_cast<size_t>(i)]))
+      continue;
     active.push_back(i);
     const BoundingBox& b = edges[static_cast<size_t>(i)].box;
     sizes.push_back((b.max - b.min).maxCoeff() + 2.0 * inflateOf[static_cast<size_t>(i)]);
@@ -492,8 +511,6 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   std::vector<std::pair<int, int>> out;
   if (active.size() < 2) return out;
   std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
-  double h = sizes[sizes.size() / 2];
-  if (!(h > 0.0) || !std::isfinite(h)) h = 1.0;
   // Cells are counted from the low corner of all inflated boxes, kCellBits per axis packed into one 64-bit code;
   // a model wider than 2^kCellBits cells gets coarser cells (more candidates, the same result).
   constexpr int kCellBits = 21;
@@ -505,7 +522,15 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
     gmin = gmin.cwiseMin(b.min - Vec3::Constant(inflate));
     gmax = gmax.cwiseMax(b.max + Vec3::Constant(inflate));
   }
-  h = std::max(h, (gmax - gmin).maxCoeff() / kMaxCellsPerAxis);
+  // Cells are computed in a scaled frame (coordinates divided by the largest magnitude, so within [-1, 1]): no
+  // difference of coordinates near +-1e308 overflows, no quotient by a subnormal cell size does; keys are clamped.
+  double scale = std::max(gmin.cwiseAbs().maxCoeff(), gmax.cwiseAbs().maxCoeff());
+  if (!(scale > 0.0) || !std::isfinite(scale)) scale = 1.0;
+  const Vec3 smin = gmin / scale;
+  const double extent = (gmax / scale - smin).maxCoeff();
+  double h = sizes[sizes.size() / 2] / scale;
+  if (!(h > 0.0) || !std::isfinite(h)) h = extent > 0.0 ? extent : 1.0;
+  h = std::max(h, extent / kMaxCellsPerAxis);
   using Cell = std::array<std::uint64_t, 3>;
   auto code = [](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
     return (x << (2 * kCellBits)) | (y << kCellBits) | z;
@@ -520,7 +545,7 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
     long count = 1;
     for (int k = 0; k < 3; ++k) {
       const auto cellOf = [&](double x) {
-        return static_cast<std::uint64_t>(std::clamp(std::floor((x - gmin[k]) / h), 0.0, kMaxCellsPerAxis));
+        return static_cast<std::uint64_t>(std::clamp(std::floor((x / scale - smin[k]) / h), 0.0, kMaxCellsPerAxis));
       };
       lo[static_cast<size_t>(k)] = cellOf(b.min[k] - inflate);
       hi[static_cast<size_t>(k)] = cellOf(b.max[k] + inflate);
@@ -572,6 +597,68 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   return out;
 }
 
+/// Groups of three or more coincident edges (same end points, either way round, and mid point within `tol`), found
+/// by sorting quantised keys: O(N log N). All but the first two edges of each group are marked coincidentExtra.
+std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, double tol) {
+  const double q = tol > 0.0 ? tol : std::numeric_limits<double>::min();
+  // Cell index of a coordinate (the coordinate itself when the index would not be an exact integer): identical
+  // points always get identical keys; points within tol of each other usually do (the rest pair the usual way).
+  auto quant = [q](double v) {
+    const double r = std::floor(v / q);
+    return std::isfinite(r) && std::abs(r) < kExactIntegerDouble ? r : v;
+  };
+  struct Key {
+    std::array<double, 9> k;
+    int edge;
+  };
+  std::vector<Key> keys;
+  std::vector<Vec3> mids(edges.size(), Vec3::Zero());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const EdgeInfo& e = edges[i];
+    if (e.collapsed) continue;
+    mids[i] = e.curve.point3(0.5 * (e.domain.lo + e.domain.hi));
+    Vec3 a = e.start, b = e.end;
+    if (std::lexicographical_compare(b.data(), b.data() + 3, a.data(), a.data() + 3)) std::swap(a, b);
+    Key key{{}, static_cast<int>(i)};
+    for (int c = 0; c < 3; ++c) {
+      key.k[static_cast<size_t>(c)] = quant(a[c]);
+      key.k[static_cast<size_t>(3 + c)] = quant(b[c]);
+      key.k[static_cast<size_t>(6 + c)] = quant(mids[i][c]);
+    }
+    keys.push_back(key);
+  }
+  std::sort(keys.begin(), keys.end(),
+            [](const Key& x, const Key& y) { return std::tie(x.k, x.edge) < std::tie(y.k, y.edge); });
+  std::vector<CoincidentEdges> out;
+  for (size_t g = 0; g < keys.size();) {
+    size_t end = g + 1;
+    while (end < keys.size() && keys[end].k == keys[g].k) ++end;
+    if (end - g >= 3) {
+      const EdgeInfo& first = edges[static_cast<size_t>(keys[g].edge)];
+      const Vec3& firstMid = mids[static_cast<size_t>(keys[g].edge)];
+      std::vector<int> members;
+      for (size_t m = g; m < end; ++m) {
+        const EdgeInfo& e = edges[static_cast<size_t>(keys[m].edge)];
+        const bool same = (e.start - first.start).norm() <= tol && (e.end - first.end).norm() <= tol;
+        const bool flipped = (e.start - first.end).norm() <= tol && (e.end - first.start).norm() <= tol;
+        if ((same || flipped) && (mids[static_cast<size_t>(keys[m].edge)] - firstMid).norm() <= tol)
+          members.push_back(keys[m].edge);
+      }
+      if (members.size() >= 3) {  // keys sorted by edge within the group: members are in EdgeRef order
+        CoincidentEdges c;
+        for (int i : members) c.edges.push_back(edges[static_cast<size_t>(i)].ref);
+        c.point = firstMid;
+        for (size_t m = 2; m < members.size(); ++m) edges[static_cast<size_t>(members[m])].coincidentExtra = true;
+        out.push_back(std::move(c));
+      }
+    }
+    g = end;
+  }
+  std::sort(out.begin(), out.end(),
+            [](const CoincidentEdges& x, const CoincidentEdges& y) { return x.edges.front() < y.edges.front(); });
+  return out;
+}
+
 struct Pairing {
   std::vector<EdgeInfo> edges;  // 4 per patch, index 4 * patch + edge
   EdgePairing result;
@@ -592,8 +679,18 @@ Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const Mode
     setWidths(P.edges[base], P.edges[base + 1]);
     setWidths(P.edges[base + 2], P.edges[base + 3]);
   }
+  // Edges whose points overflow doubles (a weight near 1e308, coordinates near +-1e308) cannot be measured: refused
+  // here, before they reach the spatial hash or the seam analysis.
+  for (const EdgeInfo& e : P.edges)
+    if (!finiteBox(e.box) || !e.start.allFinite() || !e.end.allFinite() || !std::isfinite(e.width) ||
+        !std::isfinite(e.length))
+      return invalidInput(fmt::format("patch \"{}\", edge {}: its points are not finite doubles (evaluating it "
+                                      "overflows or divides by zero: coordinates or weights near 1e308, knot spans "
+                                      "near 5e-324?); seam cannot check it",
+                                      model.patches[static_cast<size_t>(e.ref.patch)].name, edgeName(e.ref.edge)));
   for (const EdgeInfo& e : P.edges)
     if (e.collapsed) P.result.degenerateEdges.push_back({e.ref, e.start});
+  P.result.coincidentEdges = markCoincidentEdges(P.edges, tol.distance);
 
   std::vector<EdgePair> accepted;
   std::vector<EdgePair> candidates;
@@ -661,7 +758,7 @@ Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const Mode
   P.result.pairs = std::move(accepted);
   for (size_t k = 0; k < P.edges.size(); ++k) {
     const EdgeInfo& e = P.edges[k];
-    if (e.collapsed) continue;
+    if (e.collapsed || e.coincidentExtra) continue;
     const double minLength = options.minOverlapFraction * e.domain.length();
     const std::vector<Interval> free = uncovered(P.claimed[k], e.domain, minLength);
     for (const Interval& f : free)
@@ -764,13 +861,28 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
         return cell[0] == c[0] && cell[1] == c[1] && cell[2] == c[2];
       }
     };
+    // Cells in a scaled frame (coordinates divided by the largest magnitude, counted from the low corner), at least
+    // cornerTol wide and at most kMaxCornerCells per axis: keys neither overflow nor come from a non-finite quotient
+    // (coordinates near 1e300, a tolerance near 5e-324). Corners that are not finite take part in no proximity.
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Vec3& q : points)
+      if (q.allFinite()) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    double scale = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+    if (!(scale > 0.0) || !std::isfinite(scale)) scale = 1.0;
+    const Vec3 slo = lo / scale;
+    const double extent = (hi / scale - slo).maxCoeff();
+    double cellSize = std::max(cornerTol / scale, extent / kMaxCornerCells);
+    if (!(cellSize > 0.0) || !std::isfinite(cellSize)) cellSize = 1.0;
     std::vector<Key> keys;
     keys.reserve(static_cast<size_t>(nc));
     for (int c = 0; c < nc; ++c) {
       const Vec3& q = points[static_cast<size_t>(c)];
-      keys.push_back({{static_cast<long>(std::floor(q.x() / cornerTol)), static_cast<long>(std::floor(q.y() / cornerTol)),
-                       static_cast<long>(std::floor(q.z() / cornerTol))},
-                      c});
+      if (!q.allFinite()) continue;
+      std::array<long, 3> k{};
+      for (int a = 0; a < 3; ++a)
+        k[static_cast<size_t>(a)] =
+            static_cast<long>(std::clamp(std::floor((q[a] / scale - slo[a]) / cellSize), 0.0, kMaxCornerCells));
+      keys.push_back({k, c});
     }
     std::sort(keys.begin(), keys.end());
     for (const Key& k : keys) {
@@ -784,8 +896,10 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
             auto it = std::lower_bound(keys.begin(), keys.end(), Key{cell, -1});
             for (; it != keys.end() && it->inCell(cell); ++it) {
               if (same && it->corner <= k.corner) continue;
-              if ((points[static_cast<size_t>(it->corner)] - points[static_cast<size_t>(k.corner)]).norm() <= cornerTol)
-                uf.unite(k.corner, it->corner);
+              const Vec3 d = points[static_cast<size_t>(it->corner)] - points[static_cast<size_t>(k.corner)];
+              double dist = d.norm();
+              if (!std::isfinite(dist)) dist = d.stableNorm();  // squares of coordinates near 1e300 overflow
+              if (dist <= cornerTol) uf.unite(k.corner, it->corner);
             }
           }
     }
@@ -839,6 +953,7 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   report.pairingTolerance = P.result.pairingTolerance;
   report.freeEdges = P.result.freeEdges;
   report.degenerateEdges = P.result.degenerateEdges;
+  report.coincidentEdges = P.result.coincidentEdges;
 
   // Seams: independent analyses, in parallel (TBB), stored in pairing order.
   SeamOptions seamOptions = options.seam;
@@ -881,6 +996,7 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   S.corners = static_cast<int>(report.corners.size());
   S.freeEdges = static_cast<int>(report.freeEdges.size());
   S.degenerateEdges = static_cast<int>(report.degenerateEdges.size());
+  S.coincidentEdgeGroups = static_cast<int>(report.coincidentEdges.size());
   for (int k = 0; k < S.seams; ++k) {
     const ModelSeam& ms = report.seams[static_cast<size_t>(k)];
     if (!ms.report) {

@@ -62,6 +62,14 @@ struct DegenerateEdge {
   Vec3 point = Vec3::Zero();
 };
 
+/// Three or more boundary edges that coincide (the same end points and mid point, within tolerances.distance): a
+/// duplicated face, a CAD defect. Only the first two of them (in EdgeRef order) take part in the pairing, so that
+/// N copies of a face cost O(N log N), not N^2 candidate pairs; the others are neither seams nor free edges.
+struct CoincidentEdges {
+  std::vector<EdgeRef> edges;  ///< all of them, in EdgeRef order
+  Vec3 point = Vec3::Zero();   ///< the mid point of the first
+};
+
 /// A vertex of the model and its analysis; corners are given as (patch, corner) in CornerReport::corners.
 struct ModelCorner {
   CornerReport report;
@@ -74,6 +82,7 @@ struct ModelCheckSummary {
   int degenerateCorners = 0;  ///< vertices with a corner whose normal vanishes (poles)
   int freeEdges = 0;
   int degenerateEdges = 0;
+  int coincidentEdgeGroups = 0;  ///< groups of 3 or more coincident edges (duplicated faces)
   int failedSeams = 0;        ///< analyzeSeam returned an error
   int certifiedSeams = 0;
   std::array<int, 4> geometric{};   ///< counts per GeometricClass (kNone, kG0, kG1, kG2)
@@ -123,11 +132,13 @@ struct ModelCheckReport {
   std::vector<ModelCorner> corners;
   std::vector<FreeEdge> freeEdges;
   std::vector<DegenerateEdge> degenerateEdges;
+  std::vector<CoincidentEdges> coincidentEdges;
   ModelCheckSummary summary;
 };
 
 /// Checks the whole model (seams in parallel, see ModelCheckOptions::threads). Errors: kInvalidInput for a model
-/// without patches or with a non-3-D patch.
+/// without patches, with a non-3-D patch, or with an edge whose points are not finite doubles (control points or
+/// weights near 1e308 overflow in evaluation).
 Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options = {});
 
 /// The pairing step alone (spatial index + overlap test), for tests and benchmarks. `tolerances` as in
@@ -137,6 +148,7 @@ struct EdgePairing {
   std::vector<EdgePair> pairs;
   std::vector<DegenerateEdge> degenerateEdges;
   std::vector<FreeEdge> freeEdges;
+  std::vector<CoincidentEdges> coincidentEdges;
 };
 Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& options = {});
 
