@@ -46,8 +46,8 @@ int runExtend(const ExtendOptions& o) {
     printError(fmt::format("--order {} out of range [1, {}]", o.order, rational::kMaxGcnOrder));
     return kExitBadInput;
   }
-  if (o.degree != -1 && (o.degree < 1 || o.degree > kMaxExtendDegree)) {
-    printError(fmt::format("--degree {} out of range [1, {}]", o.degree, kMaxExtendDegree));
+  if (o.degree > kMaxExtendDegree) {
+    printError(fmt::format("--degree {} is above the largest degree accepted, {}", o.degree, kMaxExtendDegree));
     return kExitBadInput;
   }
   const std::pair<const char*, const std::vector<double>*> lists[] = {
@@ -125,7 +125,8 @@ void addExtend(CLI::App& app, int& exit) {
   cmd->add_option("--alpha", o->alpha, "alpha_1..alpha_N: p_s (alpha_1 > 0 for a proper join)")->required();
   cmd->add_option("--beta0", o->beta0, "beta0_1..beta0_N: q_s at the start of the edge")->required();
   cmd->add_option("--beta1", o->beta1, "beta1_1..beta1_N: q_s at the end of the edge")->required();
-  cmd->add_option("--degree", o->degree, "Degree M of the new patch across the edge (default max(degree, N); at most 64)");
+  cmd->add_option("--degree", o->degree,
+                  "Degree M of the new patch across the edge (default max(degree, N); at most 64)");
   cmd->add_option("--name", o->name, "Name of the new patch")->required();
   cmd->add_option("-o,--output", o->output, "Output model file (.json)")->required();
   cmd->callback([o, &exit]() { exit = runExtend(*o); });

@@ -4,7 +4,10 @@
 #include <fmt/format.h>
 #include <ginac/ginac.h>
 
+#include <cctype>
 #include <cmath>
+#include <string_view>
+#include <vector>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -108,6 +111,47 @@ struct ExpressionState {
 
 const char* kCoordinateNames[4] = {"x", "y", "z", "w"};
 
+/// Refuses, before GiNaC sees it, an expression GiNaC cannot take in bounded time and stack: longer than
+/// kMaxExpressionChars, nested deeper than kMaxExpressionNesting (parentheses and unary signs: GiNaC's
+/// recursive-descent parser overflows the stack at about 10 000 levels), or with function calls nested deeper than
+/// kMaxFunctionNesting (the symbolic derivatives swell: sin nested 100 deep ran for more than a minute).
+Status checkExpressionSize(std::string_view text, const std::string& where) {
+  if (text.size() > kMaxExpressionChars)
+    return invalidInput(fmt::format("{}: the expression has {} characters, more than the {} accepted", where,
+                                    text.size(), kMaxExpressionChars));
+  // Stack of open parentheses (true: a function call's), and the current run of unary signs.
+  std::vector<bool> open;
+  int functions = 0, signs = 0;
+  char previous = '(';  // a sign at the start is unary
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (std::isspace(static_cast<unsigned char>(c))) continue;
+    if (c == '(') {
+      const bool call = std::isalnum(static_cast<unsigned char>(previous)) || previous == '_';
+      open.push_back(call);
+      functions += call ? 1 : 0;
+    } else if (c == ')') {
+      if (!open.empty()) {
+        functions -= open.back() ? 1 : 0;
+        open.pop_back();
+      }
+    }
+    const bool unary = (c == '-' || c == '+') && (previous == '(' || previous == '-' || previous == '+' ||
+                                                  previous == '*' || previous == '/' || previous == '^' ||
+                                                  previous == ',');
+    signs = unary ? signs + 1 : 0;
+    if (static_cast<int>(open.size()) + signs > kMaxExpressionNesting)
+      return invalidInput(fmt::format("{}: parentheses or signs nested more than {} deep (at character {})", where,
+                                      kMaxExpressionNesting, i + 1));
+    if (functions > kMaxFunctionNesting)
+      return invalidInput(fmt::format("{}: function calls nested more than {} deep (at character {}); the symbolic "
+                                      "derivatives would not finish",
+                                      where, kMaxFunctionNesting, i + 1));
+    previous = c;
+  }
+  return Status::ok();
+}
+
 }  // namespace
 
 Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) {
@@ -123,6 +167,10 @@ Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) 
   for (int k = 0; k < 4; ++k) {
     const std::string where = fmt::format("expression patch \"{}\": {} = \"{}\"", patch.name, kCoordinateNames[k],
                                           patch.homogeneous[static_cast<size_t>(k)]);
+    if (Status size = checkExpressionSize(patch.homogeneous[static_cast<size_t>(k)],
+                                          fmt::format("expression patch \"{}\": {}", patch.name, kCoordinateNames[k]));
+        !size)
+      return size;
     GiNaC::ex e;
     try {
       e = reader(patch.homogeneous[static_cast<size_t>(k)]);
