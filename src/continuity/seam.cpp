@@ -709,6 +709,34 @@ GeometricClass classifyGeometric(const SeamReport& r, const Tolerances& tol) {
   return GeometricClass::kG2;
 }
 
+void reconcileVerdict(SeamReport& r, const Tolerances& tol) {
+  if (r.g1Identity && !(r.g1MaxDeg <= tol.angleDeg)) {
+    if (r.g1SampledDeg <= tol.angleDeg) {
+      r.g1MaxDeg = r.g1SampledDeg;
+      r.notes.push_back("G1 proved as an identity (N_A x N_B = 0); its bound did not close next to a vanishing "
+                        "normal: the angle shown is sampled");
+    } else {
+      r.g1Identity = false;
+      r.certified = false;
+      r.notes.push_back(fmt::format("not certified: the G1 identity test and the sampled angle ({:.6g} deg) "
+                                    "disagree next to a vanishing normal",
+                                    r.g1SampledDeg));
+    }
+  }
+  if (r.g2Identity && !(r.g2RelMax <= tol.curvatureRel)) {
+    if (r.g2RelSampled <= tol.curvatureRel) {
+      r.g2Max = r.g2Sampled;
+      r.g2RelMax = r.g2RelSampled;
+      r.notes.push_back("G2 proved as an identity (Lemma 2 residual zero); its bound did not close next to a "
+                        "vanishing normal: the jump shown is sampled");
+    } else {
+      r.g2Identity = false;
+      r.notes.push_back("the G2 identity test and the sampled jump disagree: G2 not certified");
+    }
+  }
+  r.geometric = classifyGeometric(r, tol);
+}
+
 Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options) {
   return analyzeSeam(a, ea, b, eb, options, std::nullopt);
 }
@@ -1093,7 +1121,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
 
   // ---- classification.
   const auto& tol = opt.tol;
-  rep.geometric = classifyGeometric(rep, tol);
+  reconcileVerdict(rep, tol);
   // Without the G2 certificate a certified seam is claimed G1 at most (G2 from samples alone is not a verdict).
   if (!opt.certifyG2 && rep.certified && rep.geometric == GeometricClass::kG2) rep.geometric = GeometricClass::kG1;
   // Parametric continuity only where the parametrisations match: affine correspondence with |slope| = 1.

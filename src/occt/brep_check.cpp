@@ -365,7 +365,7 @@ void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSid
                    fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
                                "({} pieces, degree <= {}); {}",
                                r->pieces, r->maxDegree, g2));
-  rep.geometric = classifyGeometric(rep, opt.tol);
+  reconcileVerdict(rep, opt.tol);
 }
 
 Vec3 edgeMidpoint(const TopoDS_Edge& e) {

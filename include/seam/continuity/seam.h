@@ -105,6 +105,12 @@ struct SeamReport {
 /// G2 when also the relative curvature jump is within tol.curvatureRel (or G2 is an identity).
 GeometricClass classifyGeometric(const SeamReport& report, const Tolerances& tol);
 
+/// Makes a report's claims agree with its own numbers, then classifies it (issue 18: a class must never contradict
+/// its numbers). An identity (G1: N_A x N_B = 0; G2: Lemma 2 residual = 0) whose bound did not close next to a
+/// vanishing normal keeps the sampled value as the number shown, with a note; an identity that the samples
+/// contradict (sampled angle or jump above tolerance) is dropped, and for G1 the seam is no longer certified.
+void reconcileVerdict(SeamReport& report, const Tolerances& tol);
+
 /// Analyses the seam between edge `ea` of `a` and edge `eb` of `b`. The edges must overlap (within
 /// options.tol.distance, or with a gap: the overlap is found by closest-point projection of the end points).
 /// Errors: kInvalidInput for non-3-D patches, kNotFound when the edges do not overlap at all, kDegenerate when an
