@@ -429,17 +429,19 @@ double g2Bound(const Piece& pc, double x0, double x1) {
   if (!(n2 > 0.0) || !(b2 > 0.0)) return std::numeric_limits<double>::infinity();
   return rho * t2 / (std::pow(n2, 2.5) * b2);
 }
-double g2Value(const Piece& pc, double x) {
+// The G2 quotient at x, or nullopt where it has no value: a vanishing normal or tangent, or a chart too
+// ill-conditioned for curvature (next to a pole the quotient is round-off over a vanishing normal, as in measureAt).
+std::optional<double> g2ValueIfDefined(const Piece& pc, double x) {
   auto val = [&](const RationalPoly& r) {
     return r.num.scalar(x) / (std::pow(pc.wa.scalar(x), r.ea) * std::pow(pc.wb.scalar(x), r.eb));
   };
   const double n2 = val(pc.nA2), b2 = val(pc.BcT2);
-  if (!(n2 > 0.0) || !(b2 > 0.0)) return 0.0;
-  // Next to a pole the quotient is round-off over a vanishing normal: no value there (as in measureAt).
+  if (!(n2 > 0.0) || !(b2 > 0.0)) return std::nullopt;
   const double o2 = val(pc.O2);
-  if (std::sqrt(n2) < kCurvatureChartRel * (val(pc.T2) + o2)) return 0.0;
+  if (std::sqrt(n2) < kCurvatureChartRel * (val(pc.T2) + o2)) return std::nullopt;
   return std::abs(val(pc.rho)) * val(pc.T2) / (std::pow(n2, 2.5) * b2);
 }
+double g2Value(const Piece& pc, double x) { return g2ValueIfDefined(pc, x).value_or(0.0); }
 
 // Scalar Bernstein polynomial at x in [0, 1] (coefficient column 0) in O(n), no allocation: Horner's scheme in
 // s = x / (1 - x) (or, mirrored, in (1 - x) / x for x > 1/2, so that |s| <= 1), times (1 - x)^n. For the samples
@@ -533,7 +535,7 @@ void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& 
 // could not be bounded (infinite bound at the depth limit).
 double certifyMax(const std::vector<Piece>& pieces, const std::function<double(const Piece&, double, double)>& bound,
                   const std::function<double(const Piece&, double)>& value, double& best, double& bestX,
-                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok) {
+                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop = nullptr) {
   struct Item {
     int piece;
     double x0, x1;
@@ -545,6 +547,10 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
   ok = true;
   long work = 0;
   while (!stack.empty()) {
+    if (stop != nullptr && *stop) {  // the caller's value function met a point where no bound can close
+      ok = false;
+      return std::numeric_limits<double>::infinity();
+    }
     const Item it = stack.back();
     stack.pop_back();
     const Piece& pc = pieces[static_cast<size_t>(it.piece)];
@@ -1073,7 +1079,16 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       double best = rep.g2Sampled, bx = 0.0;
       int bp = -1;
       bool g2ok = true;
-      const double bound = certifyMax(pieces, g2Bound, g2Value, best, bx, bp, kIdentityRelTol * curvRef, opt, g2ok);
+      // A midpoint whose chart is too ill-conditioned for curvature (next to a pole) means the quotient bound
+      // cannot close there (it divides by the vanishing normal): stop at once instead of spending maxBoundWork.
+      bool illConditioned = false;
+      const auto g2Checked = [&illConditioned](const Piece& pc, double x) {
+        const auto v = g2ValueIfDefined(pc, x);
+        if (!v) illConditioned = true;
+        return v.value_or(0.0);
+      };
+      const double bound =
+          certifyMax(pieces, g2Bound, g2Checked, best, bx, bp, kIdentityRelTol * curvRef, opt, g2ok, &illConditioned);
       if (bp >= 0 && best > rep.g2Sampled) {
         rep.g2Sampled = best;
         const double t = tAt(bp, bx);
@@ -1599,7 +1614,13 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   out.g2Identity = rhoIdentity;  // the Lemma 2 residual vanishes identically: G2 wherever the normal is defined
   bool ok2 = true;
   const double floor = kIdentityRelTol * curvRef;
-  const double g2b = certifyMax(g2Pieces, g2Bound, g2Value, g2Best, g2x, g2p, floor, opt, ok2);
+  bool illConditioned = false;  // as in analyzeSeam: a midpoint next to a pole stops the subdivision
+  const auto g2Checked = [&illConditioned](const Piece& pc, double x) {
+    const auto v = g2ValueIfDefined(pc, x);
+    if (!v) illConditioned = true;
+    return v.value_or(0.0);
+  };
+  const double g2b = certifyMax(g2Pieces, g2Bound, g2Checked, g2Best, g2x, g2p, floor, opt, ok2, &illConditioned);
   // Near a vanishing normal the quotient bound cannot close: it ends above the sampled maximum by more than the
   // subdivision's target gap (or infinite). Such a bound says nothing useful and is not reported.
   if (!ok2 || !(g2b <= (1.0 + opt.boundRelGap) * g2Best + floor)) {
