@@ -92,7 +92,7 @@ class CurveSearch {
  public:
   CurveSearch(const BSplineCurve& curve, const SearchOptions& options) : opt_(options) {
     dim_ = curve.dim();
-    for (const BezierCurvePiece& bp : curve.bezierPieces()) {
+    for (const BezierCurvePiece& bp : detail::bezierPiecesLinear(curve)) {
       Piece p;
       p.iv = bp.interval;
       p.rational = bp.curve.isRational();

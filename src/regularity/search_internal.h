@@ -5,6 +5,8 @@
 
 #include "seam/core/types.h"
 #include "seam/regularity/defect_search.h"
+#include "seam/spline/bspline_curve.h"
+#include "seam/spline/bspline_surface.h"
 
 namespace seam::regularity::detail {
 
@@ -36,5 +38,10 @@ struct Box3 {
 
 /// Control-box diagonal based default of SearchOptions::distance.
 double defaultDistance(double diagonal);
+
+/// BSplineCurve::bezierPieces() and BSplineSurface::bezierPatches(), bit for bit, in time linear in the number of
+/// spans (those cost O(spans^2): every Boehm step copies all rows; 200 000 segments did not finish in minutes).
+std::vector<BezierCurvePiece> bezierPiecesLinear(const BSplineCurve& curve);
+std::vector<BezierPatchPiece> bezierPatchesLinear(const BSplineSurface& surface);
 
 }  // namespace seam::regularity::detail

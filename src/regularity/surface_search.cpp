@@ -77,7 +77,7 @@ class SurfaceSearch {
  public:
   SurfaceSearch(const BSplineSurface& s, const SearchOptions& options) : opt_(options) {
     const int dim = s.dim();
-    const std::vector<BezierPatchPiece> bps = s.bezierPatches();
+    const std::vector<BezierPatchPiece> bps = detail::bezierPatchesLinear(s);
     for (const BezierPatchPiece& bp : bps) {
       nu_ = std::max(nu_, bp.spanU + 1);
       nv_ = std::max(nv_, bp.spanV + 1);
