@@ -24,6 +24,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "seam/continuity/model_check.h"
@@ -115,6 +116,52 @@ TEST(OcctRoundTrip, IgesPreservesControlPointsWeightsAndKnots) {
   ASSERT_TRUE(r.isOk()) << r.status().message();
   ASSERT_EQ(r->model.patches.size(), 2u);
   for (size_t i = 0; i < 2; ++i) expectSameSurface(m.patches[i].surface, r->model.patches[i].surface, 0.0);
+}
+
+// Issue 15: the writer's temporary is io::temporaryPathFor's short ".seam-<pid>-<n>.tmp", not the output's name plus
+// a suffix, so the longest legal name (255 bytes) works; afterwards the folder holds the output and nothing else.
+TEST(OcctWrite, LongestLegalOutputNameWorksAndLeavesNoTemporary) {
+  const fs::path dir = tempPath("longname_dir");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* ext : {".step", ".igs"}) {
+    const std::string name = std::string(255 - std::string(ext).size(), 'n') + ext;
+    ASSERT_EQ(name.size(), 255u);
+    const fs::path file = dir / name;
+    const occt::CadFormat format = std::string(ext) == ".step" ? occt::CadFormat::kStep : occt::CadFormat::kIges;
+    const Status st = occt::writeCadFile(randomModel(3), file, format);
+    EXPECT_TRUE(st.isOk()) << st.message();
+    const Result<occt::CadImport> back = occt::readCadFile(file);
+    ASSERT_TRUE(back.isOk()) << back.status().message();
+    EXPECT_EQ(back->model.patches.size(), 2u);
+    std::vector<std::string> names;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    EXPECT_EQ(names, std::vector<std::string>{name});
+    fs::remove(file);
+  }
+  fs::remove_all(dir);
+}
+
+// Issue 15: a failed final rename keeps the rename's own error in the message (it said "cannot replace file:
+// Success": removing the temporary overwrote the error code). The output is an existing non-empty directory,
+// which rename(2) cannot replace with a file (EISDIR); the directory and its content stay, no temporary is left.
+TEST(OcctWrite, FailedRenameReportsItsOwnError) {
+  const fs::path dir = tempPath("rename_dir");
+  fs::remove_all(dir);
+  const fs::path target = dir / "out.step";
+  fs::create_directories(target);
+  std::ofstream(target / "keep.txt") << "keep\n";
+  const Status st = occt::writeCadFile(randomModel(1), target, occt::CadFormat::kStep);
+  ASSERT_FALSE(st.isOk());
+  EXPECT_EQ(st.code(), ErrorCode::kIoError);
+  const std::string expected = "cannot replace file: " + std::generic_category().message(EISDIR);
+  EXPECT_NE(st.message().find(expected), std::string::npos) << st.message();
+  EXPECT_EQ(st.message().find("Success"), std::string::npos) << st.message();
+  EXPECT_TRUE(fs::is_regular_file(target / "keep.txt"));
+  size_t entries = 0;
+  for ([[maybe_unused]] const fs::directory_entry& e : fs::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1u) << "a temporary was left beside the output";
+  fs::remove_all(dir);
 }
 
 // The fuselage holds 8 bare bicubic B-spline surfaces (README: no faces or shells); sewn, 14 shared edges and

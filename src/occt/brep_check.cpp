@@ -1,3 +1,8 @@
+// OCC_CATCH_SIGNALS converts a signal raised inside OpenCASCADE into a Standard_Failure only when this macro is set
+// (as in cad_io.cpp; see docs/reliability.md, "OpenCASCADE guards").
+#ifndef OCC_CONVERT_SIGNALS
+#define OCC_CONVERT_SIGNALS
+#endif
 #include "seam/occt/brep_check.h"
 
 #include <fmt/format.h>
@@ -15,6 +20,8 @@
 #include <Geom2d_TrimmedCurve.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_Surface.hxx>
+#include <OSD_Signal.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TopExp.hxx>
@@ -56,6 +63,9 @@ constexpr int kPolylinePoints = 24;
 /// step, relative to B's parameter range, below which the iteration has converged.
 constexpr int kPartnerIterations = 12;
 constexpr double kPartnerStepRel = 1e-15;
+
+/// True when the failure is a signal caught inside OpenCASCADE (a crash, converted by detail::OcctSignalGuard).
+bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
 
 Vec3 toVec(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
 Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
@@ -407,10 +417,17 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
   const std::optional<CadFormat> format = cadFormatOf(file);
   if (!format)
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
-  Result<TopoDS_Shape> read = detail::readShape(file, *format);
+  std::vector<std::string> readWarnings;
+  Result<TopoDS_Shape> read = detail::readShape(file, *format, &readWarnings);
   if (!read) return read.status();
   BRepCheckReport out;
+  // Every OpenCASCADE call of the check (bounding box, sewing, BRepLib::ContinuityOfFaces, pcurves, evaluation of
+  // the faces' surfaces) runs under the guard: a signal inside it comes back as a Standard_Failure of kind
+  // OSD_Signal and ends the check with an error (the state a crash leaves is not trusted); any other
+  // Standard_Failure on one edge leaves that edge "not analysed", with a warning, and the check goes on.
+  detail::OcctSignalGuard guard;
   try {
+    OCC_CATCH_SIGNALS
     TopoDS_Shape shape = *read;
     Bnd_Box box;
     BRepBndLib::Add(shape, box);
@@ -433,6 +450,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     Result<CadImport> imported = detail::convertFaces(file, faces, options.read);
     if (!imported) return imported.status();
     out.import = std::move(imported).value();
+    out.import.warnings.insert(out.import.warnings.begin(), readWarnings.begin(), readWarnings.end());
     std::map<int, size_t> patchOfFace;  // 1-based face index -> patch index
     for (size_t k = 0; k < out.import.faces.size(); ++k) patchOfFace[out.import.faces[k].faceIndex] = k;
     out.tolerances =
@@ -448,104 +466,114 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     if (options.progress) options.progress(nFaces, 0, nEdges);
     for (int i = 1; i <= nEdges; ++i) {
       if (options.progress && i > 1 && (i - 1) % kProgressEdgeStep == 0) options.progress(nFaces, i - 1, nEdges);
-      const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
-      if (BRep_Tool::Degenerated(edge)) {
-        ++out.degenerateEdges;
-        continue;
-      }
-      // Distinct faces around the edge (a periodic face's seam edge lists its face twice, or once when closed).
-      std::vector<TopoDS_Face> around;
-      for (TopTools_ListOfShape::Iterator it(edgeFaces.FindFromIndex(i)); it.More(); it.Next()) {
-        const TopoDS_Face f = TopoDS::Face(it.Value());
-        if (std::none_of(around.begin(), around.end(), [&](const TopoDS_Face& g) { return g.IsSame(f); }))
-          around.push_back(f);
-      }
-      if (around.empty()) {  // a loose edge: a 3-D curve of the file that bounds no face
-        ++out.looseEdges;
-        continue;
-      }
-      if (around.size() > 2) {
-        BRepNonManifoldEdge nm{i, {}, edgeMidpoint(edge)};
-        for (const TopoDS_Face& f : around) nm.faces.push_back(faceName(faceMap.FindIndex(f)));
-        out.nonManifoldEdges.push_back(std::move(nm));
-        continue;
-      }
-      FaceSide A, B;
-      TopoDS_Face fa = around[0], fb;
-      TopoDS_Edge ea = edge, eb = edge;
-      if (around.size() == 1) {
-        if (!BRep_Tool::IsClosed(edge, fa)) {
-          out.freeEdges.push_back({i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge), edgePolyline(edge)});
-          continue;
-        }
-        fb = fa;  // the seam of a closed (periodic) face: its two pcurves
-        ea = TopoDS::Edge(edge.Oriented(TopAbs_FORWARD));
-        eb = TopoDS::Edge(edge.Oriented(TopAbs_REVERSED));
-      } else {
-        fb = around[1];
-      }
-      const int ia = faceMap.FindIndex(fa), ib = faceMap.FindIndex(fb);
-      BRepSeam seam;
-      seam.edge = i;
-      seam.a = faceName(ia);
-      seam.b = faceName(ib);
-      if (!patchOfFace.count(ia) || !patchOfFace.count(ib)) continue;  // a face that could not be read (warned)
-      const size_t pa = patchOfFace[ia], pb = patchOfFace[ib];
       try {
-        seam.occtContinuity = continuityName(
-            BRepLib::ContinuityOfFaces(edge, fa, fb, out.tolerances.angleDeg * std::numbers::pi / 180.0));
-      } catch (const Standard_Failure&) {
-        seam.occtContinuity = "?";
-      }
-      // Certified route: both faces untrimmed and the edge a whole side of each.
-      const std::optional<Edge> sa = out.import.faces[pa].trimmed || ia == ib ? std::nullopt : naturalSide(ea, fa);
-      const std::optional<Edge> sb = out.import.faces[pb].trimmed || ia == ib ? std::nullopt : naturalSide(eb, fb);
-      bool done = false;
-      if (sa && sb) {
-        Result<SeamReport> r = analyzeSeam(out.import.model.patches[pa], *sa, out.import.model.patches[pb], *sb, seamOpt);
-        if (r) {
-          seam.report = std::move(r).value();
-          seam.viaPatchEdges = true;
-          done = true;
-        }
-      }
-      if (!done) {
-        A.surface = BRep_Tool::Surface(fa);
-        B.surface = BRep_Tool::Surface(fb);
-        A.pcurve = BRep_Tool::CurveOnSurface(ea, fa, A.first, A.last);
-        B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
-        if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
-            !(A.last > A.first) || !(B.last > B.first)) {
-          out.freeEdges.push_back({i, seam.a, edgeMidpoint(edge), edgePolyline(edge)});  // not on both faces
+        const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
+        if (BRep_Tool::Degenerated(edge)) {
+          ++out.degenerateEdges;
           continue;
         }
-        A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
-        B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
-        seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
-        if (!BRep_Tool::SameParameter(edge) || !BRep_Tool::SameRange(edge)) {
-          seam.report.notes.push_back("not certified: the edge's pcurves do not share its parameter (no SameParameter "
-                                      "/ SameRange): measured by closest points");
-        } else if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
-          const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
-          const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
-          if (sideA && sideB)
-            certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt, size);
-          else
-            seam.report.notes.push_back(fmt::format("not certified: on {}, {}", sideA ? seam.b : seam.a,
-                                                    (sideA ? sideB : sideA).status().message()));
-        } else {
-          seam.report.notes.push_back(
-              fmt::format("not certified: {} was approximated, not converted exactly (see the import warnings)",
-                          out.import.faces[pa].exact ? seam.b : seam.a));
+        // Distinct faces around the edge (a periodic face's seam edge lists its face twice, or once when closed).
+        std::vector<TopoDS_Face> around;
+        for (TopTools_ListOfShape::Iterator it(edgeFaces.FindFromIndex(i)); it.More(); it.Next()) {
+          const TopoDS_Face f = TopoDS::Face(it.Value());
+          if (std::none_of(around.begin(), around.end(), [&](const TopoDS_Face& g) { return g.IsSame(f); }))
+            around.push_back(f);
         }
+        if (around.empty()) {  // a loose edge: a 3-D curve of the file that bounds no face
+          ++out.looseEdges;
+          continue;
+        }
+        if (around.size() > 2) {
+          BRepNonManifoldEdge nm{i, {}, edgeMidpoint(edge)};
+          for (const TopoDS_Face& f : around) nm.faces.push_back(faceName(faceMap.FindIndex(f)));
+          out.nonManifoldEdges.push_back(std::move(nm));
+          continue;
+        }
+        FaceSide A, B;
+        TopoDS_Face fa = around[0], fb;
+        TopoDS_Edge ea = edge, eb = edge;
+        if (around.size() == 1) {
+          if (!BRep_Tool::IsClosed(edge, fa)) {
+            out.freeEdges.push_back({i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge), edgePolyline(edge)});
+            continue;
+          }
+          fb = fa;  // the seam of a closed (periodic) face: its two pcurves
+          ea = TopoDS::Edge(edge.Oriented(TopAbs_FORWARD));
+          eb = TopoDS::Edge(edge.Oriented(TopAbs_REVERSED));
+        } else {
+          fb = around[1];
+        }
+        const int ia = faceMap.FindIndex(fa), ib = faceMap.FindIndex(fb);
+        BRepSeam seam;
+        seam.edge = i;
+        seam.a = faceName(ia);
+        seam.b = faceName(ib);
+        if (!patchOfFace.count(ia) || !patchOfFace.count(ib)) continue;  // a face that could not be read (warned)
+        const size_t pa = patchOfFace[ia], pb = patchOfFace[ib];
+        try {
+          seam.occtContinuity = continuityName(
+              BRepLib::ContinuityOfFaces(edge, fa, fb, out.tolerances.angleDeg * std::numbers::pi / 180.0));
+        } catch (const Standard_Failure&) {
+          seam.occtContinuity = "?";
+        }
+        // Certified route: both faces untrimmed and the edge a whole side of each.
+        const std::optional<Edge> sa = out.import.faces[pa].trimmed || ia == ib ? std::nullopt : naturalSide(ea, fa);
+        const std::optional<Edge> sb = out.import.faces[pb].trimmed || ia == ib ? std::nullopt : naturalSide(eb, fb);
+        bool done = false;
+        if (sa && sb) {
+          Result<SeamReport> r =
+              analyzeSeam(out.import.model.patches[pa], *sa, out.import.model.patches[pb], *sb, seamOpt);
+          if (r) {
+            seam.report = std::move(r).value();
+            seam.viaPatchEdges = true;
+            done = true;
+          }
+        }
+        if (!done) {
+          A.surface = BRep_Tool::Surface(fa);
+          B.surface = BRep_Tool::Surface(fb);
+          A.pcurve = BRep_Tool::CurveOnSurface(ea, fa, A.first, A.last);
+          B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
+          if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
+              !(A.last > A.first) || !(B.last > B.first)) {
+            out.freeEdges.push_back({i, seam.a, edgeMidpoint(edge), edgePolyline(edge)});  // not on both faces
+            continue;
+          }
+          A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+          B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+          seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
+          if (!BRep_Tool::SameParameter(edge) || !BRep_Tool::SameRange(edge)) {
+            seam.report.notes.push_back(
+                "not certified: the edge's pcurves do not share its parameter (no SameParameter / SameRange): "
+                "measured by closest points");
+          } else if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
+            const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
+            const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
+            if (sideA && sideB)
+              certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt, size);
+            else
+              seam.report.notes.push_back(fmt::format("not certified: on {}, {}", sideA ? seam.b : seam.a,
+                                                      (sideA ? sideB : sideA).status().message()));
+          } else {
+            seam.report.notes.push_back(
+                fmt::format("not certified: {} was approximated, not converted exactly (see the import warnings)",
+                            out.import.faces[pa].exact ? seam.b : seam.a));
+          }
+        }
+        seam.curve = edgePolyline(edge);
+        out.seams.push_back(std::move(seam));
+      } catch (const Standard_Failure& f) {
+        if (isSignal(f)) throw;
+        out.import.warnings.push_back(fmt::format("{}: edge {} not analysed: OpenCASCADE failed on it: {}",
+                                                  file.string(), i, f.GetMessageString()));
+        ++out.unanalysedEdges;
       }
-      seam.curve = edgePolyline(edge);
-      out.seams.push_back(std::move(seam));
     }
     if (options.progress) options.progress(nFaces, nEdges, nEdges);
   } catch (const Standard_Failure& f) {
     return Status(ErrorCode::kInvalidInput,
-                  fmt::format("{}: OpenCASCADE failed during the B-rep check: {}", file.string(), f.GetMessageString()));
+                  fmt::format("{}: OpenCASCADE {} during the B-rep check: {}", file.string(),
+                              isSignal(f) ? "crashed (the file is corrupt)" : "failed", f.GetMessageString()));
   }
   for (const BRepSeam& s : out.seams) {
     ++out.geometric[static_cast<size_t>(s.report.geometric)];

@@ -8,6 +8,7 @@
 #include "occt/cad_internal.h"
 #include "seam/io/file.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -71,6 +72,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <system_error>
 
 namespace seam::occt {
 
@@ -103,6 +105,9 @@ std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
+
+/// Temporary names tried (each unique in this process) before writing gives up on an existing one.
+constexpr int kTemporaryAttempts = 100;
 
 /// Signals converted into Standard_Failure by detail::OcctSignalGuard (SIGFPE is caught too, with traps off it
 /// should not be raised).
@@ -594,8 +599,29 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
   if (model.patches.empty()) return invalidInput(fmt::format("{}: the model has no patches to write", file.string()));
   silenceOcct();
   const double tol = options.sewingTolerance.value_or(1e-6 * model.boundingBox().diagonal());
-  const fs::path temp = file.parent_path() / fmt::format(".{}.seam-tmp-{}{}", file.stem().string(), ::getpid(),
-                                                          file.extension().string());
+  // A short temporary name in the output's folder (io::temporaryPathFor), so that any legal output name works; made
+  // with O_EXCL, and removed on every way out but the final rename.
+  fs::path temp;
+  for (int attempt = 0;; ++attempt) {
+    temp = io::temporaryPathFor(file);
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      break;
+    }
+    const int err = errno;  // captured before anything else can change it
+    if (err != EEXIST || attempt >= kTemporaryAttempts)
+      return ioError(file, fmt::format("cannot create temporary file {}: {}", temp.string(),
+                                       std::generic_category().message(err)));
+  }
+  struct RemoveTemporary {
+    const fs::path& path;
+    bool keep = false;
+    ~RemoveTemporary() {
+      std::error_code ec;
+      if (!keep) fs::remove(path, ec);
+    }
+  } removeTemporary{temp};
   detail::OcctSignalGuard guard;
   try {
     OCC_CATCH_SIGNALS
@@ -670,12 +696,10 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
     fs::remove(temp, ec);
     return st;
   }
-  std::error_code ec;
-  fs::rename(temp, file, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    return ioError(file, "cannot replace file: " + ec.message());
-  }
+  std::error_code renameError;
+  fs::rename(temp, file, renameError);
+  if (renameError) return ioError(file, "cannot replace file: " + renameError.message());  // temporary removed
+  removeTemporary.keep = true;
   return Status::ok();
 }
 

@@ -77,13 +77,16 @@ struct BRepCheckReport {
   std::vector<BRepNonManifoldEdge> nonManifoldEdges;
   int degenerateEdges = 0;
   int looseEdges = 0;         ///< edges of the file that bound no face (loose 3-D curves): not seams, counted only
+  int unanalysedEdges = 0;    ///< edges where OpenCASCADE failed (each named in import.warnings): not seams
   int certifiedSeams = 0;
   std::array<int, 4> geometric{};  ///< counts per GeometricClass
   GeometricClass worstGeometric = GeometricClass::kG2;
   int occtAgreement = 0;      ///< seams where "G1 or better" agrees between seam and OpenCASCADE
 };
 
-/// Reads and checks a STEP/IGES file. Errors as readCadFile.
+/// Reads and checks a STEP/IGES file. Errors as readCadFile; a crash inside OpenCASCADE during the check (a signal,
+/// caught) is an error too, while an OpenCASCADE failure on one edge only leaves that edge out (unanalysedEdges, with
+/// a warning).
 Result<BRepCheckReport> checkBRepFile(const std::filesystem::path& file, const BRepCheckOptions& options = {});
 
 }  // namespace seam::occt
