@@ -382,6 +382,25 @@ TEST(GcnExpression, ParseErrorsNameThePatchAndTheProblem) {
   EXPECT_NE(m.status().message().find("color"), std::string::npos);
 }
 
+// Issue 15: the expression-model parser makes the model reader's checks before its own nlohmann parse. Arrays
+// nested a million deep inside "patches" (a valid JSON text) used to overflow the stack in nlohmann's recursive
+// copy / dump; a NUL byte is refused wherever it stands.
+TEST(GcnExpressionJson, DeepNestingAndNulBytesAreRefusedBeforeParsing) {
+  const size_t depth = 1000000;
+  const std::string deep = R"({"patches": [)" + std::string(depth, '[') + std::string(depth, ']') + "]}";
+  auto m = parseModelWithExpressions(deep, "deep.json");
+  ASSERT_FALSE(m.isOk());
+  EXPECT_EQ(m.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_NE(m.status().message().find("deep.json"), std::string::npos) << m.status().message();
+  EXPECT_NE(m.status().message().find("nested more than 256 deep"), std::string::npos) << m.status().message();
+  const std::string nul = std::string(R"({"patches": [{"name": "E", "type": "expression", "homogeneous": ["u", "v", )") +
+                          std::string(1, '\0') + R"("0"]}]})";
+  m = parseModelWithExpressions(nul, "nul.json");
+  ASSERT_FALSE(m.isOk());
+  EXPECT_NE(m.status().message().find("nul.json"), std::string::npos) << m.status().message();
+  EXPECT_NE(m.status().message().find("a NUL byte"), std::string::npos) << m.status().message();
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Theorem 5, exactly.
 

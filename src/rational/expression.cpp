@@ -286,6 +286,9 @@ Result<ExpressionPatch> readExpression(const Json& j, const std::string& where) 
 
 Result<ModelWithExpressions> parseModelWithExpressions(std::string_view text, std::string_view source) {
   const std::string src(source);
+  // The model reader's checks first (a NUL byte, nesting deeper than a model needs): nlohmann's dump() below
+  // recurses once per level and would overflow the stack on a deeply nested text.
+  if (Status st = io::checkJsonText(text, source); !st) return st;
   Json root;
   try {
     root = Json::parse(text);
