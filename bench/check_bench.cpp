@@ -14,46 +14,19 @@
 #include "seam/continuity/seam.h"
 #include "seam/spline/bspline_surface.h"
 
+#include "bench_models.h"
+
 namespace {
 
 using seam::BSplineSurface;
 using seam::Matrix;
 using seam::Model;
 
-/// Every kPerturbEvery-th patch gets one perturbed seam: even ones a 1e-4 gap (a lifted boundary row), odd ones a
-/// kink (the row next to the boundary moved along z).
-constexpr int kPerturbEvery = 97;
-
-Model gridModel(int n) {
-  const int np = n + 3;
-  Matrix pts(np * np, 3);
-  for (int i = 0; i < np; ++i)
-    for (int j = 0; j < np; ++j)
-      pts.row(i * np + j) = Eigen::RowVector3d(double(i) / n, double(j) / n,
-                                               0.05 * std::sin(6.0 * i / n) * std::cos(5.0 * j / n + 0.3));
-  std::vector<double> knots(static_cast<size_t>(np + 4));
-  for (int k = 0; k < np + 4; ++k) knots[static_cast<size_t>(k)] = std::clamp(double(k - 3), 0.0, double(n)) / n;
-  const BSplineSurface s = BSplineSurface::create(3, 3, knots, knots, np, np, pts).value();
-  Model m;
-  int index = 0;
-  for (const seam::BezierPatchPiece& piece : s.bezierPatches()) {
-    BSplineSurface b = piece.patch.toBSpline(piece.u, piece.v);
-    if (index % kPerturbEvery == kPerturbEvery - 1 && piece.spanU > 0) {
-      Matrix q = b.points();
-      const bool gap = (index / kPerturbEvery) % 2 == 0;
-      for (int j = 0; j < 4; ++j) q(gap ? j : 4 + j, 2) += gap ? 1e-4 : 2e-3;  // row i = 0 (U0 edge) or i = 1
-      b = BSplineSurface(3, 3, b.knotsU(), b.knotsV(), 4, 4, q);
-    }
-    m.patches.push_back({"P" + std::to_string(index++), seam::PatchKind::kBezier, std::move(b)});
-  }
-  return m;
-}
-
 const Model& cachedModel(int n) {
   static std::vector<std::pair<int, Model>> cache;
   for (const auto& [k, m] : cache)
     if (k == n) return m;
-  cache.emplace_back(n, gridModel(n));
+  cache.emplace_back(n, seam::bench::gridModel(n));
   return cache.back().second;
 }
 

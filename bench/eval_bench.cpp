@@ -6,22 +6,11 @@
 
 #include "seam/spline/bspline_surface.h"
 
+#include "bench_models.h"
+
 namespace {
 
-seam::BSplineSurface makeSurface(bool rational) {
-  constexpr int n = 50;
-  std::mt19937_64 rng(42);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3), weight(0.5, 2.0);
-  seam::Matrix P(n * n, 3);
-  seam::VecX W(rational ? n * n : 0);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      P.row(i * n + j) << i + jitter(rng), j + jitter(rng), jitter(rng);
-      if (rational) W[i * n + j] = weight(rng);
-    }
-  return seam::BSplineSurface(3, 3, seam::KnotVector::clampedUniform(3, n), seam::KnotVector::clampedUniform(3, n),
-                              n, n, std::move(P), std::move(W));
-}
+seam::BSplineSurface makeSurface(bool rational) { return seam::bench::jitteredSurface50(rational); }
 
 void BM_RandomPointsFirstDerivatives(benchmark::State& state) {
   const seam::BSplineSurface s = makeSurface(state.range(0) != 0);

@@ -37,6 +37,8 @@
 #include "seam/continuity/model_check.h"
 #include "seam/spline/bspline_surface.h"
 
+#include "bench_models.h"
+
 namespace {
 
 using seam::BSplineSurface;
@@ -45,20 +47,7 @@ using seam::Model;
 
 // ---- the same surface on both sides ---------------------------------------------------------------------------
 
-BSplineSurface makeSurface(bool rational) {
-  constexpr int n = 50;
-  std::mt19937_64 rng(42);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3), weight(0.5, 2.0);
-  Matrix P(n * n, 3);
-  seam::VecX W(rational ? n * n : 0);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      P.row(i * n + j) << i + jitter(rng), j + jitter(rng), jitter(rng);
-      if (rational) W[i * n + j] = weight(rng);
-    }
-  return BSplineSurface(3, 3, seam::KnotVector::clampedUniform(3, n), seam::KnotVector::clampedUniform(3, n), n, n,
-                        std::move(P), std::move(W));
-}
+BSplineSurface makeSurface(bool rational) { return seam::bench::jitteredSurface50(rational); }
 
 // Distinct knots and multiplicities of a flat knot vector, as OpenCASCADE wants them.
 void splitKnots(const std::vector<double>& flat, std::vector<double>& knots, std::vector<int>& mults) {
@@ -259,7 +248,6 @@ void BM_Grid_occt(benchmark::State& state) {
 // ---- model check --------------------------------------------------------------------------------------------------
 
 constexpr int kModelN = 100;
-constexpr int kPerturbEvery = 97;  // as bench/check_bench.cpp: alternately a 1e-4 gap and a 2e-3 kink
 constexpr int kOcctSamplesPerSeam = 21;
 
 struct GridModel {
@@ -274,25 +262,10 @@ struct GridModel {
 const GridModel& gridModel() {
   static GridModel gm = [] {
     GridModel out;
-    const int n = kModelN, np = n + 3;
-    Matrix pts(np * np, 3);
-    for (int i = 0; i < np; ++i)
-      for (int j = 0; j < np; ++j)
-        pts.row(i * np + j) = Eigen::RowVector3d(double(i) / n, double(j) / n,
-                                                 0.05 * std::sin(6.0 * i / n) * std::cos(5.0 * j / n + 0.3));
-    std::vector<double> knots(static_cast<size_t>(np + 4));
-    for (int k = 0; k < np + 4; ++k) knots[static_cast<size_t>(k)] = std::clamp(double(k - 3), 0.0, double(n)) / n;
-    const BSplineSurface s = BSplineSurface::create(3, 3, knots, knots, np, np, pts).value();
     std::map<std::pair<int, int>, int> at;
     int index = 0;
-    for (const seam::BezierPatchPiece& piece : s.bezierPatches()) {
+    for (const seam::BezierPatchPiece& piece : seam::bench::gridPieces(kModelN)) {
       BSplineSurface b = piece.patch.toBSpline(piece.u, piece.v);
-      if (index % kPerturbEvery == kPerturbEvery - 1 && piece.spanU > 0) {
-        Matrix q = b.points();
-        const bool gap = (index / kPerturbEvery) % 2 == 0;
-        for (int j = 0; j < 4; ++j) q(gap ? j : 4 + j, 2) += gap ? 1e-4 : 2e-3;
-        b = BSplineSurface(3, 3, b.knotsU(), b.knotsV(), 4, 4, q);
-      }
       out.occt.push_back(toOcct(b));
       out.spanU.push_back(piece.spanU);
       out.spanV.push_back(piece.spanV);
