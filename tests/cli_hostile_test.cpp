@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -207,6 +208,48 @@ TEST(CliHostile, ModelsWithoutPatchesHaveNothingToCheck) {
         << describe(args, r);
     EXPECT_EQ(readText(in), before);
   }
+}
+
+// `check` on a model without patches says so and succeeds, as report and heal do (it was exit 2); --json gives a
+// JSON object saying the same.
+TEST(CliHostile, CheckOfAModelWithoutPatchesHasNothingToCheck) {
+  for (const char* name : {"curves_only.json", "no_patches.json"}) {
+    const fs::path in = kHostile / name;
+    const std::string before = readText(in);
+    std::vector<std::string> args = {"check", in.string()};
+    RunResult r = run(args);
+    EXPECT_EQ(r.exitCode, kExitOk) << describe(args, r);
+    EXPECT_THAT(r.out, HasSubstr(std::string(name) + ": the model has no patches: nothing to check"));
+    args = {"check", in.string(), "--json", "--require", "G1"};
+    r = run(args);
+    EXPECT_EQ(r.exitCode, kExitOk) << describe(args, r);
+    const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << describe(args, r);
+    EXPECT_EQ(j.value("patches", -1), 0);
+    EXPECT_THAT(j.value("note", std::string()), HasSubstr("nothing to check"));
+    EXPECT_EQ(readText(in), before);
+  }
+}
+
+// Three copies of one bilinear patch (a duplicated face): each of its 4 edges has 3 coincident copies, so the JSON
+// summary of `check` counts 4 coincident-edge groups (the list "coincident_edges" holds them).
+TEST(CliHostile, CheckSummaryCountsCoincidentEdgeGroups) {
+  TempDir dir;
+  const fs::path in = dir.path() / "triplicate.json";
+  std::string patches;
+  for (int k = 0; k < 3; ++k)
+    patches += fmt::format(R"({}{{"name": "P{}", "type": "bspline", "degree": [1, 1], "knots": [[0, 0, 1, 1], )"
+                           R"([0, 0, 1, 1]], "points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]}})",
+                           k ? ", " : "", k);
+  std::ofstream(in) << R"({"patches": [)" << patches << "]}\n";
+  const std::vector<std::string> args = {"check", in.string(), "--json"};
+  const RunResult r = run(args);
+  ASSERT_EQ(r.exitCode, kExitOk) << describe(args, r);
+  const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(j.is_object()) << describe(args, r);
+  ASSERT_TRUE(j["summary"].contains("coincident_edge_groups")) << describe(args, r);
+  EXPECT_EQ(j["summary"]["coincident_edge_groups"], 4);
+  EXPECT_EQ(j["coincident_edges"].size(), 4u);
 }
 
 TEST(CliHostile, PatchNamesWithControlCharactersDoNotBreakObjLines) {

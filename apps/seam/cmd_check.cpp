@@ -160,7 +160,8 @@ OrderedJson summaryJson(const ModelCheckReport& r, const std::optional<Geometric
                 {"corner_g1_residual_max", s.cornerG1ResidualMax},
                 {"corner_g2_residual_max", optionalNumber(s.cornerG2ResidualMax)},
                 {"free_edges", s.freeEdges},
-                {"degenerate_edges", s.degenerateEdges}};
+                {"degenerate_edges", s.degenerateEdges},
+                {"coincident_edge_groups", s.coincidentEdgeGroups}};
   j["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
   j["below_required"] = s.belowRequired;
   return j;
@@ -370,9 +371,13 @@ int runCheck(const CheckOptions& o) {
 #endif
   const std::optional<Model> model = loadModel(o.file);
   if (!model) return kExitBadInput;
-  if (model->patches.empty()) {
-    printError(fmt::format("{}: the model has no patches", o.file));
-    return kExitBadInput;
+  if (model->patches.empty()) {  // only curves, or "patches": []: as `report` and `heal` (issue 15)
+    const std::string note = fmt::format("{}: the model has no patches: nothing to check", o.file);
+    if (o.json)
+      printJson(OrderedJson{{"file", o.file}, {"patches", 0}, {"note", note}});
+    else
+      fmt::print("{}\n", note);
+    return kExitOk;
   }
   const Tolerances tol = o.tol.appliedTo(Tolerances::forModelSize(model->boundingBox().diagonal()));
 
