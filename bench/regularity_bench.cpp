@@ -32,6 +32,21 @@ BSplineCurve curve(int n, double noise) {
   return BSplineCurve(3, seam::KnotVector(uniformKnots(3, n)), p);
 }
 
+/// A wavy ring of n control points (issue 16's scale benchmarks): most of a circle of radius 0.05 n with wiggles of
+/// amplitude 0.5 in the radial direction and in z. No defect, but the derivative turns all the way round, so the
+/// search cannot discard the whole curve at once: only regions of a few segments are injective by their cones, and
+/// far-apart pieces must be told apart by their boxes.
+BSplineCurve ring(int n) {
+  Matrix p(n, 3);
+  const double radius = 0.05 * n;
+  for (int i = 0; i < n; ++i) {
+    const double a = 1.9 * M_PI * i / n;
+    const double r = radius + 0.5 * std::sin(1.3 * i);
+    p.row(i) << r * std::cos(a), r * std::sin(a), 0.5 * std::cos(0.7 * i);
+  }
+  return BSplineCurve(3, seam::KnotVector(uniformKnots(3, n)), p);
+}
+
 BSplineSurface surface(int n, double noise) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -109,6 +124,62 @@ void BM_SurfaceSearch(benchmark::State& state) {
   state.SetItemsProcessed(patches);
 }
 BENCHMARK(BM_SurfaceSearch)->Unit(benchmark::kMillisecond);
+
+/// The whole analysis as `seam regularity` runs it (certificates, Theorem 2.7 up to ell = 2, the search) on
+/// curves of n segments (issue 16 goal 5: 200 000 in well under 2 s).
+void BM_AnalyzeCurveScale(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const BSplineCurve c = ring(n + 3);
+  for (auto _ : state) {
+    auto r = seam::regularity::analyzeCurve(c);
+    benchmark::DoNotOptimize(r);
+    if (!r || !r->search->summary.provedClean(r->search->defectFound())) state.SkipWithError("not proved clean");
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+BENCHMARK(BM_AnalyzeCurveScale)->Arg(2000)->Arg(8000)->Arg(200000)->Unit(benchmark::kMillisecond);
+
+/// The search alone on the same curves.
+void BM_CurveSearchScale(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const BSplineCurve c = ring(n + 3);
+  long work = 0;
+  for (auto _ : state) {
+    auto r = seam::regularity::searchCurveDefects(c);
+    benchmark::DoNotOptimize(r);
+    work = r->summary.work;
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["work"] = static_cast<double>(work);
+}
+BENCHMARK(BM_CurveSearchScale)->Arg(2000)->Arg(8000)->Arg(200000)->Unit(benchmark::kMillisecond);
+
+/// The whole analysis of a bicubic net of n x n Bezier sub-nets (issue 16 goal 5: 200 x 200 in well under 2 s).
+void BM_AnalyzeSurfaceScale(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const BSplineSurface s = surface(n + 3, 0.0);
+  for (auto _ : state) {
+    auto r = seam::regularity::analyzeSurface(s);
+    benchmark::DoNotOptimize(r);
+    if (!r || !r->search->summary.provedClean(r->search->defectFound())) state.SkipWithError("not proved clean");
+  }
+  state.SetItemsProcessed(state.iterations() * n * n);
+}
+BENCHMARK(BM_AnalyzeSurfaceScale)->Arg(50)->Arg(200)->Unit(benchmark::kMillisecond);
+
+void BM_SurfaceSearchScale(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const BSplineSurface s = surface(n + 3, 0.0);
+  long work = 0;
+  for (auto _ : state) {
+    auto r = seam::regularity::searchSurfaceDefects(s);
+    benchmark::DoNotOptimize(r);
+    work = r->summary.work;
+  }
+  state.SetItemsProcessed(state.iterations() * n * n);
+  state.counters["work"] = static_cast<double>(work);
+}
+BENCHMARK(BM_SurfaceSearchScale)->Arg(50)->Arg(200)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

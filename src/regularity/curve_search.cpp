@@ -57,6 +57,7 @@ struct Piece {
   BernsteinPoly dn;
   double nScale = 0.0;  // max coefficient norm of n
   bool rational = false;
+  Box3 box;  // of the control points
 };
 
 BernsteinPoly columns(const BernsteinPoly& p, int from, int count) {
@@ -70,7 +71,9 @@ BernsteinPoly hodographNumerator(const BernsteinPoly& h, bool rational) {
   return product(a.derivative(), w) - product(a, w.derivative());
 }
 
-/// A parameter region of the curve: a run of whole pieces, or a sub-interval of one piece.
+/// A parameter region of the curve: a run of whole pieces [first, last), or a sub-interval of one piece. The regions
+/// form a bounding-volume hierarchy in parameter order; a run holds only its range and box (its hodograph
+/// coefficients are gathered from the pieces when needed), so the tree is linear in memory.
 struct Region {
   double a = 0.0;
   double b = 0.0;
@@ -79,13 +82,15 @@ struct Region {
     double s0 = 0.0;
     double s1 = 1.0;
   };
-  std::vector<Arc> arcs;
+  int first = 0;  // pieces [first, last) when last - first > 1; else the one arc `arc`
+  int last = 0;
+  Arc arc;
   Box3 box;
-  std::vector<Vec3> hodo;  // hodograph-numerator coefficients of every arc
+  std::vector<Vec3> hodo;  // hodograph-numerator coefficients of `arc` (single-arc regions only)
   int simple = -1;         // cached: 1 injective (cone test passed), 0 not proven
   std::unique_ptr<Region> child[2];
-  [[nodiscard]] bool single() const { return arcs.size() == 1; }
-  [[nodiscard]] double relWidth() const { return single() ? arcs[0].s1 - arcs[0].s0 : 2.0; }
+  [[nodiscard]] bool single() const { return last - first == 1; }
+  [[nodiscard]] double relWidth() const { return single() ? arc.s1 - arc.s0 : 2.0; }
 };
 
 class CurveSearch {
@@ -108,12 +113,17 @@ class CurveSearch {
       p.n = hodographNumerator(p.h, p.rational);
       p.dn = p.n.derivative();
       p.nScale = p.n.maxCoeffNorm();
+      for (int k = 0; k <= p.h.degree(); ++k) {
+        const auto row = p.h.coeffs().row(k);
+        p.box.add(Vec3(row[0], row[1], row[2]) / row[3]);
+      }
       pieces_.push_back(std::move(p));
     }
     const BoundingBox box = controlBox(curve);
     dist_ = options.distance.value_or(detail::defaultDistance(box.diagonal()));
     domain_ = {pieces_.front().iv.lo, pieces_.back().iv.hi};
     closed_ = (curve.evaluate(domain_.lo) - curve.evaluate(domain_.hi)).norm() <= dist_;
+    budget_ = std::max(options.maxWork, options.maxWorkPerPiece * static_cast<long>(pieces_.size()));
     result_.summary.resolution = options.resolution;
     result_.summary.distance = dist_;
   }
@@ -123,7 +133,9 @@ class CurveSearch {
     Region top;
     top.a = domain_.lo;
     top.b = domain_.hi;  // the pieces cover exactly this interval (see the constructor)
-    for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) top.arcs.push_back({i, 0.0, 1.0});
+    top.first = 0;
+    top.last = static_cast<int>(pieces_.size());
+    top.arc = {0, 0.0, 1.0};
     finish(top);
     selfCheck(top);
     std::sort(result_.criticalPoints.begin(), result_.criticalPoints.end(),
@@ -225,7 +237,7 @@ class CurveSearch {
   /// A region is near a found critical point when the point lies within the region grown by its width, or by the
   /// Newton width of the span (near a cusp the two branches are close, and pairs there cannot be settled).
   /// C' == 0 on the whole piece of a single-arc region (reported as one critical point; not searched further).
-  bool degenerate(const Region& r) const { return r.single() && !(pieces_[r.arcs[0].piece].nScale > 0.0); }
+  bool degenerate(const Region& r) const { return r.single() && !(pieces_[r.arc.piece].nScale > 0.0); }
   bool nearCritical(double a, double b) const {
     const double w = std::max(b - a, opt_.newtonWidth * (domain_.hi - domain_.lo) / static_cast<double>(pieces_.size()));
     for (const CurveCriticalPoint& c : result_.criticalPoints) {
@@ -236,42 +248,64 @@ class CurveSearch {
 
   // ---- regions ----
   void finish(Region& r) const {
-    for (const Region::Arc& arc : r.arcs) {
-      const Piece& p = pieces_[arc.piece];
-      const bool whole = arc.s0 == 0.0 && arc.s1 == 1.0;
-      const BernsteinPoly h = whole ? p.h : p.h.restricted(arc.s0, arc.s1);
-      for (int k = 0; k <= h.degree(); ++k) {
-        const auto row = h.coeffs().row(k);
-        r.box.add(Vec3(row[0], row[1], row[2]) / row[3]);
-      }
-      const BernsteinPoly n = whole ? p.n : hodographNumerator(h, p.rational);
-      for (int k = 0; k <= n.degree(); ++k) r.hodo.push_back(n.coeffs().row(k).transpose());
+    if (!r.single()) {
+      for (int i = r.first; i < r.last; ++i) r.box.add(pieces_[i].box);
+      return;
+    }
+    const Region::Arc& arc = r.arc;
+    const Piece& p = pieces_[arc.piece];
+    const bool whole = arc.s0 == 0.0 && arc.s1 == 1.0;
+    const BernsteinPoly h = whole ? p.h : p.h.restricted(arc.s0, arc.s1);
+    for (int k = 0; k <= h.degree(); ++k) {
+      const auto row = h.coeffs().row(k);
+      r.box.add(Vec3(row[0], row[1], row[2]) / row[3]);
+    }
+    const BernsteinPoly n = whole ? p.n : hodographNumerator(h, p.rational);
+    for (int k = 0; k <= n.degree(); ++k) r.hodo.push_back(n.coeffs().row(k).transpose());
+  }
+  /// Appends the hodograph-numerator coefficients of a region, piece by piece, to `out`.
+  void gatherHodo(const Region& r, std::vector<Vec3>& out) const {
+    if (r.single()) {
+      out.insert(out.end(), r.hodo.begin(), r.hodo.end());
+      return;
+    }
+    for (int i = r.first; i < r.last; ++i) {
+      const Matrix& c = pieces_[i].n.coeffs();
+      for (Eigen::Index k = 0; k < c.rows(); ++k) out.push_back(c.row(k).transpose());
     }
   }
   bool isSimple(Region& r) const {
-    if (r.simple < 0) r.simple = detail::positiveDirection(r.hodo) ? 1 : 0;
+    if (r.simple < 0) {
+      thread_local std::vector<Vec3> all;
+      all.clear();
+      gatherHodo(r, all);
+      r.simple = detail::positiveDirection(all) ? 1 : 0;
+    }
     return r.simple == 1;
   }
   Region& child(Region& r, int c) {
     if (!r.child[0]) {
       auto c0 = std::make_unique<Region>();
       auto c1 = std::make_unique<Region>();
-      if (r.arcs.size() > 1) {
-        const size_t m = r.arcs.size() / 2;
-        c0->arcs.assign(r.arcs.begin(), r.arcs.begin() + static_cast<long>(m));
-        c1->arcs.assign(r.arcs.begin() + static_cast<long>(m), r.arcs.end());
-      } else {
-        const Region::Arc& a = r.arcs[0];
-        const double sm = 0.5 * (a.s0 + a.s1);
-        c0->arcs = {{a.piece, a.s0, sm}};
-        c1->arcs = {{a.piece, sm, a.s1}};
-      }
       double mid = 0.0;
-      if (r.arcs.size() > 1) {
-        mid = pieces_[c1->arcs.front().piece].iv.lo;
+      if (!r.single()) {
+        const int m = r.first + (r.last - r.first) / 2;
+        c0->first = r.first;
+        c0->last = m;
+        c1->first = m;
+        c1->last = r.last;
+        c0->arc = {c0->first, 0.0, 1.0};
+        c1->arc = {c1->first, 0.0, 1.0};
+        mid = pieces_[m].iv.lo;
       } else {
-        const Piece& p = pieces_[r.arcs[0].piece];
-        mid = p.iv.lo + c0->arcs[0].s1 * p.iv.length();
+        const Region::Arc& a = r.arc;
+        const double sm = 0.5 * (a.s0 + a.s1);
+        c0->first = c1->first = r.first;
+        c0->last = c1->last = r.last;
+        c0->arc = {a.piece, a.s0, sm};
+        c1->arc = {a.piece, sm, a.s1};
+        const Piece& p = pieces_[a.piece];
+        mid = p.iv.lo + sm * p.iv.length();
       }
       c0->a = r.a;
       c0->b = mid;
@@ -285,7 +319,7 @@ class CurveSearch {
     return *r.child[c];
   }
   bool spend() {
-    if (++result_.summary.work > opt_.maxWork) {
+    if (++result_.summary.work > budget_) {
       result_.summary.complete = false;
       return false;
     }
@@ -313,8 +347,10 @@ class CurveSearch {
     const bool touch = touching(x, y);
     if (!touch && !x.box.overlaps(y.box, dist_)) return;
     if (touch) {
-      std::vector<Vec3> both = x.hodo;
-      both.insert(both.end(), y.hodo.begin(), y.hodo.end());
+      thread_local std::vector<Vec3> both;
+      both.clear();
+      gatherHodo(x, both);
+      gatherHodo(y, both);
       if (detail::positiveDirection(both)) return;
     }
     const bool small = x.single() && y.single() && x.relWidth() <= opt_.newtonWidth &&
@@ -387,6 +423,7 @@ class CurveSearch {
   }
 
   SearchOptions opt_;
+  long budget_ = 0;
   int dim_ = 3;
   std::vector<Piece> pieces_;
   double dist_ = 0.0;

@@ -41,6 +41,8 @@ struct Piece {
   BernsteinPatch h, hu, hv;  // homogeneous (dim 4) and its partials (local parameters)
   BernsteinPatch n, nu, nv;  // normal numerator (dim 3) and its partials
   double nScale = 0.0;
+  Box3 box;                  // of the control points
+  std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of the whole piece
 };
 
 struct Part {
@@ -48,16 +50,20 @@ struct Part {
   double u0 = 0.0, u1 = 1.0, v0 = 0.0, v1 = 1.0;  // local box of the piece
 };
 
+/// A parameter region: a block of whole pieces [u0, u1) x [v0, v1) (piece indices), or a sub-box of one piece
+/// (`part`). The regions form a bounding-volume hierarchy; a block holds only its index ranges and box (its
+/// derivative coefficients are gathered from the pieces when needed), so the tree is linear in memory.
 struct Region {
   Interval u, v;  // global
-  std::vector<Part> parts;
+  int u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  Part part;
   Box3 box;
-  std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of every part
+  std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of `part` (single-part regions only)
   int simple = -1;
   std::unique_ptr<Region> child[2];
-  [[nodiscard]] bool single() const { return parts.size() == 1; }
+  [[nodiscard]] bool single() const { return u1 - u0 == 1 && v1 - v0 == 1; }
   [[nodiscard]] double relWidth() const {
-    return single() ? std::max(parts[0].u1 - parts[0].u0, parts[0].v1 - parts[0].v0) : 2.0;
+    return single() ? std::max(part.u1 - part.u0, part.v1 - part.v0) : 2.0;
   }
 };
 
@@ -109,6 +115,10 @@ class SurfaceSearch {
       for (Eigen::Index r = 0; r < p.n.coeffs().rows(); ++r) {
         p.nScale = std::max(p.nScale, p.n.coeffs().row(r).norm());
       }
+      const Matrix& c = p.h.coeffs();
+      for (Eigen::Index k = 0; k < c.rows(); ++k) p.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
+      for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) p.du.push_back(su.coeffs().row(k).transpose());
+      for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) p.dv.push_back(sv.coeffs().row(k).transpose());
     }
     dist_ = options.distance.value_or(detail::defaultDistance(controlBox(s).diagonal()));
     domU_ = {pieces_.front().u.lo, pieces_.back().u.hi};
@@ -122,6 +132,7 @@ class SurfaceSearch {
       closedU_ = closedU_ && (s.evaluate(domU_.lo, v) - s.evaluate(domU_.hi, v)).norm() <= dist_;
       closedV_ = closedV_ && (s.evaluate(u, domV_.lo) - s.evaluate(u, domV_.hi)).norm() <= dist_;
     }
+    budget_ = std::max(options.maxWork, options.maxWorkPerPiece * static_cast<long>(pieces_.size()));
     result_.summary.resolution = options.resolution;
     result_.summary.distance = dist_;
   }
@@ -137,7 +148,9 @@ class SurfaceSearch {
     Region top;
     top.u = domU_;
     top.v = domV_;
-    for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) top.parts.push_back({i});
+    top.u1 = nu_;
+    top.v1 = nv_;
+    top.part = {0};
     finish(top);
     selfCheck(top);
     return std::move(result_);
@@ -166,7 +179,7 @@ class SurfaceSearch {
   }
 
   bool spend() {
-    if (++result_.summary.work > opt_.maxWork) {
+    if (++result_.summary.work > budget_) {
       result_.summary.complete = false;
       return false;
     }
@@ -240,8 +253,10 @@ class SurfaceSearch {
   /// The region grown by its size, or by the Newton width of a span, contains a found critical point.
   /// S_u x S_v == 0 on a whole piece of the region (reported as one critical point; not searched further).
   bool degenerate(const Region& r) const {
-    for (const Part& part : r.parts) {
-      if (!(pieces_[part.piece].nScale > 0.0)) return true;
+    for (int iu = r.u0; iu < r.u1; ++iu) {
+      for (int iv = r.v0; iv < r.v1; ++iv) {
+        if (!(pieces_[static_cast<size_t>(iu) * nv_ + iv].nScale > 0.0)) return true;
+      }
     }
     return false;
   }
@@ -256,19 +271,51 @@ class SurfaceSearch {
 
   // ---- regions ----
   void finish(Region& r) const {
-    for (const Part& part : r.parts) {
-      const Piece& p = pieces_[part.piece];
-      const bool whole = part.u0 == 0.0 && part.u1 == 1.0 && part.v0 == 0.0 && part.v1 == 1.0;
-      const BernsteinPatch h = whole ? p.h : p.h.restricted(part.u0, part.u1, part.v0, part.v1);
-      const Matrix& c = h.coeffs();
-      for (Eigen::Index k = 0; k < c.rows(); ++k) r.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
-      const auto [su, sv] = partialNumerators(h, p.rational);
-      for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) r.du.push_back(su.coeffs().row(k).transpose());
-      for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) r.dv.push_back(sv.coeffs().row(k).transpose());
+    if (!r.single()) {
+      for (int iu = r.u0; iu < r.u1; ++iu) {
+        for (int iv = r.v0; iv < r.v1; ++iv) r.box.add(pieces_[static_cast<size_t>(iu) * nv_ + iv].box);
+      }
+      return;
+    }
+    const Part& part = r.part;
+    const Piece& p = pieces_[part.piece];
+    const bool whole = part.u0 == 0.0 && part.u1 == 1.0 && part.v0 == 0.0 && part.v1 == 1.0;
+    if (whole) {
+      r.box = p.box;
+      r.du = p.du;
+      r.dv = p.dv;
+      return;
+    }
+    const BernsteinPatch h = p.h.restricted(part.u0, part.u1, part.v0, part.v1);
+    const Matrix& c = h.coeffs();
+    for (Eigen::Index k = 0; k < c.rows(); ++k) r.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
+    const auto [su, sv] = partialNumerators(h, p.rational);
+    for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) r.du.push_back(su.coeffs().row(k).transpose());
+    for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) r.dv.push_back(sv.coeffs().row(k).transpose());
+  }
+  /// Appends the S_u / S_v numerator coefficients of a region, piece by piece in row-major order, to du / dv.
+  void gather(const Region& r, std::vector<Vec3>& du, std::vector<Vec3>& dv) const {
+    if (r.single()) {
+      du.insert(du.end(), r.du.begin(), r.du.end());
+      dv.insert(dv.end(), r.dv.begin(), r.dv.end());
+      return;
+    }
+    for (int iu = r.u0; iu < r.u1; ++iu) {
+      for (int iv = r.v0; iv < r.v1; ++iv) {
+        const Piece& p = pieces_[static_cast<size_t>(iu) * nv_ + iv];
+        du.insert(du.end(), p.du.begin(), p.du.end());
+        dv.insert(dv.end(), p.dv.begin(), p.dv.end());
+      }
     }
   }
   bool isSimple(Region& r) const {
-    if (r.simple < 0) r.simple = conesSeparate(r.du, r.dv) ? 1 : 0;
+    if (r.simple < 0) {
+      thread_local std::vector<Vec3> du, dv;
+      du.clear();
+      dv.clear();
+      gather(r, du, dv);
+      r.simple = conesSeparate(du, dv) ? 1 : 0;
+    }
     return r.simple == 1;
   }
   Region& child(Region& r, int c) {
@@ -277,25 +324,24 @@ class SurfaceSearch {
       auto c1 = std::make_unique<Region>();
       c0->u = c1->u = r.u;
       c0->v = c1->v = r.v;
-      int puMin = nu_, puMax = -1, pvMin = nv_, pvMax = -1;
-      for (const Part& part : r.parts) {
-        puMin = std::min(puMin, part.piece / nv_);
-        puMax = std::max(puMax, part.piece / nv_);
-        pvMin = std::min(pvMin, part.piece % nv_);
-        pvMax = std::max(pvMax, part.piece % nv_);
-      }
-      if (puMax > puMin || pvMax > pvMin) {
-        const bool alongU = puMax - puMin >= pvMax - pvMin;
-        const int cut = alongU ? (puMin + puMax + 1) / 2 : (pvMin + pvMax + 1) / 2;
-        for (const Part& part : r.parts) {
-          const int index = alongU ? part.piece / nv_ : part.piece % nv_;
-          (index < cut ? c0 : c1)->parts.push_back(part);
+      if (!r.single()) {
+        const bool alongU = r.u1 - r.u0 >= r.v1 - r.v0;
+        for (Region* x : {c0.get(), c1.get()}) {
+          x->u0 = r.u0;
+          x->u1 = r.u1;
+          x->v0 = r.v0;
+          x->v1 = r.v1;
         }
+        const int cut = alongU ? (r.u0 + r.u1) / 2 : (r.v0 + r.v1) / 2;
+        (alongU ? c0->u1 : c0->v1) = cut;
+        (alongU ? c1->u0 : c1->v0) = cut;
+        c0->part = {c0->u0 * nv_ + c0->v0};
+        c1->part = {c1->u0 * nv_ + c1->v0};
         const double mid = alongU ? pieces_[static_cast<size_t>(cut) * nv_].u.lo : pieces_[cut].v.lo;
         (alongU ? c0->u.hi : c0->v.hi) = mid;
         (alongU ? c1->u.lo : c1->v.lo) = mid;
       } else {
-        const Part& part = r.parts[0];
+        const Part& part = r.part;
         const Piece& p = pieces_[part.piece];
         Part a = part;
         Part b = part;
@@ -306,8 +352,12 @@ class SurfaceSearch {
           a.v1 = b.v0 = 0.5 * (part.v0 + part.v1);
           c0->v.hi = c1->v.lo = p.v.lo + a.v1 * p.v.length();
         }
-        c0->parts = {a};
-        c1->parts = {b};
+        c0->u0 = c1->u0 = r.u0;
+        c0->u1 = c1->u1 = r.u1;
+        c0->v0 = c1->v0 = r.v0;
+        c0->v1 = c1->v1 = r.v1;
+        c0->part = a;
+        c1->part = b;
       }
       finish(*c0);
       finish(*c1);
@@ -344,10 +394,11 @@ class SurfaceSearch {
     const bool touch = touching(x, y);
     if (!touch && !x.box.overlaps(y.box, dist_)) return;
     if (touch) {
-      std::vector<Vec3> du = x.du;
-      du.insert(du.end(), y.du.begin(), y.du.end());
-      std::vector<Vec3> dv = x.dv;
-      dv.insert(dv.end(), y.dv.begin(), y.dv.end());
+      thread_local std::vector<Vec3> du, dv;
+      du.clear();
+      dv.clear();
+      gather(x, du, dv);
+      gather(y, du, dv);
       if (conesSeparate(du, dv)) return;
     }
     const bool small = x.single() && y.single() && x.relWidth() <= opt_.newtonWidth &&
@@ -433,6 +484,7 @@ class SurfaceSearch {
   }
 
   SearchOptions opt_;
+  long budget_ = 0;
   int nu_ = 0;
   int nv_ = 0;
   std::vector<Piece> pieces_;

@@ -31,8 +31,11 @@ struct SearchOptions {
   double criticalRelTol = 1e-9;
   /// At most this many critical points and self-intersection points are reported (then `truncated`).
   int maxReported = 64;
-  /// Region and region-pair visits before the search gives up (then `complete` is false).
+  /// Region and region-pair visits before the search gives up (then `complete` is false): at least maxWork, and at
+  /// least maxWorkPerPiece per Bezier piece, so that the budget grows with the model (a clean curve needs a few
+  /// visits per piece; a fixed total would leave every curve of more than ~100 000 segments unsettled).
   long maxWork = 300'000;
+  long maxWorkPerPiece = 64;
 };
 
 struct CurveCriticalPoint {
