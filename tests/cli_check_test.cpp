@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 
+#include "hinge_models.h"
 #include "seam/io/json.h"
 #include "seam/model/model.h"
 #include "seam/spline/bspline_surface.h"
@@ -161,6 +162,111 @@ TEST_F(CliCheck, BadInputExitsWith2) {
   EXPECT_EQ(runSeam("check \"" + model_ + "\" --seam A:u1").exitCode, 2);
   EXPECT_EQ(runSeam("check").exitCode, 2);
 }
+
+// Issue 17 §1: hinges at 10, 45, 90 and 150 degrees, a flat seam with a gap of 0.01, a G2 seam and a 3-degree kink.
+// With the default crease angle (20 deg) the 45/90/150-degree seams are design creases, listed apart; the problems
+// are the two kinks and the gap.
+class CliVerdicts : public CliCheck {
+ protected:
+  void SetUp() override {
+    CliCheck::SetUp();
+    hinges_ = (dir_ / "hinges.json").string();
+    ASSERT_TRUE(io::writeModelJson(test::hingeModel({10.0, 45.0, 90.0, 150.0, 0.0, 0.0, 3.0},
+                                                    {0.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0}),
+                                   hinges_)
+                    .isOk());
+  }
+  std::string hinges_;
+};
+
+std::vector<std::string> verdictsOf(const nlohmann::json& j) {
+  std::vector<std::string> v;
+  for (const nlohmann::json& s : j["seams"]) v.push_back(s["verdict"]);
+  return v;
+}
+
+TEST_F(CliVerdicts, JsonVerdictPerSeamAndSummary) {
+  const CliRun r = runSeam("check \"" + hinges_ + "\" --json");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(verdictsOf(j), (std::vector<std::string>{"kink", "crease", "crease", "crease", "gap", "G2", "kink"}));
+  // The paper-based class stays as the detail, and the angle is there for every seam, the gap's too.
+  EXPECT_EQ(j["seams"][4]["geometric"], "none");
+  EXPECT_NEAR(j["seams"][2]["g1_max_deg"].get<double>(), 90.0, 1e-9);
+  EXPECT_EQ(j["seams"][3]["geometric"], "G0");
+  EXPECT_EQ(j["tolerances"]["crease_angle_deg"], 20.0);
+  const nlohmann::json& s = j["summary"];
+  EXPECT_EQ(s["verdicts"], (nlohmann::json{{"gap", 1}, {"kink", 2}, {"crease", 3}, {"G1", 0}, {"G2", 1}}));
+  EXPECT_EQ(s["worst_kink"]["a"], "A0");  // the 10-degree hinge
+  EXPECT_NEAR(s["worst_kink"]["angle_deg"].get<double>(), 10.0, 1e-9);
+  EXPECT_NEAR(s["worst_kink"]["point"][0].get<double>(), 0.0, 1e-12);  // on the hinge line x = 0
+  EXPECT_EQ(s["worst_gap"]["a"], "A4");
+  EXPECT_NEAR(s["worst_gap"]["gap"].get<double>(), 0.01, 1e-9);
+  EXPECT_EQ(s["worst_gap"]["point"].size(), 3u);
+  // A crease angle of 50 degrees makes the 45-degree hinge a kink, and the worst one.
+  const nlohmann::json k = nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json --crease-angle 50").out);
+  EXPECT_EQ(k["seams"][1]["verdict"], "kink");
+  EXPECT_EQ(k["summary"]["worst_kink"]["a"], "A1");
+}
+
+TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
+  nlohmann::json j = nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json --sort angle --top 3").out);
+  ASSERT_EQ(j["seams"].size(), 3u);
+  EXPECT_EQ(j["seams"][0]["index"], 3);  // 150, 90, 45 degrees
+  EXPECT_EQ(j["seams"][1]["index"], 2);
+  EXPECT_EQ(j["seams"][2]["index"], 1);
+  EXPECT_EQ(j["summary"]["seams"], 7);  // the summary counts every seam
+  j = nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json --only problems --sort angle").out);
+  EXPECT_EQ(verdictsOf(j), (std::vector<std::string>{"kink", "kink", "gap"}));
+  j = nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json --only problems --sort gap --top 1").out);
+  EXPECT_EQ(verdictsOf(j), (std::vector<std::string>{"gap"}));
+
+  // Text: the creases in their own list, after the other seams; --top cuts each list.
+  const CliRun t = runSeam("check \"" + hinges_ + "\" --sort angle --top 2");
+  ASSERT_EQ(t.exitCode, 0);
+  const size_t creases = t.out.find("design creases (3, angle >= 20 deg");
+  ASSERT_NE(creases, std::string::npos) << t.out;
+  const size_t corners = t.out.find("corners (");
+  EXPECT_NE(t.out.find("showing 2 of 4, largest angle first"), std::string::npos) << t.out;
+  EXPECT_LT(t.out.find("A0  "), creases);          // the 10-degree kink above the creases
+  EXPECT_LT(t.out.find("A6  "), creases);          // the 3-degree kink
+  EXPECT_EQ(t.out.find("A4  "), std::string::npos);  // cut by --top 2
+  EXPECT_GT(t.out.find("A3  "), creases);
+  EXPECT_LT(t.out.find("A3  "), t.out.find("A2  "));  // 150 before 90
+  EXPECT_LT(t.out.find("A2  "), corners);
+  EXPECT_EQ(t.out.find("A1  "), std::string::npos);
+  for (const char* text : {"verdicts: gap 1, kink 2, crease 3", "worst kink: A0:u1 / B0:u0, angle 10 deg",
+                           "worst gap: A4:u1 / B4:u0, gap 0.01"})
+    EXPECT_NE(t.out.find(text), std::string::npos) << text << "\n" << t.out;
+  const CliRun p = runSeam("check \"" + hinges_ + "\" --only problems");
+  EXPECT_NE(p.out.find("not listed (--only problems)"), std::string::npos) << p.out;
+  EXPECT_NE(p.out.find("A4  u1    B4  u0    gap"), std::string::npos) << p.out;
+  EXPECT_EQ(p.out.find("B5  u0"), std::string::npos) << p.out;  // the G2 seam is not listed
+
+  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --sort size").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --only creases").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --crease-angle 0").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --crease-angle 181").exitCode, 2);
+}
+
+#ifdef SEAM_HAVE_OCCT_CLI
+// The same verdicts through the B-rep route: the hinges written as STEP, read back as sewn faces.
+TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {
+  const std::string step = (dir_ / "hinges.step").string();
+  ASSERT_EQ(runSeam("convert \"" + hinges_ + "\" \"" + step + "\"").exitCode, 0);
+  const CliRun r = runSeam("check \"" + step + "\" --json --sort angle");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["summary"]["seams"], 6);  // the gap of 0.01 is far above the sewing tolerance: two free edges
+  EXPECT_EQ(verdictsOf(j), (std::vector<std::string>{"crease", "crease", "crease", "kink", "kink", "G2"}));
+  EXPECT_EQ(j["summary"]["verdicts"]["crease"], 3);
+  EXPECT_NEAR(j["summary"]["worst_kink"]["angle_deg"].get<double>(), 10.0, 1e-6);
+  EXPECT_TRUE(j["summary"]["worst_gap"].is_null());
+  const CliRun t = runSeam("check \"" + step + "\" --only problems --top 1");
+  EXPECT_NE(t.out.find("worst kink: edge "), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("showing 1 of 3, problems only"), std::string::npos) << t.out;
+}
+#endif
 
 }  // namespace
 }  // namespace seam

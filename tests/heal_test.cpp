@@ -33,6 +33,7 @@
 #include "seam/repair/heal.h"
 #include "seam/repair/join.h"
 #include "seam_test_support.h"
+#include "hinge_models.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -876,6 +877,45 @@ TEST(HealCli, MethodOption) {
   std::filesystem::remove_all(dir);
 }
 #endif
+
+// Issue 17: a 90-degree design crease is left bit-identical, next to a 3-degree kink that heal does join.
+TEST(HealCrease, NinetyDegreeCreaseIsLeftBitIdentical) {
+  const Model m = test::hingeModel({90.0, 3.0});
+  auto r = healModel(m);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const HealReport& rep = r->report;
+  EXPECT_EQ(rep.maxAngleDeg, kDefaultCreaseAngleDeg);
+  ASSERT_EQ(rep.seams.size(), 2u);
+  for (const HealSeam& s : rep.seams) {
+    if (s.a != "A0") {
+      EXPECT_NE(s.action, "crease kept") << s.a << "/" << s.b;  // the kink is a defect: to be joined
+      continue;
+    }
+    EXPECT_EQ(s.action, "crease kept");
+    ASSERT_FALSE(s.notes.empty());
+    EXPECT_NE(s.notes[0].find("crease, left as designed"), std::string::npos) << s.notes[0];
+    ASSERT_TRUE(s.after.has_value());
+    EXPECT_NEAR(s.after->g1MaxDeg, 90.0, 1e-9);
+  }
+  EXPECT_EQ(rep.creasesKept, 1);
+  for (size_t k = 0; k < 2; ++k) {  // A0 and B0: the very same control points (bit-identical, not just close)
+    const BSplineSurface& in = m.patches[k].surface;
+    const BSplineSurface& out = r->model.patches[k].surface;
+    ASSERT_EQ(out.points().rows(), in.points().rows());
+    EXPECT_TRUE((out.points().array() == in.points().array()).all()) << m.patches[k].name;
+    EXPECT_EQ(out.degreeU(), in.degreeU());
+  }
+  // Just below the seam's angle it is a crease; with a crease angle above it, a kink to heal.
+  HealOptions at;
+  at.maxAngleDeg = 89.0;
+  auto r90 = healModel(test::hingeModel({90.0}), at);
+  ASSERT_TRUE(r90.isOk());
+  EXPECT_EQ(r90->report.creasesKept, 1);
+  at.maxAngleDeg = 91.0;
+  auto r91 = healModel(test::hingeModel({90.0}), at);
+  ASSERT_TRUE(r91.isOk());
+  EXPECT_EQ(r91->report.creasesKept, 0);
+}
 
 }  // namespace
 }  // namespace seam

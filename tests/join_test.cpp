@@ -28,7 +28,9 @@
 #include "seam/repair/bicubic.h"
 #include "repair/join_internal.h"
 #include "seam/repair/join.h"
+#include "seam/repair/report_json.h"
 #include "seam_test_support.h"
+#include "hinge_models.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -919,6 +921,58 @@ TEST(JoinCli, ExampleModels) {
     EXPECT_TRUE(j["after"]["certified"].get<bool>()) << e.file;
     EXPECT_LE(j["after"]["g1_max_deg"].get<double>(), kExactAngleDeg) << e.file;
   }
+}
+#endif
+
+// Issue 17: with a crease angle (`seam join` passes 20 degrees) a G1 join leaves a design crease as designed (the
+// input, unchanged); a crease angle above it, or a G0 request, joins as before.
+TEST(JoinCrease, NinetyDegreeCreaseIsLeftAsDesigned) {
+  const Model m = test::hingeModel({90.0});
+  JoinOptions crease;  // what `seam join` passes by default
+  crease.creaseAngleDeg = kDefaultCreaseAngleDeg;
+  auto r = joinSeam(m, "B0", Edge::U0, "A0", Edge::U1, crease);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_TRUE(r->report.creaseKept);
+  EXPECT_FALSE(r->report.achieved);
+  EXPECT_TRUE(r->report.patchesChanged.empty());
+  EXPECT_NEAR(r->report.after.g1MaxDeg, 90.0, 1e-9);
+  ASSERT_FALSE(r->report.notes.empty());
+  EXPECT_NE(r->report.notes[0].find("crease, left as designed"), std::string::npos) << r->report.notes[0];
+  for (size_t k = 0; k < 2; ++k)
+    EXPECT_TRUE((r->model.patches[k].surface.points().array() == m.patches[k].surface.points().array()).all());
+  EXPECT_NE(joinReportJson(r->report).find("\"crease_kept\":true"), std::string::npos);
+
+  JoinOptions above;
+  above.creaseAngleDeg = 120.0;
+  auto joined = joinSeam(m, "B0", Edge::U0, "A0", Edge::U1, above);
+  ASSERT_TRUE(joined.isOk()) << joined.status().message();
+  EXPECT_FALSE(joined->report.creaseKept);
+  JoinOptions g0 = crease;
+  g0.continuity = GeometricClass::kG0;
+  auto closed = joinSeam(m, "B0", Edge::U0, "A0", Edge::U1, g0);
+  ASSERT_TRUE(closed.isOk());
+  EXPECT_FALSE(closed->report.creaseKept);
+  EXPECT_TRUE(closed->report.achieved);  // already G0
+  JoinOptions bad;
+  bad.creaseAngleDeg = 0.0;
+  EXPECT_FALSE(joinSeam(m, "B0", Edge::U0, "A0", Edge::U1, bad).isOk());
+}
+
+#ifdef SEAM_CLI_PATH
+TEST(JoinCrease, CliLeavesCreasesByDefault) {
+  const std::filesystem::path dir = scratch("seam_join_crease_cli");
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path in = dir / "hinge.json", out = dir / "out.json";
+  ASSERT_TRUE(io::writeModelJson(test::hingeModel({90.0}), in).isOk());
+  const std::string args = "join " + in.string() + " --move B0:u0 --to A0:u1 -o " + out.string();
+  CliRun r = runCli(args);
+  EXPECT_EQ(r.exit, 1) << r.out;  // G1 not achieved: the crease is left as designed
+  EXPECT_NE(r.out.find("crease, left as designed"), std::string::npos) << r.out;
+  r = runCli(args + " --crease-angle 120 --json");
+  ASSERT_NE(r.exit, 2) << r.out;
+  EXPECT_FALSE(nlohmann::json::parse(r.out)["crease_kept"].get<bool>());
+  EXPECT_EQ(runCli(args + " --crease-angle 0").exit, 2);
+  std::filesystem::remove_all(dir);
 }
 #endif
 

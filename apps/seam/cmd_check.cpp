@@ -1,10 +1,15 @@
 // seam check FILE [--seam A:ea B:eb] [--tol-distance D] [--tol-angle DEG] [--tol-curvature K]
+//                  [--crease-angle DEG] [--sort angle|gap|curvature] [--top N] [--only problems]
 //                  [--require G0|G1|G2] [--json]
-// Continuity of every seam of a model (or of one pair of edges), its vertices and its free edges.
+// Continuity of every seam of a model (or of one pair of edges), its vertices and its free edges. Each seam gets a
+// verdict a CAD user reads (continuity/verdict.h: gap, kink, crease, G1, G2); design creases (angle at or above
+// --crease-angle) are listed apart from the other seams, and the summary names the worst kink and the worst gap.
 // Exit codes: 0 ok, 1 --require given and some seam is below it, 2 bad usage or input.
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -18,6 +23,7 @@
 #endif
 #include "seam/continuity/model_check.h"
 #include "seam/continuity/seam.h"
+#include "seam/continuity/verdict.h"
 
 namespace seam::cli {
 
@@ -30,7 +36,92 @@ struct CheckOptions {
   std::string require;
   bool json = false;
   bool patches = false;  // STEP/IGES: check the faces' patches instead of the B-rep edges
+  std::optional<double> creaseAngle;
+  std::string sort = "file";
+  std::optional<size_t> top;
+  std::string only;  // "" (all) or "problems"
 };
+
+/// The listing choices (--crease-angle, --sort, --top, --only); nullopt (with the message on stderr) when one is
+/// wrong.
+std::optional<SeamSelection> parseSelection(const CheckOptions& o) {
+  SeamSelection sel;
+  if (o.creaseAngle) {
+    if (!validCreaseAngle(*o.creaseAngle)) {
+      printError("--crease-angle must be an angle in degrees in (0, 180]");
+      return std::nullopt;
+    }
+    sel.creaseAngleDeg = *o.creaseAngle;
+  }
+  const Result<SeamSortKey> key = parseSeamSortKey(o.sort);
+  if (!key) {
+    printError("--sort: " + key.status().message());
+    return std::nullopt;
+  }
+  sel.sort = *key;
+  if (!o.only.empty() && o.only != "problems" && o.only != "all") {
+    printError(fmt::format("--only: \"{}\" is not \"problems\" (gaps and kinks) or \"all\"", o.only));
+    return std::nullopt;
+  }
+  sel.onlyProblems = o.only == "problems";
+  sel.top = o.top;
+  return sel;
+}
+
+/// The listing of a check in text: the seams that are not design creases (gaps and kinks first when sorted), then
+/// the creases apart. Each list is sorted, filtered (--only problems drops G1/G2 rows and the creases) and cut to
+/// --top on its own. `reports[k]` is null for a seam whose analysis failed (listed with the others).
+struct SeamListing {
+  std::vector<size_t> main, creases;
+  size_t mainAll = 0, creasesAll = 0;  ///< before --only / --top
+};
+
+SeamListing listSeams(const std::vector<const SeamReport*>& reports, const SeamSelection& sel) {
+  SeamSelection order = sel;
+  order.onlyProblems = false;
+  order.top.reset();
+  SeamListing l;
+  for (size_t k : selectSeams(reports, order)) {
+    const bool crease = reports[k] && seamVerdict(*reports[k], sel.creaseAngleDeg) == SeamVerdict::kCrease;
+    if (crease) {
+      ++l.creasesAll;
+      if (!sel.onlyProblems) l.creases.push_back(k);
+    } else {
+      ++l.mainAll;
+      if (!sel.onlyProblems || !reports[k] || isProblem(seamVerdict(*reports[k], sel.creaseAngleDeg)))
+        l.main.push_back(k);
+    }
+  }
+  if (sel.top) {
+    if (l.main.size() > *sel.top) l.main.resize(*sel.top);
+    if (l.creases.size() > *sel.top) l.creases.resize(*sel.top);
+  }
+  return l;
+}
+
+/// "(showing 10 of 48, by angle; problems only)" when the listing is cut or filtered, else "".
+std::string shownNote(size_t shown, size_t all, const SeamSelection& sel) {
+  if (shown == all && sel.sort == SeamSortKey::kFile) return "";
+  std::string note = shown == all ? "" : fmt::format("showing {} of {}", shown, all);
+  if (sel.sort != SeamSortKey::kFile) note += fmt::format("{}largest {} first", note.empty() ? "" : ", ",
+                                                           sel.sort == SeamSortKey::kAngle ? "angle"
+                                                           : sel.sort == SeamSortKey::kGap ? "gap"
+                                                                                           : "relative curvature jump");
+  if (sel.onlyProblems) note += ", problems only";
+  return " (" + note + ")";
+}
+
+/// "verdicts: gap 1, kink 4, crease 160 (angle >= 20 deg, left as designed), G1 0, G2 43".
+std::string verdictLine(const std::array<int, 5>& n, double creaseAngleDeg) {
+  return fmt::format("verdicts: gap {}, kink {}, crease {} (angle >= {} deg, left as designed), G1 {}, G2 {}\n",
+                     n[0], n[1], n[2], formatNumber(creaseAngleDeg), n[3], n[4]);
+}
+
+OrderedJson verdictCountsJson(const std::array<int, 5>& n) {
+  OrderedJson j;
+  for (size_t k = 0; k < n.size(); ++k) j[std::string(toString(static_cast<SeamVerdict>(k)))] = n[k];
+  return j;
+}
 
 std::optional<GeometricClass> parseClass(const std::string& s) {
   if (s == "G0") return GeometricClass::kG0;
@@ -44,7 +135,7 @@ OrderedJson range(const Interval& i) { return OrderedJson::array({i.lo, i.hi}); 
 
 const std::string& patchName(const Model& m, int index) { return m.patches[static_cast<size_t>(index)].name; }
 
-OrderedJson seamJson(const SeamReport& r) {
+OrderedJson seamJson(const SeamReport& r, double creaseAngleDeg) {
   auto worst = [](const WorstLocation& w) { return OrderedJson{{"t", w.t}, {"point", point(w.point)}}; };
   OrderedJson j{{"a", r.a},
                 {"a_edge", std::string(edgeName(r.aEdge))},
@@ -57,6 +148,7 @@ OrderedJson seamJson(const SeamReport& r) {
                 {"g2_rel_max", r.g2RelMax},
                 {"lambda_range", range(r.lambdaRange)},
                 {"kappa_range", range(r.kappaRange)},
+                {"verdict", std::string(toString(seamVerdict(r, creaseAngleDeg)))},
                 {"geometric", std::string(toString(r.geometric))},
                 {"parametric", std::string(toString(r.parametric))},
                 {"certified", r.certified},
@@ -126,11 +218,12 @@ OrderedJson cornerJson(const Model& m, const CornerReport& c) {
   return j;
 }
 
-OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing) {
+OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing, double creaseAngleDeg) {
   OrderedJson j{{"distance", t.distance},
                 {"angle_deg", t.angleDeg},
                 {"curvature_rel", t.curvatureRel},
-                {"parametric", t.parametric}};
+                {"parametric", t.parametric},
+                {"crease_angle_deg", creaseAngleDeg}};
   if (pairing) j["pairing"] = *pairing;
   return j;
 }
@@ -169,33 +262,96 @@ OrderedJson summaryJson(const ModelCheckReport& r, const std::optional<Geometric
 
 std::string num(double x) { return formatNumber(x); }
 
-std::string seamTable(const Model& m, const ModelCheckReport& r) {
-  std::vector<std::vector<std::string>> rows;
-  for (const ModelSeam& s : r.seams) {
+std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r) {
+  std::vector<const SeamReport*> reports;
+  reports.reserve(r.seams.size());
+  for (const ModelSeam& s : r.seams) reports.push_back(s.report ? &*s.report : nullptr);
+  return reports;
+}
+
+std::string seamName(const Model& m, const ModelSeam& s) {
+  return fmt::format("{}:{} / {}:{}", patchName(m, s.pair.a.patch), edgeName(s.pair.a.edge),
+                     patchName(m, s.pair.b.patch), edgeName(s.pair.b.edge));
+}
+
+/// The worst kink and the worst gap with their location (issue 17: what a CAD user looks at first).
+std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg,
+                       const std::function<std::string(size_t)>& name) {
+  const WorstDefects w = worstDefects(reports, creaseAngleDeg);
+  std::string out;
+  if (w.kink) {
+    const SeamReport& x = *reports[*w.kink];
+    out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), num(x.g1MaxDeg),
+                       formatVector(x.g1Worst.point.data(), 3), num(x.g0Max));
+  } else {
+    out += "worst kink: none\n";
+  }
+  if (w.gap) {
+    const SeamReport& x = *reports[*w.gap];
+    out += fmt::format("worst gap: {}, gap {} at {} (angle {} deg)\n", name(*w.gap), num(x.g0Max),
+                       formatVector(x.g0Worst.point.data(), 3), num(x.g1MaxDeg));
+  } else {
+    out += "worst gap: none\n";
+  }
+  return out;
+}
+
+OrderedJson worstJson(const std::vector<const SeamReport*>& reports, double creaseAngleDeg,
+                      const std::function<OrderedJson(size_t)>& name) {
+  const WorstDefects w = worstDefects(reports, creaseAngleDeg);
+  auto one = [&](const std::optional<size_t>& k, bool kink) {
+    if (!k) return OrderedJson(nullptr);
+    const SeamReport& x = *reports[*k];
+    OrderedJson j = name(*k);
+    j["gap"] = x.g0Max;
+    j["angle_deg"] = x.g1MaxDeg;
+    j["point"] = point(kink ? x.g1Worst.point : x.g0Worst.point);
+    return j;
+  };
+  return OrderedJson{{"worst_kink", one(w.kink, true)}, {"worst_gap", one(w.gap, false)}};
+}
+
+std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelection& sel) {
+  const std::vector<const SeamReport*> reports = reportsOf(r);
+  const SeamListing l = listSeams(reports, sel);
+  auto rowOf = [&](size_t k) {
+    const ModelSeam& s = r.seams[k];
     const EdgePair& p = s.pair;
     std::vector<std::string> row{patchName(m, p.a.patch), std::string(edgeName(p.a.edge)), patchName(m, p.b.patch),
                                  std::string(edgeName(p.b.edge))};
     if (s.report) {
       const SeamReport& x = *s.report;
-      row.insert(row.end(), {num(x.g0Max), num(x.g1MaxDeg), num(x.g2Max), std::string(toString(x.geometric)),
+      row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))), num(x.g0Max),
+                             num(x.g1MaxDeg), num(x.g2Max), std::string(toString(x.geometric)),
                              std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
     } else {
-      row.insert(row.end(), {"-", "-", "-", "error", "-", "-"});
+      row.insert(row.end(), {"error", "-", "-", "-", "error", "-", "-"});
     }
     if (!(p.fullA && p.fullB)) row.push_back(fmt::format("partial [{}, {}]", num(p.overlapA.lo), num(p.overlapA.hi)));
     else row.emplace_back("");
-    rows.push_back(std::move(row));
-  }
-  std::string out = fmt::format("seams ({})\n", r.seams.size());
-  if (!rows.empty()) {
-    out += formatTable({"A", "edge", "B", "edge", "G0 gap", "G1 angle (deg)", "G2 jump", "geometric", "parametric",
-                        "certified", "overlap"},
-                       rows, {false, false, false, false, true, true, true, false, false, false, false});
+    return row;
+  };
+  const std::vector<std::string> header{"A",          "edge",      "B",         "edge",      "verdict", "G0 gap",
+                                        "G1 angle (deg)", "G2 jump", "geometric", "parametric", "certified", "overlap"};
+  const std::vector<bool> right{false, false, false, false, false, true, true, true, false, false, false, false};
+  auto table = [&](const std::vector<size_t>& list) {
+    std::vector<std::vector<std::string>> rows;
+    for (size_t k : list) rows.push_back(rowOf(k));
+    return rows.empty() ? std::string() : formatTable(header, rows, right);
+  };
+  std::string out = fmt::format("seams ({}){}\n", r.seams.size(),
+                                l.creasesAll > 0 ? fmt::format(", design creases listed apart below") : "");
+  if (l.mainAll != l.main.size() || sel.sort != SeamSortKey::kFile)
+    out += fmt::format("other seams{}\n", shownNote(l.main.size(), l.mainAll, sel));
+  out += table(l.main);
+  if (l.creasesAll > 0) {
+    out += fmt::format("\ndesign creases ({}, angle >= {} deg, left as designed){}\n", l.creasesAll,
+                       num(sel.creaseAngleDeg),
+                       sel.onlyProblems ? ": not listed (--only problems)" : shownNote(l.creases.size(), l.creasesAll, sel));
+    out += table(l.creases);
   }
   for (const ModelSeam& s : r.seams)
-    if (!s.report)
-      out += fmt::format("  {}:{} - {}:{}: {}\n", patchName(m, s.pair.a.patch), edgeName(s.pair.a.edge),
-                         patchName(m, s.pair.b.patch), edgeName(s.pair.b.edge), s.error.message());
+    if (!s.report) out += fmt::format("  {}: {}\n", seamName(m, s), s.error.message());
   return out;
 }
 
@@ -244,7 +400,23 @@ std::string edgeLists(const Model& m, const ModelCheckReport& r) {
   return out;
 }
 
-std::string summaryLine(const ModelCheckReport& r, const std::optional<GeometricClass>& require) {
+/// The verdict counts and the worst kink / gap of a patch-model check, added to the JSON summary.
+void addVerdictSummary(OrderedJson& summary, const Model& m, const ModelCheckReport& r, double creaseAngleDeg) {
+  const std::vector<const SeamReport*> reports = reportsOf(r);
+  summary["verdicts"] = verdictCountsJson(countVerdicts(reports, creaseAngleDeg));
+  const OrderedJson worst = worstJson(reports, creaseAngleDeg, [&](size_t k) {
+    const EdgePair& p = r.seams[k].pair;
+    return OrderedJson{{"index", k},
+                       {"a", patchName(m, p.a.patch)},
+                       {"a_edge", std::string(edgeName(p.a.edge))},
+                       {"b", patchName(m, p.b.patch)},
+                       {"b_edge", std::string(edgeName(p.b.edge))}};
+  });
+  for (const auto& [key, value] : worst.items()) summary[key] = value;
+}
+
+std::string summaryLine(const Model& m, const ModelCheckReport& r, const std::optional<GeometricClass>& require,
+                        double creaseAngleDeg) {
   const ModelCheckSummary& s = r.summary;
   std::string line = fmt::format(
       "\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified{}), worst {} / {}, max gap {}, max angle {} "
@@ -256,7 +428,9 @@ std::string summaryLine(const ModelCheckReport& r, const std::optional<Geometric
   if (require)
     line += s.belowRequired > 0 ? fmt::format("; {} below {}", s.belowRequired, toString(*require))
                                 : fmt::format("; all meet {}", toString(*require));
-  return line + "\n";
+  const std::vector<const SeamReport*> reports = reportsOf(r);
+  return line + "\n" + verdictLine(countVerdicts(reports, creaseAngleDeg), creaseAngleDeg) +
+         worstLines(reports, creaseAngleDeg, [&](size_t k) { return seamName(m, r.seams[k]); });
 }
 
 /// "NAME:edge" -> patch index and edge; prints the problem and returns nullopt when it is wrong.
@@ -280,7 +454,7 @@ std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, co
 
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: every edge shared by two faces of the (sewn) B-rep, with OpenCASCADE's verdict next to seam's.
-int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require) {
+int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require, const SeamSelection& sel) {
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
   bo.progress = brepProgressPrinter(o.file);
@@ -294,10 +468,14 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   for (const occt::BRepSeam& s : r->seams)
     if (require && s.report.geometric < *require) ++below;
   const Tolerances& tol = r->tolerances;
+  std::vector<const SeamReport*> reports;
+  for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
+  const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
   if (o.json) {
     OrderedJson seams = OrderedJson::array();
-    for (const occt::BRepSeam& s : r->seams) {
-      OrderedJson j = seamJson(s.report);
+    for (size_t k : selectSeams(reports, sel)) {
+      const occt::BRepSeam& s = r->seams[k];
+      OrderedJson j = seamJson(s.report, sel.creaseAngleDeg);
       j.erase("a_edge");
       j.erase("b_edge");
       j["edge"] = s.edge;
@@ -312,7 +490,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges)
       nonManifold.push_back({{"edge", e.edge}, {"faces", e.faces}, {"midpoint", point(e.midpoint)}});
     OrderedJson out{{"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
-                                    {"curvature_rel", tol.curvatureRel}}},
+                                    {"curvature_rel", tol.curvatureRel}, {"crease_angle_deg", sel.creaseAngleDeg}}},
                     {"model", {{"faces", r->import.faces.size()}, {"sewn", r->sewn}}},
                     {"seams", seams},
                     {"free_edges", free},
@@ -328,19 +506,43 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                                  {"loose_edges", r->looseEdges},
                                  {"agree_with_occt_g1", r->occtAgreement}}}};
     if (require) out["summary"]["below_required"] = below;
+    out["summary"]["verdicts"] = verdictCountsJson(verdicts);
+    const OrderedJson worst = worstJson(reports, sel.creaseAngleDeg, [&](size_t k) {
+      const occt::BRepSeam& s = r->seams[k];
+      return OrderedJson{{"edge", s.edge}, {"a", s.a}, {"b", s.b}};
+    });
+    for (const auto& [key, value] : worst.items()) out["summary"][key] = value;
     printJson(out);
   } else {
-    fmt::print("{}: B-rep of {} faces{}; tolerances distance {}, angle {} deg, curvature {} relative\n\n", o.file,
-               r->import.faces.size(), r->sewn ? " (sewn)" : "", formatNumber(tol.distance),
-               formatNumber(tol.angleDeg), formatNumber(tol.curvatureRel));
-    std::vector<std::vector<std::string>> rows;
-    for (const occt::BRepSeam& s : r->seams)
-      rows.push_back({std::to_string(s.edge), s.a, s.b, formatNumber(s.report.g0Max), formatNumber(s.report.g1MaxDeg),
-                      formatNumber(s.report.g2Max), std::string(toString(s.report.geometric)),
-                      s.report.certified ? "yes" : "no", s.occtContinuity});
-    fmt::print("seams ({})\n{}", r->seams.size(),
-               formatTable({"edge", "A", "B", "G0 gap", "G1 angle (deg)", "G2 jump", "geometric", "certified", "OCCT"},
-                           rows, {false, false, false, true, true, true, false, false, false}));
+    fmt::print("{}: B-rep of {} faces{}; tolerances distance {}, angle {} deg, curvature {} relative; crease angle {} "
+               "deg\n\n",
+               o.file, r->import.faces.size(), r->sewn ? " (sewn)" : "", formatNumber(tol.distance),
+               formatNumber(tol.angleDeg), formatNumber(tol.curvatureRel), formatNumber(sel.creaseAngleDeg));
+    const SeamListing l = listSeams(reports, sel);
+    auto table = [&](const std::vector<size_t>& list) {
+      std::vector<std::vector<std::string>> rows;
+      for (size_t k : list) {
+        const occt::BRepSeam& s = r->seams[k];
+        rows.push_back({std::to_string(s.edge), s.a, s.b, std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
+                        formatNumber(s.report.g0Max), formatNumber(s.report.g1MaxDeg), formatNumber(s.report.g2Max),
+                        std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
+                        s.occtContinuity});
+      }
+      return rows.empty() ? std::string()
+                          : formatTable({"edge", "A", "B", "verdict", "G0 gap", "G1 angle (deg)", "G2 jump",
+                                         "geometric", "certified", "OCCT"},
+                                        rows, {false, false, false, false, true, true, true, false, false, false});
+    };
+    fmt::print("seams ({}){}\n", r->seams.size(), l.creasesAll > 0 ? ", design creases listed apart below" : "");
+    if (l.mainAll != l.main.size() || sel.sort != SeamSortKey::kFile)
+      fmt::print("other seams{}\n", shownNote(l.main.size(), l.mainAll, sel));
+    fmt::print("{}", table(l.main));
+    if (l.creasesAll > 0) {
+      fmt::print("\ndesign creases ({}, angle >= {} deg, left as designed){}\n{}", l.creasesAll,
+                 formatNumber(sel.creaseAngleDeg),
+                 sel.onlyProblems ? ": not listed (--only problems)" : shownNote(l.creases.size(), l.creasesAll, sel),
+                 table(l.creases));
+    }
     fmt::print("\nfree edges ({}):", r->freeEdges.size());
     for (const occt::BRepFreeEdge& f : r->freeEdges) fmt::print(" {}@{}", f.edge, f.face);
     fmt::print("\nnon-manifold edges ({}):", r->nonManifoldEdges.size());
@@ -350,6 +552,11 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
                toString(r->worstGeometric), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
                r->looseEdges, r->occtAgreement, r->seams.size());
+    fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
+               worstLines(reports, sel.creaseAngleDeg, [&](size_t k) {
+                 const occt::BRepSeam& s = r->seams[k];
+                 return fmt::format("edge {} ({} / {})", s.edge, s.a, s.b);
+               }));
   }
   return require && below > 0 ? kExitGeometryProblem : kExitOk;
 }
@@ -365,9 +572,11 @@ int runCheck(const CheckOptions& o) {
     }
   }
   if (!validToleranceOptions(o.tol)) return kExitBadInput;
+  const std::optional<SeamSelection> sel = parseSelection(o);
+  if (!sel) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
   if (isCadFile(o.file) && !checkInputPath(o.file)) return kExitBadInput;  // a directory, FIFO, device: not OCCT's
-  if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require);
+  if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require, *sel);
 #endif
   const std::optional<Model> model = loadModel(o.file);
   if (!model) return kExitBadInput;
@@ -434,8 +643,12 @@ int runCheck(const CheckOptions& o) {
 
   if (o.json) {
     OrderedJson seams = OrderedJson::array();
-    for (const ModelSeam& s : report.seams)
-      seams.push_back(s.report ? seamJson(*s.report) : failedSeamJson(*model, s.pair, s.error));
+    for (size_t k : selectSeams(reportsOf(report), *sel)) {
+      const ModelSeam& s = report.seams[k];
+      OrderedJson j = s.report ? seamJson(*s.report, sel->creaseAngleDeg) : failedSeamJson(*model, s.pair, s.error);
+      j["index"] = k;
+      seams.push_back(std::move(j));
+    }
     OrderedJson corners = OrderedJson::array();
     for (const ModelCorner& c : report.corners) corners.push_back(cornerJson(*model, c.report));
     OrderedJson free = OrderedJson::array();
@@ -457,20 +670,23 @@ int runCheck(const CheckOptions& o) {
         edges.push_back({{"patch", patchName(*model, e.patch)}, {"edge", std::string(edgeName(e.edge))}});
       coincident.push_back({{"point", point(c.point)}, {"edges", edges}});
     }
-    printJson(OrderedJson{{"tolerances", tolerancesJson(report.tolerances, pairing)},
+    OrderedJson summary = summaryJson(report, require);
+    addVerdictSummary(summary, *model, report, sel->creaseAngleDeg);
+    printJson(OrderedJson{{"tolerances", tolerancesJson(report.tolerances, pairing, sel->creaseAngleDeg)},
                           {"seams", seams},
                           {"corners", corners},
                           {"free_edges", free},
                           {"degenerate_edges", degenerate},
                           {"coincident_edges", coincident},
-                          {"summary", summaryJson(report, require)}});
+                          {"summary", summary}});
   } else {
-    std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}\n\n", o.file,
-                                  num(tol.distance), num(tol.angleDeg), num(tol.curvatureRel),
-                                  pairing ? fmt::format(", pairing {}", num(*pairing)) : "");
-    out += seamTable(*model, report);
+    std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}; crease angle {} "
+                                  "deg\n\n",
+                                  o.file, num(tol.distance), num(tol.angleDeg), num(tol.curvatureRel),
+                                  pairing ? fmt::format(", pairing {}", num(*pairing)) : "", num(sel->creaseAngleDeg));
+    out += seamTable(*model, report, *sel);
     if (o.seam.empty()) out += cornerTable(*model, report) + edgeLists(*model, report);
-    out += summaryLine(report, require);
+    out += summaryLine(*model, report, require, sel->creaseAngleDeg);
     fmt::print("{}", out);
   }
   return require && report.summary.belowRequired > 0 ? kExitGeometryProblem : kExitOk;
@@ -484,6 +700,13 @@ void addCheck(CLI::App& app, int& exit) {
       ->expected(2)
       ->type_name("A:EDGE B:EDGE");
   addToleranceOptions(*cmd, options->tol);
+  cmd->add_option("--crease-angle", options->creaseAngle,
+                  "Seams whose angle is at or above this (degrees, in (0, 180]) are design creases, listed apart from "
+                  "the gaps and kinks (default 20)");
+  cmd->add_option("--sort", options->sort,
+                  "Order of the seam lists: angle, gap or curvature (largest first), or file (default)");
+  cmd->add_option("--top", options->top, "List at most N seams (per list)")->type_name("N");
+  cmd->add_option("--only", options->only, "problems: list only gaps and kinks (and failed analyses)");
   cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
   cmd->add_flag("--json", options->json, "Print JSON instead of tables");
   cmd->add_flag("--patches", options->patches,

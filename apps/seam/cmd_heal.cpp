@@ -1,9 +1,9 @@
-// seam heal FILE -o OUT.json [--continuity G0|G1] [--method auto|successive|local] [--max-gap D] [--max-angle DEG]
+// seam heal FILE -o OUT.json [--continuity G0|G1] [--method auto|successive|local] [--max-gap D] [--crease-angle DEG]
 //           [--json]
 // Finds every seam whose gap is below --max-gap and joins the open ones region by region (repair/heal.h: successive
 // joins, each step kept only if it makes no seam worse; the local G1 scheme; auto = the better of the two, the
-// smaller displacement where both reach the request); seams kinked by more than --max-angle (default 20 degrees)
-// are design creases and left alone ("crease kept"); prints
+// smaller displacement where both reach the request); seams kinked by more than --crease-angle (alias --max-angle,
+// default 20 degrees) are design creases, left as designed ("crease kept"); prints
 // every seam before and after in plain words (gap, kink angle, crease, fold), every region and how far the surfaces
 // moved. Exit 0 when every such seam meets the requested continuity, 1 otherwise (OUT.json is still written and
 // holds everything achieved), 2 bad input.
@@ -40,8 +40,9 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("--method", o->method,
                   "auto (default: successive, then the local scheme where it falls short), successive or local");
   cmd->add_option("--max-gap", o->maxGap, "Largest gap to close (default 1% of the bounding-box diagonal)");
-  cmd->add_option("--max-angle", o->maxAngle,
-                  "Seams kinked by more than this (degrees, in (0, 180]) are design creases, left alone (default 20)");
+  cmd->add_option("--crease-angle,--max-angle", o->maxAngle,
+                  "Seams whose angle is above this (degrees, in (0, 180]) are design creases, left as designed "
+                  "(default 20; 180 heals every seam)");
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
     exit = kExitBadInput;
@@ -55,7 +56,7 @@ void addHeal(CLI::App& app, int& exit) {
     if (o->maxGap && !(*o->maxGap >= 0.0)) return printError("--max-gap must be a non-negative length");
     ho.maxGap = o->maxGap;
     if (o->maxAngle && !(*o->maxAngle > 0.0 && *o->maxAngle <= 180.0))
-      return printError("--max-angle must be an angle in degrees in (0, 180]");
+      return printError("--crease-angle must be an angle in degrees in (0, 180]");
     ho.maxAngleDeg = o->maxAngle;
     if (!checkOutputPath(o->file, o->out)) return;
     const std::optional<Model> model = loadModel(o->file);
@@ -76,10 +77,10 @@ void addHeal(CLI::App& app, int& exit) {
       printJson(j);
     } else {
       // The state of a seam in plain words.
-      auto state = [](const SeamReport& x) -> std::string {
+      auto state = [&r](const SeamReport& x) -> std::string {
         if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
         if (x.g1SampledDeg >= kFoldAngleDeg || (x.lambdaRange.hi != 0.0 && x.lambdaRange.lo <= 0.0)) return "fold";
-        if (!meets(x.geometric, GeometricClass::kG1)) return "crease";
+        if (!meets(x.geometric, GeometricClass::kG1)) return std::string(toString(seamVerdict(x, r.maxAngleDeg)));
         return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
       };
       std::vector<std::vector<std::string>> rows;
@@ -94,7 +95,7 @@ void addHeal(CLI::App& app, int& exit) {
                         s.worse ? "WORSE" : ""});
       }
       std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {}, creases above {} deg "
-                                     "kept)\n\n",
+                                     "left as designed)\n\n",
                                      o->file, toString(r.requested), toString(r.method), formatNumber(r.maxGap),
                                      formatNumber(r.maxAngleDeg));
       text += formatTable({"seam", "region", "action", "moved", "gap before", "kink before (deg)", "before",
@@ -119,7 +120,7 @@ void addHeal(CLI::App& app, int& exit) {
                               r.regions[static_cast<size_t>(st.region)].method);
       }
       if (r.creasesKept > 0)
-        text += fmt::format("design creases kept (kink above {} deg, left alone): {}\n", formatNumber(r.maxAngleDeg),
+        text += fmt::format("creases, left as designed (angle above {} deg): {}\n", formatNumber(r.maxAngleDeg),
                             r.creasesKept);
       std::string changed;
       for (const std::string& p : r.patchesChanged) changed += (changed.empty() ? "" : ", ") + p;

@@ -1,5 +1,5 @@
 // seam join FILE --move S:v0 --to T:v0 [--continuity G0|G1|G2] [--method auto|bspline|bezier-strip|least-squares]
-//           [--ell L] [--average] [--max-gap D] [--max-displacement REL] -o OUT.json [--json]
+//           [--ell L] [--average] [--max-gap D] [--max-displacement REL] [--crease-angle DEG] -o OUT.json [--json]
 // Moves the fewest rows of control points of S (or of S and T with --average) so that the seam meets the requested
 // continuity, writes the model to OUT.json (atomically; the input is never overwritten unless -o names it), and
 // prints the seam before and after. Exit 0 achieved, 1 not achieved (OUT.json is still written), 2 bad input.
@@ -61,7 +61,7 @@ void addJoin(CLI::App& app, int& exit) {
   struct Options {
     std::string file, move, to, out;
     std::string continuity = "G1", method = "auto";
-    std::optional<double> ell, maxGap, maxDisplacement;
+    std::optional<double> ell, maxGap, maxDisplacement, creaseAngle;
     bool average = false, json = false;
   };
   auto o = std::make_shared<Options>();
@@ -77,6 +77,9 @@ void addJoin(CLI::App& app, int& exit) {
   cmd->add_option("--max-displacement", o->maxDisplacement,
                   "Largest surface displacement, as a multiple of the moved patch's size (default 1: a join that "
                   "would move a patch by more than its own size is undone)");
+  cmd->add_option("--crease-angle", o->creaseAngle,
+                  "A seam whose angle is at or above this (degrees, in (0, 180]) is a design crease: G1/G2 joins leave "
+                  "it as designed (default 20)");
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
@@ -100,6 +103,9 @@ void addJoin(CLI::App& app, int& exit) {
         return printError("--max-displacement must be a non-negative multiple of the patch size");
       jo.maxDisplacementRel = *o->maxDisplacement;
     }
+    if (o->creaseAngle && !validCreaseAngle(*o->creaseAngle))
+      return printError("--crease-angle must be an angle in degrees in (0, 180]");
+    jo.creaseAngleDeg = o->creaseAngle.value_or(kDefaultCreaseAngleDeg);
     if (!checkOutputPath(o->file, o->out)) return;
     const std::optional<Model> model = loadModel(o->file);
     if (!model) return;
@@ -123,6 +129,7 @@ void addJoin(CLI::App& app, int& exit) {
                           formatNumber(r.maxSurfaceDisplacement), formatNumber(r.maxSurfaceDisplacementSampled),
                           formatNumber(100.0 * r.maxSurfaceDisplacementRel));
       if (r.reverted) text += "the join was undone: the model is the input, unchanged (see the notes)\n";
+      if (r.creaseKept) text += "crease, left as designed: the model is the input, unchanged\n";
       if (r.lambdaFixed && r.lambda0)
         text += fmt::format("lambda fixed to lambda0 = {} (the free solve would have folded the patch)\n",
                             formatNumber(*r.lambda0));

@@ -669,7 +669,7 @@ Result<HealResult> Healer::run() {
     w.before = *r;
     if (w.before.g0Max > maxGap_) {
       w.state = SeamState::kSkipped;
-    } else if (w.before.g1MaxDeg > maxAngle) {  // a design crease: left alone
+    } else if (w.before.g1MaxDeg > maxAngle) {  // a design crease: left alone (180: heal every seam)
       w.state = SeamState::kSkipped;
       w.crease = true;
     } else if (meets(w.before.geometric, opt_.continuity)) w.state = SeamState::kKept;
@@ -958,7 +958,7 @@ Result<HealResult> Healer::run() {
                                                  : (w.state == SeamState::kKept ? "kept" : "joined");
       if (w.crease) {
         ++rep.creasesKept;
-        hs.notes.push_back(fmt::format("design crease: kink angle {:.4g} deg above {:.4g} deg, left alone",
+        hs.notes.push_back(fmt::format("crease, left as designed: angle {:.4g} deg, above the crease angle {:.4g} deg",
                                        w.before.g1MaxDeg, maxAngle));
       }
       if (c.method == "local" && w.state == SeamState::kToJoin) hs.notes.push_back("local G1 scheme");

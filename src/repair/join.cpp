@@ -247,6 +247,9 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
   if (opt.average && opt.continuity == GeometricClass::kG2)
     return Status(ErrorCode::kUnsupported, "--average is implemented for G0 and G1");
 
+  if (opt.creaseAngleDeg && !validCreaseAngle(*opt.creaseAngleDeg))
+    return invalidInput(fmt::format("the crease angle must be in (0, 180] degrees (got {})", *opt.creaseAngleDeg));
+
   SeamSetup st;
   st.S = &model.patches[static_cast<size_t>(is)];
   st.T = &model.patches[static_cast<size_t>(it)];
@@ -266,6 +269,22 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
     return invalidInput(fmt::format("the edges {}:{} and {}:{} are {:.6g} apart, above the gap limit {:.6g} "
                                     "(--max-gap)",
                                     moveName, edgeName(moveEdge), toName, edgeName(toEdge), st.before.g0Max, maxGap));
+  if (opt.creaseAngleDeg && opt.continuity != GeometricClass::kG0 && st.before.g1MaxDeg >= *opt.creaseAngleDeg) {
+    // a design crease: left alone
+    JoinResult kept;
+    kept.model = model;
+    JoinReport& rep = kept.report;
+    rep.method = opt.method == JoinMethod::kAuto ? JoinMethod::kLeastSquares : opt.method;
+    rep.reason = "none: the seam is a design crease";
+    rep.before = rep.after = st.before;
+    rep.requested = opt.continuity;
+    rep.achieved = meets(st.before.geometric, opt.continuity);
+    rep.creaseKept = true;
+    rep.notes.push_back(fmt::format("crease, left as designed: angle {:.4g} deg, at or above the crease angle {:.4g} "
+                                    "deg (--crease-angle 180 joins it)",
+                                    st.before.g1MaxDeg, *opt.creaseAngleDeg));
+    return kept;
+  }
   st.reversed = st.before.reversed;
   const detail::JoinOverlap ov = detail::cornerSnappedOverlap(st.S->surface, moveEdge, st.T->surface, toEdge,
                                                              st.before.overlapA, st.before.overlapB, st.reversed,

@@ -72,6 +72,7 @@ std::string joinReportJson(const JoinReport& r) {
   j["before"] = seamJson(r.before);
   j["after"] = seamJson(r.after);
   j["reverted"] = r.reverted;
+  j["crease_kept"] = r.creaseKept;
   j["max_displacement"] = num(r.maxDisplacement);
   j["max_surface_displacement"] = num(r.maxSurfaceDisplacement);
   j["max_surface_displacement_sampled"] = num(r.maxSurfaceDisplacementSampled);

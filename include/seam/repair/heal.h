@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "seam/continuity/seam.h"
+#include "seam/continuity/verdict.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
@@ -53,9 +54,10 @@ Result<HealMethod> parseHealMethod(std::string_view text);
 /// somewhere, is a fold: one patch turns back over the other.
 inline constexpr double kFoldAngleDeg = 90.0;
 
-/// Default HealOptions::maxAngleDeg: a seam whose certified kink angle is above 20 degrees is a design crease, left
-/// alone by heal. Kinks from tolerance problems (translation losses, perturbed control points) are a few degrees.
-inline constexpr double kDefaultMaxHealAngleDeg = 20.0;
+/// Default HealOptions::maxAngleDeg: a seam whose certified kink angle is above the crease angle (20 degrees,
+/// kDefaultCreaseAngleDeg, the same as `seam check`'s) is a design crease, left alone by heal. Kinks from tolerance
+/// problems (translation losses, perturbed control points) are a few degrees.
+inline constexpr double kDefaultMaxHealAngleDeg = kDefaultCreaseAngleDeg;
 
 struct HealOptions {
   GeometricClass continuity = GeometricClass::kG1;  ///< G0 or G1 (G2: use `seam join` seam by seam)
@@ -63,7 +65,8 @@ struct HealOptions {
   /// Seams with a larger gap are left alone (default kDefaultMaxGapRel x the model's bounding-box diagonal).
   std::optional<double> maxGap;
   /// Seams whose certified kink angle (before.g1MaxDeg, degrees) is above this are design creases and left alone
-  /// (default kDefaultMaxHealAngleDeg; must be in (0, 180]).
+  /// (default kDefaultMaxHealAngleDeg; must be in (0, 180]; 180 heals every seam, folds included: a bound at 180 is
+  /// not above it). `seam heal --crease-angle` (alias --max-angle).
   std::optional<double> maxAngleDeg;
   /// Classification tolerances (default Tolerances::forModelSize(diagonal)); also the acceptance margins.
   std::optional<Tolerances> tolerances;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "seam/continuity/seam.h"
+#include "seam/continuity/verdict.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
@@ -56,6 +57,11 @@ struct JoinOptions {
   /// Revert a join whose certified surface displacement (JoinReport::maxSurfaceDisplacementRel) exceeds this
   /// multiple of the moved patch's size. Must be >= 0.
   double maxDisplacementRel = kMaxJoinDisplacementRel;
+  /// A G1/G2 request on a seam whose angle before (SeamReport::g1MaxDeg) is at or above this (degrees, in (0, 180])
+  /// leaves the seam as it is, a design crease (JoinReport::creaseKept). Empty: any angle is joined (the library
+  /// call names one seam); `seam join` passes kDefaultCreaseAngleDeg unless --crease-angle is given. G0 requests
+  /// close the gap of a crease without touching its angle and are not affected.
+  std::optional<double> creaseAngleDeg;
   /// Classification tolerances for the before/after analysis (default Tolerances::forModelSize(diagonal)).
   std::optional<Tolerances> tolerances;
   /// Settings of the before/after seam analysis (its `tol` is replaced by the tolerances above).
@@ -74,6 +80,9 @@ struct JoinReport {
   /// The join was undone because it would have made the seam worse or folded the patch (see joinSeam): the model is
   /// the input, after == before, nothing moved, and `notes` say why.
   bool reverted = false;
+  /// The seam is a design crease (angle at or above JoinOptions::creaseAngleDeg) and a G1/G2 join was requested: it
+  /// is left as designed, the model is the input, after == before, and a note says so.
+  bool creaseKept = false;
   double maxDisplacement = 0.0;   ///< largest control-point displacement (against the input expressed in the new knots)
   /// Largest displacement of the SURFACE (same parameters before and after), over the changed patches: a certified
   /// upper bound (surfaceDisplacement: for polynomial patches the largest control-point displacement, by the

@@ -1,0 +1,71 @@
+#pragma once
+// What a seam means to a CAD user (issue 17 §1): design creases apart from defects, the way CAD connection checkers
+// (CATIA Connect Checker, Rhino EdgeContinuity) separate them. The paper-based GeometricClass (none/G0/G1/G2) stays
+// the detail; the verdict is what a surface designer reads:
+//   gap     G0 fails (the gap is above the distance tolerance), whatever the angle;
+//   kink    G0 holds, the angle is above the G1 tolerance and below the crease angle (a near-tangent seam: a defect);
+//   crease  G0 holds and the angle is at or above the crease angle (an intended sharp edge, left as designed);
+//   G1, G2  tangent / curvature continuous within the tolerances.
+// The angle used is SeamReport::g1MaxDeg (the certified bound, or the refined sampled maximum when the seam is not
+// certified): the same number the tables print and heal compares with its crease angle.
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "seam/continuity/seam.h"
+#include "seam/core/result.h"
+
+namespace seam {
+
+/// Default crease angle (degrees): a seam whose tangent planes meet at this angle or more is a design crease, not a
+/// near-tangent defect. Kinks from tolerance problems (translation losses, perturbed control points) are a few
+/// degrees; CAD checkers' G1 thresholds are 0.5-1 degree (docs/tolerances.md). `seam check --crease-angle`,
+/// `seam heal --crease-angle` (heal leaves creases alone), `seam join --crease-angle`.
+inline constexpr double kDefaultCreaseAngleDeg = 20.0;
+
+enum class SeamVerdict { kGap, kKink, kCrease, kG1, kG2 };
+/// "gap", "kink", "crease", "G1", "G2".
+std::string_view toString(SeamVerdict v);
+
+/// The verdict of an analysed seam (its geometric class was computed with the tolerances in force; see above).
+SeamVerdict seamVerdict(const SeamReport& report, double creaseAngleDeg = kDefaultCreaseAngleDeg);
+
+/// Gaps and kinks are defects; creases, G1 and G2 seams are not.
+inline bool isProblem(SeamVerdict v) { return v == SeamVerdict::kGap || v == SeamVerdict::kKink; }
+
+/// True when `creaseAngleDeg` is an angle in (0, 180] degrees.
+inline bool validCreaseAngle(double creaseAngleDeg) { return creaseAngleDeg > 0.0 && creaseAngleDeg <= 180.0; }
+
+/// Order of a seam listing: as found (the file's / pairing order), or by a measure, largest first.
+enum class SeamSortKey { kFile, kAngle, kGap, kCurvature };
+/// Parses "file", "angle", "gap" or "curvature". Errors: kInvalidInput naming the accepted values.
+Result<SeamSortKey> parseSeamSortKey(std::string_view text);
+
+/// Which seams a listing shows.
+struct SeamSelection {
+  SeamSortKey sort = SeamSortKey::kFile;
+  bool onlyProblems = false;           ///< gaps and kinks only
+  std::optional<std::size_t> top;      ///< at most this many (after sorting)
+  double creaseAngleDeg = kDefaultCreaseAngleDeg;
+};
+
+/// Indices into `seams` in listing order. A null entry is a seam whose analysis failed: it counts as a problem and
+/// comes last in a sorted listing. Sorting is stable: equal values keep the file order. The measures: angle
+/// g1MaxDeg, gap g0Max, curvature g2RelMax (relative jump), each largest first.
+std::vector<std::size_t> selectSeams(std::span<const SeamReport* const> seams, const SeamSelection& selection);
+
+/// The worst defects of a set of seams, for a summary: the kink with the largest angle and the gap with the largest
+/// distance (indices into `seams`, empty when there is none). Null entries are skipped.
+struct WorstDefects {
+  std::optional<std::size_t> kink, gap;
+};
+WorstDefects worstDefects(std::span<const SeamReport* const> seams, double creaseAngleDeg = kDefaultCreaseAngleDeg);
+
+/// Counts per verdict, indexed by SeamVerdict (gap, kink, crease, G1, G2). Null entries are not counted.
+std::array<int, 5> countVerdicts(std::span<const SeamReport* const> seams,
+                                 double creaseAngleDeg = kDefaultCreaseAngleDeg);
+
+}  // namespace seam
