@@ -3,6 +3,8 @@
 // Exit 1 when a verdict is "fails" or the search finds a critical point or self-intersection.
 #include <fmt/format.h>
 
+#include <chrono>
+#include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -86,6 +88,151 @@ std::string searchText(int critical, int intersections, const SearchSummary& s) 
                      s.complete ? "" : ", budget exhausted");
 }
 
+OrderedJson segmentJson(const SegmentVerdict& s, int dim) {
+  OrderedJson j = {{"index", s.index}, {"interval", {s.interval.lo, s.interval.hi}}, {"uniform", s.uniform}};
+  verdictJson(j, s.verdict, s.condition, s.result, dim);
+  j["defect_nearby"] = s.defectNearby;
+  return j;
+}
+
+OrderedJson subnetJson(const SubnetVerdict& s, int dim) {
+  OrderedJson j = {{"index", {s.indexU, s.indexV}},
+                   {"u", {s.u.lo, s.u.hi}},
+                   {"v", {s.v.lo, s.v.hi}},
+                   {"uniform", s.uniformU && s.uniformV}};
+  verdictJson(j, s.verdict, s.condition, s.result, dim);
+  j["defect_nearby"] = s.defectNearby;
+  return j;
+}
+
+/// The curve / patch object of the JSON output, with `placeholder` as the value of the (large) segments / sub-nets
+/// array, which is streamed in its place.
+constexpr const char* kPlaceholder = "\x01items\x01";
+
+OrderedJson curveJson(const std::string& name, const CurveRegularity& r) {
+  OrderedJson crit = OrderedJson::array();
+  OrderedJson inter = OrderedJson::array();
+  for (const CurveCriticalPoint& x : r.search->criticalPoints) {
+    crit.push_back({{"t", x.t}, {"point", point(x.point, r.dim)}, {"speed", x.speed}});
+  }
+  for (const CurveSelfIntersection& x : r.search->selfIntersections) {
+    inter.push_back({{"t1", x.t1}, {"t2", x.t2}, {"point", point(x.point, r.dim)}, {"distance", x.distance}});
+  }
+  return {{"name", name},
+          {"order", r.order},
+          {"segments", kPlaceholder},
+          {"ell_certified", r.ellCertified ? OrderedJson(*r.ellCertified) : OrderedJson(nullptr)},
+          {"critical_points", crit},
+          {"self_intersections", inter},
+          {"search", summaryJson(r.search->summary)}};
+}
+
+OrderedJson patchJson(const std::string& name, const SurfaceRegularity& r) {
+  OrderedJson crit = OrderedJson::array();
+  OrderedJson inter = OrderedJson::array();
+  for (const SurfaceCriticalPoint& x : r.search->criticalPoints) {
+    crit.push_back({{"u", x.u}, {"v", x.v}, {"point", point(x.point, r.dim)}, {"normal_norm", x.normalNorm}});
+  }
+  for (const SurfaceSelfIntersection& x : r.search->selfIntersections) {
+    inter.push_back({{"u1", x.u1},
+                     {"v1", x.v1},
+                     {"u2", x.u2},
+                     {"v2", x.v2},
+                     {"point", point(x.point, r.dim)},
+                     {"distance", x.distance}});
+  }
+  const bool haveEll = r.ellU.has_value();
+  return {{"name", name},
+          {"order", {r.orderU, r.orderV}},
+          {"subnets", kPlaceholder},
+          {"ell_certified", haveEll ? OrderedJson({*r.ellU, *r.ellV}) : OrderedJson(nullptr)},
+          {"critical_points", crit},
+          {"self_intersections", inter},
+          {"search", summaryJson(r.search->summary)}};
+}
+
+/// Streams JSON text in the layout of jsonText (cli_util.h) without building the whole document: a 200 000-segment
+/// curve is a tree of millions of nodes otherwise (seconds and gigabytes for nothing).
+class JsonStream {
+ public:
+  ~JsonStream() { flush(); }
+  /// jsonText(v) of a value nested `indent` spaces deep (its own first line not indented).
+  void value(const OrderedJson& v, int indent) {
+    std::string text = jsonText(v);
+    text.pop_back();  // the final newline
+    append(text, indent);
+    if (out_.size() > (1u << 20)) flush();
+  }
+  /// An array of `count` objects made by item(k), nested `indent` spaces deep.
+  template <class Fn>
+  void array(size_t count, int indent, Fn item) {
+    if (count == 0) {
+      out_ += "[]";
+      return;
+    }
+    const std::string pad(static_cast<size_t>(indent + 2), ' ');
+    out_ += "[\n";
+    for (size_t k = 0; k < count; ++k) {
+      if (k > 0) out_ += ",\n";
+      out_ += pad;
+      item(k);
+    }
+    out_ += "\n" + std::string(static_cast<size_t>(indent), ' ') + "]";
+  }
+  /// An object nested `indent` deep whose value kPlaceholder is replaced by items(indent + 2).
+  template <class Fn>
+  void objectWithItems(const OrderedJson& v, int indent, Fn items) {
+    std::string text = jsonText(v);
+    text.pop_back();  // the final newline
+    std::string mark = jsonText(OrderedJson(kPlaceholder));
+    mark.pop_back();
+    const size_t at = text.find(mark);
+    append(text.substr(0, at), indent);
+    items(indent + 2);
+    append(text.substr(at + mark.size()), indent);
+  }
+  void raw(std::string_view s) { out_ += s; }
+  void flush() {
+    std::cout << out_;
+    out_.clear();
+  }
+
+ private:
+  void append(const std::string& text, int indent) {
+    const std::string pad = "\n" + std::string(static_cast<size_t>(indent), ' ');
+    for (char c : text) {
+      if (c == '\n') {
+        out_ += pad;
+      } else {
+        out_ += c;
+      }
+    }
+  }
+  std::string out_;
+};
+
+/// Progress lines on stderr for long runs: nothing during the first second, then at most one line a second, on
+/// any stderr (a terminal or a log), like the progress of `seam check` on large B-reps.
+class ProgressPrinter {
+ public:
+  explicit ProgressPrinter(std::string file) : file_(std::move(file)), start_(Clock::now()), last_(start_) {}
+  ProgressCallback callback(const std::string& object) {
+    return [this, object](std::string_view stage, long done, long total) {
+      const Clock::time_point now = Clock::now();
+      if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::seconds(1)) return;
+      last_ = now;
+      const double elapsed = std::chrono::duration<double>(now - start_).count();
+      std::cerr << fmt::format("seam: {}: {}: {} {} of {} ({:.1f} s)\n", file_, object, stage, done, total, elapsed);
+    };
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string file_;
+  Clock::time_point start_;
+  Clock::time_point last_;
+};
+
 void addRegularity(CLI::App& app, int& exit) {
   struct Options {
     std::string file;
@@ -134,13 +281,14 @@ void addRegularity(CLI::App& app, int& exit) {
     }
     RegularityOptions options;
     options.maxEll = o->ell;
+    ProgressPrinter progress(o->file);
 
+    // Everything is analysed before anything is printed (a failing object prints its error and nothing else).
     bool problem = false;
-    OrderedJson jc = OrderedJson::array();
-    OrderedJson jp = OrderedJson::array();
-    std::vector<std::vector<std::string>> rows;
-    std::vector<std::string> summary;
+    std::vector<CurveRegularity> curveResults;
+    std::vector<SurfaceRegularity> patchResults;
     for (const Curve* c : curves) {
+      options.progress = progress.callback("curve \"" + c->name + "\"");
       Result<CurveRegularity> r = analyzeCurve(c->curve, options);
       if (!r) {
         printError(fmt::format("{}: curve \"{}\": {}", o->file, c->name, r.status().message()));
@@ -148,41 +296,10 @@ void addRegularity(CLI::App& app, int& exit) {
         return;
       }
       problem = problem || r->anyFails();
-      Counts counts;
-      OrderedJson segs = OrderedJson::array();
-      for (const SegmentVerdict& s : r->segments) {
-        counts.add(s.verdict);
-        OrderedJson j = {{"index", s.index}, {"interval", {s.interval.lo, s.interval.hi}}, {"uniform", s.uniform}};
-        verdictJson(j, s.verdict, s.condition, s.result, r->dim);
-        j["defect_nearby"] = s.defectNearby;
-        segs.push_back(j);
-        rows.push_back({"curve " + c->name, std::to_string(s.index), interval(s.interval),
-                        s.uniform ? "uniform" : "non-uniform", std::string(verdictName(s.verdict)),
-                        std::string(conditionName(s.condition)),
-                        s.verdict == Verdict::kCertified ? "-" : witnessText(s.result, r->dim),
-                        s.defectNearby ? "yes" : "no"});
-      }
-      OrderedJson crit = OrderedJson::array();
-      OrderedJson inter = OrderedJson::array();
-      for (const CurveCriticalPoint& x : r->search->criticalPoints) {
-        crit.push_back({{"t", x.t}, {"point", point(x.point, r->dim)}, {"speed", x.speed}});
-      }
-      for (const CurveSelfIntersection& x : r->search->selfIntersections) {
-        inter.push_back({{"t1", x.t1}, {"t2", x.t2}, {"point", point(x.point, r->dim)}, {"distance", x.distance}});
-      }
-      jc.push_back({{"name", c->name},
-                    {"order", r->order},
-                    {"segments", segs},
-                    {"ell_certified", r->ellCertified ? OrderedJson(*r->ellCertified) : OrderedJson(nullptr)},
-                    {"critical_points", crit},
-                    {"self_intersections", inter},
-                    {"search", summaryJson(r->search->summary)}});
-      summary.push_back(fmt::format(
-          "curve {}: {}; ell certified: {}; {}", c->name, counts.text("segments"),
-          r->ellCertified ? std::to_string(*r->ellCertified) : "none",
-          searchText(static_cast<int>(crit.size()), static_cast<int>(inter.size()), r->search->summary)));
+      curveResults.push_back(std::move(r).value());
     }
     for (const Patch* p : patches) {
+      options.progress = progress.callback("patch \"" + p->name + "\"");
       Result<SurfaceRegularity> r = analyzeSurface(p->surface, options);
       if (!r) {
         printError(fmt::format("{}: patch \"{}\": {}", o->file, p->name, r.status().message()));
@@ -190,63 +307,83 @@ void addRegularity(CLI::App& app, int& exit) {
         return;
       }
       problem = problem || r->anyFails();
+      patchResults.push_back(std::move(r).value());
+    }
+    exit = problem ? kExitGeometryProblem : kExitOk;
+
+    if (o->json) {
+      // {"file": ..., "curves": [...], "patches": [...]} in jsonText's layout, streamed.
+      JsonStream out;
+      out.raw("{\n  \"file\": ");
+      out.value(OrderedJson(o->file), 2);
+      out.raw(",\n  \"curves\": ");
+      out.array(curveResults.size(), 2, [&](size_t i) {
+        const CurveRegularity& r = curveResults[i];
+        out.objectWithItems(curveJson(curves[i]->name, r), 4, [&](int indent) {
+          out.array(r.segments.size(), indent, [&](size_t k) { out.value(segmentJson(r.segments[k], r.dim), indent + 2); });
+        });
+      });
+      out.raw(",\n  \"patches\": ");
+      out.array(patchResults.size(), 2, [&](size_t i) {
+        const SurfaceRegularity& r = patchResults[i];
+        out.objectWithItems(patchJson(patches[i]->name, r), 4, [&](int indent) {
+          out.array(r.subnets.size(), indent, [&](size_t k) { out.value(subnetJson(r.subnets[k], r.dim), indent + 2); });
+        });
+      });
+      out.raw("\n}\n");
+      out.flush();
+      std::cout << std::flush;
+      return;
+    }
+
+    std::vector<std::vector<std::string>> rows;
+    std::vector<std::string> summary;
+    for (size_t i = 0; i < curveResults.size(); ++i) {
+      const CurveRegularity& r = curveResults[i];
+      const std::string& name = curves[i]->name;
       Counts counts;
-      OrderedJson subs = OrderedJson::array();
-      for (const SubnetVerdict& s : r->subnets) {
+      for (const SegmentVerdict& s : r.segments) {
         counts.add(s.verdict);
-        OrderedJson j = {{"index", {s.indexU, s.indexV}},
-                         {"u", {s.u.lo, s.u.hi}},
-                         {"v", {s.v.lo, s.v.hi}},
-                         {"uniform", s.uniformU && s.uniformV}};
-        verdictJson(j, s.verdict, s.condition, s.result, r->dim);
-        j["defect_nearby"] = s.defectNearby;
-        subs.push_back(j);
-        rows.push_back({"patch " + p->name, fmt::format("{},{}", s.indexU, s.indexV),
+        rows.push_back({"curve " + name, std::to_string(s.index), interval(s.interval),
+                        s.uniform ? "uniform" : "non-uniform", std::string(verdictName(s.verdict)),
+                        std::string(conditionName(s.condition)),
+                        s.verdict == Verdict::kCertified ? "-" : witnessText(s.result, r.dim),
+                        s.defectNearby ? "yes" : "no"});
+      }
+      summary.push_back(fmt::format("curve {}: {}; ell certified: {}; {}", name, counts.text("segments"),
+                                    r.ellCertified ? std::to_string(*r.ellCertified) : "none",
+                                    searchText(static_cast<int>(r.search->criticalPoints.size()),
+                                               static_cast<int>(r.search->selfIntersections.size()),
+                                               r.search->summary)));
+    }
+    for (size_t i = 0; i < patchResults.size(); ++i) {
+      const SurfaceRegularity& r = patchResults[i];
+      const std::string& name = patches[i]->name;
+      Counts counts;
+      for (const SubnetVerdict& s : r.subnets) {
+        counts.add(s.verdict);
+        rows.push_back({"patch " + name, fmt::format("{},{}", s.indexU, s.indexV),
                         interval(s.u) + " x " + interval(s.v),
                         s.uniformU && s.uniformV ? "uniform" : "non-uniform", std::string(verdictName(s.verdict)),
                         std::string(conditionName(s.condition)),
-                        s.verdict == Verdict::kCertified ? "-" : witnessText(s.result, r->dim),
+                        s.verdict == Verdict::kCertified ? "-" : witnessText(s.result, r.dim),
                         s.defectNearby ? "yes" : "no"});
       }
-      OrderedJson crit = OrderedJson::array();
-      OrderedJson inter = OrderedJson::array();
-      for (const SurfaceCriticalPoint& x : r->search->criticalPoints) {
-        crit.push_back({{"u", x.u}, {"v", x.v}, {"point", point(x.point, r->dim)}, {"normal_norm", x.normalNorm}});
-      }
-      for (const SurfaceSelfIntersection& x : r->search->selfIntersections) {
-        inter.push_back({{"u1", x.u1},
-                         {"v1", x.v1},
-                         {"u2", x.u2},
-                         {"v2", x.v2},
-                         {"point", point(x.point, r->dim)},
-                         {"distance", x.distance}});
-      }
-      const bool haveEll = r->ellU.has_value();
-      jp.push_back({{"name", p->name},
-                    {"order", {r->orderU, r->orderV}},
-                    {"subnets", subs},
-                    {"ell_certified", haveEll ? OrderedJson({*r->ellU, *r->ellV}) : OrderedJson(nullptr)},
-                    {"critical_points", crit},
-                    {"self_intersections", inter},
-                    {"search", summaryJson(r->search->summary)}});
-      summary.push_back(fmt::format(
-          "patch {}: {}; ell certified: {}; {}", p->name, counts.text("sub-nets"),
-          haveEll ? fmt::format("{} x {}", *r->ellU, *r->ellV) : "none",
-          searchText(static_cast<int>(crit.size()), static_cast<int>(inter.size()), r->search->summary)));
+      const bool haveEll = r.ellU.has_value();
+      summary.push_back(fmt::format("patch {}: {}; ell certified: {}; {}", name, counts.text("sub-nets"),
+                                    haveEll ? fmt::format("{} x {}", *r.ellU, *r.ellV) : "none",
+                                    searchText(static_cast<int>(r.search->criticalPoints.size()),
+                                               static_cast<int>(r.search->selfIntersections.size()),
+                                               r.search->summary)));
     }
-    if (o->json) {
-      printJson(OrderedJson{{"file", o->file}, {"curves", jc}, {"patches", jp}});
-    } else {
-      if (!rows.empty()) {
-        fmt::print("{}", formatTable({"object", "index", "parameters", "knots", "verdict", "condition",
-                                      "witness", "defect nearby"},
-                                     rows));
-      }
-      fmt::print("\n");
-      for (const std::string& s : summary) fmt::print("{}\n", s);
-      fmt::print("{}\n", problem ? "result: problems found" : "result: no problem found");
+    if (!rows.empty()) {
+      fmt::print("{}", formatTable({"object", "index", "parameters", "knots", "verdict", "condition", "witness",
+                                    "defect nearby"},
+                                   rows));
     }
-    exit = problem ? kExitGeometryProblem : kExitOk;
+    fmt::print("\n");
+    for (const std::string& line : summary) fmt::print("{}\n", line);
+    fmt::print("{}\n", problem ? "result: problems found" : "result: no problem found");
   });
 }
 

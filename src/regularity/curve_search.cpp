@@ -327,16 +327,30 @@ class CurveSearch {
   }
 
   // ---- self-intersections ----
+  /// selfCheckInner, counting the pieces whose own check is done for the progress callback.
   void selfCheck(Region& r) {
-    if (!spend() || isSimple(r)) return;
-    if (degenerate(r) || (r.single() && r.relWidth() <= opt_.newtonWidth && nearCritical(r.a, r.b))) return;
+    const bool recursed = selfCheckInner(r);
+    if (r.single() && r.relWidth() == 1.0) {
+      ++settled_;
+    } else if (!r.single() && !recursed) {
+      settled_ += r.last - r.first;
+    }
+    if (opt_.progress && !r.single() && r.last - r.first >= 256) {
+      opt_.progress("search", settled_, static_cast<long>(pieces_.size()));
+    }
+  }
+  /// True when it went on to the two halves.
+  bool selfCheckInner(Region& r) {
+    if (!spend() || isSimple(r)) return false;
+    if (degenerate(r) || (r.single() && r.relWidth() <= opt_.newtonWidth && nearCritical(r.a, r.b))) return false;
     if (r.single() && r.relWidth() <= opt_.resolution) {
       ++result_.summary.unresolved;
-      return;
+      return false;
     }
     selfCheck(child(r, 0));
     selfCheck(child(r, 1));
     pairCheck(child(r, 0), child(r, 1));
+    return true;
   }
   bool touching(const Region& x, const Region& y) const {
     return x.b == y.a || (closed_ && x.a == domain_.lo && y.b == domain_.hi);
@@ -424,6 +438,7 @@ class CurveSearch {
 
   SearchOptions opt_;
   long budget_ = 0;
+  long settled_ = 0;  // pieces whose own self-intersection check is done (progress)
   int dim_ = 3;
   std::vector<Piece> pieces_;
   double dist_ = 0.0;

@@ -164,6 +164,7 @@ Result<CurveRegularity> analyzeCurve(const BSplineCurve& curve, const Regularity
 
   bool allCertified = true;
   for (int j = p; j < n; ++j) {
+    if (options.progress && (j - p) % 4096 == 4095) options.progress("certificates", j - p, n - p);
     if (!(t[j + 1] - t[j] > emptyTol)) continue;
     SegmentVerdict seg;
     seg.index = j - p;
@@ -185,6 +186,7 @@ Result<CurveRegularity> analyzeCurve(const BSplineCurve& curve, const Regularity
       const int window = k + l;
       bool ok = true;
       for (int i = 0; i + window <= n && ok; ++i) {
+        if (options.progress && i % 4096 == 4095) options.progress("theorem 2.7 windows", i, n - window + 1);
         const bool uniform = !out.rational && uniformKnots(t, i, i + window + p, options.uniformKnotRelTol);
         WindowOutcome w = curveWindow(std::span<const Vec3>(pts).subspan(i, window), uniform, dim, options);
         if (w.verdict != Verdict::kCertified) {
@@ -203,7 +205,9 @@ Result<CurveRegularity> analyzeCurve(const BSplineCurve& curve, const Regularity
   }
 
   if (options.runSearch) {
-    Result<CurveSearchResult> search = searchCurveDefects(curve, options.search);
+    SearchOptions so = options.search;
+    if (!so.progress) so.progress = options.progress;
+    Result<CurveSearchResult> search = searchCurveDefects(curve, so);
     if (!search) return search.status();
     out.search = std::move(search).value();
     for (SegmentVerdict& seg : out.segments) {
@@ -255,6 +259,7 @@ Result<SurfaceRegularity> analyzeSurface(const BSplineSurface& surface, const Re
 
   bool allCertified = true;
   for (int ju = pu; ju < nu; ++ju) {
+    if (options.progress) options.progress("certificates", static_cast<long>(ju - pu) * (nv - pv), static_cast<long>(nu - pu) * (nv - pv));
     if (!(tu[ju + 1] - tu[ju] > emptyU)) continue;
     for (int jv = pv; jv < nv; ++jv) {
       if (!(tv[jv + 1] - tv[jv] > emptyV)) continue;
@@ -293,6 +298,7 @@ Result<SurfaceRegularity> analyzeSurface(const BSplineSurface& surface, const Re
           const int m1 = k1 + a;
           const int m2 = k2 + b;
           for (int i = 0; i + m1 <= nu && ok; ++i) {
+            if (options.progress) options.progress("theorem 3.5 windows", i, nu - m1 + 1);
             for (int j = 0; j + m2 <= nv && ok; ++j) {
               gather(i, j, m1, m2);
               const bool uu = uniformKnots(tu, i, i + m1 + pu, options.uniformKnotRelTol);
@@ -323,7 +329,9 @@ Result<SurfaceRegularity> analyzeSurface(const BSplineSurface& surface, const Re
   }
 
   if (options.runSearch) {
-    Result<SurfaceSearchResult> search = searchSurfaceDefects(surface, options.search);
+    SearchOptions so = options.search;
+    if (!so.progress) so.progress = options.progress;
+    Result<SurfaceSearchResult> search = searchSurfaceDefects(surface, so);
     if (!search) return search.status();
     out.search = std::move(search).value();
     for (SubnetVerdict& sub : out.subnets) {

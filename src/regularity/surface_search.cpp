@@ -368,16 +368,30 @@ class SurfaceSearch {
   }
 
   // ---- self-intersections ----
+  /// selfCheckInner, counting the pieces whose own check is done for the progress callback.
   void selfCheck(Region& r) {
-    if (!spend() || isSimple(r)) return;
-    if (r.single() && (degenerate(r) || (r.relWidth() <= opt_.newtonWidth && nearCritical(r)))) return;
+    const bool recursed = selfCheckInner(r);
+    if (r.single() && r.relWidth() == 1.0) {
+      ++settled_;
+    } else if (!r.single() && !recursed) {
+      settled_ += (r.u1 - r.u0) * (r.v1 - r.v0);
+    }
+    if (opt_.progress && !r.single() && (r.u1 - r.u0) * (r.v1 - r.v0) >= 256) {
+      opt_.progress("search", settled_, static_cast<long>(pieces_.size()));
+    }
+  }
+  /// True when it went on to the two halves.
+  bool selfCheckInner(Region& r) {
+    if (!spend() || isSimple(r)) return false;
+    if (r.single() && (degenerate(r) || (r.relWidth() <= opt_.newtonWidth && nearCritical(r)))) return false;
     if (r.single() && r.relWidth() <= opt_.resolution) {
       ++result_.summary.unresolved;
-      return;
+      return false;
     }
     selfCheck(child(r, 0));
     selfCheck(child(r, 1));
     pairCheck(child(r, 0), child(r, 1));
+    return true;
   }
   static bool meets(const Interval& a, const Interval& b) { return a.lo <= b.hi && b.lo <= a.hi; }
   bool touching(const Region& x, const Region& y) const {
@@ -485,6 +499,7 @@ class SurfaceSearch {
 
   SearchOptions opt_;
   long budget_ = 0;
+  long settled_ = 0;  // pieces whose own self-intersection check is done (progress)
   int nu_ = 0;
   int nv_ = 0;
   std::vector<Piece> pieces_;

@@ -7,7 +7,9 @@
 // their control boxes are disjoint or when they lie in one injective region. Newton refinement turns the remaining
 // small regions into points. What neither pruning nor Newton settles down to the stated resolution is reported as
 // unresolved, so "no defect" is a statement with a resolution, never a guess from sampling.
+#include <functional>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "seam/core/result.h"
@@ -16,6 +18,10 @@
 #include "seam/spline/bspline_surface.h"
 
 namespace seam::regularity {
+
+/// Progress of a long analysis: (stage, done, total), e.g. ("search", pieces settled, pieces). Called often (the
+/// callee decides what to print and when); never called when empty.
+using ProgressCallback = std::function<void(std::string_view stage, long done, long total)>;
 
 struct SearchOptions {
   /// Regions are not split below this fraction of their knot span (per direction); what is left there unsettled is
@@ -36,6 +42,8 @@ struct SearchOptions {
   /// visits per piece; a fixed total would leave every curve of more than ~100 000 segments unsettled).
   long maxWork = 300'000;
   long maxWorkPerPiece = 64;
+  /// Called as ("search", pieces settled, pieces) while the self-intersection search runs.
+  ProgressCallback progress;
 };
 
 struct CurveCriticalPoint {

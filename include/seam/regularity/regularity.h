@@ -52,6 +52,10 @@ struct RegularityOptions {
   bool runSearch = true;
   SearchOptions search;
   SeparationOptions separation;
+  /// Called as ("certificates", segments / sub-nets done, all), ("ell", windows done, all) and, unless
+  /// search.progress is set, ("search", pieces settled, pieces) during long runs (the CLI prints a line a second
+  /// after the first second).
+  ProgressCallback progress;
 };
 
 /// The verdict on one curve segment (one non-empty knot span).
