@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Fuzzing (issue 15 §5; docs/reliability.md, "Fuzzing"): builds the libFuzzer harnesses of fuzz/ with clang-14 in
+# build-fuzz/ and runs each for SECONDS (default 60) on a seed corpus made from the committed inputs
+# (tests/data, tests/data/hostile, examples/models, fuzz/regressions). New inputs go to build-fuzz/corpus/<harness>/;
+# a crash, a leak or a timeout stops that harness, leaves its input in build-fuzz/artifacts/ and fails the script.
+#   bash scripts/fuzz.sh [SECONDS]          e.g. bash scripts/fuzz.sh 20 (CI), bash scripts/fuzz.sh 600
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-60}"
+
+# The fuzzing tool chain (Debian 12): clang-14 and libFuzzer. Only here, not in scripts/setup.sh.
+if ! command -v clang++-14 >/dev/null || ! ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a \
+    >/dev/null 2>&1; then
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq clang-14 libfuzzer-14-dev
+fi
+
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+  -DCMAKE_CXX_COMPILER=clang++-14 -DSEAM_FUZZ=ON -DSEAM_WITH_OCCT=OFF -DSEAM_BUILD_CLI=OFF -DSEAM_BUILD_TESTS=OFF \
+  -DSEAM_BUILD_BENCH=OFF -DSEAM_BUILD_EXAMPLES=OFF \
+  $(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) >/dev/null
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_json fuzz_bpt fuzz_gcn
+
+# Seed corpora: every committed input of the harness's kind (copied, so that libFuzzer never writes into the tree).
+seed() {  # seed HARNESS FILES...
+  local dir="build-fuzz/seeds/$1"
+  shift
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  for f in "$@"; do [ -f "$f" ] && cp "$f" "$dir/"; done
+  return 0
+}
+shopt -s nullglob
+seed json tests/data/*/*.json tests/data/hostile/*.json examples/models/*.json fuzz/regressions/json/*
+seed bpt tests/data/hostile/*.bpt ../shared/data/bezier/*.bpt fuzz/regressions/bpt/*
+seed gcn tests/data/gcn/*.json examples/models/zwl_example.json fuzz/regressions/gcn/*
+
+mkdir -p build-fuzz/artifacts
+status=0
+for h in json bpt gcn; do
+  mkdir -p "build-fuzz/corpus/$h"
+  echo "== fuzz_$h: ${seconds} s"
+  # -rss_limit_mb: the harnesses read at most -max_len bytes, so 2 GB is a leak or a blow-up; -timeout: a single
+  # input taking 10 s is a hang (the readers are linear).
+  if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      "build-fuzz/fuzz/fuzz_$h" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
+      -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/${h}-" \
+      "build-fuzz/corpus/$h" "build-fuzz/seeds/$h" 2>"build-fuzz/fuzz_$h.log"; then
+    status=1
+    echo "fuzz_$h FAILED: see build-fuzz/fuzz_$h.log and build-fuzz/artifacts/"
+    tail -n 40 "build-fuzz/fuzz_$h.log"
+  fi
+  grep -E '^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)' "build-fuzz/fuzz_$h.log" || true
+done
+exit "$status"
