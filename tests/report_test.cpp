@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "hinge_models.h"
 #include "seam/continuity/model_check.h"
 #include "seam/io/file.h"
 #include "seam/io/json.h"
@@ -70,6 +71,38 @@ TEST(HtmlReport, NamesAreEscapedAndThePlotLimitHolds) {
   EXPECT_GT(count(h, "&lt;b&gt;&amp;&quot;rim&quot;"), 0u);
   EXPECT_NE(h.find("<title>a &lt; b</title>"), std::string::npos);
   EXPECT_EQ(count(h, "<div class=\"seam\" id=\"seam-"), 5u);
+}
+
+/// The seam numbers of the table rows, in page order.
+std::vector<int> rowSeams(const std::string& h) {
+  std::vector<int> out;
+  const std::string key = "<tr><td><a href=\"#seam-";
+  for (size_t p = h.find(key); p != std::string::npos; p = h.find(key, p + key.size()))
+    out.push_back(std::stoi(h.substr(p + key.size())));
+  return out;
+}
+
+// Issue 17: kinks first (largest angle first), then gaps, then the rest; the design creases in a table of their own.
+TEST(HtmlReport, KinksFirstAndCreasesApart) {
+  //                                   0     1     2     3      4    5    6
+  const Model m = test::hingeModel({10.0, 45.0, 90.0, 150.0, 0.0, 0.0, 3.0}, {0.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0});
+  const ModelCheckReport r = checkModel(m).value();
+  ASSERT_EQ(r.seams.size(), 7u);
+  std::string h = report::htmlReport(m, r);
+  EXPECT_EQ(rowSeams(h), (std::vector<int>{0, 6, 4, 5, 3, 2, 1}));
+  EXPECT_LT(h.find("id=\"seams\""), h.find("id=\"creases\""));
+  EXPECT_LT(h.find("id=\"creases\""), h.find("<a href=\"#seam-3\">"));
+  EXPECT_NE(h.find("gap 1, kink 2, crease 3"), std::string::npos);
+  EXPECT_NE(h.find("<a href=\"#seam-0\">#0</a> A0:u1 / B0:u0 at [0, "), std::string::npos);  // the worst kink
+  report::HtmlReportOptions o;
+  o.selection.onlyProblems = true;
+  o.selection.sort = SeamSortKey::kGap;
+  o.selection.top = 2;
+  h = report::htmlReport(m, r, o);
+  EXPECT_EQ(rowSeams(h), (std::vector<int>{4, 0}));
+  EXPECT_NE(h.find("Showing 2 of 4."), std::string::npos);
+  EXPECT_EQ(count(h, "<div class=\"seam\" id=\"seam-"), 0u);  // no samples kept: no plots
+  EXPECT_EQ(count(h, "<table"), count(h, "</table>"));
 }
 
 /// Bernstein polynomial B_i^n(t), written out.

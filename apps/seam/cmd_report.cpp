@@ -37,7 +37,35 @@ struct ReportOptions {
   std::string file, out;
   ToleranceOverrides tol;
   int maxPlots = 400;
+  std::optional<double> creaseAngle;
+  std::string sort = "file";
+  std::optional<size_t> top;
+  std::string only;
 };
+
+/// --crease-angle, --sort, --top, --only (as `seam check`); false with the message on stderr when one is wrong.
+bool parseSelection(const ReportOptions& o, SeamSelection& sel) {
+  if (o.creaseAngle) {
+    if (!validCreaseAngle(*o.creaseAngle)) {
+      printError("--crease-angle must be an angle in degrees in (0, 180]");
+      return false;
+    }
+    sel.creaseAngleDeg = *o.creaseAngle;
+  }
+  const Result<SeamSortKey> key = parseSeamSortKey(o.sort);
+  if (!key) {
+    printError("--sort: " + key.status().message());
+    return false;
+  }
+  sel.sort = *key;
+  if (!o.only.empty() && o.only != "problems" && o.only != "all") {
+    printError(fmt::format("--only: \"{}\" is not \"problems\" (gaps and kinks) or \"all\"", o.only));
+    return false;
+  }
+  sel.onlyProblems = o.only == "problems";
+  sel.top = o.top;
+  return true;
+}
 
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: the B-rep check (every shared edge through the pcurves), OpenCASCADE's verdict as an extra column.
@@ -85,6 +113,7 @@ int runReport(const ReportOptions& o) {
   report::HtmlReportOptions ro;
   ro.title = "seam report: " + std::filesystem::path(o.file).filename().string();
   ro.maxPlottedSeams = o.maxPlots;
+  if (!parseSelection(o, ro.selection)) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
   if (isCadFile(o.file)) {
     // A directory, a FIFO or a device: the same message as for .json/.bpt (never handed to OpenCASCADE).
@@ -119,6 +148,14 @@ void addReport(CLI::App& app, int& exit) {
   cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
   addToleranceOptions(*cmd, o->tol);
   cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--crease-angle", o->creaseAngle,
+                  "Seams whose angle is at or above this (degrees, in (0, 180]) are design creases, in a table of "
+                  "their own (default 20)");
+  cmd->add_option("--sort", o->sort,
+                  "Order of the seam tables: angle, gap or curvature (largest first); default: kinks, then gaps, "
+                  "then the rest");
+  cmd->add_option("--top", o->top, "List at most N seams per table")->type_name("N");
+  cmd->add_option("--only", o->only, "problems: list only gaps and kinks");
   cmd->callback([o, &exit]() { exit = runReport(*o); });
 }
 

@@ -190,6 +190,10 @@ std::string htmlReport(const Model& model, const ModelCheckReport& report, const
 
 std::string htmlReport(const ReportData& data, const HtmlReportOptions& options) {
   const Tolerances& tol = data.tolerances;
+  const SeamSelection& sel = options.selection;
+  std::vector<const SeamReport*> reports;
+  for (const ReportSeam& s : data.seams) reports.push_back(s.report ? &*s.report : nullptr);
+  auto verdictOf = [&](size_t k) { return seamVerdict(*reports[k], sel.creaseAngleDeg); };
   std::array<int, 4> classes{};
   int certified = 0, failed = 0;
   GeometricClass worst = GeometricClass::kG2;
@@ -219,6 +223,23 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     h += fmt::format("<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>", escape(k), v);
   };
   row("seams", fmt::format("{} ({} certified, {} failed)", data.seams.size(), certified, failed));
+  const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
+  row("by verdict", fmt::format("gap {}, kink {}, crease {} (angle &ge; {}&deg;, left as designed), G1 {}, G2 {}",
+                                verdicts[0], verdicts[1], verdicts[2], num(sel.creaseAngleDeg), verdicts[3],
+                                verdicts[4]));
+  const WorstDefects worstDefect = worstDefects(reports, sel.creaseAngleDeg);
+  auto where = [&](size_t k, const Vec3& p) {
+    const ReportSeam& s = data.seams[k];
+    return fmt::format("<a href=\"#seam-{}\">#{}</a> {}{} / {}{} at [{}, {}, {}]", k, k, escape(s.a),
+                       s.aEdge.empty() ? "" : ":" + escape(s.aEdge), escape(s.b),
+                       s.bEdge.empty() ? "" : ":" + escape(s.bEdge), num(p.x()), num(p.y()), num(p.z()));
+  };
+  row("worst kink", worstDefect.kink ? fmt::format("{}&deg;, {}", num(reports[*worstDefect.kink]->g1MaxDeg),
+                                                   where(*worstDefect.kink, reports[*worstDefect.kink]->g1Worst.point))
+                                     : "none");
+  row("worst gap", worstDefect.gap ? fmt::format("{}, {}", num(reports[*worstDefect.gap]->g0Max),
+                                                 where(*worstDefect.gap, reports[*worstDefect.gap]->g0Worst.point))
+                                   : "none");
   row("by class", fmt::format("G2 {}, G1 {}, G0 {}, none {}", classes[3], classes[2], classes[1], classes[0]));
   row("worst", fmt::format("<span class=\"c{}\">{}</span>", static_cast<int>(worst), toString(worst)));
   row("largest gap (G0)", num(g0));
@@ -262,46 +283,93 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     h += "</svg>\n";
   }
 
-  // ---- seam table
-  const bool extra = !data.extraHeader.empty();
-  h += "<h2 id=\"seams\">Seams</h2>\n<p>Click a column header to sort. Values of certified seams are upper bounds that "
-       "hold over the whole seam; the others are refined sampled maxima.</p>\n";
-  h += "<table class=\"sortable\"><thead><tr><th>#</th><th class=\"l\">A</th><th class=\"l\">edge</th>"
-       "<th class=\"l\">B</th><th class=\"l\">edge</th><th>G0 gap</th><th>G1 angle (&deg;)</th><th>G2 jump</th>"
-       "<th>G2 relative</th><th class=\"l\">geometric</th><th class=\"l\">parametric</th><th class=\"l\">certified</th>";
-  if (extra) h += fmt::format("<th class=\"l\">{}</th>", escape(data.extraHeader));
-  h += "</tr></thead><tbody>\n";
-  for (size_t k = 0; k < data.seams.size(); ++k) {
-    const ReportSeam& s = data.seams[k];
-    h += fmt::format("<tr><td><a href=\"#seam-{0}\">{0}</a></td><td class=\"l\">{1}</td><td class=\"l\">{2}</td>"
-                     "<td class=\"l\">{3}</td><td class=\"l\">{4}</td>",
-                     k, escape(s.a), escape(s.aEdge), escape(s.b), escape(s.bEdge));
-    if (!s.report) {
-      h += fmt::format("<td colspan=\"{}\" class=\"l c0\">analysis failed: {}</td></tr>\n", extra ? 8 : 7,
-                       escape(s.error));
-      continue;
-    }
-    const SeamReport& r = *s.report;
-    const int gc = static_cast<int>(r.geometric);
-    h += fmt::format("<td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td>"
-                     "<td data-v=\"{:.17g}\">{}</td><td class=\"l c{}\" data-v=\"{}\">{}</td><td class=\"l\">{}</td>"
-                     "<td class=\"l\">{}</td>",
-                     r.g0Max, num(r.g0Max), r.g1MaxDeg, num(r.g1MaxDeg), r.g2Max, num(r.g2Max), r.g2RelMax,
-                     num(r.g2RelMax), gc, gc, toString(r.geometric), toString(r.parametric),
-                     r.certified ? "yes" : "no");
-    if (extra) h += fmt::format("<td class=\"l\">{}</td>", escape(s.extra));
-    h += "</tr>\n";
-  }
-  h += "</tbody></table>\n";
-
-  // ---- per-seam plots, worst first
+  // ---- seam tables: the seams that are not design creases (kinks first), then the creases apart
+  // Default order: kinks (largest angle first), gaps (largest first), failed analyses, G1/G2 in file order, then the
+  // creases (largest angle first); a --sort measure replaces it within each table.
   std::vector<size_t> order(data.seams.size());
   std::iota(order.begin(), order.end(), size_t{0});
-  auto rank = [&](size_t k) {
-    const auto& r = data.seams[k].report;
-    return r ? std::pair{static_cast<int>(r->geometric), -r->g1MaxDeg} : std::pair{-1, 0.0};
+  auto rank = [&](size_t k) -> std::pair<int, double> {
+    if (!reports[k]) return {2, 0.0};
+    switch (verdictOf(k)) {
+      case SeamVerdict::kKink: return {0, -reports[k]->g1MaxDeg};
+      case SeamVerdict::kGap: return {1, -reports[k]->g0Max};
+      case SeamVerdict::kCrease: return {4, -reports[k]->g1MaxDeg};
+      default: return {3, 0.0};
+    }
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return rank(x) < rank(y); });
+  if (sel.sort != SeamSortKey::kFile) {
+    SeamSelection all = sel;
+    all.onlyProblems = false;
+    all.top.reset();
+    order = selectSeams(reports, all);
+  }
+  std::vector<size_t> mainRows, creaseRows;
+  size_t creasesAll = 0;
+  for (size_t k : order) {
+    const bool crease = reports[k] && verdictOf(k) == SeamVerdict::kCrease;
+    creasesAll += crease ? 1 : 0;
+    if (crease) {
+      if (!sel.onlyProblems) creaseRows.push_back(k);
+    } else if (!sel.onlyProblems || !reports[k] || isProblem(verdictOf(k))) {
+      mainRows.push_back(k);
+    }
+  }
+  if (sel.top) {
+    if (mainRows.size() > *sel.top) mainRows.resize(*sel.top);
+    if (creaseRows.size() > *sel.top) creaseRows.resize(*sel.top);
+  }
+  const bool extra = !data.extraHeader.empty();
+  auto seamTable = [&](const std::vector<size_t>& rows) {
+    std::string t = "<table class=\"sortable\"><thead><tr><th>#</th><th class=\"l\">A</th><th class=\"l\">edge</th>"
+                    "<th class=\"l\">B</th><th class=\"l\">edge</th><th class=\"l\">verdict</th><th>G0 gap</th>"
+                    "<th>G1 angle (&deg;)</th><th>G2 jump</th><th>G2 relative</th><th class=\"l\">geometric</th>"
+                    "<th class=\"l\">parametric</th><th class=\"l\">certified</th>";
+    if (extra) t += fmt::format("<th class=\"l\">{}</th>", escape(data.extraHeader));
+    t += "</tr></thead><tbody>\n";
+    for (size_t k : rows) {
+      const ReportSeam& s = data.seams[k];
+      t += fmt::format("<tr><td><a href=\"#seam-{0}\">{0}</a></td><td class=\"l\">{1}</td><td class=\"l\">{2}</td>"
+                       "<td class=\"l\">{3}</td><td class=\"l\">{4}</td>",
+                       k, escape(s.a), escape(s.aEdge), escape(s.b), escape(s.bEdge));
+      if (!s.report) {
+        t += fmt::format("<td colspan=\"{}\" class=\"l c0\">analysis failed: {}</td></tr>\n", extra ? 9 : 8,
+                         escape(s.error));
+        continue;
+      }
+      const SeamReport& r = *s.report;
+      const int gc = static_cast<int>(r.geometric);
+      const SeamVerdict v = verdictOf(k);
+      t += fmt::format("<td class=\"l{}\" data-v=\"{}\">{}</td>", isProblem(v) ? fmt::format(" c{}", gc) : "",
+                       static_cast<int>(v), toString(v));
+      t += fmt::format("<td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td><td data-v=\"{:.17g}\">{}</td>"
+                       "<td data-v=\"{:.17g}\">{}</td><td class=\"l c{}\" data-v=\"{}\">{}</td><td class=\"l\">{}</td>"
+                       "<td class=\"l\">{}</td>",
+                       r.g0Max, num(r.g0Max), r.g1MaxDeg, num(r.g1MaxDeg), r.g2Max, num(r.g2Max), r.g2RelMax,
+                       num(r.g2RelMax), gc, gc, toString(r.geometric), toString(r.parametric),
+                       r.certified ? "yes" : "no");
+      if (extra) t += fmt::format("<td class=\"l\">{}</td>", escape(s.extra));
+      t += "</tr>\n";
+    }
+    return t + "</tbody></table>\n";
+  };
+  const size_t mainAll = data.seams.size() - creasesAll;
+  h += "<h2 id=\"seams\">Seams</h2>\n<p>Kinks (near-tangent seams) first, then gaps, then the rest; design creases "
+       "are listed apart below. Click a column header to sort. Values of certified seams are upper bounds that hold "
+       "over the whole seam; the others are refined sampled maxima.";
+  if (mainRows.size() != mainAll) h += fmt::format(" Showing {} of {}.", mainRows.size(), mainAll);
+  h += "</p>\n" + seamTable(mainRows);
+  h += fmt::format("<h2 id=\"creases\">Design creases</h2>\n<p>{} seams whose angle is at or above the crease angle "
+                   "({}&deg;): intended sharp edges, left as designed.",
+                   creasesAll, num(sel.creaseAngleDeg));
+  if (creaseRows.size() != creasesAll) h += fmt::format(" Showing {} of {}.", creaseRows.size(), creasesAll);
+  h += "</p>\n";
+  if (!creaseRows.empty()) h += seamTable(creaseRows);
+
+  // ---- per-seam plots, in the order of the tables (kinks and gaps first, creases last)
+  order.clear();
+  order.insert(order.end(), mainRows.begin(), mainRows.end());
+  order.insert(order.end(), creaseRows.begin(), creaseRows.end());
   h += "<h2 id=\"plots\">Along each seam</h2>\n";
   if (static_cast<int>(order.size()) > options.maxPlottedSeams)
     h += fmt::format("<p>The {} worst of {} seams are plotted.</p>\n", options.maxPlottedSeams, order.size());

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "seam/continuity/model_check.h"
+#include "seam/continuity/verdict.h"
 #include "seam/core/result.h"
 #include "seam/model/model.h"
 
@@ -20,6 +21,10 @@ struct HtmlReportOptions {
   int plotWidth = 560, plotHeight = 130;  ///< pixels per plot
   int overviewSize = 720;                 ///< pixels (square) of the model drawing
   int samplesPerEdge = 24;                ///< polyline points per patch edge in the drawing
+  /// The seam tables (issue 17): design creases (angle at or above creaseAngleDeg) in a table of their own; the
+  /// other seams kinks first (largest angle first), then gaps (largest first), then the rest in file order, unless
+  /// `selection.sort` names a measure; `onlyProblems` and `top` cut each table. The plots follow the same order.
+  SeamSelection selection;
 };
 
 /// One seam of the report: names, its analysis (or the error), and its curve for the drawing.
