@@ -461,8 +461,6 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
   LsJoinOutcome out;
   bool rational = s0.isRational();
   for (const EdgeConstraint& c : constraints) rational = rational || c.target.rational;
-  if (rational && K == 2)
-    return Status(ErrorCode::kUnsupported, "G2 joins of rational patches are not implemented (use G1)");
 
   // ---- degree elevation and knot refinement so that the target data lie in the patch's spline space.
   BSplineSurface s = s0;
@@ -595,6 +593,8 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
 
   // ---- one stage: rows [rowLo, rowHi] of every edge are unknown; order-k equations for k in [kLo, kHi].
   std::vector<Eigen::VectorXd> lambdaC(constraints.size()), kappaC(constraints.size());
+  // Rational: the G0 factor rho of S^h = rho T^h along each edge (its global Bernstein coefficients).
+  std::vector<Eigen::VectorXd> rhoC(constraints.size());
   // Per constraint: lambda fixed to these global coefficients (empty: lambda is an unknown).
   std::vector<Eigen::VectorXd> fixedLambda(constraints.size());
   // Rational: the moving rows' weights are known (not unknowns); the equations stay linear in the Cartesian points.
@@ -614,8 +614,9 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
     // Unknown coordinates per moved point: all homogeneous ones, or (weights fixed) w P only, the weight known.
     const int perPt = (rational && weightsFixed) ? dimH - 1 : dimH;
     int n = static_cast<int>(points.size()) * perPt;
-    // Scalar blocks per constraint: 0 rho, 1 lambda, 2 kappa, 3 nu (stage G0/G1); 4 mu, 5 nu2 (G2).
-    std::vector<std::array<ScalarBlock, 6>> sb(constraints.size());
+    // Scalar blocks per constraint: 0 rho, 1 lambda, 2 kappa, 3 nu (stage G0/G1); 4 mu, 5 nu2, 6 eta (G2; eta,
+    // the coefficient of T^h, only for rational data).
+    std::vector<std::array<ScalarBlock, 7>> sb(constraints.size());
     for (size_t c = 0; c < constraints.size(); ++c) {
       // Degrees of the connecting functions: as high as the patch's degree p allows for each product term
       // (T of degree q, T_t of q - 1, T_n of qn; G2 adds lambda^2 T_nn, lambda kappa T_nt, kappa^2 T_tt).
@@ -635,6 +636,7 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
       if (kHi >= 2) {
         b[4].degree = std::max(p - qn, 0);
         b[5].degree = std::max(p - q + 1, 0);
+        if (rational) b[6].degree = std::max(p - q, 0);
       }
       for (auto& blk : b)
         if (blk.degree >= 0) {
@@ -684,11 +686,16 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
             const Eigen::MatrixXd Rl = restrictionMatrix(static_cast<int>(lambdaC[c].size()) - 1, rg, sp.lo, sp.hi);
             const Eigen::MatrixXd Rk = restrictionMatrix(static_cast<int>(kappaC[c].size()) - 1, rg, sp.lo, sp.hi);
             const BernsteinPoly lam = polyFromCoeffs(Rl * lambdaC[c]), kap = polyFromCoeffs(Rk * kappaC[c]);
-            // S_nn = lam^2 Tnn - 2 lam kap Tnt + kap^2 Ttt - mu Tn + nu2 Tt
-            known = known + product(product(lam, lam), Tnn) - 2.0 * product(product(lam, kap), Tnt) +
-                    product(product(kap, kap), Ttt);
+            // S_nn = lam^2 Tnn - 2 lam kap Tnt + kap^2 Ttt - mu Tn + nu2 Tt. Rational (homogeneous, S^h = r T^h(x, y)
+            // with r = rho, kappa = r x_s, -lambda = r y_s on the edge): the quadratic terms carry 1 / rho, and
+            // r_ss T^h, 2 r_s (x_s T_t + y_s T_n) and r (x_ss T_t + y_ss T_n) are absorbed by free functions eta,
+            // nu2, mu (docs/algorithms/zheng-wang-liang.md). rho must be constant along the edge (checked below).
+            const double invRho = rational ? 1.0 / rhoC[c][0] : 1.0;
+            known = known + invRho * (product(product(lam, lam), Tnn) - 2.0 * product(product(lam, kap), Tnt) +
+                                      product(product(kap, kap), Ttt));
             terms.push_back({&sb[c][4], Tn, +1.0});
             terms.push_back({&sb[c][5], Tt, -1.0});
+            if (rational) terms.push_back({&sb[c][6], Tp, -1.0});
           }
           if (known.degree() > e.p)
             return Status(ErrorCode::kNoSolution,
@@ -759,6 +766,9 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
         lambdaC[c] = fixedLambda[c].size() > 0 ? fixedLambda[c] : Eigen::VectorXd(sol.x.segment(sb[c][1].offset, sb[c][1].size()));
         kappaC[c] = sol.x.segment(sb[c][2].offset, sb[c][2].size());
       }
+    if (kLo == 0)
+      for (size_t c = 0; c < constraints.size(); ++c)
+        if (sb[c][0].degree >= 0) rhoC[c] = sol.x.segment(sb[c][0].offset, sb[c][0].size());
     double dataScale = opt.scale;
     for (double r : sys.rhs) dataScale = std::max(dataScale, std::abs(r));
     return sol.residual / dataScale;
@@ -843,8 +853,32 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
       for (int a = 0; a < f.numU(); ++a)
         for (int b = 0; b <= 1; ++b) fixedMask[static_cast<size_t>(gridIndex(s, constraints[c].edge, a, b))] = 1;
     }
+    if (rational)
+      for (size_t c = 0; c < constraints.size(); ++c) {
+        // The 1 / rho of the quadratic terms keeps the equations linear only for a constant rho (equal weight
+        // ratios along the seam: the usual case, e.g. matching weights); otherwise say so and leave the patch.
+        const Eigen::VectorXd& r = rhoC[c];
+        const double r0 = r.size() > 0 ? r[0] : 0.0;
+        const double spread = r.size() > 0 ? (r.array() - r0).abs().maxCoeff() : 0.0;
+        if (!(std::abs(r0) > 0.0) || spread > kConstraintRelTol * std::abs(r0))
+          return Status(ErrorCode::kUnsupported,
+                        fmt::format("edge {}: a rational G2 join needs the weight ratio of the two patches to be "
+                                    "constant along the seam (rho varies by {:.3g} of {:.6g})",
+                                    edgeName(constraints[c].edge), spread, r0));
+      }
     auto r2 = stage(2, 2, 2, 2, fixedMask);
     if (!r2) return r2.status();
+    if (rational && weightsFixed && *r2 > kConstraintRelTol) {
+      // Row 2 with its weights fixed has no solution: solve it again with its weights as unknowns (rows 0 and 1
+      // stay as solved).
+      out.notes.push_back(fmt::format("rational G2: with row 2's weights fixed the equations have no solution "
+                                      "(residual {:.3g}); row 2 solved again with its weights as unknowns",
+                                      *r2));
+      weightsFixed = false;
+      out.weightsFixed = false;
+      r2 = stage(2, 2, 2, 2, fixedMask);
+      if (!r2) return r2.status();
+    }
     out.residual = std::max(out.residual, *r2);
   }
   out.feasible = out.residual <= kConstraintRelTol;

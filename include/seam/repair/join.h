@@ -46,7 +46,7 @@ inline constexpr int kRationalJoinMaxElevation = 3;
 
 struct JoinOptions {
   JoinMethod method = JoinMethod::kAuto;
-  GeometricClass continuity = GeometricClass::kG1;  ///< G0, G1 or G2 (G2: least squares, polynomial patches)
+  GeometricClass continuity = GeometricClass::kG1;  ///< G0, G1 or G2 (G2: least squares; rational too)
   /// Algorithm 3.3's l = xi_2 / xi_0 (bezier-strip only). Default: per junction, the l minimising the displacement.
   std::optional<double> ell;
   /// Move both patches onto a common middle edge and tangent plane (least squares only), like Rhino's MatchSrf
