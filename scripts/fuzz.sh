@@ -7,6 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
+# FUZZ_SEED: libFuzzer's -seed (0, the default: a new random seed each run; CI fixes it so that a run repeats).
+fuzz_seed="${FUZZ_SEED:-0}"
 
 # The fuzzing tool chain (Debian 12): clang-14 and libFuzzer. Only here, not in scripts/setup.sh.
 if ! command -v clang++-14 >/dev/null || ! ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a \
@@ -46,7 +48,7 @@ for h in json bpt gcn; do
   # input taking 10 s is a hang (the readers are linear).
   if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       "build-fuzz/fuzz/fuzz_$h" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
-      -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/${h}-" \
+      -print_final_stats=1 -seed="$fuzz_seed" -artifact_prefix="build-fuzz/artifacts/${h}-" \
       "build-fuzz/corpus/$h" "build-fuzz/seeds/$h" 2>"build-fuzz/fuzz_$h.log"; then
     status=1
     echo "fuzz_$h FAILED: see build-fuzz/fuzz_$h.log and build-fuzz/artifacts/"
