@@ -3,12 +3,15 @@
 // planted near-self-intersections, below and above the sizes where the search changes strategy.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "regularity/search_internal.h"
+#include "seam/core/tolerances.h"
+#include "seam/model/model.h"
 #include "seam/regularity/defect_search.h"
 #include "seam/regularity/regularity.h"
 
@@ -102,6 +105,172 @@ TEST(RegularityLinearPieces, SurfacePatchesAreBitIdenticalToBezierPatches) {
     }
   }
   EXPECT_GE(valid, 40);
+}
+
+// =====================================================================================================================
+// The search against a brute-force reference: every pair of non-adjacent Bezier pieces whose control boxes (grown by
+// the distance tolerance) overlap, no hierarchy, O(n^2) box tests; the closest points of such a pair by dense
+// sampling of the B-spline (de Boor, not the search's Bezier pieces) and Gauss-Newton.
+// =====================================================================================================================
+
+struct NearPair {
+  double t1 = 0.0, t2 = 0.0, distance = 0.0;
+};
+
+/// Closest points of two parameter intervals of a curve: the best of 33 x 33 samples, then Gauss-Newton.
+NearPair closestOnCurve(const BSplineCurve& c, Interval a, Interval b) {
+  constexpr int kSamples = 33;
+  NearPair best{0, 0, INFINITY};
+  std::vector<Vec3> pb(kSamples);
+  for (int j = 0; j < kSamples; ++j) pb[j] = c.point3(b.lo + b.length() * j / (kSamples - 1));
+  for (int i = 0; i < kSamples; ++i) {
+    const double s = a.lo + a.length() * i / (kSamples - 1);
+    const Vec3 p = c.point3(s);
+    for (int j = 0; j < kSamples; ++j) {
+      const double d = (p - pb[j]).norm();
+      if (d < best.distance) best = {s, b.lo + b.length() * j / (kSamples - 1), d};
+    }
+  }
+  double s = best.t1, t = best.t2;
+  for (int it = 0; it < 30; ++it) {
+    Vec3 p, dp, ddp, q, dq, ddq;
+    c.derivatives2(s, p, dp, ddp);
+    c.derivatives2(t, q, dq, ddq);
+    Eigen::Matrix<double, 3, 2> j;
+    j.col(0) = dp;
+    j.col(1) = -dq;
+    const Eigen::Vector2d step = -(j.transpose() * j).ldlt().solve(j.transpose() * (p - q));
+    if (!step.allFinite()) break;
+    s = std::clamp(s + step[0], a.lo, a.hi);
+    t = std::clamp(t + step[1], b.lo, b.hi);
+  }
+  const double d = (c.point3(s) - c.point3(t)).norm();
+  if (d < best.distance) best = {s, t, d};
+  return best;
+}
+
+/// All pairs of pieces at least two apart (adjacent pieces share an end point) that come closer than `reach`.
+std::vector<NearPair> bruteForceNearPairs(const BSplineCurve& c, double grow, double reach) {
+  const std::vector<BezierCurvePiece> pieces = c.bezierPieces();
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const BezierCurvePiece& p : pieces) {
+    Eigen::AlignedBox3d box;
+    for (Eigen::Index i = 0; i < p.curve.points().rows(); ++i) {
+      Vec3 x = Vec3::Zero();
+      x.head(p.curve.points().cols()) = p.curve.points().row(i).transpose();
+      box.extend(x);
+    }
+    box.min().array() -= grow;
+    box.max().array() += grow;
+    boxes.push_back(box);
+  }
+  std::vector<NearPair> out;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    for (size_t j = i + 2; j < pieces.size(); ++j) {
+      if (!boxes[i].intersects(boxes[j])) continue;
+      const NearPair n = closestOnCurve(c, pieces[i].interval, pieces[j].interval);
+      if (n.distance <= reach) out.push_back(n);
+    }
+  }
+  return out;
+}
+
+/// About 1.25 turns of a wavy circle in the plane z = 0 whose second lap rises to z = `lift` before it crosses the
+/// first lap: the second lap's radius sweeps from 5 % outside to 5 % inside the first's (random wiggles of at most
+/// 1 %), so the laps cross in the xy projection and the curve comes within about `lift` of itself there, and nowhere
+/// else. n control points, uniform cubic.
+BSplineCurve plantedCurve(std::mt19937_64& rng, int n, double lift) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double amp = 0.01 * u(rng);
+  const double freq = 0.5 + 3.0 * u(rng);
+  const double phase = 6.0 * u(rng);
+  auto smooth = [](double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+  };
+  Matrix pts(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double th = 2.5 * M_PI * i / (n - 1);
+    const double sweep = th < 2.0 * M_PI ? smooth((th - 0.5 * M_PI) / (1.5 * M_PI)) : (2.25 * M_PI - th) / (0.25 * M_PI);
+    const double r = 1.0 + amp * std::sin(freq * th + phase) + 0.05 * sweep;
+    pts.row(i) << r * std::cos(th), r * std::sin(th), lift * smooth((th - M_PI) / (0.5 * M_PI));
+  }
+  std::vector<double> t(static_cast<size_t>(n + 4));
+  for (size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i);
+  return *BSplineCurve::create(3, t, pts);
+}
+
+TEST(RegularitySearchProperty, CurveSearchAgreesWithBruteForceOnPlantedNearMisses) {
+  std::mt19937_64 rng(160016);
+  int found = 0, clean = 0;
+  // 6 000 segments: above the size where the work budget starts to grow with the pieces (300 000 / 64).
+  for (int n : {40, 400, 6000}) {
+    for (int trial = 0; trial < 4; ++trial) {
+      // Lifts of 0.1 and 30 distance tolerances (found / not found); the tolerance is 1e-6 of the box diagonal.
+      const unsigned seed = static_cast<unsigned>(rng());
+      std::mt19937_64 first(seed);
+      const BSplineCurve probe = plantedCurve(first, n, 0.0);
+      const double dist = Tolerances::forModelSize(controlBox(probe).diagonal()).distance;
+      const double lift = (trial % 2 == 0 ? 0.1 : 30.0) * dist;
+      std::mt19937_64 again(seed);
+      const BSplineCurve c = plantedCurve(again, n, lift);
+      Result<CurveSearchResult> r = searchCurveDefects(c);
+      ASSERT_TRUE(r.isOk());
+      const double usedDist = r->summary.distance;
+      const std::vector<NearPair> near = bruteForceNearPairs(c, usedDist, 3.0 * usedDist);
+      EXPECT_TRUE(r->criticalPoints.empty()) << "n " << n << " trial " << trial;
+      EXPECT_TRUE(r->summary.complete && r->summary.unresolved == 0) << "n " << n << " trial " << trial;
+      // Every brute-force pair clearly within the tolerance is reported (near its parameters), and every reported
+      // point is a pair that brute force finds within the tolerance.
+      for (const NearPair& p : near) {
+        if (p.distance > 0.5 * usedDist) continue;
+        bool reported = false;
+        for (const CurveSelfIntersection& x : r->selfIntersections) {
+          reported = reported || (std::abs(x.t1 - p.t1) < 1.0 && std::abs(x.t2 - p.t2) < 1.0);
+        }
+        EXPECT_TRUE(reported) << "n " << n << " trial " << trial << ": brute force finds t = " << p.t1 << ", "
+                              << p.t2 << " at distance " << p.distance << " (tolerance " << usedDist << ")";
+      }
+      for (const CurveSelfIntersection& x : r->selfIntersections) {
+        bool confirmed = false;
+        for (const NearPair& p : near) {
+          confirmed = confirmed || (std::abs(x.t1 - p.t1) < 1.0 && std::abs(x.t2 - p.t2) < 1.0 &&
+                                    p.distance <= usedDist * (1.0 + 1e-6));
+        }
+        EXPECT_TRUE(confirmed) << "n " << n << " trial " << trial << ": search reports t = " << x.t1 << ", " << x.t2
+                               << " at distance " << x.distance;
+      }
+      if (near.empty()) EXPECT_TRUE(r->summary.provedClean(r->defectFound())) << "n " << n;
+      (r->selfIntersections.empty() ? clean : found) += 1;
+    }
+  }
+  EXPECT_GE(found, 5);  // both outcomes occur at every size
+  EXPECT_GE(clean, 5);
+}
+
+TEST(RegularitySearchLimits, HighDegreesAreRefusedWithTheirDegree) {
+  // A 200 x 200 Bezier net (issue 15 section 2): refused at once instead of minutes in the O(degree^4) product.
+  const int n = 200;
+  Matrix pts(n * n, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) pts.row(i * n + j) << i, j, 0.0;
+  }
+  std::vector<double> k(2 * n, 0.0);
+  std::fill(k.begin() + n, k.end(), 1.0);
+  const BSplineSurface s = *BSplineSurface::create(n - 1, n - 1, k, k, n, n, pts);
+  Result<SurfaceSearchResult> r = searchSurfaceDefects(s);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupported);
+  EXPECT_NE(r.status().message().find("degree 199 x 199"), std::string::npos) << r.status().message();
+  // A degree-1000 polynomial curve is searched (its hodograph needs no product).
+  const int m = 1001;
+  Matrix cp(m, 3);
+  for (int i = 0; i < m; ++i) cp.row(i) << i, std::sin(0.01 * i), 0.0;
+  std::vector<double> t(2 * m, 0.0);
+  std::fill(t.begin() + m, t.end(), 1.0);
+  Result<CurveSearchResult> c = searchCurveDefects(*BSplineCurve::create(m - 1, t, cp));
+  ASSERT_TRUE(c.isOk()) << c.status().message();
+  EXPECT_TRUE(c->summary.provedClean(c->defectFound()));
 }
 
 }  // namespace

@@ -458,6 +458,13 @@ Result<CurveSearchResult> searchCurveDefects(const BSplineCurve& curve, const Se
     return invalidInput("search resolution must be in (0, 1) and the Newton width positive");
   }
   if (curve.numPoints() < 2) return invalidInput("the curve has fewer than 2 control points");
+  const int maxDegree = curve.isRational() ? kMaxSearchCurveDegree / 2 : kMaxSearchCurveDegree;
+  if (curve.degree() > maxDegree) {
+    return Status(ErrorCode::kUnsupported,
+                  "the defect search takes " + std::string(curve.isRational() ? "rational " : "") +
+                      "curves of degree up to " + std::to_string(maxDegree) + "; this one has degree " +
+                      std::to_string(curve.degree()) + " (split it into pieces of lower degree)");
+  }
   CurveSearch search(curve, options);
   return search.run();
 }

@@ -520,6 +520,14 @@ Result<SurfaceSearchResult> searchSurfaceDefects(const BSplineSurface& surface, 
   if (!(options.resolution > 0.0 && options.resolution < 1.0) || !(options.newtonWidth > 0.0)) {
     return invalidInput("search resolution must be in (0, 1) and the Newton width positive");
   }
+  if (surface.degreeU() > kMaxSearchSurfaceDegree || surface.degreeV() > kMaxSearchSurfaceDegree) {
+    return Status(ErrorCode::kUnsupported,
+                  "the defect search takes degrees up to " + std::to_string(kMaxSearchSurfaceDegree) +
+                      " per direction; this patch has degree " + std::to_string(surface.degreeU()) + " x " +
+                      std::to_string(surface.degreeV()) + " (S_u x S_v would have degree " +
+                      std::to_string(2 * surface.degreeU() - 1) + " x " + std::to_string(2 * surface.degreeV() - 1) +
+                      "; split the patch, or lower its degree)");
+  }
   SurfaceSearch search(surface, options);
   return search.run();
 }

@@ -19,6 +19,13 @@
 
 namespace seam::regularity {
 
+/// Largest Bezier degree (per direction) the surface search takes: S_u x S_v has about twice the degree, its
+/// Bernstein product costs O(degree^4), and beyond ~500 the binomial coefficients of the product overflow doubles.
+/// A 200 x 200 Bezier net (degree 199) is refused with a message instead of running for minutes.
+inline constexpr int kMaxSearchSurfaceDegree = 64;
+/// Largest degree of a curve the search takes (rational curves: half of it, for the product A'w - Aw').
+inline constexpr int kMaxSearchCurveDegree = 1024;
+
 /// Progress of a long analysis: (stage, done, total), e.g. ("search", pieces settled, pieces). Called often (the
 /// callee decides what to print and when); never called when empty.
 using ProgressCallback = std::function<void(std::string_view stage, long done, long total)>;
@@ -100,11 +107,12 @@ struct SurfaceSearchResult {
 };
 
 /// Searches a curve (any knots, polynomial or rational, 1..3 coordinates) for critical points and
-/// self-intersections. Errors: kUnsupported for more than 3 coordinates, kInvalidInput for a bad resolution.
+/// self-intersections. Errors: kUnsupported for more than 3 coordinates or a degree above kMaxSearchCurveDegree
+/// (rational: above half of it), kInvalidInput for a bad resolution.
 Result<CurveSearchResult> searchCurveDefects(const BSplineCurve& curve, const SearchOptions& options = {});
 
 /// Searches a surface (any knots, polynomial or rational, 2 or 3 coordinates) for points where S_u x S_v = 0 and
-/// for self-intersections. Errors as searchCurveDefects.
+/// for self-intersections. Errors as searchCurveDefects; kUnsupported for a degree above kMaxSearchSurfaceDegree.
 Result<SurfaceSearchResult> searchSurfaceDefects(const BSplineSurface& surface, const SearchOptions& options = {});
 
 }  // namespace seam::regularity
