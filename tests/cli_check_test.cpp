@@ -249,6 +249,27 @@ TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
   EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --crease-angle 181").exitCode, 2);
 }
 
+// --preset sets the distance and angle of a CAD system; an explicit --tol-* wins, wherever it stands.
+TEST_F(CliVerdicts, PresetsAndExplicitTolerances) {
+  auto tolerances = [&](const std::string& options) {
+    const CliRun r = runSeam("check \"" + hinges_ + "\" --json " + options);
+    EXPECT_EQ(r.exitCode, 0) << options;
+    return nlohmann::json::parse(r.out)["tolerances"];
+  };
+  nlohmann::json t = tolerances("--preset catia");
+  EXPECT_EQ(t["distance"], 0.001);
+  EXPECT_EQ(t["angle_deg"], 0.5);
+  EXPECT_EQ(t["curvature_rel"], 0.01);
+  t = tolerances("--preset rhino");
+  EXPECT_EQ(t["angle_deg"], 1.0);
+  EXPECT_EQ(t["curvature_rel"], 0.05);
+  t = tolerances("--preset nx");
+  EXPECT_EQ(t["distance"], 0.0254);
+  EXPECT_EQ(tolerances("--preset catia --tol-angle 2")["angle_deg"], 2.0);
+  EXPECT_EQ(tolerances("--tol-angle 2 --preset catia")["angle_deg"], 2.0);
+  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --preset solidworks").exitCode, 2);
+}
+
 #ifdef SEAM_HAVE_OCCT_CLI
 // The same verdicts through the B-rep route: the hinges written as STEP, read back as sewn faces.
 TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {

@@ -39,6 +39,23 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
   cmd.add_option("--tol-distance", overrides.distance, "G0 tolerance (length); default 1e-6 x bounding-box diagonal");
   cmd.add_option("--tol-angle", overrides.angleDeg, "G1 tolerance in degrees; default 0.01");
   cmd.add_option("--tol-curvature", overrides.curvatureRel, "G2 tolerance, relative; default 0.01");
+  // Added after the --tol-* options: CLI11 runs the callbacks in this order, so an explicit --tol-* value is already
+  // set when the preset fills the others (whatever the order on the command line).
+  std::vector<std::string> names;
+  for (const TolerancePreset& p : kTolerancePresets) names.emplace_back(p.name);
+  cmd.add_option_function<std::string>(
+         "--preset",
+         [&overrides](const std::string& name) {
+           for (const TolerancePreset& p : kTolerancePresets) {
+             if (name != p.name) continue;
+             if (!overrides.distance) overrides.distance = p.distance;
+             if (!overrides.angleDeg) overrides.angleDeg = p.angleDeg;
+             if (!overrides.curvatureRel && p.curvatureRel > 0.0) overrides.curvatureRel = p.curvatureRel;
+           }
+         },
+         "Tolerances of a CAD system: catia (0.001, 0.5 deg), rhino (0.001, 1 deg, curvature 5 %), nx (0.0254, 0.5 "
+         "deg); distances in model units (mm for STEP/IGES); --tol-* options override single values")
+      ->check(CLI::IsMember(names));
 }
 
 bool validToleranceOptions(const ToleranceOverrides& overrides) {

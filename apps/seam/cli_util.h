@@ -34,7 +34,22 @@ std::string lowerExtension(const std::filesystem::path& file);
 /// True for .step/.stp/.iges/.igs (any case).
 bool isCadFile(const std::filesystem::path& file);
 
-/// The --tol-distance / --tol-angle / --tol-curvature options shared by the commands that classify seams.
+/// The distance and angle thresholds of a CAD system's continuity checks, for `--preset` (issue 17 §2); values and
+/// sources in docs/tolerances.md. Distances are absolute, in the model's length unit (millimetres for STEP/IGES,
+/// which OpenCASCADE reads in mm); curvatureRel 0 keeps seam's default.
+struct TolerancePreset {
+  const char* name;
+  double distance;
+  double angleDeg;
+  double curvatureRel;
+};
+inline constexpr TolerancePreset kTolerancePresets[] = {
+    {"catia", 0.001, 0.5, 0.0},   // CATIA V5 healing / Connect Checker defaults: 0.001 mm, 0.5 deg
+    {"rhino", 0.001, 1.0, 0.05},  // Rhino document defaults (mm template): absolute 0.001, angle 1 deg; 5 % curvature
+    {"nx", 0.0254, 0.5, 0.0},     // Siemens NX modeling preferences: distance 0.0254 mm (0.001 in), angle 0.5 deg
+};
+
+/// The --tol-distance / --tol-angle / --tol-curvature / --preset options shared by the commands that classify seams.
 void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides);
 /// False (with a message on stderr) when a given tolerance is not a positive finite number.
 bool validToleranceOptions(const ToleranceOverrides& overrides);
