@@ -38,8 +38,8 @@ std::pair<BernsteinPatch, BernsteinPatch> partialNumerators(const BernsteinPatch
 struct Piece {
   Interval u, v;
   bool rational = false;
-  BernsteinPatch h, hu, hv;  // homogeneous (dim 4) and its partials (local parameters)
-  BernsteinPatch n, nu, nv;  // normal numerator (dim 3) and its partials
+  BernsteinPatch h;  // homogeneous (dim 4); its partials are formed where Newton needs them (rare, and a million
+  BernsteinPatch n;  // pieces would hold gigabytes of them); n: the normal numerator (dim 3)
   double nScale = 0.0;
   Box3 box;                  // of the control points
   std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of the whole piece
@@ -106,12 +106,8 @@ class SurfaceSearch {
         }
       }
       p.h = BernsteinPatch(du, dv, hc);
-      p.hu = p.h.derivative(1, 0);
-      p.hv = p.h.derivative(0, 1);
       const auto [su, sv] = partialNumerators(p.h, p.rational);
       p.n = cross(su, sv);
-      p.nu = p.n.derivative(1, 0);
-      p.nv = p.n.derivative(0, 1);
       for (Eigen::Index r = 0; r < p.n.coeffs().rows(); ++r) {
         p.nScale = std::max(p.nScale, p.n.coeffs().row(r).norm());
       }
@@ -170,8 +166,8 @@ class SurfaceSearch {
     const double a = (u - p.u.lo) / p.u.length();
     const double b = (v - p.v.lo) / p.v.length();
     const VecX h = p.h(a, b);
-    const VecX hu = p.hu(a, b) / p.u.length();
-    const VecX hv = p.hv(a, b) / p.v.length();
+    const VecX hu = p.h.derivative(1, 0)(a, b) / p.u.length();
+    const VecX hv = p.h.derivative(0, 1)(a, b) / p.v.length();
     const Vec3 x = h.head<3>();
     point = x / h[3];
     su = (Vec3(hu.head<3>()) * h[3] - x * hu[3]) / (h[3] * h[3]);
@@ -197,12 +193,14 @@ class SurfaceSearch {
     if (detail::positiveDirection(vs)) return;
     const double w = std::max(u1 - u0, v1 - v0);
     if (w <= opt_.newtonWidth) {
+      const BernsteinPatch nu = p.n.derivative(1, 0);
+      const BernsteinPatch nv = p.n.derivative(0, 1);
       Eigen::Vector2d x(0.5 * (u0 + u1), 0.5 * (v0 + v1));
       for (int it = 0; it < 40; ++it) {
         const Vec3 f = p.n(x[0], x[1]);
         Eigen::Matrix<double, 3, 2> j;
-        j.col(0) = p.nu(x[0], x[1]);
-        j.col(1) = p.nv(x[0], x[1]);
+        j.col(0) = nu(x[0], x[1]);
+        j.col(1) = nv(x[0], x[1]);
         const Eigen::Matrix2d g = j.transpose() * j;
         if (!(std::abs(g.determinant()) > 1e-300)) break;
         const Eigen::Vector2d step = -g.ldlt().solve(j.transpose() * f);
