@@ -138,7 +138,9 @@ void expectRefusedByEveryCommand(const fs::path& in, const std::string& fragment
     EXPECT_EQ(r.exitCode, kExitBadInput) << describe(args, r);
     EXPECT_THAT(r.err, HasSubstr(fragment)) << describe(args, r);
     EXPECT_THAT(r.err, Not(HasSubstr("std::"))) << describe(args, r);  // no raw exception text
-    if (regular) EXPECT_TRUE(FileState(in) == *before) << "the input changed: " << describe(args, r);
+    if (regular) {
+      EXPECT_TRUE(FileState(in) == *before) << "the input changed: " << describe(args, r);
+    }
   }
   EXPECT_TRUE(fs::is_empty(out.path())) << "a refused input must not produce an output file";
 }

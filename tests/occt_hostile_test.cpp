@@ -118,14 +118,16 @@ TEST_P(HostileCad, IsAnErrorOrAWarningNeverACrashAndTheInputIsUnchanged) {
     EXPECT_EQ(r.exitCode, c.exitCode);
     EXPECT_THAT(r.err, HasSubstr(c.file));
     EXPECT_THAT(r.err, HasSubstr(std::string(command) == "check" && c.checkMessage ? c.checkMessage : c.message));
-    if (c.exitCode == 2) EXPECT_THAT(r.err, HasSubstr("seam: error:"));
+    if (c.exitCode == 2) {
+      EXPECT_THAT(r.err, HasSubstr("seam: error:"));
+    }
   }
   EXPECT_EQ(readText(file), before) << "the input was modified";
 }
 
 INSTANTIATE_TEST_SUITE_P(Files, HostileCad, ::testing::ValuesIn(kCases),
-                         [](const ::testing::TestParamInfo<HostileCase>& info) {
-                           std::string name = fs::path(info.param.file).stem().string();
+                         [](const ::testing::TestParamInfo<HostileCase>& param) {
+                           std::string name = fs::path(param.param.file).stem().string();
                            for (char& ch : name)
                              if (ch == '.' || ch == '-') ch = '_';
                            return name;
@@ -159,8 +161,8 @@ TEST_P(HostileConvert, ToStepFailsWhenFacesAreLostAndWritesNothing) {
 INSTANTIATE_TEST_SUITE_P(Models, HostileConvert,
                          ::testing::Values("convert_knots_1e307.json", "convert_equal_points.json",
                                            "convert_coords_1e300.json"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           return fs::path(info.param).stem().string();
+                         [](const ::testing::TestParamInfo<const char*>& param) {
+                           return fs::path(param.param).stem().string();
                          });
 
 // The guard does not change what a valid file gives: the same model with and without it is checked elsewhere

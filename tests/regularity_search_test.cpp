@@ -240,7 +240,9 @@ TEST(RegularitySearchProperty, CurveSearchAgreesWithBruteForceOnPlantedNearMisse
         EXPECT_TRUE(confirmed) << "n " << n << " trial " << trial << ": search reports t = " << x.t1 << ", " << x.t2
                                << " at distance " << x.distance;
       }
-      if (near.empty()) EXPECT_TRUE(r->summary.provedClean(r->defectFound())) << "n " << n;
+      if (near.empty()) {
+        EXPECT_TRUE(r->summary.provedClean(r->defectFound())) << "n " << n;
+      }
       (r->selfIntersections.empty() ? clean : found) += 1;
     }
   }
