@@ -2,10 +2,13 @@
 // bench/occt_side_by_side.cpp time the same surfaces).
 #pragma once
 
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "seam/model/model.h"
@@ -68,6 +71,60 @@ inline Model gridModel(int n) {
   for (const BezierPatchPiece& piece : gridPieces(n))
     m.patches.push_back({"P" + std::to_string(index++), PatchKind::kBezier, piece.patch.toBSpline(piece.u, piece.v)});
   return m;
+}
+
+// ---- the evaluation benchmarks' parameters and seam's two timing loops (bench/eval_bench.cpp,
+// bench/occt_side_by_side.cpp) ------------------------------------------------------------------------------------
+
+inline constexpr int kEvalGrid = 256;                 ///< grid benchmarks: kEvalGrid x kEvalGrid points
+inline constexpr int kEvalRandomPoints = 1'000'000;   ///< random-parameter benchmarks
+
+/// n parameters evenly spaced over [0, 1], both ends included.
+inline std::vector<double> evenParameters(int n) {
+  std::vector<double> g(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) g[static_cast<size_t>(i)] = static_cast<double>(i) / (n - 1);
+  return g;
+}
+
+/// kEvalRandomPoints parameter pairs uniform in [0, 1]^2 (seed 7).
+inline std::pair<std::vector<double>, std::vector<double>> randomParameterPairs() {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<double> us(kEvalRandomPoints), vs(kEvalRandomPoints);
+  for (int i = 0; i < kEvalRandomPoints; ++i) {
+    us[static_cast<size_t>(i)] = u01(rng);
+    vs[static_cast<size_t>(i)] = u01(rng);
+  }
+  return {us, vs};
+}
+
+/// Times seam's point + first derivatives at the randomParameterPairs (allocation-free path).
+inline void timeRandomEvaluation(benchmark::State& state, const BSplineSurface& s) {
+  const auto [us, vs] = randomParameterPairs();
+  for (auto _ : state) {
+    double acc = 0.0;
+    for (size_t i = 0; i < us.size(); ++i) {
+      Vec3 p, du, dv;
+      s.pointAndFirstDerivatives(us[i], vs[i], p, du, dv);
+      acc += p[0] + du[1] + dv[2];
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(state.iterations() * kEvalRandomPoints);
+}
+
+/// Times seam's GridEvaluator (point + first derivatives) on the kEvalGrid x kEvalGrid grid.
+inline void timeGridEvaluation(benchmark::State& state, const BSplineSurface& s) {
+  const std::vector<double> g = evenParameters(kEvalGrid);
+  const GridEvaluator eval(s, g, g);
+  Matrix P, Du, Dv;
+  for (auto _ : state) {
+    eval.evaluate(&P, &Du, &Dv);
+    benchmark::DoNotOptimize(P.data());
+    benchmark::DoNotOptimize(Du.data());
+    benchmark::DoNotOptimize(Dv.data());
+  }
+  state.SetItemsProcessed(state.iterations() * kEvalGrid * kEvalGrid);
 }
 
 }  // namespace seam::bench

@@ -139,37 +139,16 @@ void verifyEvaluation(bool rational) {
 
 // ---- (a) random parameters --------------------------------------------------------------------------------------
 
-constexpr int kRandomPoints = 1'000'000;
-
-std::pair<std::vector<double>, std::vector<double>> randomParameters() {
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
-  std::vector<double> us(kRandomPoints), vs(kRandomPoints);
-  for (int i = 0; i < kRandomPoints; ++i) {
-    us[static_cast<size_t>(i)] = u01(rng);
-    vs[static_cast<size_t>(i)] = u01(rng);
-  }
-  return {us, vs};
-}
+using seam::bench::kEvalGrid;
+using seam::bench::kEvalRandomPoints;
 
 void BM_Random_seam(benchmark::State& state) {
-  const SurfacePair& sp = surfacePair(state.range(0) != 0);
-  const auto [us, vs] = randomParameters();
-  for (auto _ : state) {
-    double acc = 0.0;
-    for (size_t i = 0; i < us.size(); ++i) {
-      seam::Vec3 p, du, dv;
-      sp.seam.pointAndFirstDerivatives(us[i], vs[i], p, du, dv);
-      acc += p[0] + du[1] + dv[2];
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(state.iterations() * kRandomPoints);
+  seam::bench::timeRandomEvaluation(state, surfacePair(state.range(0) != 0).seam);
 }
 
 void BM_Random_occt(benchmark::State& state) {
   const SurfacePair& sp = surfacePair(state.range(0) != 0);
-  const auto [us, vs] = randomParameters();
+  const auto [us, vs] = seam::bench::randomParameterPairs();
   for (auto _ : state) {
     double acc = 0.0;
     for (size_t i = 0; i < us.size(); ++i) {
@@ -180,31 +159,13 @@ void BM_Random_occt(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(acc);
   }
-  state.SetItemsProcessed(state.iterations() * kRandomPoints);
+  state.SetItemsProcessed(state.iterations() * kEvalRandomPoints);
 }
 
 // ---- (b) grid --------------------------------------------------------------------------------------------------
 
-constexpr int kGrid = 256;
-
-std::vector<double> gridParameters() {
-  std::vector<double> g(kGrid);
-  for (int i = 0; i < kGrid; ++i) g[static_cast<size_t>(i)] = static_cast<double>(i) / (kGrid - 1);
-  return g;
-}
-
 void BM_Grid_seam(benchmark::State& state) {
-  const SurfacePair& sp = surfacePair(state.range(0) != 0);
-  const std::vector<double> g = gridParameters();
-  const seam::GridEvaluator eval(sp.seam, g, g);
-  Matrix P, Du, Dv;
-  for (auto _ : state) {
-    eval.evaluate(&P, &Du, &Dv);
-    benchmark::DoNotOptimize(P.data());
-    benchmark::DoNotOptimize(Du.data());
-    benchmark::DoNotOptimize(Dv.data());
-  }
-  state.SetItemsProcessed(state.iterations() * kGrid * kGrid);
+  seam::bench::timeGridEvaluation(state, surfacePair(state.range(0) != 0).seam);
 }
 
 // OpenCASCADE's fastest path: GeomAdaptor_Surface keeps a BSplSLib_Cache (the span's polynomial in power form)
@@ -212,12 +173,12 @@ void BM_Grid_seam(benchmark::State& state) {
 // block so that each of the 47 x 47 caches is built exactly once; results go to arrays like seam's.
 void BM_Grid_occt(benchmark::State& state) {
   const SurfacePair& sp = surfacePair(state.range(0) != 0);
-  const std::vector<double> g = gridParameters();
+  const std::vector<double> g = seam::bench::evenParameters(kEvalGrid);
   // Grid indices grouped by knot span (same span rule on both axes: the knot vectors are equal).
   const std::vector<double>& flat = sp.seam.knotsU().values();
   std::vector<std::vector<int>> blocks;
   int current = -1;
-  for (int i = 0; i < kGrid; ++i) {
+  for (int i = 0; i < kEvalGrid; ++i) {
     const double t = g[static_cast<size_t>(i)];
     int span = 3;
     while (span + 1 < static_cast<int>(flat.size()) - 4 && flat[static_cast<size_t>(span + 1)] <= t) ++span;
@@ -228,21 +189,21 @@ void BM_Grid_occt(benchmark::State& state) {
     blocks.back().push_back(i);
   }
   GeomAdaptor_Surface adaptor(sp.occt);
-  std::vector<gp_Pnt> P(static_cast<size_t>(kGrid * kGrid));
+  std::vector<gp_Pnt> P(static_cast<size_t>(kEvalGrid * kEvalGrid));
   std::vector<gp_Vec> Du(P.size()), Dv(P.size());
   for (auto _ : state) {
     for (const auto& bu : blocks)
       for (const auto& bv : blocks)
         for (int i : bu)
           for (int j : bv) {
-            const size_t k = static_cast<size_t>(i * kGrid + j);
+            const size_t k = static_cast<size_t>(i * kEvalGrid + j);
             adaptor.D1(g[static_cast<size_t>(i)], g[static_cast<size_t>(j)], P[k], Du[k], Dv[k]);
           }
     benchmark::DoNotOptimize(P.data());
     benchmark::DoNotOptimize(Du.data());
     benchmark::DoNotOptimize(Dv.data());
   }
-  state.SetItemsProcessed(state.iterations() * kGrid * kGrid);
+  state.SetItemsProcessed(state.iterations() * kEvalGrid * kEvalGrid);
 }
 
 // ---- model check --------------------------------------------------------------------------------------------------
