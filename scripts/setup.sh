@@ -11,6 +11,7 @@ PACKAGES=(
   libglpk-dev libgmp-dev libtbb-dev
   libginac-dev libcln-dev libboost-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
+  python3-jsonschema
 )
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
