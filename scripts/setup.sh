@@ -12,6 +12,7 @@ PACKAGES=(
   libginac-dev libcln-dev libboost-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
   python3-jsonschema
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed   # the Python module (python/)
 )
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -27,3 +28,25 @@ fi
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WITH_OCCT=ON "$@"
 cmake --build build -j "$(nproc)"
+
+# The Python module `seam` (README "Python"): build/python/seam, built for Debian's /usr/bin/python3 (its
+# python3-numpy, python3-pytest, python3-distributed). A seam.pth file puts build/python on that Python's path; when
+# another python3 of the same version comes first on PATH (pyenv, a venv), it gets a seam.pth too, which also
+# appends Debian's dist-packages (NumPy, Dask) after its own packages, so that `python3 -c "import seam"` works.
+if [ -d build/python/seam ]; then
+  pth_line="$(pwd)/build/python"
+  for py in /usr/bin/python3 "$(command -v python3 || true)"; do
+    [ -x "$py" ] || continue
+    site="$("$py" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
+    lines="$pth_line"
+    if [ "$py" != /usr/bin/python3 ]; then
+      if [ "$("$py" -c 'import sys; print(sys.version_info[:2])')" != "$(/usr/bin/python3 -c 'import sys; print(sys.version_info[:2])')" ]; then
+        echo "setup: $py is not the version of /usr/bin/python3: use /usr/bin/python3 for the module seam"
+        continue
+      fi
+      lines="$pth_line"$'\n'"/usr/lib/python3/dist-packages"
+    fi
+    $SUDO mkdir -p "$site" && printf '%s\n' "$lines" | $SUDO tee "$site/seam.pth" >/dev/null
+    echo "setup: $site/seam.pth -> $pth_line"
+  done
+fi

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "check_json.h"
 #include "cli_util.h"
 #include "command_registry.h"
 #ifdef SEAM_HAVE_OCCT
@@ -117,12 +118,6 @@ std::string verdictLine(const std::array<int, 5>& n, double creaseAngleDeg) {
                      n[0], n[1], n[2], formatNumber(creaseAngleDeg), n[3], n[4]);
 }
 
-OrderedJson verdictCountsJson(const std::array<int, 5>& n) {
-  OrderedJson j;
-  for (size_t k = 0; k < n.size(); ++k) j[std::string(toString(static_cast<SeamVerdict>(k)))] = n[k];
-  return j;
-}
-
 std::optional<GeometricClass> parseClass(const std::string& s) {
   if (s == "G0") return GeometricClass::kG0;
   if (s == "G1") return GeometricClass::kG1;
@@ -130,144 +125,9 @@ std::optional<GeometricClass> parseClass(const std::string& s) {
   return std::nullopt;
 }
 
-OrderedJson point(const Vec3& p) { return OrderedJson::array({p.x(), p.y(), p.z()}); }
-OrderedJson range(const Interval& i) { return OrderedJson::array({i.lo, i.hi}); }
-
 const std::string& patchName(const Model& m, int index) { return m.patches[static_cast<size_t>(index)].name; }
 
-OrderedJson seamJson(const SeamReport& r, double creaseAngleDeg) {
-  auto worst = [](const WorstLocation& w) { return OrderedJson{{"t", w.t}, {"point", point(w.point)}}; };
-  OrderedJson j{{"a", r.a},
-                {"a_edge", std::string(edgeName(r.aEdge))},
-                {"b", r.b},
-                {"b_edge", std::string(edgeName(r.bEdge))},
-                {"overlap", range(r.overlapA)},
-                {"g0_max", r.g0Max},
-                {"g1_max_deg", r.g1MaxDeg},
-                {"g2_max", r.g2Max},
-                {"g2_rel_max", r.g2RelMax},
-                {"lambda_range", range(r.lambdaRange)},
-                {"kappa_range", range(r.kappaRange)},
-                {"verdict", std::string(toString(seamVerdict(r, creaseAngleDeg)))},
-                {"geometric", std::string(toString(r.geometric))},
-                {"parametric", std::string(toString(r.parametric))},
-                {"certified", r.certified},
-                {"worst", {{"g0", worst(r.g0Worst)}, {"g1", worst(r.g1Worst)}, {"g2", worst(r.g2Worst)}}}};
-  j["overlap_b"] = range(r.overlapB);
-  j["reversed"] = r.reversed;
-  j["correspondence"] = std::string(toString(r.correspondence));
-  j["g0_sampled"] = r.g0Sampled;
-  j["g1_sampled_deg"] = r.g1SampledDeg;
-  j["g2_sampled"] = r.g2Sampled;
-  j["g2_rel_sampled"] = r.g2RelSampled;
-  j["g2_residual_max"] = r.g2ResidualMax;
-  j["c1_mismatch"] = r.c1Mismatch;
-  j["c2_mismatch"] = r.c2Mismatch;
-  j["notes"] = r.notes;
-  return j;
-}
-
-OrderedJson failedSeamJson(const Model& m, const EdgePair& p, const Status& error) {
-  return OrderedJson{{"a", patchName(m, p.a.patch)},
-                     {"a_edge", std::string(edgeName(p.a.edge))},
-                     {"b", patchName(m, p.b.patch)},
-                     {"b_edge", std::string(edgeName(p.b.edge))},
-                     {"overlap", range(p.overlapA)},
-                     {"error", error.message()}};
-}
-
-OrderedJson optionalNumber(const std::optional<double>& x) { return x ? OrderedJson(*x) : OrderedJson(nullptr); }
-
-OrderedJson cornerJson(const Model& m, const CornerReport& c) {
-  OrderedJson patches = OrderedJson::array();
-  for (const PatchCorner& k : c.corners) patches.push_back(patchName(m, k.patch));
-  OrderedJson j{{"point", point(c.point)},
-                {"patches", patches},
-                {"valence", c.valence},
-                {"normal_spread_deg", optionalNumber(c.normalSpreadDeg)},
-                {"g1_residual", c.fourPatch ? OrderedJson(c.fourPatch->g1Residual) : OrderedJson(nullptr)},
-                {"g2_residual", c.fourPatch ? optionalNumber(c.fourPatch->g2Residual) : OrderedJson(nullptr)}};
-  j["closed"] = c.closed;
-  j["degenerate"] = c.degenerate;
-  j["corner_gap"] = c.cornerGap;
-  if (c.fourPatch) {
-    OrderedJson numbering = OrderedJson::array();
-    for (int k : c.fourPatch->corner) numbering.push_back(patchName(m, c.corners[static_cast<size_t>(k)].patch));
-    j["paper_patches"] = numbering;
-    OrderedJson seams = OrderedJson::array();
-    for (const VertexSeam& s : c.fourPatch->seams) {
-      seams.push_back({{"from", s.from},
-                       {"to", s.to},
-                       {"lambda", s.lambda},
-                       {"kappa", s.kappa},
-                       {"d_lambda", s.dLambda},
-                       {"d_kappa", s.dKappa},
-                       {"mu", optionalNumber(s.mu)},
-                       {"nu", optionalNumber(s.nu)},
-                       {"g1", s.g1},
-                       {"g2", s.g2}});
-    }
-    j["seams"] = seams;
-    j["g1_relations"] = OrderedJson(std::vector<double>(c.fourPatch->g1Relations.begin(), c.fourPatch->g1Relations.end()));
-    j["g2_relations"] = c.fourPatch->g2Relations
-                            ? OrderedJson(std::vector<double>(c.fourPatch->g2Relations->begin(),
-                                                              c.fourPatch->g2Relations->end()))
-                            : OrderedJson(nullptr);
-  }
-  if (!c.notes.empty()) j["notes"] = c.notes;
-  return j;
-}
-
-OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing, double creaseAngleDeg) {
-  OrderedJson j{{"distance", t.distance},
-                {"angle_deg", t.angleDeg},
-                {"curvature_rel", t.curvatureRel},
-                {"parametric", t.parametric},
-                {"crease_angle_deg", creaseAngleDeg}};
-  if (pairing) j["pairing"] = *pairing;
-  return j;
-}
-
-OrderedJson summaryJson(const ModelCheckReport& r, const std::optional<GeometricClass>& require) {
-  const ModelCheckSummary& s = r.summary;
-  OrderedJson geometric, parametric;
-  for (int k = 0; k < 4; ++k) {
-    geometric[std::string(toString(static_cast<GeometricClass>(k)))] = s.geometric[static_cast<size_t>(k)];
-    parametric[std::string(toString(static_cast<ParametricClass>(k)))] = s.parametric[static_cast<size_t>(k)];
-  }
-  OrderedJson j{{"seams", s.seams},
-                {"worst_geometric", std::string(toString(s.worstGeometric))},
-                {"worst_parametric", std::string(toString(s.worstParametric))},
-                {"geometric", geometric},
-                {"parametric", parametric},
-                {"certified", s.certifiedSeams},
-                {"failed", s.failedSeams},
-                {"g0_max", s.g0Max},
-                {"g1_max_deg", s.g1MaxDeg},
-                {"g2_max", s.g2Max},
-                {"g2_rel_max", s.g2RelMax},
-                {"corners", s.corners},
-                {"four_valent_corners", s.fourValentCorners},
-                {"degenerate_corners", s.degenerateCorners},
-                {"normal_spread_max_deg", s.normalSpreadMaxDeg},
-                {"corner_g1_residual_max", s.cornerG1ResidualMax},
-                {"corner_g2_residual_max", optionalNumber(s.cornerG2ResidualMax)},
-                {"free_edges", s.freeEdges},
-                {"degenerate_edges", s.degenerateEdges},
-                {"coincident_edge_groups", s.coincidentEdgeGroups}};
-  j["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
-  j["below_required"] = s.belowRequired;
-  return j;
-}
-
 std::string num(double x) { return formatNumber(x); }
-
-std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r) {
-  std::vector<const SeamReport*> reports;
-  reports.reserve(r.seams.size());
-  for (const ModelSeam& s : r.seams) reports.push_back(s.report ? &*s.report : nullptr);
-  return reports;
-}
 
 std::string seamName(const Model& m, const ModelSeam& s) {
   return fmt::format("{}:{} / {}:{}", patchName(m, s.pair.a.patch), edgeName(s.pair.a.edge),
@@ -294,21 +154,6 @@ std::string worstLines(const std::vector<const SeamReport*>& reports, double cre
     out += "worst gap: none\n";
   }
   return out;
-}
-
-OrderedJson worstJson(const std::vector<const SeamReport*>& reports, double creaseAngleDeg,
-                      const std::function<OrderedJson(size_t)>& name) {
-  const WorstDefects w = worstDefects(reports, creaseAngleDeg);
-  auto one = [&](const std::optional<size_t>& k, bool kink) {
-    if (!k) return OrderedJson(nullptr);
-    const SeamReport& x = *reports[*k];
-    OrderedJson j = name(*k);
-    j["gap"] = x.g0Max;
-    j["angle_deg"] = x.g1MaxDeg;
-    j["point"] = point(kink ? x.g1Worst.point : x.g0Worst.point);
-    return j;
-  };
-  return OrderedJson{{"worst_kink", one(w.kink, true)}, {"worst_gap", one(w.gap, false)}};
 }
 
 std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelection& sel) {
@@ -400,21 +245,6 @@ std::string edgeLists(const Model& m, const ModelCheckReport& r) {
   return out;
 }
 
-/// The verdict counts and the worst kink / gap of a patch-model check, added to the JSON summary.
-void addVerdictSummary(OrderedJson& summary, const Model& m, const ModelCheckReport& r, double creaseAngleDeg) {
-  const std::vector<const SeamReport*> reports = reportsOf(r);
-  summary["verdicts"] = verdictCountsJson(countVerdicts(reports, creaseAngleDeg));
-  const OrderedJson worst = worstJson(reports, creaseAngleDeg, [&](size_t k) {
-    const EdgePair& p = r.seams[k].pair;
-    return OrderedJson{{"index", k},
-                       {"a", patchName(m, p.a.patch)},
-                       {"a_edge", std::string(edgeName(p.a.edge))},
-                       {"b", patchName(m, p.b.patch)},
-                       {"b_edge", std::string(edgeName(p.b.edge))}};
-  });
-  for (const auto& [key, value] : worst.items()) summary[key] = value;
-}
-
 std::string summaryLine(const Model& m, const ModelCheckReport& r, const std::optional<GeometricClass>& require,
                         double creaseAngleDeg) {
   const ModelCheckSummary& s = r.summary;
@@ -472,47 +302,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
   const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
   if (o.json) {
-    OrderedJson seams = OrderedJson::array();
-    for (size_t k : selectSeams(reports, sel)) {
-      const occt::BRepSeam& s = r->seams[k];
-      OrderedJson j = seamJson(s.report, sel.creaseAngleDeg);
-      j.erase("a_edge");
-      j.erase("b_edge");
-      j["edge"] = s.edge;
-      j["route"] = s.viaPatchEdges ? "patch edges (Bernstein form)" : "pcurves (sampled)";
-      j["occt_continuity"] = s.occtContinuity;
-      seams.push_back(std::move(j));
-    }
-    OrderedJson free = OrderedJson::array();
-    for (const occt::BRepFreeEdge& f : r->freeEdges)
-      free.push_back({{"edge", f.edge}, {"face", f.face}, {"midpoint", point(f.midpoint)}});
-    OrderedJson nonManifold = OrderedJson::array();
-    for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges)
-      nonManifold.push_back({{"edge", e.edge}, {"faces", e.faces}, {"midpoint", point(e.midpoint)}});
-    OrderedJson out{{"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
-                                    {"curvature_rel", tol.curvatureRel}, {"crease_angle_deg", sel.creaseAngleDeg}}},
-                    {"model", {{"faces", r->import.faces.size()}, {"sewn", r->sewn}}},
-                    {"seams", seams},
-                    {"free_edges", free},
-                    {"non_manifold_edges", nonManifold},
-                    {"summary", {{"seams", r->seams.size()},
-                                 {"certified", r->certifiedSeams},
-                                 {"worst_geometric", std::string(toString(r->worstGeometric))},
-                                 {"geometric", {{"none", r->geometric[0]}, {"G0", r->geometric[1]},
-                                                {"G1", r->geometric[2]}, {"G2", r->geometric[3]}}},
-                                 {"free_edges", r->freeEdges.size()},
-                                 {"non_manifold_edges", r->nonManifoldEdges.size()},
-                                 {"degenerate_edges", r->degenerateEdges},
-                                 {"loose_edges", r->looseEdges},
-                                 {"agree_with_occt_g1", r->occtAgreement}}}};
-    if (require) out["summary"]["below_required"] = below;
-    out["summary"]["verdicts"] = verdictCountsJson(verdicts);
-    const OrderedJson worst = worstJson(reports, sel.creaseAngleDeg, [&](size_t k) {
-      const occt::BRepSeam& s = r->seams[k];
-      return OrderedJson{{"edge", s.edge}, {"a", s.a}, {"b", s.b}};
-    });
-    for (const auto& [key, value] : worst.items()) out["summary"][key] = value;
-    printJson(out);
+    printJson(brepCheckJson(*r, selectSeams(reports, sel), require, sel.creaseAngleDeg));
   } else {
     fmt::print("{}: B-rep of {} faces{}; tolerances distance {}, angle {} deg, curvature {} relative; crease angle {} "
                "deg\n\n",
@@ -642,43 +432,8 @@ int runCheck(const CheckOptions& o) {
   }
 
   if (o.json) {
-    OrderedJson seams = OrderedJson::array();
-    for (size_t k : selectSeams(reportsOf(report), *sel)) {
-      const ModelSeam& s = report.seams[k];
-      OrderedJson j = s.report ? seamJson(*s.report, sel->creaseAngleDeg) : failedSeamJson(*model, s.pair, s.error);
-      j["index"] = k;
-      seams.push_back(std::move(j));
-    }
-    OrderedJson corners = OrderedJson::array();
-    for (const ModelCorner& c : report.corners) corners.push_back(cornerJson(*model, c.report));
-    OrderedJson free = OrderedJson::array();
-    for (const FreeEdge& f : report.freeEdges) {
-      OrderedJson e{{"patch", patchName(*model, f.edge.patch)}, {"edge", std::string(edgeName(f.edge.edge))}};
-      e["range"] = range(f.range);
-      e["partial"] = f.partial;
-      free.push_back(e);
-    }
-    OrderedJson degenerate = OrderedJson::array();
-    for (const DegenerateEdge& d : report.degenerateEdges)
-      degenerate.push_back({{"patch", patchName(*model, d.edge.patch)},
-                            {"edge", std::string(edgeName(d.edge.edge))},
-                            {"point", point(d.point)}});
-    OrderedJson coincident = OrderedJson::array();
-    for (const CoincidentEdges& c : report.coincidentEdges) {
-      OrderedJson edges = OrderedJson::array();
-      for (const EdgeRef& e : c.edges)
-        edges.push_back({{"patch", patchName(*model, e.patch)}, {"edge", std::string(edgeName(e.edge))}});
-      coincident.push_back({{"point", point(c.point)}, {"edges", edges}});
-    }
-    OrderedJson summary = summaryJson(report, require);
-    addVerdictSummary(summary, *model, report, sel->creaseAngleDeg);
-    printJson(OrderedJson{{"tolerances", tolerancesJson(report.tolerances, pairing, sel->creaseAngleDeg)},
-                          {"seams", seams},
-                          {"corners", corners},
-                          {"free_edges", free},
-                          {"degenerate_edges", degenerate},
-                          {"coincident_edges", coincident},
-                          {"summary", summary}});
+    printJson(modelCheckJson(*model, report, selectSeams(reportsOf(report), *sel), require, pairing,
+                             sel->creaseAngleDeg));
   } else {
     std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}; crease angle {} "
                                   "deg\n\n",

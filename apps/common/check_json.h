@@ -1,0 +1,65 @@
+#pragma once
+// The JSON of `seam check --json`, shared by the CLI (apps/seam/cmd_check.cpp, `seam batch`) and the Python module
+// (python/seam_module.cpp): one builder, so a Python dict has exactly the keys of the CLI's output.
+// Target seam_check_json (apps/common/CMakeLists.txt); docs/check-output.md describes the keys.
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "seam/continuity/model_check.h"
+#include "seam/continuity/verdict.h"
+#include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/model/model.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/brep_check.h"
+#endif
+
+namespace seam::cli {
+
+/// JSON with keys kept in insertion order (what the commands print).
+using OrderedJson = nlohmann::ordered_json;
+
+/// The seam reports of a model check, null for a seam whose analysis failed (the input of selectSeams & co.).
+std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r);
+
+/// `seam check --json` of a patch model: `order` lists the seams to print (selectSeams of the listing options),
+/// `pairing` is the pairing tolerance of a whole-model check (nullopt for a single --seam).
+OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& r, const std::vector<size_t>& order,
+                           const std::optional<GeometricClass>& require, std::optional<double> pairing,
+                           double creaseAngleDeg);
+
+#ifdef SEAM_HAVE_OCCT
+/// `seam check --json` of a STEP/IGES B-rep (every shared edge, OpenCASCADE's verdict alongside).
+OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size_t>& order,
+                          const std::optional<GeometricClass>& require, double creaseAngleDeg);
+#endif
+
+/// The options of a whole-file check (those of `seam check` that apply to a whole model).
+struct FileCheckOptions {
+  ToleranceOverrides tol;                ///< --tol-distance / --tol-angle / --tol-curvature
+  std::optional<GeometricClass> require; ///< --require
+  SeamSelection selection;               ///< --crease-angle / --sort / --top / --only
+  bool patches = false;                  ///< --patches: a STEP/IGES file's faces as patches, not its B-rep edges
+};
+
+/// One file checked whole, as `seam check FILE --json` with the same options prints it.
+struct FileCheck {
+  OrderedJson json;
+  bool belowRequired = false;         ///< some seam is below `require` (the CLI's exit code 1)
+  std::vector<std::string> warnings;  ///< the reader's warnings (the CLI prints them on stderr)
+};
+
+/// Loads and checks one model file (.json, .bpt; .step/.stp/.iges/.igs when built with OpenCASCADE). Errors: the
+/// file is unreadable or invalid, or the check failed; the message names the file and the problem (the CLI's exit
+/// code 2). Out of memory while reading is reported as an error too.
+Result<FileCheck> checkFile(const std::filesystem::path& file, const FileCheckOptions& options = {});
+
+/// A loaded model checked whole, as checkFile does after reading it; `name` (the file or the model's name) prefixes
+/// the error message of a failed check.
+Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& options = {});
+
+}  // namespace seam::cli

@@ -1,0 +1,16 @@
+"""seam: geometric continuity of spline surfaces (G0/G1/G2 seams with certified bounds).
+
+    import seam
+    m = seam.load("examples/models/two_patches.json")   # .json, .bpt, .step/.stp, .iges/.igs
+    seam.evaluate(m, "A", [[0.25, 0.5]])                # (n, 3) points
+    seam.derivatives(m, "A", uv, 2)                     # (n, 3, 3, 3): [i, k, l] = d^(k+l) S / du^k dv^l
+    seam.check("model.step")                            # the dict of `seam check model.step --json`
+    seam.batch.check_files(paths, client=None)          # many files, optionally on a Dask cluster
+
+Bad input raises ValueError (invalid data, unknown names, parameters outside the domain), OSError (unreadable
+files) or RuntimeError; messages name the file, the object and the problem. README "Python".
+"""
+from ._seam import Model, __version__, check, derivatives, evaluate, evaluate_curve, has_occt, load
+from . import batch
+
+__all__ = ["Model", "__version__", "batch", "check", "derivatives", "evaluate", "evaluate_curve", "has_occt", "load"]

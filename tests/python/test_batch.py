@@ -1,0 +1,100 @@
+"""`seam batch` (child processes) and seam.batch (in process, and on a Dask LocalCluster of 2 workers) over the same
+files: the rows agree with each other and with `seam check --json` of each file; bad files give error rows and the
+exit code 2 without stopping the batch."""
+import glob
+import json
+import os
+import subprocess
+
+import pytest
+
+import seam
+import seam.batch
+
+ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "worst_gap",
+            "worst_angle_deg", "seconds"]
+
+
+def small_files(shared_data):
+    """The quick files of ../shared/data (the tea set, the fuselage, two IGES parts): the whole directory takes
+    about a minute on one core (docs/performance.md), more than the test budget."""
+    names = ["bezier/teapot.bpt", "bezier/teacup.bpt", "bezier/teaspoon.bpt"]
+    if seam.has_occt:
+        names += ["step/bug28366_fuselage.stp", "iges/BUC50025.igs"]
+    return [os.path.join(shared_data, n) for n in names]
+
+
+def comparable(row):
+    return {k: v for k, v in row.items() if k != "seconds"}
+
+
+@pytest.fixture(scope="module")
+def batch_dir(tmp_path_factory, shared_data, examples):
+    """The small files plus one unreadable file and one valid JSON model, linked into one directory."""
+    d = tmp_path_factory.mktemp("batch")
+    for f in small_files(shared_data) + [os.path.join(examples, "models", "two_patches.json")]:
+        os.symlink(os.path.abspath(f), d / os.path.basename(f))
+    (d / "broken.step").write_text("ISO-10303-21;\nthis is not STEP\n")
+    (d / "notes.txt").write_text("not a model: ignored")
+    return d
+
+
+def test_cli_batch_rows_match_single_checks(cli, run_cli, batch_dir):
+    p = subprocess.run([cli, "batch", str(batch_dir), "--json", "-j", "2"], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 2, p.stderr  # broken.step is unreadable
+    out = json.loads(p.stdout)
+    rows = {os.path.basename(r["file"]): r for r in out["files"]}
+    assert "notes.txt" not in rows and len(rows) == len(os.listdir(batch_dir)) - 1
+    assert rows["broken.step"]["status"] == "error" and "broken.step" in rows["broken.step"]["error"]
+    assert out["summary"]["error"] == 1 and out["summary"]["files"] == len(rows)
+    for name, row in rows.items():
+        assert list(row.keys()) == ROW_KEYS
+        if name == "broken.step":
+            continue
+        code, single, err = run_cli("check", row["file"], "--json")
+        assert code == 0, err
+        v = single["summary"]["verdicts"]
+        assert [row[k] for k in ("gap", "kink", "crease", "G1", "G2")] == [v[k] for k in
+                                                                             ("gap", "kink", "crease", "G1", "G2")]
+        assert row["seams"] == single["summary"]["seams"]
+        assert row["status"] == ("problem" if v["gap"] + v["kink"] > 0 else "ok")
+    # One line per file on stderr, as each finishes.
+    assert sum(1 for line in p.stderr.splitlines() if line.startswith("[")) == len(rows)
+
+
+def test_cli_batch_exit_codes(cli, tmp_path, examples):
+    good = os.path.join(examples, "models", "two_patches.json")
+    p = subprocess.run([cli, "batch", good], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "two_patches.json" in p.stdout and "1 files: 1 ok" in p.stdout
+    p = subprocess.run([cli, "batch", str(tmp_path / "nothing*.step")], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and "no .json/.bpt" in p.stderr
+    p = subprocess.run([cli, "batch", good, "--timeout", "-1"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and "--timeout" in p.stderr
+
+
+def test_python_batch_matches_cli_batch(cli, batch_dir):
+    p = subprocess.run([cli, "batch", str(batch_dir), "--json", "-j", "2"], capture_output=True, text=True,
+                       timeout=300)
+    expected = sorted((comparable(r) for r in json.loads(p.stdout)["files"]), key=lambda r: r["file"])
+    files = seam.batch.find_files(str(batch_dir))
+    local = [comparable(r) for r in seam.batch.check_files(files)]
+    for got, want in zip(local, expected):
+        if want["status"] == "error":  # the messages name the same file; the CLI's carries no "seam: error:" prefix
+            assert got["status"] == "error" and os.path.basename(want["file"]) in got["error"]
+            got["error"] = want["error"]
+        assert got == want
+    assert seam.batch.exit_code(local) == p.returncode == 2
+
+
+def test_dask_local_cluster_matches_local(batch_dir):
+    distributed = pytest.importorskip("distributed")
+    files = seam.batch.find_files(str(batch_dir))
+    local = [comparable(r) for r in seam.batch.check_files(files)]
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=40) as cluster, distributed.Client(cluster) as client:
+        rows = seam.batch.check_files(files, client=client)
+        workers = client.run(os.getpid)
+    assert len(set(workers.values())) == 2 and os.getpid() not in workers.values()  # really on two other processes
+    assert [comparable(r) for r in rows] == local

@@ -1,0 +1,125 @@
+"""The Python module against the CLI: load, evaluate and check reach the same numbers and dicts by the CLI's route
+(`seam eval --json`, `seam check --json`), and bad input raises exceptions that name the problem."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+import seam
+
+RNG = np.random.default_rng(20261125)  # fixed seed: the parameters evaluated below
+
+
+def test_import_and_version():
+    assert isinstance(seam.__version__, str) and seam.__version__.count(".") == 2
+
+
+def test_load_names_patches(examples):
+    m = seam.load(os.path.join(examples, "models", "two_patches.json"))
+    assert m.patch_names == ["A", "B", "QuarterCylinder"]
+    assert len(m) == 3
+    box = m.bounding_box()
+    assert box.shape == (2, 3) and np.all(box[0] <= box[1])
+
+
+def test_evaluate_matches_cli(examples, run_cli):
+    path = os.path.join(examples, "models", "two_patches.json")
+    m = seam.load(path)
+    for patch in m.patch_names:
+        (u0, u1), (v0, v1) = m.domain(patch)
+        uv = np.column_stack([RNG.uniform(u0, u1, 5), RNG.uniform(v0, v1, 5)])
+        points = seam.evaluate(m, patch, uv)
+        d = seam.derivatives(m, patch, uv, 2)
+        assert points.shape == (5, 3) and d.shape == (5, 3, 3, 3)
+        assert np.array_equal(points, d[:, 0, 0, :])
+        assert np.all(np.isnan(d[:, 1, 2, :])) and np.all(np.isnan(d[:, 2, 2, :]))  # k + l > 2: not computed
+        for i in range(len(uv)):
+            code, out, err = run_cli("eval", path, "--patch", patch, "--uv", repr(uv[i, 0]), repr(uv[i, 1]),
+                                     "--derivs", "2", "--json")
+            assert code == 0, err
+            # The same double evaluated by the same code: the CLI prints round-trip precision, so exactly equal.
+            assert points[i].tolist() == out["point"]
+            for key, value in out["derivatives"].items():
+                k, l = (int(x) for x in key.split(","))
+                assert d[i, k, l].tolist() == value, (patch, key)
+
+
+def test_evaluate_single_pair_and_lists(examples):
+    m = seam.load(os.path.join(examples, "models", "two_patches.json"))
+    one = seam.evaluate(m, "A", [0.25, 0.5])
+    many = seam.evaluate(m, "A", [[0.25, 0.5], [0.25, 0.5]])
+    assert one.shape == (1, 3) and np.array_equal(many[0], one[0]) and np.array_equal(many[1], one[0])
+
+
+@pytest.mark.parametrize("model", ["two_patches.json", "network_fan5.json"])
+def test_check_dict_equals_cli_json(examples, run_cli, model):
+    path = os.path.join(examples, "models", model)
+    code, expected, err = run_cli("check", path, "--json")
+    assert code == 0, err
+    got = seam.check(path)
+    assert list(got.keys()) == list(expected.keys())
+    assert list(got["summary"].keys()) == list(expected["summary"].keys())
+    assert got == expected  # same builder, same numbers (the CLI prints round-trip precision)
+    assert seam.check(seam.load(path)) == expected  # a loaded model: the same check
+
+
+def test_check_options_match_cli(examples, run_cli):
+    path = os.path.join(examples, "models", "two_patches.json")
+    code, expected, err = run_cli("check", path, "--json", "--sort", "angle", "--top", "1", "--require", "G2",
+                                  "--tol-angle", "0.5", "--crease-angle", "30")
+    got = seam.check(path, sort="angle", top=1, require="G2", tol_angle=0.5, crease_angle=30)
+    assert got == expected
+    assert code == (1 if got["summary"]["below_required"] > 0 else 0), err
+
+
+def test_check_bpt_matches_cli(shared_data, run_cli):
+    path = os.path.join(shared_data, "bezier", "teaspoon.bpt")
+    code, expected, err = run_cli("check", path, "--json")
+    assert code == 0, err
+    assert seam.check(path) == expected
+
+
+@pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")
+def test_check_step_brep_matches_cli(shared_data, run_cli):
+    path = os.path.join(shared_data, "step", "bug28366_fuselage.stp")
+    code, expected, err = run_cli("check", path, "--json")
+    assert code == 0, err
+    got = seam.check(path)
+    assert got == expected
+    assert "non_manifold_edges" in got and got["model"]["faces"] > 0  # the B-rep route, not the patch one
+    m = seam.load(path)
+    assert len(m) == got["model"]["faces"]
+
+
+def test_bad_input_raises(tmp_path, examples):
+    missing = tmp_path / "missing.json"
+    with pytest.raises(OSError, match="missing.json"):
+        seam.load(missing)
+    with pytest.raises(OSError, match="missing.json"):
+        seam.check(str(missing))
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"patches": [{"name": "P", "degree": [3, 3]')
+    with pytest.raises(ValueError, match="bad.json"):
+        seam.load(bad)
+    unknown = tmp_path / "model.xyz"
+    unknown.write_text("x")
+    with pytest.raises((ValueError, OSError), match="model.xyz"):
+        seam.load(unknown)
+    m = seam.load(os.path.join(examples, "models", "two_patches.json"))
+    with pytest.raises(ValueError, match='no patch named "S1"'):
+        seam.evaluate(m, "S1", [0.5, 0.5])
+    with pytest.raises(ValueError, match=r'patch "A": u = 2 is outside the parameter domain'):
+        seam.evaluate(m, "A", [[0.5, 0.5], [2.0, 0.5]])
+    with pytest.raises(ValueError, match="not a finite number"):
+        seam.evaluate(m, "A", [math.nan, 0.5])
+    with pytest.raises(ValueError, match="shape"):
+        seam.evaluate(m, "A", np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="derivative order"):
+        seam.derivatives(m, "A", [0.5, 0.5], -1)
+    with pytest.raises(ValueError, match="require"):
+        seam.check(m, require="G3")
+    with pytest.raises(ValueError, match="tol_distance"):
+        seam.check(m, tol_distance=-1.0)
+    with pytest.raises(ValueError, match="crease_angle"):
+        seam.check(m, crease_angle=200.0)
