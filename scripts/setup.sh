@@ -13,6 +13,7 @@ PACKAGES=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
   python3-jsonschema
   pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed   # the Python module (python/)
+  nodejs chromium chromium-driver   # the report's 3-D view (web/: three.js bundled at build time) and its browser test
 )
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -26,6 +27,16 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WITH_OCCT=ON "$@"
+cmake --build build -j "$(nproc)"
+
+# The report's 3-D view (docs/report.md): three.js, esbuild and playwright-core pinned in web/package-lock.json.
+# Debian's nodejs comes without npm (a NodeSource nodejs has it built in). The build above ran before web/node_modules
+# existed on a fresh machine: configure again so that the report bundles the view and the browser test is registered.
+if ! command -v npm >/dev/null; then
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends npm
+fi
+(cd web && npm ci --no-audit --no-fund)
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WITH_OCCT=ON "$@"
 cmake --build build -j "$(nproc)"
 

@@ -275,5 +275,57 @@ TEST(ReportCli, ConvertJsonRoundTripIsBitExactAndRefusesUnknownFormats) {
   fs::remove_all(dir);
 }
 
+TEST(HtmlReport, TheThreeDViewHasItsDataAndTheTwoDDrawingStays) {
+  Model m = teapot();
+  m.patches[0].name = "</script><b>";  // must not end the view's data <script>
+  ModelCheckOptions o;
+  o.seam.keepSamples = true;
+  const ModelCheckReport r = checkModel(m, o).value();
+  const std::string h = report::htmlReport(m, r);
+  EXPECT_EQ(count(h, "</script><b>"), 0u);
+  if (report::hasViewer3d()) {
+    EXPECT_EQ(count(h, "<script id=\"seam-view-data\" type=\"application/json\">"), 1u);
+    EXPECT_EQ(count(h, "<div id=\"view3d-canvas\">"), 1u);
+    EXPECT_EQ(count(h, "<script"), count(h, "</script>"));
+    EXPECT_EQ(count(h, "<script"), 3u);  // the table sorter, the view's data, the view
+    EXPECT_EQ(count(h, "<details id=\"view2d\" open>"), 1u);
+    // One mesh per patch, one seam entry per seam.
+    EXPECT_EQ(count(h, "{\"name\":"), m.patches.size());
+    EXPECT_EQ(count(h, "{\"k\":"), r.seams.size());
+  } else {
+    GTEST_LOG_(INFO) << "this build has no 3-D view (web/node_modules missing at configure time)";
+  }
+  report::HtmlReportOptions ro;
+  ro.view3d = false;
+  const std::string flat = report::htmlReport(m, r, ro);
+  EXPECT_EQ(count(flat, "seam-view-data"), 0u);
+  EXPECT_EQ(count(flat, "<script"), 1u);
+  EXPECT_EQ(count(flat, "<polyline"), count(h, "<polyline"));  // the 2-D drawing is there either way
+  EXPECT_LT(flat.size(), h.size());
+}
+
+TEST(ReportMeshes, OnePerShadedPatchUnitNormalsWithinTheBudget) {
+  const Model m = teapot();
+  const std::vector<report::ReportMesh> all = report::reportMeshes(m);
+  ASSERT_EQ(all.size(), m.patches.size());
+  for (const report::ReportMesh& mesh : all) {
+    ASSERT_EQ(mesh.points.size(), 81u);  // one bicubic span: 8 x 8 cells
+    ASSERT_EQ(mesh.normals.size(), mesh.points.size());
+    ASSERT_EQ(mesh.triangles.size(), 6u * 64u);
+    for (const Vec3& n : mesh.normals) EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+    for (int i : mesh.triangles) EXPECT_LT(static_cast<size_t>(i), mesh.points.size());
+  }
+  std::vector<bool> shade(m.patches.size(), false);
+  shade[3] = shade[7] = true;
+  const std::vector<report::ReportMesh> two = report::reportMeshes(m, shade);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].name, m.patches[3].name);
+  EXPECT_EQ(two[1].name, m.patches[7].name);
+  size_t total = 0;
+  for (const report::ReportMesh& mesh : report::reportMeshes(m, {}, 1000)) total += mesh.points.size();
+  EXPECT_LE(total, 1000u);
+  EXPECT_GE(total, 32u * 9u);  // never below 2 x 2 cells per patch
+}
+
 }  // namespace
 }  // namespace seam

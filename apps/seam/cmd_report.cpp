@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cli_util.h"
 #include "command_registry.h"
@@ -101,6 +102,15 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
     if (!f.curve.empty()) d.outline.push_back(f.curve);
   }
   for (int k = 0; k < r->degenerateEdges; ++k) d.degenerateEdges.push_back("pole");
+  // The 3-D view shades the untrimmed faces (a trimmed face's patch is its whole parameter box, larger than the face).
+  std::vector<bool> shade;
+  size_t trimmed = 0;
+  for (const occt::CadFace& f : r->import.faces) {
+    shade.push_back(!f.trimmed);
+    trimmed += f.trimmed ? 1 : 0;
+  }
+  d.meshes = report::reportMeshes(r->import.model, shade);
+  if (trimmed > 0) d.facts.emplace_back("3-D view", fmt::format("{} trimmed faces not shaded (seams drawn)", trimmed));
   if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
   fmt::print("wrote {} ({} B-rep seams, worst {})\n", o.out, r->seams.size(), toString(r->worstGeometric));
   return kExitOk;

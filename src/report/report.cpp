@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "report/viewer_js.h"
+
 namespace seam::report {
 
 namespace {
@@ -39,6 +41,9 @@ constexpr std::array<const char*, 4> kClassColour{"#d62728", "#ff7f0e", "#1f77b4
 constexpr const char* kFreeColour = "#9a9a9a";
 
 const char* classColour(GeometricClass c) { return kClassColour[static_cast<size_t>(c)]; }
+
+/// Colours of the verdicts gap, kink, crease, G1, G2 in the 3-D view (web/viewer.js has the same list).
+constexpr std::array<const char*, 5> kVerdictColour{"#d62728", "#ff7f0e", "#9467bd", "#1f77b4", "#2ca02c"};
 
 /// Axonometric projection: view direction (1, 1, 1) (z up in the drawing unless the model is flat in z).
 struct View {
@@ -72,6 +77,62 @@ View makeView(const std::vector<std::vector<Vec3>>& curves, int size) {
   v.padX = 10.0 + 0.5 * ((size - 20.0) - (xmax - xmin) * v.scale);
   v.padY = 10.0 + 0.5 * ((size - 20.0) - (ymax - ymin) * v.scale);
   return v;
+}
+
+/// Grid cells per direction for tessellating `s`: perSpan per Bezier span, at most `cap`.
+std::pair<int, int> gridSize(const BSplineSurface& s, double perSpan, int cap, int atLeast) {
+  const int su = static_cast<int>(s.knotsU().interiorBreakpoints(s.degreeU()).size()) + 1;
+  const int sv = static_cast<int>(s.knotsV().interiorBreakpoints(s.degreeV()).size()) + 1;
+  auto n = [&](int spans) {
+    return std::clamp(static_cast<int>(std::lround(perSpan * spans)), std::min(atLeast, cap), cap);
+  };
+  return {n(su), n(sv)};
+}
+
+/// The point and unit normal of `s` at grid node (i, j) of an nu x nv grid over its domain (S_u x S_v; at a pole,
+/// the normal of the nearest regular point inward).
+void gridNode(const BSplineSurface& s, int i, int j, int nu, int nv, Vec3& pt, Vec3& n) {
+  const Interval du = s.domainU(), dv = s.domainV();
+  const double u = du.lo + du.length() * i / nu, v = dv.lo + dv.length() * j / nv;
+  Vec3 su1, sv1;
+  s.pointAndFirstDerivatives(u, v, pt, su1, sv1);
+  n = su1.cross(sv1);
+  // At a pole the normal vanishes: take it at points stepped inward (a pole's normal is their limit).
+  for (double step = 1e-6; !(n.norm() > 0.0) && step < 0.5; step *= 10.0) {
+    const double ui = u + (i == nu ? -1.0 : 1.0) * step * du.length();
+    const double vi = v + (j == nv ? -1.0 : 1.0) * step * dv.length();
+    Vec3 q, a, b;
+    s.pointAndFirstDerivatives(ui, vi, q, a, b);
+    n = a.cross(b);
+  }
+  n = n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3(0, 0, 1);
+}
+
+/// A JSON string literal that is safe inside an HTML <script> ('<' as \u003c).
+std::string jsonString(std::string_view s) {
+  std::string out = "\"";
+  for (char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20 || c == '<' || c == '>' || c == '&') {
+      out += fmt::format("\\u{:04x}", u);
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+/// A number for the view's JSON (6 significant digits; null when not finite).
+std::string jsonNum(double x) { return std::isfinite(x) ? fmt::format("{:.6g}", x) : "null"; }
+
+void appendPoints(std::string& out, const std::vector<Vec3>& pts) {
+  out += '[';
+  for (size_t i = 0; i < pts.size(); ++i)
+    out += fmt::format("{}{},{},{}", i ? "," : "", jsonNum(pts[i].x()), jsonNum(pts[i].y()), jsonNum(pts[i].z()));
+  out += ']';
 }
 
 std::vector<Vec3> sampleCurve(const BSplineCurve& c, Interval d, int n) {
@@ -121,6 +182,10 @@ th{background:#f2f2f2;cursor:pointer;user-select:none} td.l,th.l{text-align:left
 .plot{margin:2px 8px 2px 0}.lbl{font-size:11px;fill:#333}.ax{font-size:10px;fill:#555}
 .seam{margin:10px 0 18px 0}.legend span{display:inline-block;margin-right:14px}
 .sw{display:inline-block;width:18px;height:4px;vertical-align:middle;margin-right:5px}
+#view3d-ui{margin:6px 0;font-size:.9em}#view3d-ui label{margin-right:14px}
+.v3row{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start}
+#view3d-canvas{width:720px;height:540px;border:1px solid #ddd;cursor:grab}
+#view3d-panel{max-width:600px;font-size:.9em;color:#444}
 )";
 
 constexpr const char* kScript = R"(
@@ -142,6 +207,73 @@ document.querySelectorAll('table.sortable th').forEach(function(th, col){
   });
 });
 )";
+
+/// The JSON read by the 3-D view (web/viewer.js documents the fields).
+std::string viewData(const ReportData& data, const std::vector<const SeamReport*>& reports,
+                     const std::vector<bool>& hasPlots, double creaseAngleDeg, int maxSpikeSamples) {
+  std::string j = "{\"meshes\":[";
+  for (size_t m = 0; m < data.meshes.size(); ++m) {
+    const ReportMesh& mesh = data.meshes[m];
+    j += fmt::format("{}{{\"name\":{},\"p\":", m ? "," : "", jsonString(mesh.name));
+    appendPoints(j, mesh.points);
+    j += ",\"n\":[";
+    for (size_t i = 0; i < mesh.normals.size(); ++i) {
+      const Vec3& n = mesh.normals[i];
+      j += fmt::format("{}{:.3f},{:.3f},{:.3f}", i ? "," : "", n.x(), n.y(), n.z());
+    }
+    j += "],\"i\":[";
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) j += fmt::format("{}{}", i ? "," : "", mesh.triangles[i]);
+    j += "]}";
+  }
+  size_t totalSamples = 0;
+  for (const SeamReport* r : reports) totalSamples += r ? r->samples.size() : 0;
+  const double keep = totalSamples > static_cast<size_t>(std::max(maxSpikeSamples, 0))
+                          ? static_cast<double>(std::max(maxSpikeSamples, 0)) / static_cast<double>(totalSamples)
+                          : 1.0;
+  j += "],\"seams\":[";
+  for (size_t k = 0; k < data.seams.size(); ++k) {
+    const ReportSeam& s = data.seams[k];
+    const SeamReport* r = reports[k];
+    const int v = r ? static_cast<int>(seamVerdict(*r, creaseAngleDeg)) : -1;
+    j += fmt::format("{}{{\"k\":{},\"v\":{},\"a\":{},\"b\":{},\"plot\":{},\"c\":", k ? "," : "", k, v,
+                     jsonString(s.a), jsonString(s.b), hasPlots[k] ? "true" : "false");
+    appendPoints(j, s.curve);
+    j += ",\"w\":";
+    if (r) {
+      const SeamVerdict sv = static_cast<SeamVerdict>(v);
+      const Vec3& w = sv == SeamVerdict::kGap                                   ? r->g0Worst.point
+                      : sv == SeamVerdict::kKink || sv == SeamVerdict::kCrease ? r->g1Worst.point
+                                                                                : r->g2Worst.point;
+      j += fmt::format("[{},{},{}]", jsonNum(w.x()), jsonNum(w.y()), jsonNum(w.z()));
+    } else {
+      j += "null";
+    }
+    j += ",\"s\":";
+    if (r && r->samples.size() >= 2 && keep > 0.0) {
+      // Thin the samples evenly (first and last kept) to this seam's share of maxSpikeSamples.
+      const size_t n = r->samples.size();
+      const size_t want = std::clamp<size_t>(static_cast<size_t>(std::ceil(keep * static_cast<double>(n))), 2, n);
+      std::string t = "[", g1 = "[", g2 = "[";
+      for (size_t i = 0; i < want; ++i) {
+        const SeamSample& x = r->samples[want == 1 ? 0 : i * (n - 1) / (want - 1)];
+        const char* sep = i ? "," : "";
+        t += sep + jsonNum(x.t);
+        g1 += sep + jsonNum(x.g1Deg);
+        g2 += sep + jsonNum(x.g2Rel);
+      }
+      j += fmt::format("{{\"t\":{}],\"g1\":{}],\"g2\":{}]}}", t, g1, g2);
+    } else {
+      j += "null";
+    }
+    j += "}";
+  }
+  j += "],\"outline\":[";
+  for (size_t i = 0; i < data.outline.size(); ++i) {
+    if (i) j += ",";
+    appendPoints(j, data.outline[i]);
+  }
+  return j + "]}";
+}
 
 }  // namespace
 
@@ -181,7 +313,50 @@ ReportData reportData(const Model& model, const ModelCheckReport& report, int sa
     for (const PatchCorner& pc : c.report.corners) names += name(pc.patch) + " ";
     d.cornerPatchNames.push_back(names);
   }
+  d.meshes = reportMeshes(model);
   return d;
+}
+
+bool hasViewer3d() { return detail::kViewerJs[0] != '\0'; }
+
+std::vector<ReportMesh> reportMeshes(const Model& model, const std::vector<bool>& shade, int vertexBudget) {
+  constexpr double kPerSpan = 8.0;
+  constexpr int kMin = 2, kMax = 64;
+  std::vector<size_t> which;
+  for (size_t i = 0; i < model.patches.size(); ++i)
+    if ((shade.empty() || (i < shade.size() && shade[i])) && model.patches[i].surface.dim() == 3) which.push_back(i);
+  // Coarsen every patch by the same factor until the total fits the budget (never below kMin cells).
+  double perSpan = kPerSpan;
+  for (int round = 0; round < 8; ++round) {
+    double total = 0.0;
+    for (size_t i : which) {
+      const auto [nu, nv] = gridSize(model.patches[i].surface, perSpan, kMax, kMin);
+      total += static_cast<double>(nu + 1) * (nv + 1);
+    }
+    if (total <= vertexBudget || perSpan <= 0.5) break;
+    perSpan = std::max(0.5, perSpan * std::sqrt(vertexBudget / total) * 0.95);
+  }
+  std::vector<ReportMesh> out;
+  for (size_t i : which) {
+    const BSplineSurface& s = model.patches[i].surface;
+    const auto [nu, nv] = gridSize(s, perSpan, kMax, kMin);
+    ReportMesh m;
+    m.name = model.patches[i].name;
+    for (int a = 0; a <= nu; ++a)
+      for (int b = 0; b <= nv; ++b) {
+        Vec3 pt, n;
+        gridNode(s, a, b, nu, nv, pt, n);
+        m.points.push_back(pt);
+        m.normals.push_back(n);
+      }
+    auto id = [&](int a, int b) { return a * (nv + 1) + b; };
+    for (int a = 0; a < nu; ++a)
+      for (int b = 0; b < nv; ++b)
+        m.triangles.insert(m.triangles.end(),
+                           {id(a, b), id(a + 1, b), id(a + 1, b + 1), id(a, b), id(a + 1, b + 1), id(a, b + 1)});
+    out.push_back(std::move(m));
+  }
+  return out;
 }
 
 std::string htmlReport(const Model& model, const ModelCheckReport& report, const HtmlReportOptions& options) {
@@ -252,7 +427,27 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   h += "</table>\n";
 
   // ---- overview drawing
-  h += "<h2 id=\"overview\">Model</h2>\n<div class=\"legend\">";
+  h += "<h2 id=\"overview\">Model</h2>\n";
+  const bool view3d = options.view3d && hasViewer3d();
+  if (view3d) {
+    h += "<div id=\"view3d\"><p id=\"view3d-note\">3-D view: drag to rotate, right-drag to pan, wheel to zoom; "
+         "click a seam for its plots. Shaded patches, seams coloured by verdict, worst points of gaps, kinks and "
+         "creases as dots.</p>\n<div id=\"view3d-ui\" style=\"display:none\"><div class=\"legend\">";
+    for (int v = 0; v < 5; ++v)
+      h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kVerdictColour[v],
+                       toString(static_cast<SeamVerdict>(v)));
+    h += "<span><span class=\"sw\" style=\"background:#000\"></span>analysis failed</span></div>"
+         "<label><input type=\"checkbox\" id=\"view3d-zebra\"> zebra stripes</label>"
+         "<label>spikes along the seams <select id=\"view3d-spikes\"><option value=\"none\">none</option>"
+         "<option value=\"g1\">G1 angle</option><option value=\"g2\">G2 jump (relative)</option></select></label>"
+         "<span id=\"view3d-spike-scale\"></span> "
+         "<label><input type=\"checkbox\" id=\"view3d-outline\" checked> other boundaries</label>"
+         "<button id=\"view3d-home\" type=\"button\">reset view</button></div>\n"
+         "<div class=\"v3row\"><div id=\"view3d-canvas\"></div><div id=\"view3d-panel\">Click a seam in the view "
+         "to see its G0/G1/G2 plots here.</div></div></div>\n"
+         "<details id=\"view2d\" open><summary>2-D drawing (axonometric, coloured by geometric class)</summary>\n";
+  }
+  h += "<div class=\"legend\">";
   for (int c = 3; c >= 0; --c)
     h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kClassColour[c],
                      toString(static_cast<GeometricClass>(c)));
@@ -282,6 +477,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     }
     h += "</svg>\n";
   }
+  if (view3d) h += "</details>\n";
 
   // ---- seam tables: the seams that are not design creases (kinks first), then the creases apart
   // Default order: kinks (largest angle first), gaps (largest first), failed analyses, G1/G2 in file order, then the
@@ -374,11 +570,13 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   if (static_cast<int>(order.size()) > options.maxPlottedSeams)
     h += fmt::format("<p>The {} worst of {} seams are plotted.</p>\n", options.maxPlottedSeams, order.size());
   int plotted = 0;
+  std::vector<bool> hasPlots(data.seams.size(), false);
   for (size_t k : order) {
     if (plotted >= options.maxPlottedSeams) break;
     const ReportSeam& s = data.seams[k];
     if (!s.report || s.report->samples.size() < 2) continue;
     ++plotted;
+    hasPlots[k] = true;
     const SeamReport& r = *s.report;
     std::vector<double> t, y0, y1, y2;
     for (const SeamSample& x : r.samples) {
@@ -419,7 +617,15 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   h += fmt::format("<h2 id=\"degenerate\">Degenerate edges ({})</h2>\n<p>", data.degenerateEdges.size());
   for (const std::string& f : data.degenerateEdges) h += escape(f) + " &nbsp; ";
   h += "</p>\n";
-  h += fmt::format("<script>{}</script>\n</body></html>\n", kScript);
+  h += fmt::format("<script>{}</script>\n", kScript);
+  if (view3d) {
+    h += "<script id=\"seam-view-data\" type=\"application/json\">";
+    h += viewData(data, reports, hasPlots, sel.creaseAngleDeg, options.maxSpikeSamples);
+    h += "</script>\n<script>";
+    h += detail::kViewerJs;
+    h += "</script>\n";
+  }
+  h += "</body></html>\n";
   return h;
 }
 
@@ -431,28 +637,13 @@ Result<std::string> objMesh(const Model& model, const MeshOptions& options) {
   for (const Patch& p : model.patches) {
     const BSplineSurface& s = p.surface;
     if (s.dim() != 3) return invalidInput(fmt::format("mesh: patch \"{}\" is not 3-D", p.name));
-    const int su = static_cast<int>(s.knotsU().interiorBreakpoints(s.degreeU()).size()) + 1;
-    const int sv = static_cast<int>(s.knotsV().interiorBreakpoints(s.degreeV()).size()) + 1;
-    const int nu = std::min(options.maxSamplesPerPatch, options.samplesPerSpan * su);
-    const int nv = std::min(options.maxSamplesPerPatch, options.samplesPerSpan * sv);
-    const Interval du = s.domainU(), dv = s.domainV();
+    const auto [nu, nv] = gridSize(s, options.samplesPerSpan, options.maxSamplesPerPatch, 1);
     out += fmt::format("o {}\n", p.name);
     std::string normals;
     for (int i = 0; i <= nu; ++i)
       for (int j = 0; j <= nv; ++j) {
-        const double u = du.lo + du.length() * i / nu, v = dv.lo + dv.length() * j / nv;
-        Vec3 pt, su1, sv1;
-        s.pointAndFirstDerivatives(u, v, pt, su1, sv1);
-        Vec3 n = su1.cross(sv1);
-        // At a pole the normal vanishes: take it at points stepped inward (a pole's normal is their limit).
-        for (double step = 1e-6; !(n.norm() > 0.0) && step < 0.5; step *= 10.0) {
-          const double ui = u + (i == nu ? -1.0 : 1.0) * step * du.length();
-          const double vi = v + (j == nv ? -1.0 : 1.0) * step * dv.length();
-          Vec3 q, a, b;
-          s.pointAndFirstDerivatives(ui, vi, q, a, b);
-          n = a.cross(b);
-        }
-        n = n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3(0, 0, 1);
+        Vec3 pt, n;
+        gridNode(s, i, j, nu, nv, pt, n);
         out += fmt::format("v {:.17g} {:.17g} {:.17g}\n", pt.x(), pt.y(), pt.z());
         normals += fmt::format("vn {:.9g} {:.9g} {:.9g}\n", n.x(), n.y(), n.z());
       }

@@ -25,6 +25,19 @@ struct HtmlReportOptions {
   /// other seams kinks first (largest angle first), then gaps (largest first), then the rest in file order, unless
   /// `selection.sort` names a measure; `onlyProblems` and `top` cut each table. The plots follow the same order.
   SeamSelection selection;
+  /// The WebGL view (docs/report.md): shaded patches (ReportData::meshes), seams coloured by verdict, worst points,
+  /// zebra stripes, G1/G2 spikes along the seams, click a seam for its plots. Needs a build with the bundled viewer
+  /// (web/, hasViewer3d()); the 2-D drawing stays in the page as the fallback when WebGL is unavailable.
+  bool view3d = true;
+  /// At most this many spike samples in the page (over all seams; each seam's samples are thinned evenly).
+  int maxSpikeSamples = 20000;
+};
+
+/// A triangle mesh of one patch for the 3-D view: a grid of (nu + 1) x (nv + 1) points with unit normals.
+struct ReportMesh {
+  std::string name;
+  std::vector<Vec3> points, normals;
+  std::vector<int> triangles;  ///< three vertex indices per triangle
 };
 
 /// One seam of the report: names, its analysis (or the error), and its curve for the drawing.
@@ -46,9 +59,22 @@ struct ReportData {
   std::vector<std::string> freeEdges, degenerateEdges;   ///< labels
   std::vector<const CornerReport*> corners;     ///< not owned
   std::vector<std::string> cornerPatchNames;    ///< per corner: the names of its patches, space separated
+  std::vector<ReportMesh> meshes;               ///< shaded surfaces of the 3-D view (may be empty)
 };
 
-/// ReportData for a patch-model check.
+/// True when this build inlines the 3-D view (three.js) into reports; false: the 2-D drawing only.
+bool hasViewer3d();
+
+/// The default vertex budget of the 3-D view's meshes (all patches together); about 60 bytes per vertex in the page.
+inline constexpr int kDefaultViewVertexBudget = 60000;
+
+/// Meshes of the patches of `model` for the 3-D view (those with shade[i] true; all when `shade` is empty): 8 cells
+/// per Bezier span and direction (at least 2, at most 64 per direction), coarsened evenly so that the total number
+/// of vertices stays within `vertexBudget`. Patches that are not 3-D are skipped.
+std::vector<ReportMesh> reportMeshes(const Model& model, const std::vector<bool>& shade = {},
+                                     int vertexBudget = kDefaultViewVertexBudget);
+
+/// ReportData for a patch-model check (with the meshes of every patch).
 ReportData reportData(const Model& model, const ModelCheckReport& report, int samplesPerEdge = 24);
 
 /// The HTML page. Sections: summary, the model drawn in an axonometric view with every seam coloured by its class
