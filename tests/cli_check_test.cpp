@@ -235,7 +235,7 @@ TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
   EXPECT_LT(t.out.find("A3  "), t.out.find("A2  "));  // 150 before 90
   EXPECT_LT(t.out.find("A2  "), corners);
   EXPECT_EQ(t.out.find("A1  "), std::string::npos);
-  for (const char* text : {"verdicts: gap 1, kink 2, crease 3", "worst kink: A0:u1 / B0:u0, angle 10 deg",
+  for (const char* text : {"verdicts: gap 1, kink 2, crease 3", "worst kink: A0:u1 / B0:u0, angle 10.000 deg",
                            "worst gap: A4:u1 / B4:u0, gap 0.01"})
     EXPECT_NE(t.out.find(text), std::string::npos) << text << "\n" << t.out;
   const CliRun p = runSeam("check \"" + hinges_ + "\" --only problems");

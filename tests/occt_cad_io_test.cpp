@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "seam/continuity/model_check.h"
+#include "seam/io/file.h"
 #include "seam/occt/brep_check.h"
 #include "seam/occt/cad_io.h"
 
@@ -116,6 +117,34 @@ TEST(OcctRoundTrip, IgesPreservesControlPointsWeightsAndKnots) {
   ASSERT_TRUE(r.isOk()) << r.status().message();
   ASSERT_EQ(r->model.patches.size(), 2u);
   for (size_t i = 0; i < 2; ++i) expectSameSurface(m.patches[i].surface, r->model.patches[i].surface, 0.0);
+}
+
+// Issue 17 §6: a program linking seam::occt reads STEP/IGES through the core library's io::readModel (the reader
+// registered by src/occt/register_reader.cpp); the patches are the ones written, bit for bit, and errors still name
+// the file.
+TEST(OcctReadModel, ReadModelReadsStepAndIgesWhenSeamOcctIsLinked) {
+  ASSERT_TRUE(io::hasCadReader());
+  EXPECT_EQ(io::supportedModelFormats(), ".json, .bpt, .step/.stp, .iges/.igs");
+  const Model m = randomModel(11);
+  for (const char* name : {"rm.step", "rm.STP", "rm.iges", "rm.igs"}) {
+    SCOPED_TRACE(name);
+    const fs::path file = tempPath(name);
+    const bool step = name[3] == 's' || name[3] == 'S';
+    ASSERT_TRUE(occt::writeCadFile(m, file, step ? occt::CadFormat::kStep : occt::CadFormat::kIges).isOk());
+    const Result<Model> r = io::readModel(file);
+    fs::remove(file);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->patches.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) expectSameSurface(m.patches[i].surface, r->patches[i].surface, 0.0);
+  }
+  const fs::path missing = tempPath("missing.step");
+  const Result<Model> r = io::readModel(missing);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_NE(r.status().message().find(missing.string()), std::string::npos) << r.status().message();
+  const Result<Model> obj = io::readModel("mesh.obj");
+  ASSERT_FALSE(obj.isOk());
+  EXPECT_EQ(obj.status().message(),
+            "mesh.obj: unsupported file extension \".obj\" (supported: .json, .bpt, .step/.stp, .iges/.igs)");
 }
 
 // Issue 15: the writer's temporary is io::temporaryPathFor's short ".seam-<pid>-<n>.tmp", not the output's name plus

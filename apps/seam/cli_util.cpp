@@ -123,6 +123,23 @@ void appendJson(std::string& out, const OrderedJson& v, int indent) {
 
 }  // namespace
 
+std::string modelFileHelp() {
+#ifdef SEAM_HAVE_OCCT
+  return "Model file (.json, .bpt, .step/.stp, .iges/.igs)";
+#else
+  return "Model file (.json, .bpt; STEP/IGES need a build with SEAM_WITH_OCCT)";
+#endif
+}
+
+std::string continuityWords(int order) {
+  switch (order) {
+    case 0: return "position continuity (no gap)";
+    case 1: return "tangent continuity";
+    case 2: return "curvature continuity";
+    default: return order > 2 ? fmt::format("continuity of order {}", order) : "no continuity";
+  }
+}
+
 void printError(std::string_view message) {
   std::cout.flush();
   std::cerr << "seam: error: " << message << "\n";
@@ -250,6 +267,18 @@ std::string jsonText(const OrderedJson& value) {
 void printJson(const OrderedJson& value) { std::cout << jsonText(value) << std::flush; }
 
 std::string formatNumber(double x) { return fmt::format("{:.10g}", x); }
+
+std::string formatAngle(double deg) { return fmt::format("{:.3f}", deg); }
+
+std::string formatDistance(double x, double tolerance) {
+  if (x == 0.0) return "0";
+  if (!std::isfinite(x) || !(tolerance > 0.0) || !std::isfinite(tolerance)) return formatNumber(x);
+  constexpr int kMaxDecimals = 12;
+  const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(tolerance) - 1e-9)) + 1, 1, kMaxDecimals);
+  return fmt::format("{:.{}f}", x, decimals);
+}
+
+std::string formatRatio(double x) { return fmt::format("{:.4g}", x); }
 
 std::string formatVector(const double* values, int count) {
   std::string s = "[";

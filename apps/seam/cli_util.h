@@ -54,6 +54,14 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides);
 /// False (with a message on stderr) when a given tolerance is not a positive finite number.
 bool validToleranceOptions(const ToleranceOverrides& overrides);
 
+/// The help text of a command's FILE argument: "Model file (.json, .bpt, .step/.stp, .iges/.igs)", or in a build
+/// without OpenCASCADE "Model file (.json, .bpt; STEP/IGES need a build with SEAM_WITH_OCCT)".
+std::string modelFileHelp();
+
+/// A continuity class in a CAD user's words: "position continuity (no gap)" (G0), "tangent continuity" (G1),
+/// "curvature continuity" (G2); "no continuity" otherwise. For the first line of join/corner/extend output.
+std::string continuityWords(int order);
+
 /// Loads a model: STEP/IGES through seam::occt::readCadFile (when built with OpenCASCADE), else io::readModel; on failure prints the message on stderr and returns nullopt
 /// (the command then exits with kExitBadInput).
 std::optional<Model> loadModel(const std::filesystem::path& file);
@@ -76,6 +84,14 @@ void printJson(const OrderedJson& value);
 
 /// A number for tables: up to 10 significant digits (%.10g).
 std::string formatNumber(double x);
+/// An angle in degrees for tables and text: three decimals ("0.000", "2.816", "90.000"; issue 17 §6). JSON keeps
+/// full precision.
+std::string formatAngle(double deg);
+/// A distance (a gap) for tables and text, to the digits of the tolerance it is judged by, plus one: with a
+/// tolerance of 0.001, four decimals ("0.0000", "0.5240"); at most 12 decimals; 0 prints as "0".
+std::string formatDistance(double x, double tolerance);
+/// A ratio such as a relative curvature jump for tables: four significant digits (%.4g).
+std::string formatRatio(double x);
 /// "[x, y, z]" with formatNumber for each coordinate.
 std::string formatVector(const double* values, int count);
 

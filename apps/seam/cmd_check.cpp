@@ -135,21 +135,22 @@ std::string seamName(const Model& m, const ModelSeam& s) {
 }
 
 /// The worst kink and the worst gap with their location (issue 17: what a CAD user looks at first).
-std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg,
+std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg, double distanceTol,
                        const std::function<std::string(size_t)>& name) {
   const WorstDefects w = worstDefects(reports, creaseAngleDeg);
   std::string out;
   if (w.kink) {
     const SeamReport& x = *reports[*w.kink];
-    out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), num(x.g1MaxDeg),
-                       formatVector(x.g1Worst.point.data(), 3), num(x.g0Max));
+    out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), formatAngle(x.g1MaxDeg),
+                       formatVector(x.g1Worst.point.data(), 3), formatDistance(x.g0Max, distanceTol));
   } else {
     out += "worst kink: none\n";
   }
   if (w.gap) {
     const SeamReport& x = *reports[*w.gap];
-    out += fmt::format("worst gap: {}, gap {} at {} (angle {} deg)\n", name(*w.gap), num(x.g0Max),
-                       formatVector(x.g0Worst.point.data(), 3), num(x.g1MaxDeg));
+    out += fmt::format("worst gap: {}, gap {} at {} (angle {} deg)\n", name(*w.gap),
+                       formatDistance(x.g0Max, distanceTol), formatVector(x.g0Worst.point.data(), 3),
+                       formatAngle(x.g1MaxDeg));
   } else {
     out += "worst gap: none\n";
   }
@@ -166,8 +167,9 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
                                  std::string(edgeName(p.b.edge))};
     if (s.report) {
       const SeamReport& x = *s.report;
-      row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))), num(x.g0Max),
-                             num(x.g1MaxDeg), num(x.g2Max), std::string(toString(x.geometric)),
+      row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))),
+                             formatDistance(x.g0Max, r.tolerances.distance), formatAngle(x.g1MaxDeg),
+                             formatRatio(x.g2Max), std::string(toString(x.geometric)),
                              std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
     } else {
       row.insert(row.end(), {"error", "-", "-", "-", "error", "-", "-"});
@@ -260,7 +262,8 @@ std::string summaryLine(const Model& m, const ModelCheckReport& r, const std::op
                                 : fmt::format("; all meet {}", toString(*require));
   const std::vector<const SeamReport*> reports = reportsOf(r);
   return line + "\n" + verdictLine(countVerdicts(reports, creaseAngleDeg), creaseAngleDeg) +
-         worstLines(reports, creaseAngleDeg, [&](size_t k) { return seamName(m, r.seams[k]); });
+         worstLines(reports, creaseAngleDeg, r.tolerances.distance,
+                    [&](size_t k) { return seamName(m, r.seams[k]); });
 }
 
 /// "NAME:edge" -> patch index and edge; prints the problem and returns nullopt when it is wrong.
@@ -314,7 +317,8 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
       for (size_t k : list) {
         const occt::BRepSeam& s = r->seams[k];
         rows.push_back({std::to_string(s.edge), s.a, s.b, std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
-                        formatNumber(s.report.g0Max), formatNumber(s.report.g1MaxDeg), formatNumber(s.report.g2Max),
+                        formatDistance(s.report.g0Max, tol.distance), formatAngle(s.report.g1MaxDeg),
+                        formatRatio(s.report.g2Max),
                         std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
                         s.occtContinuity});
       }
@@ -343,7 +347,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                toString(r->worstGeometric), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
                r->looseEdges, r->occtAgreement, r->seams.size());
     fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
-               worstLines(reports, sel.creaseAngleDeg, [&](size_t k) {
+               worstLines(reports, sel.creaseAngleDeg, tol.distance, [&](size_t k) {
                  const occt::BRepSeam& s = r->seams[k];
                  return fmt::format("edge {} ({} / {})", s.edge, s.a, s.b);
                }));
@@ -450,7 +454,7 @@ int runCheck(const CheckOptions& o) {
 void addCheck(CLI::App& app, int& exit) {
   auto options = std::make_shared<CheckOptions>();
   CLI::App* cmd = app.add_subcommand("check", "Continuity of every seam, vertex and free edge of a model");
-  cmd->add_option("FILE", options->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
+  cmd->add_option("FILE", options->file, modelFileHelp())->required();
   cmd->add_option("--seam", options->seam, "Analyse only this pair of edges, e.g. --seam S1:u1 S2:u0")
       ->expected(2)
       ->type_name("A:EDGE B:EDGE");

@@ -70,6 +70,12 @@ std::string state(const SeamReport& x) {
   return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
 }
 
+/// "achieved", or why not, for the first line of the output.
+std::string cornerOutcome(const CornerJoinReport& r) {
+  if (r.achieved) return "achieved";
+  return r.reverted ? "NOT achieved (the corner is left as it was)" : "NOT achieved at every seam";
+}
+
 std::string reportText(const CornerJoinReport& r) {
   std::string text;
   for (const CornerJoinStep& s : r.steps) {
@@ -115,7 +121,7 @@ void addCorner(CLI::App& app, int& exit) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "corner", "Check the Lai-Lian-Cassidy §4.1 conditions at a corner of 3 or 4 patches and join them G1");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   auto* three = cmd->add_option("--three", o->three, "S:E:E S~:E:E S^:E (Fig. 1)")->expected(3);
   auto* four = cmd->add_option("--four", o->four, "S1:N:P S2:N:P S3:N:P S4:N:P around a 4-valent vertex")->expected(4);
   three->excludes(four);
@@ -156,11 +162,14 @@ void addCorner(CLI::App& app, int& exit) {
         j["output"] = o->out;
         printJson(j);
       } else {
-        std::string text = fmt::format("seam corner: S = {}, S~ = {}, S^ = {}\n", c.s, c.sTilde, c.sHat);
+        std::string text = fmt::format("seam corner: match the three patches {}, {}, {} at their corner with tangent "
+                                       "continuity: {}\n",
+                                       c.s, c.sTilde, c.sHat, cornerOutcome(res->report));
+        text += fmt::format("details: Lai-Lian-Cassidy Fig. 1 roles S = {}, S~ = {}, S^ = {}\n", c.s, c.sTilde, c.sHat);
         if (res->proportionality) {
           const ThreePatchProportionality& p = *res->proportionality;
-          text += fmt::format("m = {}, m~ = {}, n = {}, n~ = {}, q = {}, corner at S^'s breakpoint K = {}\n", p.m,
-                              p.mTilde, p.n, p.nTilde, p.q, p.cornerIndex);
+          text += fmt::format("details: m = {}, m~ = {}, n = {}, n~ = {}, q = {}, corner at S^'s breakpoint K = {}\n",
+                              p.m, p.mTilde, p.n, p.nTilde, p.q, p.cornerIndex);
           text += conditionsTable(p.checks) + "\n";
           for (const std::string& n : p.notes) text += "note: " + n + "\n";
         }
@@ -188,9 +197,13 @@ void addCorner(CLI::App& app, int& exit) {
         j["output"] = o->out;
         printJson(j);
       } else {
-        std::string text = fmt::format("seam corner: {}, {}, {}, {} around a vertex\n", c.patches[0], c.patches[1],
-                                       c.patches[2], c.patches[3]);
-        if (res->proportionality) text += conditionsTable(res->proportionality->checks) + "\n";
+        std::string text = fmt::format("seam corner: match the four patches {}, {}, {}, {} around their common vertex "
+                                       "with tangent continuity: {}\n",
+                                       c.patches[0], c.patches[1], c.patches[2], c.patches[3],
+                                       cornerOutcome(res->report));
+        if (res->proportionality)
+          text += "details: the §4.1 proportionality conditions (Lai-Lian-Cassidy, Theorem 1)\n" +
+                  conditionsTable(res->proportionality->checks) + "\n";
         text += reportText(res->report) + fmt::format("output: {}\n", o->out);
         text += achieved ? "G1 achieved\n"
                          : (res->report.reverted ? "G1 NOT achieved: the corner is left as it was (output = input)\n"

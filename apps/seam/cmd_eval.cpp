@@ -144,7 +144,7 @@ int evalCurve(const EvalOptions& o, const Model& model) {
 void addEval(CLI::App& app, int& exit) {
   auto o = std::make_shared<EvalOptions>();
   CLI::App* cmd = app.add_subcommand("eval", "Evaluate a point and its derivatives on a patch or a curve");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   CLI::Option* patch = cmd->add_option("--patch", o->patch, "Name of the patch to evaluate");
   CLI::Option* uv =
       cmd->add_option("--uv", o->uv, "Parameters U V on the patch")->expected(2)->allow_extra_args(false);

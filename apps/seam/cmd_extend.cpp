@@ -105,10 +105,12 @@ int runExtend(const ExtendOptions& o) {
   if (!root.contains("patches")) root["patches"] = OrderedJson::array();
   root["patches"].push_back(patchJson);
   if (!writeOutputFile(o.output, jsonText(root))) return kExitBadInput;
-  std::cout << fmt::format("added patch \"{}\" (degree {} x {}, {}) meeting {}:{} with GC^{} by construction -> {}\n",
-                           o.name, surface->degreeU(), surface->degreeV(),
-                           surface->isRational() ? "rational" : "polynomial", o.patch, edgeName(*edge), o.order,
-                           o.output);
+  // The user's words first (issue 17 §6), the paper's name (GC^n, Zheng-Wang-Liang) in the details line.
+  std::cout << fmt::format("added patch \"{}\" matching {}:{} with {} (by construction) -> {}\n", o.name, o.patch,
+                           edgeName(*edge), continuityWords(o.order), o.output);
+  std::cout << fmt::format("details: degree {} x {}, {}; GC^{} (Zheng-Wang-Liang connecting construction)\n",
+                           surface->degreeU(), surface->degreeV(), surface->isRational() ? "rational" : "polynomial",
+                           o.order);
   return kExitOk;
 }
 
@@ -116,7 +118,7 @@ void addExtend(CLI::App& app, int& exit) {
   auto o = std::make_shared<ExtendOptions>();
   CLI::App* cmd = app.add_subcommand(
       "extend", "Append a patch meeting an edge with GC^N by construction (Zheng-Wang-Liang, Theorem 6, eq. 4.8)");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("--patch", o->patch, "The patch to extend (B-spline / NURBS, one Bezier span along the edge)")
       ->required();
   cmd->add_option("--edge", o->edge, "Its edge: u0, u1, v0 or v1")->required();

@@ -304,7 +304,7 @@ void addFill(CLI::App& app, int& exit) {
   auto o = std::make_shared<FillCliOptions>();
   CLI::App* cmd = app.add_subcommand(
       "fill", "Exact G1 Bezier patches (Johansson Section 4): the 4th patch at a vertex, a hole, a fillet");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   CLI::Option* quad =
       cmd->add_option("--quad", o->quad,
                       "Build the 4th patch at the vertex of corner patch A and its neighbours B, C")

@@ -231,7 +231,7 @@ void addGcn(CLI::App& app, int& exit) {
   CLI::App* cmd = app.add_subcommand(
       "gcn", "Geometric continuity GC^n of rational patches along a seam (Zheng-Wang-Liang): orders, residuals, "
              "connecting functions");
-  cmd->add_option("FILE", o->file, "Model file (.json, may hold \"expression\" patches, or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp() + " (a .json model may hold \"expression\" patches)")->required();
   cmd->add_option("--seam", o->seam, "The seam: A:EDGE B:EDGE (edges u0, u1, v0, v1)")->expected(2)->required();
   CLI::Option* order = cmd->add_option(
       "--order", o->order,

@@ -34,7 +34,7 @@ void addHeal(CLI::App& app, int& exit) {
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("heal", "Close the gaps and kinks of every seam of a model (G0/G1)");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_option("--continuity", o->continuity, "G0 or G1 (default G1)");
   cmd->add_option("--method", o->method,

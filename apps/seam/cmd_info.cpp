@@ -133,7 +133,7 @@ void addInfo(CLI::App& app, int& exit) {
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("info", "Describe the patches and curves of a model file");
-  cmd->add_option("FILE", options->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", options->file, modelFileHelp())->required();
   cmd->add_flag("--json", options->json, "Print JSON instead of a table");
   cmd->callback([options, &exit]() {
     const std::optional<Model> model = loadModel(options->file);

@@ -66,7 +66,7 @@ void addJoin(CLI::App& app, int& exit) {
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("join", "Join two patches along a seam (G0/G1/G2) by moving control points");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("--move", o->move, "The edge that moves, PATCH:EDGE (edges u0, u1, v0, v1)")->required();
   cmd->add_option("--to", o->to, "The edge it is joined to, PATCH:EDGE")->required();
   cmd->add_option("--continuity", o->continuity, "G0, G1 or G2 (default G1)");
@@ -118,11 +118,17 @@ void addJoin(CLI::App& app, int& exit) {
       j["output"] = o->out;
       printJson(j);
     } else {
-      std::string text = fmt::format("seam join {}:{} -> {}:{} ({} requested)\n", mv->patch, edgeName(mv->edge),
-                                     to->patch, edgeName(to->edge), toString(r.requested));
-      text += fmt::format("method: {} ({})\n", toString(r.method), r.reason);
+      // The user's words first (issue 17 §6); the method and the paper's conditions in the details line.
+      const int order = static_cast<int>(r.requested) - 1;  // GeometricClass: none, G0, G1, G2
+      std::string text = fmt::format("seam join: match {}:{} to {}:{} with {} ({}): {}\n", mv->patch,
+                                     edgeName(mv->edge), to->patch, edgeName(to->edge), continuityWords(order),
+                                     toString(r.requested),
+                                     r.achieved ? "achieved"
+                                                : fmt::format("NOT achieved (the seam is {})", toString(r.after.geometric)));
+      text += fmt::format("details: method {} ({})", toString(r.method), r.reason);
       if (r.proportionalKnots)
-        text += fmt::format("proportional knots (Def. 3.1): {}\n", yesNo(*r.proportionalKnots));
+        text += fmt::format("; proportional knots (Def. 3.1): {}", yesNo(*r.proportionalKnots));
+      text += "\n";
       text += "\n" + measureTable(r.before, r.after) + "\n";
       text += fmt::format("max control-point displacement: {}\n", formatNumber(r.maxDisplacement));
       text += fmt::format("surface moved by at most {} (certified; {} found on a grid), {} % of the patch size\n",

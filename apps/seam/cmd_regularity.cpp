@@ -80,6 +80,28 @@ struct Counts {
   }
 };
 
+/// The plain-language verdict of one curve or patch (issue 17 §6): cusps (points where the curve's tangent or the
+/// surface's normal vanishes, the search's critical points) and self-intersections first; the certificates' names go
+/// to the details line.
+std::string plainVerdict(const std::string& object, const Counts& counts, int cusps, int intersections,
+                         const SearchSummary& s) {
+  if (counts.fails == 0 && cusps == 0 && intersections == 0) {
+    if (counts.na == 0) return fmt::format("{}: smooth and regular: no cusp, no self-intersection (certified)", object);
+    return fmt::format("{}: no cusp and no self-intersection found{}; regularity not certified on {} piece{}", object,
+                       s.complete && s.unresolved == 0 ? "" : " (search incomplete)", counts.na,
+                       counts.na == 1 ? "" : "s");
+  }
+  std::vector<std::string> found;
+  if (cusps > 0) found.push_back(fmt::format("{} cusp{} (the tangent or normal vanishes)", cusps, cusps == 1 ? "" : "s"));
+  if (intersections > 0)
+    found.push_back(fmt::format("{} self-intersection{}", intersections, intersections == 1 ? "" : "s"));
+  if (counts.fails > 0)
+    found.push_back(fmt::format("{} piece{} not certified regular", counts.fails, counts.fails == 1 ? "" : "s"));
+  std::string text;
+  for (const std::string& f : found) text += (text.empty() ? "" : ", ") + f;
+  return fmt::format("{}: PROBLEM: {}", object, text);
+}
+
 std::string searchText(int critical, int intersections, const SearchSummary& s) {
   return fmt::format("search: {} critical point{}, {} self-intersection{} (resolution {}, distance {}{}{})", critical,
                      critical == 1 ? "" : "s", intersections, intersections == 1 ? "" : "s",
@@ -244,7 +266,7 @@ void addRegularity(CLI::App& app, int& exit) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "regularity", "Certify curve segments and surface sub-nets free of critical points and self-intersections");
-  cmd->add_option("FILE", o->file, "Model file (.json or .bpt)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   CLI::Option* curveOpt = cmd->add_option("--curve", o->curve, "Only this curve");
   CLI::Option* patchOpt = cmd->add_option("--patch", o->patch, "Only this patch");
   curveOpt->excludes(patchOpt);
@@ -350,7 +372,10 @@ void addRegularity(CLI::App& app, int& exit) {
                         s.verdict == Verdict::kCertified ? "-" : witnessText(s.result, r.dim),
                         s.defectNearby ? "yes" : "no"});
       }
-      summary.push_back(fmt::format("curve {}: {}; ell certified: {}; {}", name, counts.text("segments"),
+      summary.push_back(plainVerdict("curve " + name, counts, static_cast<int>(r.search->criticalPoints.size()),
+                                     static_cast<int>(r.search->selfIntersections.size()), r.search->summary));
+      summary.push_back(fmt::format("  details: {} (Dyn-Levin-Yad-Shalom conditions); ell certified: {}; {}",
+                                    counts.text("segments"),
                                     r.ellCertified ? std::to_string(*r.ellCertified) : "none",
                                     searchText(static_cast<int>(r.search->criticalPoints.size()),
                                                static_cast<int>(r.search->selfIntersections.size()),
@@ -370,20 +395,24 @@ void addRegularity(CLI::App& app, int& exit) {
                         s.defectNearby ? "yes" : "no"});
       }
       const bool haveEll = r.ellU.has_value();
-      summary.push_back(fmt::format("patch {}: {}; ell certified: {}; {}", name, counts.text("sub-nets"),
+      summary.push_back(plainVerdict("patch " + name, counts, static_cast<int>(r.search->criticalPoints.size()),
+                                     static_cast<int>(r.search->selfIntersections.size()), r.search->summary));
+      summary.push_back(fmt::format("  details: {} (Dyn-Levin-Yad-Shalom conditions); ell certified: {}; {}",
+                                    counts.text("sub-nets"),
                                     haveEll ? fmt::format("{} x {}", *r.ellU, *r.ellV) : "none",
                                     searchText(static_cast<int>(r.search->criticalPoints.size()),
                                                static_cast<int>(r.search->selfIntersections.size()),
                                                r.search->summary)));
     }
     if (!rows.empty()) {
-      fmt::print("{}", formatTable({"object", "index", "parameters", "knots", "verdict", "condition", "witness",
-                                    "defect nearby"},
+      fmt::print("{}", formatTable({"object", "index", "parameters", "knots", "certificate", "condition (paper)",
+                                    "witness", "defect nearby"},
                                    rows));
     }
     fmt::print("\n");
     for (const std::string& line : summary) fmt::print("{}\n", line);
-    fmt::print("{}\n", problem ? "result: problems found" : "result: no problem found");
+    fmt::print("{}\n", problem ? "result: problems found (cusps, self-intersections or uncertified pieces)"
+                               : "result: no problem found");
   });
 }
 

@@ -154,7 +154,7 @@ int runReport(const ReportOptions& o) {
 void addReport(CLI::App& app, int& exit) {
   auto o = std::make_shared<ReportOptions>();
   CLI::App* cmd = app.add_subcommand("report", "Write a self-contained HTML report of the continuity check");
-  cmd->add_option("FILE", o->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
   addToleranceOptions(*cmd, o->tol);
   cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::NonNegativeNumber);
@@ -176,7 +176,7 @@ void addExportMesh(CLI::App& app, int& exit) {
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("export-mesh", "Tessellate the patches into a Wavefront OBJ mesh with normals");
-  cmd->add_option("FILE", o->file, "Model file (.json, .bpt, .step/.stp, .iges/.igs)")->required();
+  cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "OBJ file to write")->required();
   cmd->add_option("--per-span", o->perSpan, "Grid cells per Bezier span and direction (default 8)")
       ->check(CLI::Range(1, 1024));

@@ -183,6 +183,26 @@ Status writeFileAtomically(const fs::path& file, const std::string& content) {
   return Status::ok();
 }
 
+namespace {
+
+/// The STEP/IGES reader installed by seam::occt (registerCadReader), null without it. Set during static
+/// initialisation, before main, and only read afterwards.
+std::atomic<CadModelReader>& cadReaderSlot() {
+  static std::atomic<CadModelReader> reader{nullptr};
+  return reader;
+}
+
+}  // namespace
+
+void registerCadReader(CadModelReader reader) { cadReaderSlot().store(reader); }
+
+bool hasCadReader() { return cadReaderSlot().load() != nullptr; }
+
+std::string supportedModelFormats() {
+  return hasCadReader() ? ".json, .bpt, .step/.stp, .iges/.igs"
+                        : ".json, .bpt (STEP/IGES need a build with SEAM_WITH_OCCT)";
+}
+
 Result<Model> readModel(const fs::path& file) {
   const std::string ext = lowercase(file.extension().string());
   if (ext == ".json" || ext == ".bpt") {
@@ -193,15 +213,17 @@ Result<Model> readModel(const fs::path& file) {
     }
   }
   if (ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs") {
+    if (const CadModelReader reader = cadReaderSlot().load()) return reader(file);
     return Status(ErrorCode::kUnsupported,
-                  file.string() + ": STEP/IGES support needs a build with SEAM_WITH_OCCT");
+                  file.string() + ": STEP/IGES support needs a build with SEAM_WITH_OCCT, linking seam::occt");
   }
   if (ext.empty()) {
-    return Status(ErrorCode::kUnsupported,
-                  file.string() + ": no file extension, cannot tell the format (supported: .json, .bpt)");
+    return Status(ErrorCode::kUnsupported, file.string() + ": no file extension, cannot tell the format (supported: " +
+                                               supportedModelFormats() + ")");
   }
   return Status(ErrorCode::kUnsupported, file.string() + ": unsupported file extension \"" +
-                                             file.extension().string() + "\" (supported: .json, .bpt)");
+                                             file.extension().string() + "\" (supported: " +
+                                             supportedModelFormats() + ")");
 }
 
 }  // namespace seam::io

@@ -42,7 +42,26 @@ std::filesystem::path temporaryPathFor(const std::filesystem::path& file);
 /// name works), then renames it over `file`: never a partial file. Refuses what checkOutputFile refuses.
 Status writeFileAtomically(const std::filesystem::path& file, const std::string& content);
 
-/// Reads a model by extension: .json, .bpt (Newell Bezier patch text format); later .step/.stp/.iges/.igs.
+/// Reads a model by extension: .json, .bpt (Newell Bezier patch text format), and .step/.stp/.iges/.igs when the
+/// program links seam::occt (the OpenCASCADE module installs its reader, see registerCadReader; its warnings and
+/// per-face notes are dropped: call occt::readCadFile for them). Errors name the file: kUnsupported for an unknown
+/// or missing extension (the message lists supportedModelFormats()) and for STEP/IGES in a program without
+/// seam::occt; otherwise the reader's error.
 Result<Model> readModel(const std::filesystem::path& file);
+
+/// A reader of STEP/IGES files for readModel.
+using CadModelReader = Result<Model> (*)(const std::filesystem::path& file);
+
+/// Installs the STEP/IGES reader of readModel. seam::occt calls it once, during static initialisation of any program
+/// that links it (the library's link interface keeps the registering object); a C++ user never needs to. Passing
+/// nullptr removes it.
+void registerCadReader(CadModelReader reader);
+
+/// True when readModel reads STEP/IGES in this program (seam::occt is linked).
+bool hasCadReader();
+
+/// The formats readModel reads in this program, for messages and help texts: ".json, .bpt, .step/.stp, .iges/.igs",
+/// or ".json, .bpt (STEP/IGES need a build with SEAM_WITH_OCCT)" without seam::occt.
+std::string supportedModelFormats();
 
 }  // namespace seam::io
