@@ -136,7 +136,7 @@ function start() {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.Float32BufferAttribute(worstPts, 3));
     g.setAttribute('color', new THREE.Float32BufferAttribute(worstCols, 3));
-    const pts = new THREE.Points(g, new THREE.PointsMaterial({ size: 9, sizeAttenuation: false, vertexColors: true,
+    const pts = new THREE.Points(g, new THREE.PointsMaterial({ size: 7, sizeAttenuation: false, vertexColors: true,
                                                                 depthTest: false }));
     pts.renderOrder = 2;
     scene.add(pts);
@@ -206,7 +206,7 @@ function start() {
   // ---- camera and controls
   const camera = new THREE.PerspectiveCamera(35, width / height, diag * 1e-3, diag * 100);
   const home = () => {
-    camera.position.copy(centre).add(new THREE.Vector3(1, -1.2, 0.9).normalize().multiplyScalar(1.9 * diag));
+    camera.position.copy(centre).add(new THREE.Vector3(1, -1.2, 0.9).normalize().multiplyScalar(1.35 * diag));
     camera.up.set(0, 0, 1);
     controls.target.copy(centre);
     controls.update();

@@ -125,8 +125,8 @@ std::string jsonString(std::string_view s) {
   return out + "\"";
 }
 
-/// A number for the view's JSON (6 significant digits; null when not finite).
-std::string jsonNum(double x) { return std::isfinite(x) ? fmt::format("{:.6g}", x) : "null"; }
+/// A number for the view's JSON (`digits` significant digits; null when not finite).
+std::string jsonNum(double x, int digits = 6) { return std::isfinite(x) ? fmt::format("{:.{}g}", x, digits) : "null"; }
 
 void appendPoints(std::string& out, const std::vector<Vec3>& pts) {
   out += '[';
@@ -252,14 +252,16 @@ std::string viewData(const ReportData& data, const std::vector<const SeamReport*
     if (r && r->samples.size() >= 2 && keep > 0.0) {
       // Thin the samples evenly (first and last kept) to this seam's share of maxSpikeSamples.
       const size_t n = r->samples.size();
-      const size_t want = std::clamp<size_t>(static_cast<size_t>(std::ceil(keep * static_cast<double>(n))), 2, n);
+      constexpr size_t kMaxSpikesPerSeam = 64;  // denser combs are not readable
+      const size_t want = std::clamp<size_t>(static_cast<size_t>(std::ceil(keep * static_cast<double>(n))), 2,
+                                             std::min(n, kMaxSpikesPerSeam));
       std::string t = "[", g1 = "[", g2 = "[";
       for (size_t i = 0; i < want; ++i) {
         const SeamSample& x = r->samples[want == 1 ? 0 : i * (n - 1) / (want - 1)];
         const char* sep = i ? "," : "";
-        t += sep + jsonNum(x.t);
-        g1 += sep + jsonNum(x.g1Deg);
-        g2 += sep + jsonNum(x.g2Rel);
+        t += sep + jsonNum(x.t, 5);  // enough for a place along the seam and a spike's length
+        g1 += sep + jsonNum(x.g1Deg, 3);
+        g2 += sep + jsonNum(x.g2Rel, 3);
       }
       j += fmt::format("{{\"t\":{}],\"g1\":{}],\"g2\":{}]}}", t, g1, g2);
     } else {

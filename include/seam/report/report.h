@@ -29,7 +29,8 @@ struct HtmlReportOptions {
   /// zebra stripes, G1/G2 spikes along the seams, click a seam for its plots. Needs a build with the bundled viewer
   /// (web/, hasViewer3d()); the 2-D drawing stays in the page as the fallback when WebGL is unavailable.
   bool view3d = true;
-  /// At most this many spike samples in the page (over all seams; each seam's samples are thinned evenly).
+  /// At most this many spike samples in the page (over all seams; each seam's samples are thinned evenly to at most
+  /// 64).
   int maxSpikeSamples = 20000;
 };
 
