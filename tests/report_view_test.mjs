@@ -2,7 +2,8 @@
 // Usage: node tests/report_view_test.mjs SEAM_BINARY MODEL OUT_DIR   (CTest: report_view_browser)
 // Writes OUT_DIR/report.html with `seam report`, opens it from file:// and checks: no console error or page error,
 // the WebGL canvas is not blank (pixel variance of a screenshot), zebra stripes change the picture, a click on a
-// seam opens its three plots in the side panel. Exit 0 on success, 1 with the failures on stderr.
+// seam opens its three plots in the side panel; without WebGL (getContext refused) the 2-D drawing is the view.
+// Exit 0 on success, 1 with the failures on stderr.
 import { spawnSync } from 'node:child_process';
 import { createRequire } from 'node:module';
 import fs from 'node:fs';
@@ -116,6 +117,27 @@ try {
     const plots = await page.locator('#view3d-panel svg.plot').count();
     check(plots === 3, `clicking seam #${target.k} opens its plots (${plots} plots in the panel)`);
   }
+  // Without WebGL the 3-D view steps aside and the 2-D drawing is the view.
+  const flat = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
+  flat.on('console', (m) => { if (m.type() === 'error') errors.push(`console (no WebGL): ${m.text()}`); });
+  flat.on('pageerror', (e) => errors.push(`page error (no WebGL): ${e.message}`));
+  await flat.addInitScript(() => {
+    const get = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (type, ...rest) {
+      return /webgl/.test(type) ? null : get.call(this, type, ...rest);
+    };
+  });
+  await flat.goto(pathToFileURL(html).href);
+  await flat.waitForLoadState('load');
+  const fallback = await flat.evaluate(() => ({
+    hidden: getComputedStyle(document.getElementById('view3d')).display === 'none',
+    open: document.getElementById('view2d').open,
+    drawn: document.querySelectorAll('#view2d svg polyline').length,
+    note: document.getElementById('view3d-note').textContent,
+    view: !!window.seamView,
+  }));
+  check(fallback.hidden && fallback.open && fallback.drawn > 0 && !fallback.view && /WebGL/.test(fallback.note),
+        `without WebGL the 2-D drawing is the view (${fallback.drawn} polylines)`);
   check(requests.length === 0, `no network requests (${requests.join(' ')})`);
   check(errors.length === 0, `no console errors${errors.length ? ': ' + errors.join(' | ') : ''}`);
 } finally {
