@@ -270,6 +270,34 @@ TEST_F(CliVerdicts, PresetsAndExplicitTolerances) {
   EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --preset solidworks").exitCode, 2);
 }
 
+// Issue 17 §3 (docs/check.schema.json): the input named first, the model's size, every seam with index, edges,
+// verdict and geometric; a model without patches has the same keys (empty lists).
+TEST_F(CliVerdicts, JsonNamesTheFileAndHasTheSchemaKeys) {
+  const CliRun r = runSeam("check \"" + hinges_ + "\" --json");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(r.out.rfind("{\n  \"file\": ", 0), 0u) << r.out.substr(0, 80);  // the input first
+  EXPECT_EQ(j["file"], hinges_);
+  EXPECT_EQ(j["format"], "json");
+  EXPECT_EQ(j["model"]["patches"], 14);  // the 7 hinges of 2 patches
+  ASSERT_EQ(j["seams"].size(), 7u);
+  for (const auto& s : j["seams"])
+    for (const char* key : {"index", "a", "a_edge", "b", "b_edge", "verdict", "geometric"})
+      EXPECT_TRUE(s.contains(key)) << key << " in " << s.dump();
+  const std::string empty = (dir_ / "curves_only.json").string();
+  {
+    std::ofstream f(empty);
+    f << R"({"patches": []})";
+  }
+  const CliRun e = runSeam("check \"" + empty + "\" --json");
+  ASSERT_EQ(e.exitCode, 0) << e.out;
+  const nlohmann::json k = nlohmann::json::parse(e.out);
+  EXPECT_EQ(k["format"], "json");
+  EXPECT_EQ(k["model"]["patches"], 0);
+  EXPECT_TRUE(k["seams"].empty() && k["corners"].empty() && k["free_edges"].empty());
+  EXPECT_EQ(k["summary"]["seams"], 0);
+}
+
 #ifdef SEAM_HAVE_OCCT_CLI
 // The same verdicts through the B-rep route: the hinges written as STEP, read back as sewn faces.
 TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {
@@ -283,6 +311,17 @@ TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {
   EXPECT_EQ(j["summary"]["verdicts"]["crease"], 3);
   EXPECT_NEAR(j["summary"]["worst_kink"]["angle_deg"].get<double>(), 10.0, 1e-6);
   EXPECT_TRUE(j["summary"]["worst_gap"].is_null());
+  // Issue 17 §3: the patch-model keys (docs/check.schema.json): the file named, a_edge/b_edge = the B-rep edge.
+  EXPECT_EQ(j["file"], step);
+  EXPECT_EQ(j["format"], "step");
+  EXPECT_EQ(j["model"]["patches"], 14);  // the 7 hinges of 2 patches, one face each
+  for (const auto& s : j["seams"]) {
+    EXPECT_EQ(s["a_edge"], "E" + std::to_string(s["edge"].get<int>())) << s.dump();
+    EXPECT_EQ(s["b_edge"], s["a_edge"]);
+    EXPECT_TRUE(s.contains("index") && s.contains("geometric")) << s.dump();
+  }
+  EXPECT_EQ(j["summary"]["worst_kink"]["a_edge"], "E" + std::to_string(j["summary"]["worst_kink"]["edge"].get<int>()));
+  EXPECT_TRUE(j["summary"]["corners"].is_null());  // not analysed for B-rep files
   const CliRun t = runSeam("check \"" + step + "\" --only problems --top 1");
   EXPECT_NE(t.out.find("worst kink: edge "), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("showing 1 of 3, problems only"), std::string::npos) << t.out;

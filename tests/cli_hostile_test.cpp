@@ -227,7 +227,8 @@ TEST(CliHostile, CheckOfAModelWithoutPatchesHasNothingToCheck) {
     EXPECT_EQ(r.exitCode, kExitOk) << describe(args, r);
     const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
     ASSERT_TRUE(j.is_object()) << describe(args, r);
-    EXPECT_EQ(j.value("patches", -1), 0);
+    EXPECT_EQ(j["model"].value("patches", -1), 0);  // docs/check.schema.json: model.patches
+    EXPECT_EQ(j["summary"].value("seams", -1), 0);
     EXPECT_THAT(j.value("note", std::string()), HasSubstr("nothing to check"));
     EXPECT_EQ(readText(in), before);
   }

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <new>
@@ -69,6 +70,14 @@ OrderedJson failedSeamJson(const Model& m, const EdgePair& p, const Status& erro
                      {"b", patchName(m, p.b.patch)},
                      {"b_edge", std::string(edgeName(p.b.edge))},
                      {"overlap", range(p.overlapA)},
+                     {"verdict", "error"},
+                     {"geometric", nullptr},
+                     {"parametric", nullptr},
+                     {"certified", nullptr},
+                     {"g0_max", nullptr},
+                     {"g1_max_deg", nullptr},
+                     {"g2_max", nullptr},
+                     {"g2_rel_max", nullptr},
                      {"error", error.message()}};
 }
 
@@ -188,6 +197,22 @@ void addVerdictSummary(OrderedJson& summary, const Model& m, const ModelCheckRep
 
 }  // namespace
 
+OrderedJson noPatchesJson(const std::string& name) {
+  OrderedJson geometric{{"none", 0}, {"G0", 0}, {"G1", 0}, {"G2", 0}};
+  OrderedJson verdicts{{"gap", 0}, {"kink", 0}, {"crease", 0}, {"G1", 0}, {"G2", 0}};
+  return OrderedJson{{"model", {{"patches", 0}}},
+                     {"tolerances", nullptr},
+                     {"seams", OrderedJson::array()},
+                     {"corners", OrderedJson::array()},
+                     {"free_edges", OrderedJson::array()},
+                     {"summary", {{"seams", 0}, {"certified", 0}, {"failed", 0}, {"worst_geometric", nullptr},
+                                  {"geometric", geometric}, {"g0_max", nullptr}, {"g1_max_deg", nullptr},
+                                  {"g2_max", nullptr}, {"corners", 0}, {"free_edges", 0}, {"degenerate_edges", 0},
+                                  {"require", nullptr}, {"below_required", 0}, {"verdicts", verdicts},
+                                  {"worst_kink", nullptr}, {"worst_gap", nullptr}}},
+                     {"note", fmt::format("{}: the model has no patches: nothing to check", name)}};
+}
+
 std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r) {
   std::vector<const SeamReport*> reports;
   reports.reserve(r.seams.size());
@@ -228,7 +253,8 @@ OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const
   }
   OrderedJson summary = summaryJson(report, require);
   addVerdictSummary(summary, m, report, creaseAngleDeg);
-  return OrderedJson{{"tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg)},
+  return OrderedJson{{"model", {{"patches", m.patches.size()}}},
+                     {"tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg)},
                      {"seams", seams},
                      {"corners", corners},
                      {"free_edges", free},
@@ -237,7 +263,25 @@ OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const
                      {"summary", summary}};
 }
 
+OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  OrderedJson format = nullptr;
+  if (ext == ".json" || ext == ".bpt") format = ext.substr(1);
+  if (ext == ".step" || ext == ".stp") format = "step";
+  if (ext == ".iges" || ext == ".igs") format = "iges";
+  OrderedJson out{{"file", file.string()}, {"format", format}};
+  for (const auto& [key, value] : check.items())
+    if (key != "file") out[key] = value;
+  return out;
+}
+
 #ifdef SEAM_HAVE_OCCT
+namespace {
+/// "E<n>": a B-rep edge where a patch model names a patch edge (a_edge, b_edge, free edges).
+std::string brepEdgeName(int edge) { return fmt::format("E{}", edge); }
+}  // namespace
+
 OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size_t>& order,
                           const std::optional<GeometricClass>& require, double creaseAngleDeg) {
   int below = 0;
@@ -250,8 +294,9 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
   for (size_t k : order) {
     const occt::BRepSeam& s = r.seams[k];
     OrderedJson j = seamJson(s.report, creaseAngleDeg);
-    j.erase("a_edge");
-    j.erase("b_edge");
+    j["a_edge"] = brepEdgeName(s.edge);  // the shared B-rep edge, the same on both faces
+    j["b_edge"] = brepEdgeName(s.edge);
+    j["index"] = k;
     j["edge"] = s.edge;
     j["route"] = s.viaPatchEdges ? "patch edges (Bernstein form)" : "pcurves (sampled)";
     j["occt_continuity"] = s.occtContinuity;
@@ -259,31 +304,47 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
   }
   OrderedJson free = OrderedJson::array();
   for (const occt::BRepFreeEdge& f : r.freeEdges)
-    free.push_back({{"edge", f.edge}, {"face", f.face}, {"midpoint", point(f.midpoint)}});
+    free.push_back({{"patch", f.face}, {"edge", brepEdgeName(f.edge)}, {"edge_index", f.edge},
+                    {"midpoint", point(f.midpoint)}});
   OrderedJson nonManifold = OrderedJson::array();
   for (const occt::BRepNonManifoldEdge& e : r.nonManifoldEdges)
     nonManifold.push_back({{"edge", e.edge}, {"faces", e.faces}, {"midpoint", point(e.midpoint)}});
-  OrderedJson out{{"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
+  double g0Max = 0.0, g1MaxDeg = 0.0, g2Max = 0.0;
+  for (const SeamReport* x : reports) {
+    g0Max = std::max(g0Max, x->g0Max);
+    g1MaxDeg = std::max(g1MaxDeg, x->g1MaxDeg);
+    g2Max = std::max(g2Max, x->g2Max);
+  }
+  OrderedJson out{{"model", {{"patches", r.import.faces.size()}, {"faces", r.import.faces.size()}, {"sewn", r.sewn}}},
+                  {"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
                                   {"curvature_rel", tol.curvatureRel}, {"crease_angle_deg", creaseAngleDeg}}},
-                  {"model", {{"faces", r.import.faces.size()}, {"sewn", r.sewn}}},
                   {"seams", seams},
+                  {"corners", OrderedJson::array()},  // not analysed for B-rep files (summary.corners is null)
                   {"free_edges", free},
                   {"non_manifold_edges", nonManifold},
                   {"summary", {{"seams", r.seams.size()},
                                {"certified", r.certifiedSeams},
+                               {"failed", 0},  // an edge OpenCASCADE fails on is not a seam: unanalysed_edges
                                {"worst_geometric", std::string(toString(r.worstGeometric))},
                                {"geometric", {{"none", r.geometric[0]}, {"G0", r.geometric[1]},
                                               {"G1", r.geometric[2]}, {"G2", r.geometric[3]}}},
+                               {"g0_max", g0Max},
+                               {"g1_max_deg", g1MaxDeg},
+                               {"g2_max", g2Max},
+                               {"corners", nullptr},
                                {"free_edges", r.freeEdges.size()},
                                {"non_manifold_edges", r.nonManifoldEdges.size()},
                                {"degenerate_edges", r.degenerateEdges},
                                {"loose_edges", r.looseEdges},
+                               {"unanalysed_edges", r.unanalysedEdges},
                                {"agree_with_occt_g1", r.occtAgreement}}}};
-  if (require) out["summary"]["below_required"] = below;
+  out["summary"]["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
+  out["summary"]["below_required"] = below;
   out["summary"]["verdicts"] = verdictCountsJson(countVerdicts(reports, creaseAngleDeg));
   const OrderedJson worst = worstJson(reports, creaseAngleDeg, [&](size_t k) {
     const occt::BRepSeam& s = r.seams[k];
-    return OrderedJson{{"edge", s.edge}, {"a", s.a}, {"b", s.b}};
+    return OrderedJson{{"index", k}, {"a", s.a}, {"a_edge", brepEdgeName(s.edge)}, {"b", s.b},
+                       {"b_edge", brepEdgeName(s.edge)}, {"edge", s.edge}};
   });
   for (const auto& [key, value] : worst.items()) out["summary"][key] = value;
   return out;
@@ -314,7 +375,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
         reports.push_back(&s.report);
         if (o.require && s.report.geometric < *o.require) out.belowRequired = true;
       }
-      out.json = brepCheckJson(*r, selectSeams(reports, o.selection), o.require, crease);
+      out.json = withInputFile(file, brepCheckJson(*r, selectSeams(reports, o.selection), o.require, crease));
       out.warnings = r->import.warnings;
       return out;
     }
@@ -349,9 +410,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
 Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& o) {
   FileCheck out;
   if (model.patches.empty()) {  // as `seam check`: only curves, or "patches": []
-    out.json = OrderedJson{{"file", name},
-                           {"patches", 0},
-                           {"note", fmt::format("{}: the model has no patches: nothing to check", name)}};
+    out.json = withInputFile(name, noPatchesJson(name));
     return out;
   }
   ModelCheckOptions mo;
@@ -360,8 +419,8 @@ Result<FileCheck> checkModel(const Model& model, const std::string& name, const 
   Result<ModelCheckReport> r = seam::checkModel(model, mo);
   if (!r) return r.status().withContext(name);
   out.belowRequired = o.require && r->summary.belowRequired > 0;
-  out.json = modelCheckJson(model, *r, selectSeams(reportsOf(*r), o.selection), o.require, r->pairingTolerance,
-                            o.selection.creaseAngleDeg);
+  out.json = withInputFile(name, modelCheckJson(model, *r, selectSeams(reportsOf(*r), o.selection), o.require,
+                                               r->pairingTolerance, o.selection.creaseAngleDeg));
   return out;
 }
 

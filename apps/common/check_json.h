@@ -38,6 +38,13 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
                           const std::optional<GeometricClass>& require, double creaseAngleDeg);
 #endif
 
+/// `check` with the input named first (issue 17 §3, docs/check.schema.json): {"file": FILE, "format": "json" | "bpt" |
+/// "step" | "iges" (null for another name), ...the keys of `check`}.
+OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check);
+
+/// The check JSON of a model without patches (every key of the schema, empty lists, zero counts, and a `note`).
+OrderedJson noPatchesJson(const std::string& name);
+
 /// The options of a whole-file check (those of `seam check` that apply to a whole model).
 struct FileCheckOptions {
   ToleranceOverrides tol;                ///< --tol-distance / --tol-angle / --tol-curvature

@@ -305,7 +305,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
   const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
   if (o.json) {
-    printJson(brepCheckJson(*r, selectSeams(reports, sel), require, sel.creaseAngleDeg));
+    printJson(withInputFile(o.file, brepCheckJson(*r, selectSeams(reports, sel), require, sel.creaseAngleDeg)));
   } else {
     fmt::print("{}: B-rep of {} faces{}; tolerances distance {}, angle {} deg, curvature {} relative; crease angle {} "
                "deg\n\n",
@@ -377,7 +377,7 @@ int runCheck(const CheckOptions& o) {
   if (model->patches.empty()) {  // only curves, or "patches": []: as `report` and `heal` (issue 15)
     const std::string note = fmt::format("{}: the model has no patches: nothing to check", o.file);
     if (o.json)
-      printJson(OrderedJson{{"file", o.file}, {"patches", 0}, {"note", note}});
+      printJson(withInputFile(o.file, noPatchesJson(o.file)));
     else
       fmt::print("{}\n", note);
     return kExitOk;
@@ -436,8 +436,8 @@ int runCheck(const CheckOptions& o) {
   }
 
   if (o.json) {
-    printJson(modelCheckJson(*model, report, selectSeams(reportsOf(report), *sel), require, pairing,
-                             sel->creaseAngleDeg));
+    printJson(withInputFile(o.file, modelCheckJson(*model, report, selectSeams(reportsOf(report), *sel), require,
+                                                   pairing, sel->creaseAngleDeg)));
   } else {
     std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}; crease angle {} "
                                   "deg\n\n",
