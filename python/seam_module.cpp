@@ -20,6 +20,10 @@
 #include "check_json.h"
 #include "seam/continuity/verdict.h"
 #include "seam/io/file.h"
+#include "seam/io/json.h"
+#include "seam/repair/heal.h"
+#include "seam/repair/report_json.h"
+#include "seam/report/report.h"
 #include "seam/model/model.h"
 #include "seam/version.h"
 #ifdef SEAM_HAVE_OCCT
@@ -302,6 +306,67 @@ py::object checkLoaded(const PyModel& m, const cli::FileCheckOptions& o) {
   return finishCheck(r, m.source);
 }
 
+
+/// heal: the healed model and the dict of `seam heal --json` (without its "output").
+py::tuple heal(const PyModel& m, const std::string& continuity, const std::string& method,
+               std::optional<double> maxGap, std::optional<double> creaseAngle) {
+  HealOptions ho;
+  if (continuity == "G0") ho.continuity = GeometricClass::kG0;
+  else if (continuity == "G1") ho.continuity = GeometricClass::kG1;
+  else throw py::value_error(fmt::format("continuity: \"{}\" is not G0 or G1 (G2: join seam by seam)", continuity));
+  const Result<HealMethod> hm = parseHealMethod(method);
+  if (!hm) throw py::value_error("method: " + hm.status().message());
+  ho.method = *hm;
+  ho.maxGap = positive("max_gap", maxGap);
+  if (creaseAngle) {
+    if (!(*creaseAngle > 0.0 && *creaseAngle <= 180.0))
+      throw py::value_error("crease_angle must be an angle in degrees in (0, 180]");
+    ho.maxAngleDeg = creaseAngle;
+  }
+  if (m.model.patches.empty()) throw py::value_error(m.source + ": the model has no patches: nothing to heal");
+  Result<HealResult> r = Status(ErrorCode::kIoError, "not healed");
+  std::string json;
+  {
+    py::gil_scoped_release release;
+    r = healModel(m.model, ho);
+    if (r) json = healReportJson(r->report);
+  }
+  if (!r) raise(r.status().withContext(m.source));
+  PyModel healed{std::move(r->model), m.source + " (healed)"};
+  return py::make_tuple(std::move(healed), py::module_::import("json").attr("loads")(json));
+}
+
+/// report: the HTML page of `seam report` for a patch model, written atomically; returns the path.
+std::string writeReport(const PyModel& m, const std::filesystem::path& out, const std::optional<std::string>& title) {
+  if (m.model.patches.empty()) throw py::value_error(m.source + ": the model has no patches: nothing to check");
+  if (const Status s = io::checkOutputFile(out); !s) raise(s);
+  Status written = Status::ok();
+  {
+    py::gil_scoped_release release;
+    ModelCheckOptions mo;
+    mo.tolerances = Tolerances::forModelSize(m.model.boundingBox().diagonal());
+    mo.seam.keepSamples = true;
+    const Result<ModelCheckReport> checked = checkModel(m.model, mo);
+    if (!checked) {
+      written = checked.status().withContext(m.source);
+    } else {
+      report::HtmlReportOptions ro;
+      ro.title = title ? *title : "seam report: " + std::filesystem::path(m.source).filename().string();
+      written = io::writeFileAtomically(out, report::htmlReport(m.model, *checked, ro));
+    }
+  }
+  if (!written) raise(written);
+  return out.string();
+}
+
+void save(const PyModel& m, const std::filesystem::path& out) {
+  std::string ext = out.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".json") throw py::value_error(fmt::format("{}: save writes .json models (use `seam convert` for STEP/IGES)", out.string()));
+  if (const Status s = io::checkOutputFile(out); !s) raise(s);
+  if (const Status s = io::writeModelJson(m.model, out); !s) raise(s);
+}
+
 }  // namespace
 
 }  // namespace seam::python
@@ -357,6 +422,13 @@ PYBIND11_MODULE(_seam, mod) {
           "(NaN where k + l > order)");
   mod.def("evaluate_curve", &evaluateCurve, py::arg("model"), py::arg("curve"), py::arg("t"), py::arg("order") = 0,
           "Points and derivatives of a curve: (n, order+1, dim), [i, k] = d^k C / dt^k at t[i]");
+
+  mod.def("heal", &heal, py::arg("model"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
+          py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(),
+          "Makes every seam G1 (or G0) where it can, never worse: (healed Model, the dict of `seam heal --json`)");
+  mod.def("report", &writeReport, py::arg("model"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
+          "Writes the self-contained HTML report of `seam report` (patch models) atomically; returns the path");
+  mod.def("save", &save, py::arg("model"), py::arg("path"), "Writes a model as .json (atomically)");
 
   auto checkDoc =
       "Continuity of every seam, corner and free edge: the dict of `seam check FILE --json` with the same options "

@@ -5,12 +5,16 @@
     seam.evaluate(m, "A", [[0.25, 0.5]])                # (n, 3) points
     seam.derivatives(m, "A", uv, 2)                     # (n, 3, 3, 3): [i, k, l] = d^(k+l) S / du^k dv^l
     seam.check("model.step")                            # the dict of `seam check model.step --json`
+    healed, info = seam.heal(m)                         # (Model, the dict of `seam heal --json`)
+    seam.save(healed, "healed.json"); seam.report(m, "report.html")
     seam.batch.check_files(paths, client=None)          # many files, optionally on a Dask cluster
 
 Bad input raises ValueError (invalid data, unknown names, parameters outside the domain), OSError (unreadable
 files) or RuntimeError; messages name the file, the object and the problem. README "Python".
 """
-from ._seam import Model, __version__, check, derivatives, evaluate, evaluate_curve, has_occt, load
+from ._seam import (Model, __version__, check, derivatives, evaluate, evaluate_curve, has_occt, heal, load, report,
+                    save)
 from . import batch
 
-__all__ = ["Model", "__version__", "batch", "check", "derivatives", "evaluate", "evaluate_curve", "has_occt", "load"]
+__all__ = ["Model", "__version__", "batch", "check", "derivatives", "evaluate", "evaluate_curve", "has_occt", "heal",
+           "load", "report", "save"]

@@ -123,3 +123,31 @@ def test_bad_input_raises(tmp_path, examples):
         seam.check(m, tol_distance=-1.0)
     with pytest.raises(ValueError, match="crease_angle"):
         seam.check(m, crease_angle=200.0)
+
+
+def test_heal_matches_cli(examples, run_cli, tmp_path):
+    path = os.path.join(examples, "models", "network_fan5.json")
+    cli_out = tmp_path / "cli.json"
+    code, expected, err = run_cli("heal", path, "-o", str(cli_out), "--json")
+    assert code == 0, err
+    healed, info = seam.heal(seam.load(path))
+    expected.pop("output")
+    assert info == expected
+    py_out = tmp_path / "py.json"
+    seam.save(healed, py_out)
+    assert py_out.read_bytes() == cli_out.read_bytes()  # the same healed model, written by the same writer
+    with pytest.raises(ValueError, match="continuity"):
+        seam.heal(healed, continuity="G2")
+
+
+def test_report_writes_html(examples, tmp_path):
+    m = seam.load(os.path.join(examples, "models", "two_patches.json"))
+    out = tmp_path / "r.html"
+    assert seam.report(m, out, title="two patches") == str(out)
+    text = out.read_text()
+    assert text.lstrip().lower().startswith("<!doctype html") and "two patches" in text
+    assert not [p for p in tmp_path.iterdir() if p.name != "r.html"]  # atomic: no temporary file left
+    with pytest.raises(OSError):
+        seam.report(m, tmp_path)  # a directory is not an output file
+    with pytest.raises(ValueError, match="save writes .json"):
+        seam.save(m, tmp_path / "m.step")
