@@ -48,10 +48,11 @@ if [ -d build/python/seam ]; then
   pth_line="$(pwd)/build/python"
   for py in /usr/bin/python3 "$(command -v python3 || true)"; do
     [ -x "$py" ] || continue
-    site="$("$py" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
+    site="$("$py" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])' 2>/dev/null)" || continue
     lines="$pth_line"
     if [ "$py" != /usr/bin/python3 ]; then
-      if [ "$("$py" -c 'import sys; print(sys.version_info[:2])')" != "$(/usr/bin/python3 -c 'import sys; print(sys.version_info[:2])')" ]; then
+      version="$("$py" -c 'import sys; print(sys.version_info[:2])' 2>/dev/null)" || continue
+      if [ "$version" != "$(/usr/bin/python3 -c 'import sys; print(sys.version_info[:2])')" ]; then
         echo "setup: $py is not the version of /usr/bin/python3: use /usr/bin/python3 for the module seam"
         continue
       fi
