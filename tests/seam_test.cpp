@@ -17,6 +17,7 @@
 
 #include "seam/continuity/seam.h"
 #include "seam/io/file.h"
+#include "hinge_models.h"
 #include "seam_test_support.h"
 
 namespace seam {
@@ -821,6 +822,50 @@ TEST(SeamGap, TranslationAlongTheEdgeShortensTheOverlapAndLeavesThePerpendicular
     EXPECT_TRUE(near(20.0, r->g1SampledDeg, kKnownAngleTolDeg, "g1SampledDeg"));
     EXPECT_EQ(r->geometric, GeometricClass::kNone);
   }
+}
+
+// Issue 15 section 4: B's edge overhangs A's by o along the edge and lies h above it (o < sqrt(3) h, so that each
+// edge's end point is matched to the other's end point rather than to its closest point). Over the common part the
+// edges are h apart; between the matched corner points the distance is hypot(o, h), and that is the seam's gap.
+// Planar bilinear patches: A(1, t) = (0, t, 0), B(0, s) = (0, (1 + o) s, h) (reversed: (0, (1 + o)(1 - s), h)).
+TEST(SeamGap, AnOverhangingEndCountsInTheGap) {
+  for (const bool reversedB : {false, true}) {
+    SCOPED_TRACE(reversedB ? "B reversed" : "B same direction");
+    const double h = 0.00108, o = 0.0017;
+    const double corner = std::hypot(o, h);  // 0.002014..., the distance between the matched corner points
+    const Patch a = test::planarPatch("A", Vec3(-1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    const Patch b = reversedB ? test::planarPatch("B", Vec3(0, 1 + o, h), Vec3(1, 0, 0), Vec3(0, -(1 + o), 0))
+                              : test::planarPatch("B", Vec3(0, 0, h), Vec3(1, 0, 0), Vec3(0, 1 + o, 0));
+    SeamOptions opt;
+    opt.tol.distance = 0.0015;  // between the common-part gap h and the corner distance
+    Result<SeamReport> r = analyzeSeam(a, Edge::U1, b, Edge::U0, opt);
+    ASSERT_TRUE(r) << r.status().message();
+    SCOPED_TRACE(describe(*r));
+    EXPECT_EQ(r->reversed, reversedB);
+    EXPECT_TRUE(near(corner, r->endMismatch, 1e-15, "endMismatch"));
+    EXPECT_GE(r->g0Max, corner * (1.0 - 1e-12));
+    EXPECT_LE(r->g0Max, corner * (1.0 + kBoundRelGap));
+    EXPECT_TRUE(near(corner, r->g0Sampled, 1e-12, "g0Sampled"));
+    EXPECT_TRUE(near(1.0, r->g0Worst.t, 1e-12, "the worst gap is at the overhanging end"));
+    EXPECT_TRUE(std::any_of(r->notes.begin(), r->notes.end(),
+                            [](const std::string& n) { return n.find("runs past") != std::string::npos; }));
+    EXPECT_EQ(r->geometric, GeometricClass::kNone);  // h alone would pass the tolerance; the ends do not
+  }
+}
+
+// The ends of a seam are matched both ways only: an edge that goes on well past its partner (here B is twice as
+// long as A, a T- or L-junction) has an end that is nobody's partner, so no end mismatch is added and the gap is
+// the gap over the common part.
+TEST(SeamGap, AnEdgeGoingOnPastItsPartnerAddsNoEndMismatch) {
+  const double h = 1e-4;
+  const Patch a = test::planarPatch("A", Vec3(-1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0));
+  const Patch b = test::planarPatch("B", Vec3(0, 0, h), Vec3(1, 0, 0), Vec3(0, 2, 0));
+  Result<SeamReport> r = analyzeSeam(a, Edge::U1, b, Edge::U0, SeamOptions{});
+  ASSERT_TRUE(r) << r.status().message();
+  SCOPED_TRACE(describe(*r));
+  EXPECT_TRUE(sameInterval({0.0, 0.5}, r->overlapB, kGapOverlapTol, "overlapB"));
+  EXPECT_TRUE(near(h, r->endMismatch, 1e-15, "endMismatch (the shared start only)"));
+  EXPECT_TRUE(near(h, r->g0Max, h * kBoundRelGap, "g0Max"));
 }
 
 // =====================================================================================================================

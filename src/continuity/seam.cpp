@@ -786,6 +786,19 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   const double tb0 = project(A.curve, b0, da), tb1 = project(A.curve, b1, da);
   const double sa0 = project(B.curve, a0, db), sa1 = project(B.curve, a1, db);
   rep.reversed = tb0 > tb1 || (tb0 == tb1 && sa0 > sa1);
+  // End mismatch (issue 15 §4): an end point of A and an end point of B matched to each other both ways (each is
+  // the other's partner end) are the same end of the seam, so the gap there is their distance, also where one edge
+  // runs a little past the other (an overhang within the snap distance, which the pairing does not report as a free
+  // part). An end matched only one way (T-junctions, edges that go on past the other) is not a seam end.
+  double endMismatch = 0.0, endMismatchT = da.lo;
+  Vec3 endMismatchPoint = a0;
+  for (const auto& [aT, aP, sa] : {std::tuple{da.lo, a0, sa0}, std::tuple{da.hi, a1, sa1}}) {
+    for (const auto& [bS, bP, tb] : {std::tuple{db.lo, b0, tb0}, std::tuple{db.hi, b1, tb1}}) {
+      if (sa != bS || tb != aT) continue;
+      const double d = (aP - bP).norm();
+      if (d > endMismatch) endMismatch = d, endMismatchT = aT, endMismatchPoint = aP;
+    }
+  }
   rep.overlapA = {std::min(tb0, tb1), std::max(tb0, tb1)};
   rep.overlapB = {std::min(sa0, sa1), std::max(sa0, sa1)};
   const double minOverlap = kKnotRelTol * 1e3;
@@ -1133,6 +1146,18 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   }
   rep.g2RelMax = rep.g2Max / curvRef;
   rep.g2RelSampled = rep.g2Sampled / curvRef;
+
+  // ---- the ends: the gap of a seam includes the distance between its matched end points.
+  rep.endMismatch = endMismatch;
+  if (endMismatch > rep.g0Max) {
+    rep.notes.push_back(fmt::format("the edges' end points are {:.6g} apart at t = {:.6g}, more than the gap of {:.6g} "
+                                    "between the edges elsewhere: one edge runs past the other; the gap shown "
+                                    "includes the ends",
+                                    endMismatch, endMismatchT, rep.g0Max));
+    rep.g0Max = endMismatch;
+    rep.g0Worst = {endMismatchT, endMismatchPoint};
+  }
+  rep.g0Sampled = std::max(rep.g0Sampled, endMismatch);
 
   // ---- classification.
   const auto& tol = opt.tol;

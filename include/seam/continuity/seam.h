@@ -80,6 +80,10 @@ struct SeamReport {
 
   // Worst values: *Max are certified upper bounds when `certified`, else the refined sampled maxima.
   double g0Max = 0.0, g0Sampled = 0.0;
+  /// Largest distance between an end point of A's edge and the end point of B's edge matched to it (the ends of
+  /// the seam; issue 15 §4). Included in g0Max / g0Sampled: where one edge overhangs the other by less than the
+  /// overlap snap distance, the gap of the seam is this distance, not the gap over the common part alone.
+  double endMismatch = 0.0;
   double g1MaxDeg = 0.0, g1SampledDeg = 0.0;
   double g2Max = 0.0, g2Sampled = 0.0;          ///< absolute (1/length)
   /// g2Max / g2Sampled divided by the largest curvature (spectral norm of either shape operator) found anywhere on
