@@ -59,6 +59,12 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
     return row
 
 
+def error_row(path: str, message: str, seconds: float = 0.0) -> dict:
+    """The row of a file that could not be checked."""
+    return {"file": path, "status": "error", "error": message, "seams": 0, "gap": 0, "kink": 0, "crease": 0, "G1": 0,
+            "G2": 0, "worst_gap": None, "worst_angle_deg": None, "seconds": seconds}
+
+
 def check_file(path: str, **options) -> dict:
     """One file's row; never raises for a bad file (status "error" and the message instead)."""
     from . import _seam  # imported here so that a Dask worker unpickling this function imports the module itself
@@ -67,21 +73,28 @@ def check_file(path: str, **options) -> dict:
     try:
         result = _seam.check(path, **options)
     except (ValueError, OSError, RuntimeError) as e:
-        return {"file": path, "status": "error", "error": str(e), "seams": 0, "gap": 0, "kink": 0, "crease": 0,
-                "G1": 0, "G2": 0, "worst_gap": None, "worst_angle_deg": None,
-                "seconds": time.perf_counter() - start}
+        return error_row(path, str(e), time.perf_counter() - start)
     return summarize(path, result, time.perf_counter() - start, options.get("require"))
 
 
-def check_files(paths, client=None, **options) -> list[dict]:
+def check_files(paths, client=None, function=None, **options) -> list[dict]:
     """Rows of check_file for every path, in the order given. With a distributed.Client the files are mapped over
     its workers (one task per file); without one they are checked here, one after another. `options` are
-    seam.check's keyword options (tol_distance, require, ...)."""
+    seam.check's keyword options (tol_distance, require, ...). `function` replaces check_file (same arguments, same
+    row), e.g. to add columns. A task that fails on a worker (a worker killed by a crash in a reader gives
+    distributed's KilledWorker) becomes that file's error row: the batch goes on."""
     paths = [os.fspath(p) for p in paths]
+    function = function or check_file
     if client is None:
-        return [check_file(p, **options) for p in paths]
-    futures = client.map(check_file, paths, pure=False, **options)
-    return client.gather(futures)
+        return [function(p, **options) for p in paths]
+    futures = client.map(function, paths, pure=False, **options)
+    rows = []
+    for path, future in zip(paths, futures):
+        try:
+            rows.append(future.result())
+        except Exception as e:  # noqa: BLE001 - any failure of one task is that file's error, never the batch's
+            rows.append(error_row(path, f"{type(e).__name__}: {e}"))
+    return rows
 
 
 def exit_code(rows) -> int:

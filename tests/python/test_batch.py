@@ -98,3 +98,32 @@ def test_dask_local_cluster_matches_local(batch_dir):
         workers = client.run(os.getpid)
     assert len(set(workers.values())) == 2 and os.getpid() not in workers.values()  # really on two other processes
     assert [comparable(r) for r in rows] == local
+
+
+def test_dask_worker_crash_is_an_error_row(batch_dir):
+    """A file that kills its worker (as a crash inside OpenCASCADE would) gives an error row; the other files are
+    checked and the batch returns."""
+    distributed = pytest.importorskip("distributed")
+    import dask
+
+    files = seam.batch.find_files(str(batch_dir))
+    victim = [f for f in files if f.endswith("teapot.bpt")][0]
+
+    def crash_on_teapot(path, **options):  # pickled by value (a local function), run on the workers
+        if path.endswith("teapot.bpt"):
+            os._exit(3)
+        return seam.batch.check_file(path, **options)
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                      silence_logs=50) as cluster, distributed.Client(cluster) as client:
+            rows = seam.batch.check_files(files, client=client, function=crash_on_teapot)
+    by_file = {r["file"]: r for r in rows}
+    assert by_file[victim]["status"] == "error" and "KilledWorker" in by_file[victim]["error"]
+    assert len(rows) == len(files)
+    # With allowed-failures 0, a task queued on the dying worker fails with it (by default Dask retries such tasks
+    # 3 times); every other file is checked.
+    others = [r for r in rows if r["file"] != victim and not r["file"].endswith("broken.step")]
+    assert all(r["status"] in ("ok", "problem") or "KilledWorker" in r["error"] for r in others)
+    assert any(r["status"] in ("ok", "problem") for r in others)
+    assert seam.batch.exit_code(rows) == 2
