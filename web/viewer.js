@@ -171,11 +171,12 @@ function start() {
   const spikeGroups = {};
   for (const measure of ['g1', 'g2']) {
     let maxV = 0;
-    data.seams.forEach((s) => s.s && s.s[measure].forEach((v) => { if (Number.isFinite(v)) maxV = Math.max(maxV, v); }));
+    // Design creases (verdict 2) get no spikes: their angle is intended and would dwarf every defect's spikes.
+    const spiked = data.seams.filter((s) => s.s && s.v !== 2 && s.c.length >= 6);
+    spiked.forEach((s) => s.s[measure].forEach((v) => { if (Number.isFinite(v)) maxV = Math.max(maxV, v); }));
     const pos = [], col = [];
     if (maxV > 0) {
-      for (const s of data.seams) {
-        if (!s.s || s.c.length < 6) continue;
+      for (const s of spiked) {
         const ts = s.s.t, vs = s.s[measure];
         const t0 = ts[0], t1 = ts[ts.length - 1] > t0 ? ts[ts.length - 1] : t0 + 1;
         const colour = new THREE.Color(s.v >= 0 ? VERDICT_COLOURS[s.v] : FAILED_COLOUR);
