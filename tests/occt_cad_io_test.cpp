@@ -23,6 +23,10 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
+#include <regex>
+#include <sstream>
+#include <iterator>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -145,6 +149,77 @@ TEST(OcctReadModel, ReadModelReadsStepAndIgesWhenSeamOcctIsLinked) {
   ASSERT_FALSE(obj.isOk());
   EXPECT_EQ(obj.status().message(),
             "mesh.obj: unsupported file extension \".obj\" (supported: .json, .bpt, .step/.stp, .iges/.igs)");
+}
+
+// Issue 17 §3: each face carries its entity in the file. Independent route: the file's own text, STEP's
+// "#N = ADVANCED_FACE(" instances and IGES's directory entries of type 510 (face), read without OpenCASCADE.
+std::set<std::string> stepFaceIds(const std::string& text) {
+  std::set<std::string> ids;
+  const std::regex face(R"((#\d+)\s*=\s*ADVANCED_FACE\s*\()");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), face); it != std::sregex_iterator(); ++it)
+    ids.insert((*it)[1].str());
+  return ids;
+}
+
+std::set<std::string> igesFaceEntries(const std::string& text) {
+  std::set<std::string> ids;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.size() < 80 || line[72] != 'D') continue;
+    const int sequence = std::stoi(line.substr(73, 7));
+    if (sequence % 2 == 1 && std::stoi(line.substr(0, 8)) == 510) ids.insert("D" + std::to_string(sequence));
+  }
+  return ids;
+}
+
+std::string fileText(const fs::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(OcctReadModel, FacesAreNamedByTheirEntityInTheFile) {
+  {  // IGES written by seam: every face is a directory entry of type 510
+    const Model m = randomModel(5);
+    const fs::path file = tempPath("ent.igs");
+    ASSERT_TRUE(occt::writeCadFile(m, file, occt::CadFormat::kIges).isOk());
+    const std::string text = fileText(file);
+    const Result<occt::CadImport> r = occt::readCadFile(file);
+    const Result<occt::BRepCheckReport> b = occt::checkBRepFile(file);
+    fs::remove(file);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_TRUE(b.isOk()) << b.status().message();
+    const std::set<std::string> expected = igesFaceEntries(text);
+    ASSERT_EQ(expected.size(), 2u);
+    for (const auto* faces : {&r->faces, &b->import.faces}) {
+      std::set<std::string> got;
+      for (const occt::CadFace& f : *faces) got.insert(f.entity);
+      EXPECT_EQ(got, expected);
+    }
+  }
+  // STEP (trj3: 94 faces, 90 ADVANCED_FACEs and 4 bare bounded surfaces; sewn by the B-rep check): every
+  // ADVANCED_FACE names its face, and every name is an instance of the file, used once.
+  const fs::path trj3 = kData / "step" / "trj3_s1-al-214.stp";
+  if (!fs::exists(trj3)) GTEST_SKIP() << trj3 << " missing";
+  const std::string text = fileText(trj3);
+  const std::set<std::string> advancedFaces = stepFaceIds(text);
+  ASSERT_EQ(advancedFaces.size(), 90u);
+  const Result<occt::CadImport> r = occt::readCadFile(trj3);
+  const Result<occt::BRepCheckReport> b = occt::checkBRepFile(trj3);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_TRUE(b.isOk()) << b.status().message();
+  for (const auto* faces : {&r->faces, &b->import.faces}) {
+    ASSERT_EQ(faces->size(), 94u);
+    std::set<std::string> got;
+    for (const occt::CadFace& f : *faces) {
+      if (f.entity.empty()) continue;
+      EXPECT_NE(text.find("\n" + f.entity + "="), std::string::npos) << f.patch << " " << f.entity;
+      EXPECT_TRUE(got.insert(f.entity).second) << f.entity << " named twice";
+    }
+    for (const std::string& id : advancedFaces) EXPECT_TRUE(got.count(id)) << id << " names no face";
+  }
+  EXPECT_EQ(r->faces[1].entity, "#1283");  // #1283=ADVANCED_FACE('trim region',...)
+  EXPECT_EQ(r->faces[1].entityName, "trim region");
 }
 
 // Issue 15: the writer's temporary is io::temporaryPathFor's short ".seam-<pid>-<n>.tmp", not the output's name plus

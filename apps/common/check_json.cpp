@@ -315,7 +315,15 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
     g1MaxDeg = std::max(g1MaxDeg, x->g1MaxDeg);
     g2Max = std::max(g2Max, x->g2Max);
   }
-  OrderedJson out{{"model", {{"patches", r.import.faces.size()}, {"faces", r.import.faces.size()}, {"sewn", r.sewn}}},
+  // Each face by its entity in the file: "#1234" (STEP) or "D17" (IGES directory entry), and its name.
+  OrderedJson faceNames = OrderedJson::array();
+  auto orNull = [](const std::string& x) { return x.empty() ? OrderedJson(nullptr) : OrderedJson(x); };
+  for (const occt::CadFace& f : r.import.faces)
+    faceNames.push_back({{"patch", f.patch}, {"entity", orNull(f.entity)}, {"name", orNull(f.entityName)}});
+  OrderedJson out{{"model", {{"patches", r.import.faces.size()},
+                             {"faces", r.import.faces.size()},
+                             {"sewn", r.sewn},
+                             {"face_names", faceNames}}},
                   {"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
                                   {"curvature_rel", tol.curvatureRel}, {"crease_angle_deg", creaseAngleDeg}}},
                   {"seams", seams},

@@ -418,7 +418,8 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
   if (!format)
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
   std::vector<std::string> readWarnings;
-  Result<TopoDS_Shape> read = detail::readShape(file, *format, &readWarnings);
+  detail::FaceLabels labels;
+  Result<TopoDS_Shape> read = detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels);
   if (!read) return read.status();
   BRepCheckReport out;
   // Every OpenCASCADE call of the check (bounding box, sewing, BRepLib::ContinuityOfFaces, pcurves, evaluation of
@@ -441,6 +442,17 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       if (!sewing.SewedShape().IsNull()) {
         shape = sewing.SewedShape();
         out.sewn = true;
+        // The sewn faces keep the entities of the faces they were made from.
+        detail::FaceLabels sewn;
+        for (int i = 1; i <= labels.faces.Extent(); ++i) {
+          const TopoDS_Shape& original = labels.faces(i);
+          const TopoDS_Shape now = sewing.IsModified(original) ? sewing.Modified(original) : original;
+          if (!sewn.faces.Contains(now)) {
+            sewn.faces.Add(now);
+            sewn.labels.push_back(labels.labels[static_cast<size_t>(i - 1)]);
+          }
+        }
+        labels = std::move(sewn);
       }
       faceMap.Clear();
       TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
@@ -450,6 +462,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     Result<CadImport> imported = detail::convertFaces(file, faces, options.read);
     if (!imported) return imported.status();
     out.import = std::move(imported).value();
+    detail::applyFaceLabels(out.import, faces, labels);
     out.import.warnings.insert(out.import.warnings.begin(), readWarnings.begin(), readWarnings.end());
     std::map<int, size_t> patchOfFace;  // 1-based face index -> patch index
     for (size_t k = 0; k < out.import.faces.size(); ++k) patchOfFace[out.import.faces[k].faceIndex] = k;

@@ -3,6 +3,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <signal.h>
 
 #include <array>
@@ -52,9 +53,22 @@ constexpr std::chrono::seconds kTransferTimeLimit{60};
 /// reader could not load, are counted in `warnings`; without `warnings`, they are kept for the next convertFaces of
 /// the same file on this thread (which puts them first in CadImport::warnings). A transfer running past `timeLimit`
 /// is an error.
+/// The file entity of every face of a transferred shape: labels[i - 1] belongs to faces(i).
+struct FaceLabels {
+  struct Label {
+    std::string entity;  ///< "#1234" (STEP) or "D17" (IGES directory entry), "" when unknown
+    std::string name;
+  };
+  TopTools_IndexedMapOfShape faces;
+  std::vector<Label> labels;
+};
+
 Result<TopoDS_Shape> readShape(const std::filesystem::path& file, CadFormat format,
                                std::vector<std::string>* warnings = nullptr,
-                               std::chrono::seconds timeLimit = kTransferTimeLimit);
+                               std::chrono::seconds timeLimit = kTransferTimeLimit, FaceLabels* labels = nullptr);
+
+/// Copies the entity and name of each face (CadFace::faceIndex, 1-based into `faces`) from `labels`.
+void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, const FaceLabels& labels);
 
 /// One patch per face, in the given order (faces that fail are skipped with a warning naming them; CadImport::faces
 /// stays aligned with the patches, and CadFace::patch is "F<n>" with n the face's 1-based position).

@@ -32,6 +32,12 @@
 #include <StepAP214.hxx>
 #include <StepAP214_Protocol.hxx>
 #include <StepData_StepModel.hxx>
+#include <StepRepr_RepresentationItem.hxx>
+#include <IGESData_IGESEntity.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <StepData_StepWriter.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
@@ -293,11 +299,6 @@ bool naturallyBounded(const TopoDS_Face& face, const detail::ParamBox& box, int&
 
 }  // namespace
 
-namespace detail {
-Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vector<std::string>* warnings,
-                               std::chrono::seconds timeLimit);
-}  // namespace detail
-
 namespace {
 
 /// Reads the written temporary file `temp` back and checks that it holds `faces` faces (errors name `file`).
@@ -320,6 +321,39 @@ Status verifyWritten(const fs::path& temp, const fs::path& file, CadFormat forma
 }  // namespace
 
 namespace detail {
+
+namespace {
+
+/// The file entity of every face of `shape` (issue 17 §3): the STEP instance id "#1234" and the entity's name, or the
+/// IGES directory entry "D17" and its name; "" where OpenCASCADE's transfer cannot trace a face back.
+void labelFaces(XSControl_Reader& reader, const TopoDS_Shape& shape, FaceLabels& labels) {
+  const Handle(XSControl_WorkSession) session = reader.WS();
+  const Handle(XSControl_TransferReader) transfer = session.IsNull() ? nullptr : session->TransferReader();
+  const Handle(Interface_InterfaceModel) model = reader.Model();
+  const Handle(StepData_StepModel) stepModel = Handle(StepData_StepModel)::DownCast(model);
+  const Handle(IGESData_IGESModel) igesModel = Handle(IGESData_IGESModel)::DownCast(model);
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
+    if (labels.faces.Contains(ex.Current())) continue;
+    FaceLabels::Label label;
+    const Handle(Standard_Transient) entity =
+        transfer.IsNull() ? Handle(Standard_Transient)() : transfer->EntityFromShapeResult(ex.Current(), 1);
+    if (!entity.IsNull() && !stepModel.IsNull()) {
+      if (const int id = stepModel->IdentLabel(entity); id > 0) label.entity = fmt::format("#{}", id);
+      const Handle(StepRepr_RepresentationItem) item = Handle(StepRepr_RepresentationItem)::DownCast(entity);
+      if (!item.IsNull() && !item->Name().IsNull()) label.name = item->Name()->ToCString();
+    } else if (!entity.IsNull() && !igesModel.IsNull()) {
+      const Handle(IGESData_IGESEntity) iges = Handle(IGESData_IGESEntity)::DownCast(entity);
+      if (!iges.IsNull()) {
+        if (const int dnum = igesModel->DNum(iges); dnum > 0) label.entity = fmt::format("D{}", dnum);
+        if (iges->HasName() && !iges->NameValue().IsNull()) label.name = iges->NameValue()->ToCString();
+      }
+    }
+    labels.faces.Add(ex.Current());
+    labels.labels.push_back(std::move(label));
+  }
+}
+
+}  // namespace
 
 std::optional<Edge> boxSideOf(const TopoDS_Edge& edge, const TopoDS_Face& face, const ParamBox& box, bool wholeSide) {
   double f = 0.0, l = 0.0;
@@ -374,7 +408,7 @@ OcctSignalGuard::~OcctSignalGuard() {
 /// Reads the file into one shape (STEP or IGES), with OpenCASCADE's errors, crashes and overlong transfers turned
 /// into messages.
 Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vector<std::string>* warnings,
-                               std::chrono::seconds timeLimit) {
+                               std::chrono::seconds timeLimit, FaceLabels* labels) {
   if (Status st = io::checkInputFile(file, io::kMaxCadFileBytes); !st) return st;  // a FIFO, a directory, too large
   if (Status st = checkReals(file, format); !st) return st;
   silenceOcct();
@@ -431,12 +465,24 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
     }
     // Without `warnings` (the B-rep check), they go with the faces of this file to convertFaces on this thread.
     pendingReadWarnings = {file, std::move(pending)};
-    return reader->OneShape();
+    TopoDS_Shape shape = reader->OneShape();
+    if (labels != nullptr) labelFaces(*reader, shape, *labels);
+    return shape;
   } catch (const Standard_Failure& f) {
     if (isSignal(f))
       return invalidInput(fmt::format("{}: OpenCASCADE crashed reading the {} file ({}); the file is corrupt",
                                       name, kind, f.GetMessageString()));
     return invalidInput(fmt::format("{}: OpenCASCADE failed to read the file: {}", name, f.GetMessageString()));
+  }
+}
+
+void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, const FaceLabels& labels) {
+  for (CadFace& f : import.faces) {
+    if (f.faceIndex < 1 || f.faceIndex > static_cast<int>(faces.size())) continue;
+    const int i = labels.faces.FindIndex(faces[static_cast<size_t>(f.faceIndex - 1)]);
+    if (i < 1) continue;
+    f.entity = labels.labels[static_cast<size_t>(i - 1)].entity;
+    f.entityName = labels.labels[static_cast<size_t>(i - 1)].name;
   }
 }
 
@@ -454,11 +500,13 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
   if (!format)
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
   std::vector<std::string> readWarnings;
-  Result<TopoDS_Shape> shape = detail::readShape(file, *format, &readWarnings);
+  detail::FaceLabels labels;
+  Result<TopoDS_Shape> shape = detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels);
   if (!shape) return shape.status();
   std::vector<TopoDS_Face> faces;
   for (TopExp_Explorer ex(*shape, TopAbs_FACE); ex.More(); ex.Next()) faces.push_back(TopoDS::Face(ex.Current()));
   Result<CadImport> out = detail::convertFaces(file, faces, options);
+  if (out) detail::applyFaceLabels(*out, faces, labels);
   if (out) out->warnings.insert(out->warnings.begin(), readWarnings.begin(), readWarnings.end());
   return out;
 }

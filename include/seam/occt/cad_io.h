@@ -44,6 +44,10 @@ struct CadFace {
   bool reversed = false;        ///< face orientation reversed with respect to its surface normal
   int wires = 0;                ///< number of boundary loops (1 outer + holes)
   int edges = 0;                ///< edges on the outer loop
+  /// The face's entity in the file (issue 17 §3): "#1234" (STEP instance id) or "D17" (IGES directory entry
+  /// number); "" when OpenCASCADE cannot trace the face back to one.
+  std::string entity;
+  std::string entityName;       ///< the entity's name in the file ("" when it has none)
 };
 
 struct CadImport {
