@@ -127,3 +127,12 @@ def test_dask_worker_crash_is_an_error_row(batch_dir):
     assert all(r["status"] in ("ok", "problem") or "KilledWorker" in r["error"] for r in others)
     assert any(r["status"] in ("ok", "problem") for r in others)
     assert seam.batch.exit_code(rows) == 2
+
+
+def test_cli_batch_timeout_is_an_error_row(cli, shared_data):
+    slow = os.path.join(shared_data, "bezier", "teapot.bpt")  # ~0.5 s: far above a 1 ms limit
+    p = subprocess.run([cli, "batch", slow, "--json", "--timeout", "0.001"], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 2, p.stderr
+    row = json.loads(p.stdout)["files"][0]
+    assert row["status"] == "error" and "timed out" in row["error"] and row["seconds"] < 60
