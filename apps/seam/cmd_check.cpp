@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -312,11 +313,19 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                o.file, r->import.faces.size(), r->sewn ? " (sewn)" : "", formatNumber(tol.distance),
                formatNumber(tol.angleDeg), formatNumber(tol.curvatureRel), formatNumber(sel.creaseAngleDeg));
     const SeamListing l = listSeams(reports, sel);
+    // A face as "F12 #1283" where the file names its entity (docs/check-output.md).
+    std::map<std::string, std::string> entityOf;
+    for (const occt::CadFace& f : r->import.faces)
+      if (!f.entity.empty()) entityOf[f.patch] = f.entity;
+    auto face = [&](const std::string& patch) {
+      const auto it = entityOf.find(patch);
+      return it == entityOf.end() ? patch : patch + " " + it->second;
+    };
     auto table = [&](const std::vector<size_t>& list) {
       std::vector<std::vector<std::string>> rows;
       for (size_t k : list) {
         const occt::BRepSeam& s = r->seams[k];
-        rows.push_back({std::to_string(s.edge), s.a, s.b, std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
+        rows.push_back({std::to_string(s.edge), face(s.a), face(s.b), std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
                         formatDistance(s.report.g0Max, tol.distance), formatAngle(s.report.g1MaxDeg),
                         formatRatio(s.report.g2Max),
                         std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
@@ -349,7 +358,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
                worstLines(reports, sel.creaseAngleDeg, tol.distance, [&](size_t k) {
                  const occt::BRepSeam& s = r->seams[k];
-                 return fmt::format("edge {} ({} / {})", s.edge, s.a, s.b);
+                 return fmt::format("edge {} ({} / {})", s.edge, face(s.a), face(s.b));
                }));
   }
   return require && below > 0 ? kExitGeometryProblem : kExitOk;
