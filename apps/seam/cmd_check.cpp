@@ -210,7 +210,7 @@ std::string cornerTable(const Model& m, const ModelCheckReport& r) {
     std::string names;
     for (const PatchCorner& k : x.corners) names += (names.empty() ? "" : " ") + patchName(m, k.patch);
     rows.push_back({formatVector(x.point.data(), 3), std::to_string(x.valence) + (x.closed ? "" : " (boundary)"),
-                    names, x.normalSpreadDeg ? num(*x.normalSpreadDeg) : (x.degenerate ? "degenerate" : "-"),
+                    names, x.normalSpreadDeg ? formatAngle(*x.normalSpreadDeg) : (x.degenerate ? "degenerate" : "-"),
                     x.fourPatch ? num(x.fourPatch->g1Residual) : "-",
                     x.fourPatch && x.fourPatch->g2Residual ? num(*x.fourPatch->g2Residual) : "-"});
   }
