@@ -116,6 +116,7 @@ try {
     await panel.waitFor({ timeout: 5000 }).catch(() => {});
     const plots = await page.locator('#view3d-panel svg.plot').count();
     check(plots === 3, `clicking seam #${target.k} opens its plots (${plots} plots in the panel)`);
+    await page.locator('.v3row').screenshot({ path: path.join(outDir, 'clicked.png') });
   }
   // Without WebGL the 3-D view steps aside and the 2-D drawing is the view.
   const flat = await browser.newPage({ viewport: { width: 1400, height: 1000 } });

@@ -117,14 +117,12 @@ function start() {
   data.outline.forEach((c) => outlineGroup.add(lineOf(c, OUTLINE_COLOUR)));
   scene.add(outlineGroup);
   const seamGroup = new THREE.Group();
-  const seamLines = [];
   const worstPts = [], worstCols = [];
   for (const s of data.seams) {
     const colour = s.v >= 0 ? VERDICT_COLOURS[s.v] : FAILED_COLOUR;
     const line = lineOf(s.c, colour);
     line.userData.k = s.k;
     seamGroup.add(line);
-    seamLines.push(line);
     if (s.w && (s.v < 3)) {   // gaps, kinks, creases and failed seams: their worst point
       worstPts.push(s.w[0], s.w[1], s.w[2]);
       const c = new THREE.Color(colour);
@@ -271,7 +269,13 @@ function start() {
     return best;
   };
   const panel = byId('view3d-panel');
+  let selected = null;   // the clicked seam drawn again in black over everything
   const showSeam = (s) => {
+    if (selected) { scene.remove(selected); selected.geometry.dispose(); }
+    selected = lineOf(s.c, '#000000');
+    selected.material.depthTest = false;
+    selected.renderOrder = 3;
+    scene.add(selected);
     panel.setAttribute('data-seam', String(s.k));
     const plots = s.plot ? byId('seam-' + s.k) : null;
     panel.innerHTML = '';
