@@ -50,7 +50,7 @@ try {
   page.on('pageerror', (e) => errors.push(`page error: ${e.message}`));
   page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:')) requests.push(r.url()); });
   await page.goto(pathToFileURL(html).href);
-  await page.waitForFunction(() => window.seamView && window.seamView.ready, null, { timeout: 15000 });
+  await page.waitForFunction(() => window.seamView && window.seamView.ready, null, { timeout: 60000 });
   const info = await page.evaluate(() => ({ seams: window.seamView.seams, meshes: window.seamView.meshes }));
   check(info.seams > 0 && info.meshes > 0, `view holds ${info.meshes} meshes and ${info.seams} seams`);
 
