@@ -862,8 +862,8 @@ TEST(JoinCli, WritesTheJoinedModelAndReportsBeforeAndAfter) {
   // so force a miss with a gap limit instead: exit 2).
   r = runCli("join " + in.string() + " " + edges + " -o " + out.string());
   EXPECT_EQ(r.exit, 0) << r.out;
-  EXPECT_NE(r.out.find("method: least-squares"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("G1 achieved"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("with tangent continuity (G1): achieved"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("details: method least-squares"), std::string::npos) << r.out;
   r = runCli("join " + in.string() + " --move S:q0 --to T:v0 -o " + out.string());
   EXPECT_EQ(r.exit, 2) << r.out;
   r = runCli("join " + in.string() + " " + edges + " --max-gap 1e-12 -o " + out.string());

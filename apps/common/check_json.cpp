@@ -54,6 +54,7 @@ OrderedJson seamJson(const SeamReport& r, double creaseAngleDeg) {
   j["reversed"] = r.reversed;
   j["correspondence"] = std::string(toString(r.correspondence));
   j["g0_sampled"] = r.g0Sampled;
+  j["end_mismatch"] = r.endMismatch;
   j["g1_sampled_deg"] = r.g1SampledDeg;
   j["g2_sampled"] = r.g2Sampled;
   j["g2_rel_sampled"] = r.g2RelSampled;
