@@ -369,12 +369,12 @@ bool isCad(const std::filesystem::path& file) {
 }
 
 Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const FileCheckOptions& o) {
-  const double crease = o.selection.creaseAngleDeg;
   FileCheck out;
   if (isCad(file)) {
     if (const Status s = io::checkInputFile(file, io::kMaxCadFileBytes); !s) return s;
 #ifdef SEAM_HAVE_OCCT
     if (!o.patches) {
+      const double crease = o.selection.creaseAngleDeg;
       occt::BRepCheckOptions bo;
       bo.tolerances = o.tol;
       Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, bo);
