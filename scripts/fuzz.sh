@@ -3,12 +3,15 @@
 # build-fuzz/ and runs each for SECONDS (default 60) on a seed corpus made from the committed inputs
 # (tests/data, tests/data/hostile, examples/models, fuzz/regressions). New inputs go to build-fuzz/corpus/<harness>/;
 # a crash, a leak or a timeout stops that harness, leaves its input in build-fuzz/artifacts/ and fails the script.
+# The STEP and IGES harnesses (fuzz_step, fuzz_iges: seam's reader over OpenCASCADE, about a hundred inputs a second)
+# run a fixed number of inputs instead, CAD_RUNS (default 400), so that a CI run repeats exactly; CAD_RUNS=0 skips them.
 #   bash scripts/fuzz.sh [SECONDS]          e.g. bash scripts/fuzz.sh 20 (CI), bash scripts/fuzz.sh 600
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 # FUZZ_SEED: libFuzzer's -seed (0, the default: a new random seed each run; CI fixes it so that a run repeats).
 fuzz_seed="${FUZZ_SEED:-0}"
+cad_runs="${CAD_RUNS:-400}"
 
 # The fuzzing tool chain (Debian 12): clang-14 and libFuzzer. Only here, not in scripts/setup.sh.
 if ! command -v clang++-14 >/dev/null || ! ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a \
@@ -23,7 +26,9 @@ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_
   -DCMAKE_CXX_COMPILER=clang++-14 -DSEAM_FUZZ=ON -DSEAM_WITH_OCCT=OFF -DSEAM_BUILD_CLI=OFF -DSEAM_BUILD_TESTS=OFF \
   -DSEAM_BUILD_BENCH=OFF -DSEAM_BUILD_EXAMPLES=OFF \
   $(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_json fuzz_bpt fuzz_gcn
+harnesses=(json bpt gcn)
+[ "$cad_runs" -gt 0 ] && harnesses+=(step iges)
+cmake --build build-fuzz -j "$(nproc)" --target "${harnesses[@]/#/fuzz_}"
 
 # Seed corpora: every committed input of the harness's kind (copied, so that libFuzzer never writes into the tree).
 seed() {  # seed HARNESS FILES...
@@ -38,16 +43,22 @@ shopt -s nullglob
 seed json tests/data/*/*.json tests/data/hostile/*.json examples/models/*.json fuzz/regressions/json/*
 seed bpt tests/data/hostile/*.bpt ../shared/data/bezier/*.bpt fuzz/regressions/bpt/*
 seed gcn tests/data/gcn/*.json examples/models/zwl_example.json fuzz/regressions/gcn/*
+# STEP/IGES: the hostile files of the OpenCASCADE guard tests and the smaller real files (up to 160 kB).
+seed step tests/data/hostile_cad/*.stp ../shared/data/step/bug28366_fuselage.stp fuzz/regressions/step/*
+seed iges tests/data/hostile_cad/*.igs ../shared/data/iges/BUC50025.igs ../shared/data/iges/occ22470.igs \
+  fuzz/regressions/iges/*
 
 mkdir -p build-fuzz/artifacts
 status=0
-for h in json bpt gcn; do
+for h in "${harnesses[@]}"; do
   mkdir -p "build-fuzz/corpus/$h"
-  echo "== fuzz_$h: ${seconds} s"
+  limit=(-max_total_time="$seconds" -max_len=65536)
+  if [ "$h" = step ] || [ "$h" = iges ]; then limit=(-runs="$cad_runs" -max_len=262144); fi
+  echo "== fuzz_$h: ${limit[0]}"
   # -rss_limit_mb: the harnesses read at most -max_len bytes, so 2 GB is a leak or a blow-up; -timeout: a single
   # input taking 10 s is a hang (the readers are linear).
   if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      "build-fuzz/fuzz/fuzz_$h" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
+      "build-fuzz/fuzz/fuzz_$h" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -seed="$fuzz_seed" -artifact_prefix="build-fuzz/artifacts/${h}-" \
       "build-fuzz/corpus/$h" "build-fuzz/seeds/$h" 2>"build-fuzz/fuzz_$h.log"; then
     status=1

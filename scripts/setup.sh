@@ -27,16 +27,14 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WITH_OCCT=ON "$@"
-cmake --build build -j "$(nproc)"
-
-# The report's 3-D view (docs/report.md): three.js, esbuild and playwright-core pinned in web/package-lock.json.
-# Debian's nodejs comes without npm (a NodeSource nodejs has it built in). The build above ran before web/node_modules
-# existed on a fresh machine: configure again so that the report bundles the view and the browser test is registered.
+# The report's 3-D view (docs/report.md): three.js, esbuild and playwright-core pinned in web/package-lock.json,
+# installed before the build so that the report bundles the view and the browser test is registered. Debian's nodejs
+# comes without npm (a NodeSource nodejs has it built in).
 if ! command -v npm >/dev/null; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends npm
 fi
 (cd web && npm ci --no-audit --no-fund)
+
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSEAM_WITH_OCCT=ON "$@"
 cmake --build build -j "$(nproc)"
 

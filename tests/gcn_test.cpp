@@ -415,6 +415,19 @@ TEST(GcnExpressionJson, DivisionByZeroIsAnErrorNamingThePatch) {
   EXPECT_NE(m.status().message().find("division by zero"), std::string::npos) << m.status().message();
 }
 
+// fuzz_gcn (fuzz/regressions/gcn/number_overflow.json): a number literal that overflows a double is nlohmann's
+// out_of_range, not a parse_error; it escaped the expression reader and ended the process. It is the model reader's
+// usual error now, naming the file and the number.
+TEST(GcnExpressionJson, AnOverflowingNumberIsAnErrorNotACrash) {
+  const auto m = parseModelWithExpressions(
+      R"({"patches": [{"name": "r", "type": "expression", "homogeneous": ["u", "v", "0", "1"], "w": 1e1111111}]})",
+      "big.json");
+  ASSERT_FALSE(m.isOk());
+  EXPECT_EQ(m.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_NE(m.status().message().find("big.json"), std::string::npos) << m.status().message();
+  EXPECT_NE(m.status().message().find("1e1111111"), std::string::npos) << m.status().message();
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Theorem 5, exactly.
 
