@@ -158,6 +158,13 @@ std::string worstLines(const std::vector<const SeamReport*>& reports, double cre
   return out;
 }
 
+/// The curvature jump as a CAD user reads it (Rhino's EdgeContinuity style, issue 17 §2): relative to the larger
+/// curvature on the seam, in %, with the absolute jump (1 / model length unit) beside it.
+std::string formatCurvatureJump(double rel, double abs) {
+  if (!std::isfinite(rel) || !std::isfinite(abs)) return formatRatio(abs);
+  return fmt::format("{:.3g}% ({:.4g})", 100.0 * rel, abs);
+}
+
 std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelection& sel) {
   const std::vector<const SeamReport*> reports = reportsOf(r);
   const SeamListing l = listSeams(reports, sel);
@@ -170,7 +177,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
       const SeamReport& x = *s.report;
       row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))),
                              formatDistance(x.g0Max, r.tolerances.distance), formatAngle(x.g1MaxDeg),
-                             formatRatio(x.g2Max), std::string(toString(x.geometric)),
+                             formatCurvatureJump(x.g2RelMax, x.g2Max), std::string(toString(x.geometric)),
                              std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
     } else {
       row.insert(row.end(), {"error", "-", "-", "-", "error", "-", "-"});
@@ -179,8 +186,9 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
     else row.emplace_back("");
     return row;
   };
-  const std::vector<std::string> header{"A",          "edge",      "B",         "edge",      "verdict", "G0 gap",
-                                        "G1 angle (deg)", "G2 jump", "geometric", "parametric", "certified", "overlap"};
+  const std::vector<std::string> header{"A",         "edge",      "B",         "edge",          "verdict",
+                                        "G0 gap",    "G1 angle (deg)",       "G2 jump % (abs)", "geometric",
+                                        "parametric", "certified", "overlap"};
   const std::vector<bool> right{false, false, false, false, false, true, true, true, false, false, false, false};
   auto table = [&](const std::vector<size_t>& list) {
     std::vector<std::vector<std::string>> rows;
@@ -327,12 +335,12 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
         const occt::BRepSeam& s = r->seams[k];
         rows.push_back({std::to_string(s.edge), face(s.a), face(s.b), std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
                         formatDistance(s.report.g0Max, tol.distance), formatAngle(s.report.g1MaxDeg),
-                        formatRatio(s.report.g2Max),
+                        formatCurvatureJump(s.report.g2RelMax, s.report.g2Max),
                         std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
                         s.occtContinuity});
       }
       return rows.empty() ? std::string()
-                          : formatTable({"edge", "A", "B", "verdict", "G0 gap", "G1 angle (deg)", "G2 jump",
+                          : formatTable({"edge", "A", "B", "verdict", "G0 gap", "G1 angle (deg)", "G2 jump % (abs)",
                                          "geometric", "certified", "OCCT"},
                                         rows, {false, false, false, false, true, true, true, false, false, false});
     };
