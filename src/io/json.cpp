@@ -171,15 +171,6 @@ OverflowScan rewriteOverflowingNumbers(std::string_view text) {
   return scan;
 }
 
-/// "[json.exception.parse_error.101] parse error at ..." -> "parse error at ...".
-std::string withoutExceptionId(const char* what) {
-  std::string s(what);
-  if (!s.empty() && s[0] == '[') {
-    const size_t close = s.find("] ");
-    if (close != std::string::npos) s = s.substr(close + 2);
-  }
-  return s;
-}
 
 // ---------------------------------------------------------------------------------------------------------------
 // Reading.
@@ -738,6 +729,15 @@ void appendCurve(std::string& out, const Curve& curve) {
 
 }  // namespace
 
+std::string jsonExceptionText(const char* what) {
+  std::string s(what);
+  if (!s.empty() && s[0] == '[') {
+    const size_t close = s.find("] ");
+    if (close != std::string::npos) s = s.substr(close + 2);
+  }
+  return s;
+}
+
 Result<Model> parseModelJson(std::string_view text, std::string_view source) {
   const std::string src(source);
   if (Status s = scanJsonText(text, src); !s) return s;
@@ -745,12 +745,12 @@ Result<Model> parseModelJson(std::string_view text, std::string_view source) {
   try {
     root = Json::parse(text);
   } catch (const Json::parse_error& e) {
-    return invalidInput(src + ": not valid JSON: " + withoutExceptionId(e.what()));
+    return invalidInput(src + ": not valid JSON: " + jsonExceptionText(e.what()));
   } catch (const Json::exception& e) {
     // nlohmann rejects number literals that overflow a double (1e999) without a position: mark them and
     // retry, so that the model reader names the object that holds the number.
     const OverflowScan scan = rewriteOverflowingNumbers(text);
-    if (scan.count == 0) return invalidInput(src + ": not valid JSON: " + withoutExceptionId(e.what()));
+    if (scan.count == 0) return invalidInput(src + ": not valid JSON: " + jsonExceptionText(e.what()));
     try {
       root = Json::parse(scan.text);
     } catch (const Json::exception&) {

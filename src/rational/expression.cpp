@@ -299,12 +299,9 @@ Result<ModelWithExpressions> parseModelWithExpressions(std::string_view text, st
     return ModelWithExpressions{std::move(m).value(), {}};
   } catch (const Json::exception& e) {
     // A number literal that overflows a double (out_of_range.406, e.g. 1e1111111; found by fuzz_gcn, which it
-    // crashed when only parse_error was caught). nlohmann's text names the literal; its "[json.exception...] "
-    // prefix is dropped.
-    std::string what = e.what();
-    if (const size_t close = what.find("] "); what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
-      what = what.substr(close + 2);
-    return Status(ErrorCode::kInvalidInput, fmt::format("{}: not valid JSON: {}", src, what));
+    // crashed when only parse_error was caught). nlohmann's text names the literal.
+    return Status(ErrorCode::kInvalidInput,
+                  fmt::format("{}: not valid JSON: {}", src, io::jsonExceptionText(e.what())));
   }
   ModelWithExpressions out;
   if (root.is_object() && root.contains("patches") && root["patches"].is_array()) {

@@ -15,6 +15,8 @@ Result<Model> parseModelJson(std::string_view text, std::string_view source);
 /// byte, arrays and objects nested at most 256 deep (a model needs 6; nlohmann's printing recurses once per level).
 /// kInvalidInput naming `source`, the line and the column otherwise.
 Status checkJsonText(std::string_view text, std::string_view source);
+/// nlohmann's exception text without its "[json.exception.parse_error.101] " prefix, for messages to the user.
+std::string jsonExceptionText(const char* what);
 /// Reads and parses a JSON model file.
 Result<Model> readModelJson(const std::filesystem::path& file);
 /// JSON text of the model; doubles are printed with round-trip precision (read back bit-identical).
