@@ -7,6 +7,7 @@
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
@@ -243,6 +244,47 @@ TEST(OcctTruth, PlaneSplitAlongAConicHasNoGap) {
       EXPECT_EQ(arcs, 1) << "radius " << radius;
       expectConsistent(*r);
     }
+  }
+}
+
+// Seams along rulings of a cylinder, whose converted patch has another parameter than the angle: a quarter cylinder
+// against the next quarter (one surface: G2, no gap) and against the plane tangent to it along its first ruling
+// (G1 exactly, no gap; curvature 1/R across on the cylinder and 0 on the plane: not G2). Both are certified: the
+// pcurves are mapped affinely into the converted patch's parameters (the angle is constant along a ruling).
+TEST(OcctTruth, SeamsAlongRulingsOfAConvertedCylinderAreCertified) {
+  for (const double radius : {5.0, 23.0}) {
+    const double height = 2.0 * radius, width = radius;
+    const Handle(Geom_CylindricalSurface) cyl = new Geom_CylindricalSurface(gp_Ax3(gp::XOY()), radius);
+    BRepBuilderAPI_MakePolygon plane(gp_Pnt(radius, 0, 0), gp_Pnt(radius, -width, 0), gp_Pnt(radius, -width, height),
+                                     gp_Pnt(radius, 0, height), true);
+    const fs::path f =
+        writeStep(sewn({BRepBuilderAPI_MakeFace(cyl, 0.0, kPi / 2, 0.0, height, 1e-9),
+                        BRepBuilderAPI_MakeFace(cyl, kPi / 2, kPi, 0.0, height, 1e-9),
+                        BRepBuilderAPI_MakeFace(plane.Wire(), true)}),
+                  "rulings");
+    const Result<occt::BRepCheckReport> r = occt::checkBRepFile(f);
+    fs::remove(f);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    int rulings = 0;
+    for (const occt::BRepSeam& s : r->seams) {
+      ASSERT_GE(s.curve.size(), 2u);
+      const Vec3 d = s.curve.back() - s.curve.front();
+      if (std::abs(d.z()) < 0.5 * height) continue;  // not a ruling
+      ++rulings;
+      const double x = s.curve.front().x();
+      SCOPED_TRACE(::testing::Message() << "radius " << radius << ", ruling at x = " << x << ", " << s.a << "/" << s.b);
+      EXPECT_TRUE(s.report.certified);
+      EXPECT_LE(s.report.g0Max, 1e-9 * radius);
+      EXPECT_LE(s.report.g1MaxDeg, 1e-6);
+      if (std::abs(x - radius) < 1e-6 * radius) {
+        EXPECT_EQ(s.report.geometric, GeometricClass::kG1) << "the plane against the cylinder: curvature 1/R vs 0";
+        EXPECT_NEAR(s.report.g2Max, 1.0 / radius, 1e-6 / radius);
+      } else {
+        EXPECT_EQ(s.report.geometric, GeometricClass::kG2) << "one cylinder on both sides";
+      }
+    }
+    EXPECT_EQ(rulings, 2) << "radius " << radius;
+    expectConsistent(*r);
   }
 }
 
