@@ -11,6 +11,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "regularity_json.h"
 #include "seam/regularity/regularity.h"
 
 namespace seam::cli {
@@ -18,47 +19,6 @@ namespace seam::cli {
 namespace {
 
 using namespace seam::regularity;
-
-OrderedJson point(const Vec3& p, int dim) {
-  OrderedJson a = OrderedJson::array();
-  for (int k = 0; k < dim; ++k) a.push_back(p[k]);
-  return a;
-}
-
-OrderedJson checkJson(const Check& c, int dim) {
-  OrderedJson j;
-  j["check"] = std::string(checkKindName(c.kind));
-  if (c.r1 > 0) j["r1"] = c.r1;
-  if (c.r2 > 0) j["r2"] = c.r2;
-  if (c.separation.separated) {
-    j["normal"] = point(c.separation.plane.normal, dim);
-    j["offset"] = c.separation.plane.offset;
-    j["exact"] = c.separation.planeExact;
-  } else {
-    j["witness"] = point(c.separation.witness, dim);
-    if (!c.coneDirection.isZero()) j["cone_direction"] = point(c.coneDirection, dim);
-  }
-  return j;
-}
-
-/// "certificate" (certified) or "witness" / "failed_check" (otherwise) of a verdict.
-void verdictJson(OrderedJson& j, Verdict v, Condition c, const ConditionResult& r, int dim) {
-  j["verdict"] = std::string(verdictName(v));
-  j["condition"] = c == Condition::kNone ? OrderedJson(nullptr) : OrderedJson(std::string(conditionName(c)));
-  if (v == Verdict::kCertified) {
-    OrderedJson checks = OrderedJson::array();
-    for (const Check& k : r.checks) checks.push_back(checkJson(k, dim));
-    j["certificate"] = {{"checks", checks}};
-  } else if (const Check* f = r.failure()) {
-    j["witness"] = point(f->separation.witness, dim);
-    j["failed_check"] = checkJson(*f, dim);
-  }
-}
-
-OrderedJson summaryJson(const SearchSummary& s) {
-  return {{"resolution", s.resolution}, {"distance", s.distance}, {"unresolved", s.unresolved},
-          {"complete", s.complete},     {"truncated", s.truncated}};
-}
 
 std::string witnessText(const ConditionResult& r, int dim) {
   const Check* f = r.failure();
@@ -110,68 +70,9 @@ std::string searchText(int critical, int intersections, const SearchSummary& s) 
                      s.complete ? "" : ", budget exhausted");
 }
 
-OrderedJson segmentJson(const SegmentVerdict& s, int dim) {
-  OrderedJson j = {{"index", s.index}, {"interval", {s.interval.lo, s.interval.hi}}, {"uniform", s.uniform}};
-  verdictJson(j, s.verdict, s.condition, s.result, dim);
-  j["defect_nearby"] = s.defectNearby;
-  return j;
-}
-
-OrderedJson subnetJson(const SubnetVerdict& s, int dim) {
-  OrderedJson j = {{"index", {s.indexU, s.indexV}},
-                   {"u", {s.u.lo, s.u.hi}},
-                   {"v", {s.v.lo, s.v.hi}},
-                   {"uniform", s.uniformU && s.uniformV}};
-  verdictJson(j, s.verdict, s.condition, s.result, dim);
-  j["defect_nearby"] = s.defectNearby;
-  return j;
-}
-
-/// The curve / patch object of the JSON output, with `placeholder` as the value of the (large) segments / sub-nets
-/// array, which is streamed in its place.
+/// The placeholder value of the (large) segments / sub-nets array in the curve / patch object of the JSON output,
+/// which is streamed in its place.
 constexpr const char* kPlaceholder = "\x01items\x01";
-
-OrderedJson curveJson(const std::string& name, const CurveRegularity& r) {
-  OrderedJson crit = OrderedJson::array();
-  OrderedJson inter = OrderedJson::array();
-  for (const CurveCriticalPoint& x : r.search->criticalPoints) {
-    crit.push_back({{"t", x.t}, {"point", point(x.point, r.dim)}, {"speed", x.speed}});
-  }
-  for (const CurveSelfIntersection& x : r.search->selfIntersections) {
-    inter.push_back({{"t1", x.t1}, {"t2", x.t2}, {"point", point(x.point, r.dim)}, {"distance", x.distance}});
-  }
-  return {{"name", name},
-          {"order", r.order},
-          {"segments", kPlaceholder},
-          {"ell_certified", r.ellCertified ? OrderedJson(*r.ellCertified) : OrderedJson(nullptr)},
-          {"critical_points", crit},
-          {"self_intersections", inter},
-          {"search", summaryJson(r.search->summary)}};
-}
-
-OrderedJson patchJson(const std::string& name, const SurfaceRegularity& r) {
-  OrderedJson crit = OrderedJson::array();
-  OrderedJson inter = OrderedJson::array();
-  for (const SurfaceCriticalPoint& x : r.search->criticalPoints) {
-    crit.push_back({{"u", x.u}, {"v", x.v}, {"point", point(x.point, r.dim)}, {"normal_norm", x.normalNorm}});
-  }
-  for (const SurfaceSelfIntersection& x : r.search->selfIntersections) {
-    inter.push_back({{"u1", x.u1},
-                     {"v1", x.v1},
-                     {"u2", x.u2},
-                     {"v2", x.v2},
-                     {"point", point(x.point, r.dim)},
-                     {"distance", x.distance}});
-  }
-  const bool haveEll = r.ellU.has_value();
-  return {{"name", name},
-          {"order", {r.orderU, r.orderV}},
-          {"subnets", kPlaceholder},
-          {"ell_certified", haveEll ? OrderedJson({*r.ellU, *r.ellV}) : OrderedJson(nullptr)},
-          {"critical_points", crit},
-          {"self_intersections", inter},
-          {"search", summaryJson(r.search->summary)}};
-}
 
 /// Streams JSON text in the layout of jsonText (cli_util.h) without building the whole document: a 200 000-segment
 /// curve is a tree of millions of nodes otherwise (seconds and gigabytes for nothing).
@@ -341,15 +242,15 @@ void addRegularity(CLI::App& app, int& exit) {
       out.raw(",\n  \"curves\": ");
       out.array(curveResults.size(), 2, [&](size_t i) {
         const CurveRegularity& r = curveResults[i];
-        out.objectWithItems(curveJson(curves[i]->name, r), 4, [&](int indent) {
-          out.array(r.segments.size(), indent, [&](size_t k) { out.value(segmentJson(r.segments[k], r.dim), indent + 2); });
+        out.objectWithItems(regularityCurveJson(curves[i]->name, r, OrderedJson(kPlaceholder)), 4, [&](int indent) {
+          out.array(r.segments.size(), indent, [&](size_t k) { out.value(regularitySegmentJson(r.segments[k], r.dim), indent + 2); });
         });
       });
       out.raw(",\n  \"patches\": ");
       out.array(patchResults.size(), 2, [&](size_t i) {
         const SurfaceRegularity& r = patchResults[i];
-        out.objectWithItems(patchJson(patches[i]->name, r), 4, [&](int indent) {
-          out.array(r.subnets.size(), indent, [&](size_t k) { out.value(subnetJson(r.subnets[k], r.dim), indent + 2); });
+        out.objectWithItems(regularityPatchJson(patches[i]->name, r, OrderedJson(kPlaceholder)), 4, [&](int indent) {
+          out.array(r.subnets.size(), indent, [&](size_t k) { out.value(regularitySubnetJson(r.subnets[k], r.dim), indent + 2); });
         });
       });
       out.raw("\n}\n");
