@@ -18,13 +18,19 @@
 #include <vector>
 
 #include "check_json.h"
+#include "fill_json.h"
+#include "regularity_json.h"
+#include "seam/construct/fill.h"
 #include "seam/continuity/verdict.h"
 #include "seam/io/file.h"
 #include "seam/io/json.h"
+#include "seam/repair/corner_join.h"
 #include "seam/repair/heal.h"
+#include "seam/repair/join.h"
 #include "seam/repair/report_json.h"
 #include "seam/report/report.h"
 #include "seam/model/model.h"
+#include "seam/regularity/regularity.h"
 #include "seam/version.h"
 #ifdef SEAM_HAVE_OCCT
 #include "seam/occt/cad_io.h"
@@ -103,7 +109,7 @@ struct PyModel {
   std::string source;
 };
 
-Model readAnyModel(const std::filesystem::path& file, std::vector<std::string>& warnings) {
+Model readAnyModel(const std::filesystem::path& file, [[maybe_unused]] std::vector<std::string>& warnings) {
   Result<Model> model = Status(ErrorCode::kIoError, "not read");
   {
     py::gil_scoped_release release;
@@ -367,6 +373,239 @@ void save(const PyModel& m, const std::filesystem::path& out) {
   if (const Status s = io::writeModelJson(m.model, out); !s) raise(s);
 }
 
+
+/// JSON text of the library's report builders (repair/report_json.h) -> a Python dict, keys in order.
+py::object jsonToPython(const std::string& text) { return toPython(cli::OrderedJson::parse(text)); }
+
+Edge edgeArg(const char* what, const std::string& name) {
+  const Result<Edge> e = parseEdge(name);
+  if (!e) throw py::value_error(fmt::format("{}: {}", what, e.status().message()));
+  return *e;
+}
+
+GeometricClass continuityArg(const std::string& name) {
+  const Result<GeometricClass> c = parseContinuity(name);
+  if (!c) throw py::value_error("continuity: " + c.status().message());
+  return *c;
+}
+
+std::optional<double> nonNegative(const char* name, std::optional<double> x) {
+  if (x && !(std::isfinite(*x) && *x >= 0.0))
+    throw py::value_error(fmt::format("{} must be a non-negative finite number, not {}", name, *x));
+  return x;
+}
+
+double creaseAngleArg(std::optional<double> a) {
+  if (a && !validCreaseAngle(*a)) throw py::value_error("crease_angle must be an angle in degrees in (0, 180]");
+  return a.value_or(kDefaultCreaseAngleDeg);
+}
+
+/// join: `seam join FILE --move P:E --to Q:E`: (the joined model, the dict of `seam join --json` without "output").
+py::tuple join(const PyModel& m, const std::string& movePatch, const std::string& moveEdge, const std::string& toPatch,
+               const std::string& toEdge, const std::string& continuity, const std::string& method,
+               std::optional<double> ell, bool average, std::optional<double> maxGap,
+               std::optional<double> maxDisplacement, std::optional<double> creaseAngle) {
+  JoinOptions jo;
+  const Edge me = edgeArg("move_edge", moveEdge), te = edgeArg("to_edge", toEdge);
+  jo.continuity = continuityArg(continuity);
+  const Result<JoinMethod> jm = parseJoinMethod(method);
+  if (!jm) throw py::value_error("method: " + jm.status().message());
+  jo.method = *jm;
+  if (ell && !std::isfinite(*ell)) throw py::value_error("ell must be a finite number");
+  jo.ell = ell;
+  jo.average = average;
+  jo.maxGap = nonNegative("max_gap", maxGap);
+  if (maxDisplacement) jo.maxDisplacementRel = *nonNegative("max_displacement", maxDisplacement);
+  jo.creaseAngleDeg = creaseAngleArg(creaseAngle);
+  Result<JoinResult> r = Status(ErrorCode::kIoError, "not joined");
+  std::string json;
+  {
+    py::gil_scoped_release release;
+    r = joinSeam(m.model, movePatch, me, toPatch, te, jo);
+    if (r) json = joinReportJson(r->report);
+  }
+  if (!r) raise(r.status().withContext(m.source));
+  PyModel joined{std::move(r->model), m.source + " (joined)"};
+  return py::make_tuple(std::move(joined), jsonToPython(json));
+}
+
+/// One "PATCH:EDGE[:EDGE]" corner argument of `seam corner`, as a sequence (patch, edge[, edge]).
+std::pair<std::string, std::vector<Edge>> cornerArg(const char* what, const std::vector<std::string>& item,
+                                                    size_t edges) {
+  if (item.size() != edges + 1)
+    throw py::value_error(fmt::format("{}: expected (patch{}), got {} items", what,
+                                      edges == 2 ? ", edge, edge" : ", edge", item.size()));
+  std::vector<Edge> e;
+  for (size_t k = 1; k <= edges; ++k) e.push_back(edgeArg(what, item[k]));
+  return {item[0], e};
+}
+
+/// corner: `seam corner --three` / `--four` (Lai-Lian-Cassidy §4.1): (model, the dict of `seam corner --json`).
+py::tuple corner(const PyModel& m, const std::optional<std::vector<std::vector<std::string>>>& three,
+                 const std::optional<std::vector<std::vector<std::string>>>& four, const std::string& method,
+                 const std::string& fallback, std::optional<double> maxGap) {
+  if (three.has_value() == four.has_value()) throw py::value_error("corner: give exactly one of three= or four=");
+  CornerJoinOptions co;
+  const Result<JoinMethod> jm = parseJoinMethod(method);
+  if (!jm) throw py::value_error("method: " + jm.status().message());
+  co.method = *jm;
+  const Result<JoinMethod> fb = parseJoinMethod(fallback);
+  if (!fb) throw py::value_error("fallback: " + fb.status().message());
+  co.fallback = *fb;
+  co.maxGap = nonNegative("max_gap", maxGap);
+  Status status = Status::ok();
+  std::string json;
+  Model out;
+  if (three) {
+    if (three->size() != 3) throw py::value_error("three: expected (S, edge, edge), (S~, edge, edge), (S^, edge)");
+    const auto s = cornerArg("three", (*three)[0], 2), t = cornerArg("three", (*three)[1], 2),
+               h = cornerArg("three", (*three)[2], 1);
+    const ThreePatchCorner c{s.first, t.first, h.first, s.second[0], t.second[0], s.second[1], t.second[1],
+                             h.second[0]};
+    py::gil_scoped_release release;
+    Result<ThreePatchJoinResult> r = joinThreePatchCorner(m.model, c, co);
+    if (r) {
+      json = threePatchJoinJson(*r);
+      out = std::move(r->model);
+    } else {
+      status = r.status();
+    }
+  } else {
+    if (four->size() != 4) throw py::value_error("four: expected four (patch, edge to next, edge to previous)");
+    FourPatchCorner c;
+    for (size_t k = 0; k < 4; ++k) {
+      const auto p = cornerArg("four", (*four)[k], 2);
+      c.patches[k] = p.first;
+      c.toNext[k] = p.second[0];
+      c.toPrev[k] = p.second[1];
+    }
+    py::gil_scoped_release release;
+    Result<FourPatchJoinResult> r = joinFourPatchCorner(m.model, c, co);
+    if (r) {
+      json = fourPatchJoinJson(*r);
+      out = std::move(r->model);
+    } else {
+      status = r.status();
+    }
+  }
+  if (!status) raise(status.withContext(m.source));
+  return py::make_tuple(PyModel{std::move(out), m.source + " (corner joined)"}, jsonToPython(json));
+}
+
+/// fill: `seam fill` (Johansson §4): (the model with the new patches appended, or None when nothing was built, and
+/// the dict of `seam fill --json`; its "output" is None).
+py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& quad, bool hole,
+               const std::vector<std::string>& around,
+               const std::optional<std::pair<std::vector<std::string>, std::vector<std::string>>>& fillet, int degree,
+               const std::string& name) {
+  const int modes = (quad ? 1 : 0) + (hole ? 1 : 0) + (fillet ? 1 : 0);
+  if (modes != 1) throw py::value_error("fill: give exactly one of quad=(A, B, C), hole=True, fillet=(strip1, strip2)");
+  if (!around.empty() && !hole) throw py::value_error("fill: around= needs hole=True");
+  if (quad && quad->size() != 3)
+    throw py::value_error(fmt::format("quad: expected three patch names (corner, b, c), got {}", quad->size()));
+  if (degree != 4 && degree != 5 && degree != 6)
+    throw py::value_error(fmt::format("degree: {} is not 4, 5 or 6 (Sarraga's, kappa = 0)", degree));
+  constexpr int kMaxFillDegree = 8;  // as `seam fill`
+  FillOptions options;
+  options.name = name;
+  options.patch.degreeU = options.patch.degreeV = degree;
+  options.patch.maxDegree = kMaxFillDegree;
+  options.patch.kappaZero = degree == 6;
+  const std::string mode = quad ? "quad" : hole ? "hole" : "fillet";
+  Status status = Status::ok();
+  cli::OrderedJson json;
+  std::optional<Model> full;
+  {
+    py::gil_scoped_release release;
+    Result<FillResult> r = quad   ? fillQuad(m.model, (*quad)[0], (*quad)[1], (*quad)[2], options)
+                           : hole ? fillHole(m.model, around, options)
+                                  : fillFillet(m.model, fillet->first, fillet->second, options);
+    if (!r) {
+      status = r.status().withContext(m.source);
+    } else {
+      Model withNew = withFill(m.model, *r);
+      std::optional<FillCheck> check;
+      if (r->surroundingG1) {
+        Result<FillCheck> c = checkFill(m.model, *r, options);
+        if (!c) status = Status(ErrorCode::kNoSolution, fmt::format("{}: verification failed: {}", m.source,
+                                                                   c.status().message()));
+        else check = std::move(c).value();
+      }
+      if (status) {
+        json = cli::fillJson(mode, *r, check ? &*check : nullptr, withNew, options.patch, std::nullopt);
+        if (r->surroundingG1) full = std::move(withNew);
+      }
+    }
+  }
+  if (!status) raise(status);
+  py::object model = full ? py::cast(PyModel{std::move(*full), m.source + " (filled)"}) : py::none();
+  return py::make_tuple(model, toPython(json));
+}
+
+/// regularity: the dict of `seam regularity FILE [--patch P | --curve C] [--ell L] --json`.
+py::object regularityOf(const PyModel& m, const std::optional<std::string>& patch,
+                        const std::optional<std::string>& curve, int ell) {
+  if (patch && curve) throw py::value_error("regularity: give patch= or curve=, not both");
+  if (ell < 0) throw py::value_error(fmt::format("ell must be >= 0, not {}", ell));
+  std::vector<const Curve*> curves;
+  std::vector<const Patch*> patches;
+  if (curve) {
+    const Curve* c = m.model.findCurve(*curve);
+    if (c == nullptr) throw py::value_error(fmt::format("{}: no curve named \"{}\"", m.source, *curve));
+    curves.push_back(c);
+  } else if (patch) {
+    patches.push_back(&findPatch(m, *patch));
+  } else {
+    for (const Curve& c : m.model.curves) curves.push_back(&c);
+    for (const Patch& p : m.model.patches) patches.push_back(&p);
+  }
+  regularity::RegularityOptions options;
+  options.maxEll = ell;
+  std::vector<std::string> curveNames, patchNames;
+  std::vector<regularity::CurveRegularity> curveResults;
+  std::vector<regularity::SurfaceRegularity> patchResults;
+  Status status = Status::ok();
+  cli::OrderedJson json;
+  {
+    py::gil_scoped_release release;
+    for (const Curve* c : curves) {
+      if (!status) break;
+      Result<regularity::CurveRegularity> r = regularity::analyzeCurve(c->curve, options);
+      if (!r) status = Status(r.status().code(), fmt::format("{}: curve \"{}\": {}", m.source, c->name,
+                                                              r.status().message()));
+      else curveNames.push_back(c->name), curveResults.push_back(std::move(r).value());
+    }
+    for (const Patch* p : patches) {
+      if (!status) break;
+      Result<regularity::SurfaceRegularity> r = regularity::analyzeSurface(p->surface, options);
+      if (!r) status = Status(r.status().code(), fmt::format("{}: patch \"{}\": {}", m.source, p->name,
+                                                              r.status().message()));
+      else patchNames.push_back(p->name), patchResults.push_back(std::move(r).value());
+    }
+    if (status) json = cli::regularityJson(m.source, curveNames, curveResults, patchNames, patchResults);
+  }
+  if (!status) raise(status);
+  return toPython(json);
+}
+
+/// A model from JSON text (the format of docs/format.md); `source` names it in messages.
+PyModel loads(const std::string& text, const std::string& source) {
+  Result<Model> r = io::parseModelJson(text, source);
+  if (!r) raise(r.status());
+  return PyModel{std::move(r).value(), source};
+}
+
+/// The control points of a patch: (nu, nv, dim), [i, j] the point with index i along u, j along v.
+py::array_t<double> controlPoints(const PyModel& m, const std::string& name) {
+  const BSplineSurface& s = findPatch(m, name).surface;
+  py::array_t<double> out({py::ssize_t{s.numU()}, py::ssize_t{s.numV()}, py::ssize_t{s.dim()}});
+  auto o = out.mutable_unchecked<3>();
+  for (int i = 0; i < s.numU(); ++i)
+    for (int j = 0; j < s.numV(); ++j)
+      for (int c = 0; c < s.dim(); ++c) o(i, j, c) = s.point(i, j)[c];
+  return out;
+}
+
 }  // namespace
 
 }  // namespace seam::python
@@ -406,6 +645,8 @@ PYBIND11_MODULE(_seam, mod) {
         for (int c = 0; c < 3; ++c) o(0, c) = b.min[c], o(1, c) = b.max[c];
         return out;
       }, "Rows min and max of the control points' box")
+      .def("control_points", &controlPoints, py::arg("patch"),
+           "The control points of a patch: (nu, nv, dim), [i, j] = index i along u, j along v")
       .def("__len__", [](const PyModel& m) { return m.model.patches.size(); })
       .def("__repr__", [](const PyModel& m) {
         return fmt::format("<seam.Model {} patches, {} curves from {}>", m.model.patches.size(), m.model.curves.size(),
@@ -423,6 +664,35 @@ PYBIND11_MODULE(_seam, mod) {
   mod.def("evaluate_curve", &evaluateCurve, py::arg("model"), py::arg("curve"), py::arg("t"), py::arg("order") = 0,
           "Points and derivatives of a curve: (n, order+1, dim), [i, k] = d^k C / dt^k at t[i]");
 
+  mod.def("loads", &loads, py::arg("text"), py::arg("source") = "<string>",
+          "A model from JSON text in seam's model format (docs/format.md); source names it in messages. Raises "
+          "ValueError when it is invalid.");
+  mod.def("dumps", [](const PyModel& m) { return io::modelToJson(m.model); }, py::arg("model"),
+          "The model as JSON text (what save writes)");
+  mod.def("join", &join, py::arg("model"), py::arg("move_patch"), py::arg("move_edge"), py::arg("to_patch"),
+          py::arg("to_edge"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
+          py::arg("ell") = py::none(), py::arg("average") = false, py::arg("max_gap") = py::none(),
+          py::arg("max_displacement") = py::none(), py::arg("crease_angle") = py::none(),
+          "`seam join`: moves edge move_edge ('u0', 'u1', 'v0', 'v1') of move_patch onto edge to_edge of to_patch "
+          "with the requested continuity (G0, G1, G2), never making the seam worse: (joined Model, the dict of "
+          "`seam join --json`). ValueError for bad input (unknown patch, edges that do not meet, a gap above max_gap, "
+          "a method that does not apply).");
+  mod.def("corner", &corner, py::arg("model"), py::kw_only(), py::arg("three") = py::none(),
+          py::arg("four") = py::none(), py::arg("method") = "auto", py::arg("fallback") = "bezier-strip",
+          py::arg("max_gap") = py::none(),
+          "`seam corner` (Lai-Lian-Cassidy §4.1): three=((S, e, e), (S~, e, e), (S^, e)) or four=((P1, next, prev), "
+          "...): (Model, the dict of `seam corner --json`)");
+  mod.def("fill", &fill, py::arg("model"), py::kw_only(), py::arg("quad") = py::none(), py::arg("hole") = false,
+          py::arg("around") = std::vector<std::string>{}, py::arg("fillet") = py::none(), py::arg("degree") = 5,
+          py::arg("name") = "",
+          "`seam fill` (exact G1 Bezier patches, Johansson §4): quad=(corner, b, c) the 4th patch at a vertex, "
+          "hole=True [around=names] four-sided holes, fillet=(strip1, strip2): (the model with the new patches "
+          "appended, or None when a hole's surrounding is not G1 and nothing was built, the dict of "
+          "`seam fill --json`)");
+  mod.def("regularity", &regularityOf, py::arg("model"), py::kw_only(), py::arg("patch") = py::none(),
+          py::arg("curve") = py::none(), py::arg("ell") = regularity::RegularityOptions{}.maxEll,
+          "`seam regularity --json`: control-net regularity certificates and the search for cusps and "
+          "self-intersections of every curve and patch (or one): the dict {file, curves, patches}");
   mod.def("heal", &heal, py::arg("model"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
           py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(),
           "Makes every seam G1 (or G0) where it can, never worse: (healed Model, the dict of `seam heal --json`)");
