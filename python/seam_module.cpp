@@ -693,11 +693,26 @@ PYBIND11_MODULE(_seam, mod) {
           py::arg("curve") = py::none(), py::arg("ell") = regularity::RegularityOptions{}.maxEll,
           "`seam regularity --json`: control-net regularity certificates and the search for cusps and "
           "self-intersections of every curve and patch (or one): the dict {file, curves, patches}");
+  mod.def("regularity",
+          [](const std::filesystem::path& file, const std::optional<std::string>& patch,
+             const std::optional<std::string>& curve, int ell) { return regularityOf(load(file), patch, curve, ell); },
+          py::arg("file"), py::kw_only(), py::arg("patch") = py::none(), py::arg("curve") = py::none(),
+          py::arg("ell") = regularity::RegularityOptions{}.maxEll, "`seam regularity FILE --json` of a model file");
   mod.def("heal", &heal, py::arg("model"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
           py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(),
           "Makes every seam G1 (or G0) where it can, never worse: (healed Model, the dict of `seam heal --json`)");
   mod.def("report", &writeReport, py::arg("model"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
           "Writes the self-contained HTML report of `seam report` (patch models) atomically; returns the path");
+  mod.def("report",
+          [](const std::filesystem::path& file, const std::filesystem::path& out, const std::optional<std::string>& title) {
+            if (isCadPath(file))
+              throw py::value_error(fmt::format("{}: the B-rep report of a STEP/IGES file is `seam report {}` (CLI); "
+                                                "seam.report(seam.load(path), out) reports its faces as patches",
+                                                file.string(), file.string()));
+            return writeReport(load(file), out, title);
+          },
+          py::arg("file"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
+          "`seam report FILE -o PATH` of a .json or .bpt model file");
   mod.def("save", &save, py::arg("model"), py::arg("path"), "Writes a model as .json (atomically)");
 
   auto checkDoc =

@@ -196,6 +196,7 @@ def test_regularity_matches_cli(examples, run_cli):
     assert got == expected
     assert list(got.keys()) == ["file", "curves", "patches"]
     assert [p["name"] for p in got["patches"]] == ["A", "B", "QuarterCylinder"]
+    assert seam.regularity(path) == expected  # a path: loaded, as the CLI does
     code, expected, err = run_cli("regularity", path, "--patch", "A", "--ell", "1", "--json")
     assert seam.regularity(seam.load(path), patch="A", ell=1) == expected
 
@@ -302,3 +303,14 @@ def test_corner_four_matches_cli_and_is_g1(run_cli, tmp_path):
         gap, angles = seam_angles(cornered, a, ae, b, be, cornered.domain(a)[0 if ae[0] == "v" else 1],
                                   cornered.domain(b)[0 if be[0] == "v" else 1], False, n=101)
         assert gap < 1e-9 and angles.max() < 1e-6, (a, b, angles.max())
+
+
+def test_report_of_a_file(examples, tmp_path):
+    path = os.path.join(examples, "models", "two_patches.json")
+    out = tmp_path / "r.html"
+    assert seam.report(path, out, title="from a file") == str(out)
+    assert "from a file" in out.read_text()
+    with pytest.raises(ValueError, match="seam report"):
+        seam.report(os.path.join(examples, "part.step"), tmp_path / "s.html")
+    with pytest.raises(OSError, match="missing.json"):
+        seam.report(tmp_path / "missing.json", tmp_path / "m.html")
