@@ -1146,6 +1146,130 @@ TEST(SeamBounds, CertifiedBoundsAgreeWithDenseSampling) {
 }
 
 // =====================================================================================================================
+// Seams that share their control rows (SeamOptions::sharedRows, issue 16): C^k splits take the row route, rows
+// that differ by more than rounding do not, and every bound still covers the independent dense reference.
+// =====================================================================================================================
+
+namespace {
+
+/// b with its control point (i, j) moved by d (i along u).
+BSplineSurface withPointMoved(const BSplineSurface& b, int i, int j, const Vec3& d) {
+  Matrix p = b.points();
+  p.row(i * b.numV() + j) += d.transpose();
+  return BSplineSurface(b.degreeU(), b.degreeV(), b.knotsU(), b.knotsV(), b.numU(), b.numV(), std::move(p),
+                        b.weights());
+}
+
+/// The report's bounds cover the dense reference (closest-point correspondence, both-way gap).
+void expectBoundsCoverReference(const SeamReport& r, const BSplineSurface& a, Edge ea, const BSplineSurface& b,
+                                Edge eb) {
+  const RefMeasures ref = denseReference(a, ea, b, eb, refOpts(400, nullptr, true));
+  // Floors: the reference's own evaluation round-off (as in SeamBounds.CertifiedBoundsAgreeWithDenseSampling).
+  EXPECT_GE(r.g0Max * (1.0 + 1e-9) + kFloorDistanceRel * patchScale(a), ref.g0) << "gap bound below the sampled gap";
+  EXPECT_GE(r.g1MaxDeg * (1.0 + 1e-9) + kFloorAngleDeg, ref.g1Deg) << "angle bound below the sampled angle";
+  EXPECT_GE(r.g0Max, r.g0Sampled);
+  EXPECT_GE(r.g1MaxDeg, r.g1SampledDeg);
+  EXPECT_GE(r.g2Max, r.g2Sampled);
+}
+
+}  // namespace
+
+TEST(SeamSharedRows, KnotInsertionSplitsTakeTheRowRouteWithTheGeneralRoutesClasses) {
+  Rng rng(3901);
+  for (int trial = 0; trial < 6; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, false);
+    // Every presentation: along-edge reversal mirrors the rows, exchanged roles swap A and B.
+    const BSplineSurface bRev = sp.b.reversedV();
+    struct Case {
+      const BSplineSurface *a, *b;
+      Edge ea, eb;
+    };
+    for (const Case& c : {Case{&sp.a, &sp.b, Edge::U1, Edge::U0}, Case{&sp.b, &sp.a, Edge::U0, Edge::U1},
+                          Case{&sp.a, &bRev, Edge::U1, Edge::U0}}) {
+      SeamOptions general;
+      general.sharedRows = false;
+      auto fast = analyze(*c.a, c.ea, *c.b, c.eb);
+      auto full = analyze(*c.a, c.ea, *c.b, c.eb, general);
+      ASSERT_TRUE(fast && full);
+      SCOPED_TRACE(describe(*fast));
+      EXPECT_TRUE(fast->sharedRows) << "a knot-insertion split did not take the shared-row route";
+      EXPECT_FALSE(full->sharedRows);
+      // Independent route: G2 with identities and C2, as the split of one C2 surface is by construction.
+      EXPECT_EQ(fast->geometric, GeometricClass::kG2);
+      EXPECT_EQ(fast->parametric, ParametricClass::kC2);
+      EXPECT_TRUE(fast->certified && fast->g1Identity && fast->g2Identity);
+      // The same classes and identities as the general route, bounds at round-off level.
+      EXPECT_EQ(fast->geometric, full->geometric);
+      EXPECT_EQ(fast->parametric, full->parametric);
+      EXPECT_EQ(fast->g1Identity, full->g1Identity);
+      EXPECT_EQ(fast->g2Identity, full->g2Identity);
+      EXPECT_EQ(fast->reversed, full->reversed);
+      EXPECT_LE(fast->g0Max, kExactDistanceRel * patchScale(sp.s));
+      EXPECT_LE(fast->g1MaxDeg, kExactAngleDeg);
+      EXPECT_LE(fast->g2RelMax, kExactCurvatureRel);
+      expectBoundsCoverReference(*fast, *c.a, c.ea, *c.b, c.eb);
+    }
+  }
+}
+
+TEST(SeamSharedRows, ACrossScaleLambdaIsStillTheRowRoute) {
+  // B reparametrised across by an affine map of factor f: B_1 = A_out / f and B_2 = A_oo / f^2 exactly in the
+  // geometry, lambda = 1 / f constant: G2 (identity), not C1.
+  Rng rng(3902);
+  const SplitPair sp = randomSplitU(rng, 3, false);
+  const Interval du = sp.b.domainU();
+  const double f = 2.5;
+  const BSplineSurface b(sp.b.degreeU(), sp.b.degreeV(),
+                         sp.b.knotsU().reparametrized(sp.b.degreeU(), du.lo, du.lo + f * du.length()), sp.b.knotsV(),
+                         sp.b.numU(), sp.b.numV(), sp.b.points(), sp.b.weights());
+  auto r = analyze(sp.a, Edge::U1, b, Edge::U0);
+  ASSERT_TRUE(r);
+  SCOPED_TRACE(describe(*r));
+  EXPECT_TRUE(r->sharedRows);
+  EXPECT_EQ(r->geometric, GeometricClass::kG2);
+  EXPECT_TRUE(r->g1Identity && r->g2Identity);
+  EXPECT_NE(r->parametric, ParametricClass::kC1);
+  EXPECT_NE(r->parametric, ParametricClass::kC2);
+  EXPECT_TRUE(near(1.0 / f, r->lambdaRange.lo, 1e-9, "lambda"));
+  expectBoundsCoverReference(*r, sp.a, Edge::U1, b, Edge::U0);
+}
+
+TEST(SeamSharedRows, RowsEqualButForAPerturbationOf1e12TakeTheGeneralRoute) {
+  // A perturbation of 1e-12 of the coordinates is far above rounding: the row route must not call these rows
+  // shared, and the bounds (general route) must cover the sampled gap and angle.
+  Rng rng(3903);
+  for (int trial = 0; trial < 4; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, false);
+    const double scale = patchScale(sp.s);
+    const int j = irand(rng, 1, sp.b.numV() - 2);
+    const Vec3 d = 1e-12 * scale * Vec3(urand(rng, -1, 1), urand(rng, -1, 1), 1.0).normalized();
+    SeamOptions general;
+    general.sharedRows = false;
+    for (int row = 0; row < 3; ++row) {  // the boundary row, the first and the second cross row
+      SCOPED_TRACE("row " + std::to_string(row));
+      const BSplineSurface b = withPointMoved(sp.b, row, j, d);
+      auto r = analyze(sp.a, Edge::U1, b, Edge::U0);
+      auto full = analyze(sp.a, Edge::U1, b, Edge::U0, general);
+      ASSERT_TRUE(r && full);
+      SCOPED_TRACE(describe(*r));
+      EXPECT_FALSE(r->sharedRows) << "rows 1e-12 apart were taken for shared rows";
+      EXPECT_EQ(r->g0Max, full->g0Max);  // the general route, bit for bit
+      EXPECT_EQ(r->g1MaxDeg, full->g1MaxDeg);
+      EXPECT_EQ(r->geometric, full->geometric);
+      expectBoundsCoverReference(*r, sp.a, Edge::U1, b, Edge::U0);
+      if (row == 0) {
+        // No floor: the moved point makes a gap of about 1e-12 x scale, which the bound must cover.
+        const RefMeasures ref = denseReference(sp.a, Edge::U1, b, Edge::U0, refOpts(400, nullptr, true));
+        EXPECT_GT(ref.g0, 0.1 * d.norm()) << "construction: the moved point makes no gap";
+        EXPECT_GE(r->g0Max, ref.g0 * (1.0 - 1e-3)) << "gap bound below the sampled gap";
+      }
+    }
+  }
+}
+
+// =====================================================================================================================
 // Errors.
 // =====================================================================================================================
 

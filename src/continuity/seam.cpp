@@ -147,9 +147,14 @@ void bernsteinJet(const Matrix& c, double x, int order, std::array<Eigen::Vector
     heap.resize(static_cast<size_t>(n) + 1);
     b = heap.data();
   }
-  for (int i = 0; i <= n; ++i) {
-    b[i].setZero();
-    for (int k = 0; k < dim; ++k) b[i][k] = c(i, k);
+  const double* src = c.data();  // row-major: coefficient i is dim consecutive values
+  if (dim == 3) {
+    for (int i = 0; i <= n; ++i, src += 3) b[i] = Eigen::Vector4d(src[0], src[1], src[2], 0.0);
+  } else {
+    for (int i = 0; i <= n; ++i, src += dim) {
+      b[i].setZero();
+      for (int k = 0; k < dim; ++k) b[i][k] = src[k];
+    }
   }
   const int keep = std::min(n, 2);  // stop with keep + 1 points: the last de Casteljau levels give the derivatives
   for (int r = 1; r <= n - keep; ++r)
@@ -705,6 +710,170 @@ struct SampleSet {
 
 double controlDiagonal(const BSplineSurface& s) { return controlBox(s).diagonal(); }
 
+// ------------------------------------------------------------------------------------------------------------
+// Seams that share their control rows (C^k splits: two patches cut from one surface at a knot line, issue 16 goal
+// 2). docs/algorithms/seam-measures.md, "Seams that share their control rows", derives the bounds.
+
+/// Rounding allowance of the shared-row test, in units of the machine epsilon times (degree + 1) times the magnitude
+/// of the coordinates the rows were computed from: rows that differ by more are not "the same row up to rounding"
+/// (a perturbation of 1e-12 of the coordinates is 50 times above it) and take the general route.
+constexpr double kSharedRowUlps = 16.0;
+/// Relative inflation of the shared-row bounds: covers the rounding of the few dozen operations that form them.
+constexpr double kSharedRowSafety = 1.0 + 1e-12;
+
+/// Factors d/du and d^2/du^2 of the cross-derivative rows at edge e per unit of the control points' coordinates:
+/// p / h and p (p - 1) / h^2 with h the knot span next to the edge (the rows are differences of control points
+/// scaled by them, so their rounding is epsilon x coordinates x these factors).
+std::pair<double, double> crossRowFactors(const BSplineSurface& surf, Edge e) {
+  const bool uEdge = isUEdge(e);
+  const int p = uEdge ? surf.degreeU() : surf.degreeV();
+  const KnotVector& kv = uEdge ? surf.knotsU() : surf.knotsV();
+  const Interval dom = kv.domain(p);
+  const bool atStart = e == Edge::U0 || e == Edge::V0;
+  double h = dom.length();
+  for (int i = 0; i < kv.size(); ++i) {
+    const double k = kv[i];
+    const double d = atStart ? k - dom.lo : dom.hi - k;
+    if (d > kKnotRelTol * dom.length()) h = std::min(h, d);
+  }
+  if (!(h > 0.0)) return {0.0, 0.0};
+  return {p / h, p * (p - 1) / (h * h)};
+}
+
+struct SharedRowBounds {
+  double g0 = 0.0;  // certified gap bound (the largest control-point difference of the boundary rows)
+  double g1 = 0.0;  // certified angle bound, radians
+  double g2 = 0.0;  // certified bound of the G2 quotient (as g2Bound)
+  double c1 = 0.0, c2 = 0.0;  // largest coefficient of B'_u - A_out and B'_uu - A'_uu (parametric identities)
+};
+
+/// Bounds of a seam whose two sides are polynomial, share their Bezier spans along the edge (same degree, same
+/// normalised breakpoints, the overlap being both whole edges) and whose rows satisfy, up to rounding,
+/// B_0 = A_0, B_1 = lambda A_out (one constant lambda > 0) and B_2 = lambda^2 A_oo (the C2 relation for the
+/// cross-derivative scale lambda). nullopt when any of that fails or the bounds are not at round-off level: the
+/// caller then takes the general route. No allocation.
+std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, bool reversed) {
+  if (A.rational || B.rational || A.degree != B.degree || A.spans.size() != B.spans.size() || A.degree < 1)
+    return std::nullopt;
+  const int n = A.degree;
+  const size_t m = A.spans.size();
+  for (size_t k = 0; k < 3; ++k)
+    if (A.h[k].size() != m || B.h[k].size() != m) return std::nullopt;
+  // The spans correspond one to one: same normalised breakpoints (B's mirrored when reversed).
+  for (size_t k = 0; k < m; ++k) {
+    const size_t kb = reversed ? m - 1 - k : k;
+    const double na = (A.spans[k].lo - A.dom.lo) / A.dom.length();
+    const double nb = reversed ? (B.dom.hi - B.spans[kb].hi) / B.dom.length()
+                               : (B.spans[kb].lo - B.dom.lo) / B.dom.length();
+    if (!(std::abs(na - nb) <= kKnotRelTol)) return std::nullopt;
+  }
+  auto row = [](const BernsteinPoly& p, int j) -> Vec3 { return p.coeffs().row(j).head<3>().transpose(); };
+  // lambda by least squares over all coefficients of the first rows: B_1 = lambda A_out = -lambda A_1.
+  double num = 0.0, den = 0.0, mag0 = 0.0;
+  for (size_t k = 0; k < m; ++k) {
+    const size_t kb = reversed ? m - 1 - k : k;
+    for (int j = 0; j <= n; ++j) {
+      const int jb = reversed ? n - j : j;
+      const Vec3 o = -row(A.h[1][k], j), b1 = row(B.h[1][kb], jb);
+      num += b1.dot(o);
+      den += o.squaredNorm();
+      mag0 = std::max({mag0, row(A.h[0][k], j).cwiseAbs().maxCoeff(), row(B.h[0][kb], jb).cwiseAbs().maxCoeff()});
+    }
+  }
+  if (!(den > 0.0)) return std::nullopt;
+  const double lambda = num / den;
+  if (!(lambda > 0.0) || !std::isfinite(lambda)) return std::nullopt;
+  // Rounding allowances from the coordinates' magnitude.
+  const auto [fa1, fa2] = crossRowFactors(A.patch->surface, A.edge);
+  const auto [fb1, fb2] = crossRowFactors(B.patch->surface, B.edge);
+  const double ulp = kSharedRowUlps * (n + 1) * std::numeric_limits<double>::epsilon() * mag0;
+  const double eps0 = ulp, eps1 = ulp * (lambda * fa1 + fb1), eps2 = ulp * (lambda * lambda * fa2 + fb2);
+
+  double d0 = 0.0, d1 = 0.0, d2 = 0.0, dT = 0.0, c1 = 0.0, c2 = 0.0;
+  double tMax = 0.0, oMax = 0.0, aooMax = 0.0, aotMax = 0.0, attMax = 0.0, nMin = std::numeric_limits<double>::infinity();
+  constexpr int kMaxDegree = kJetStackDegree;
+  if (n > kMaxDegree) return std::nullopt;
+  std::array<Vec3, kMaxDegree + 1> diff;
+  std::array<Vec3, kMaxDegree> T, O1;          // A_t and the along-edge derivative of A_1 (coefficients)
+  std::array<Vec3, 2 * kMaxDegree> NA;         // n_A = A_t x A_out, degree 2n - 1
+  for (size_t k = 0; k < m; ++k) {
+    const size_t kb = reversed ? m - 1 - k : k;
+    const Matrix& a0 = A.h[0][k].coeffs();
+    const Matrix& a1 = A.h[1][k].coeffs();
+    const Matrix& a2 = A.h[2][k].coeffs();
+    const Matrix& b0 = B.h[0][kb].coeffs();
+    const Matrix& b1 = B.h[1][kb].coeffs();
+    const Matrix& b2 = B.h[2][kb].coeffs();
+    for (int j = 0; j <= n; ++j) {
+      const int jb = reversed ? n - j : j;
+      const Vec3 pa = a0.row(j).head<3>().transpose(), pb = b0.row(jb).head<3>().transpose();
+      const Vec3 ra1 = a1.row(j).head<3>().transpose(), rb1 = b1.row(jb).head<3>().transpose();
+      const Vec3 ra2 = a2.row(j).head<3>().transpose(), rb2 = b2.row(jb).head<3>().transpose();
+      diff[static_cast<size_t>(j)] = pb - pa;
+      d0 = std::max(d0, (pb - pa).norm());
+      d1 = std::max(d1, (rb1 + lambda * ra1).norm());
+      d2 = std::max(d2, (rb2 - lambda * lambda * ra2).norm());
+      c1 = std::max(c1, (rb1 + ra1).norm());
+      c2 = std::max(c2, (rb2 - ra2).norm());
+      oMax = std::max(oMax, ra1.norm());
+      aooMax = std::max(aooMax, ra2.norm());
+      if (j >= 2) {
+        const Vec3 att = n * (n - 1) * (pa - 2.0 * Vec3(a0.row(j - 1).head<3>().transpose()) +
+                                        Vec3(a0.row(j - 2).head<3>().transpose()));
+        attMax = std::max(attMax, att.norm());
+      }
+    }
+    if (!(d0 <= eps0) || !(d1 <= eps1) || !(d2 <= eps2)) return std::nullopt;
+    for (int j = 0; j < n; ++j) {
+      const size_t u = static_cast<size_t>(j);
+      T[u] = n * (Vec3(a0.row(j + 1).head<3>().transpose()) - Vec3(a0.row(j).head<3>().transpose()));
+      O1[u] = n * (Vec3(a1.row(j + 1).head<3>().transpose()) - Vec3(a1.row(j).head<3>().transpose()));
+      tMax = std::max(tMax, T[u].norm());
+      aotMax = std::max(aotMax, O1[u].norm());
+      dT = std::max(dT, (n * (diff[u + 1] - diff[u])).norm());
+    }
+    // n_A = A_t x A_out in Bernstein form of degree 2n - 1: sum over i + j = l of C(n-1, i) C(n, j) / C(2n-1, l).
+    const int dn = 2 * n - 1;
+    for (int l = 0; l <= dn; ++l) NA[static_cast<size_t>(l)].setZero();
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        const Vec3 o = -Vec3(a1.row(j).head<3>().transpose());
+        NA[static_cast<size_t>(i + j)] +=
+            (binomial(n - 1, i) * binomial(n, j) / binomial(dn, i + j)) * T[static_cast<size_t>(i)].cross(o);
+      }
+    // |n_A| >= min_l <m, N_l> for the unit direction m of n_A at the middle (the hull of a scalar polynomial).
+    Vec3 mid = Vec3::Zero();
+    for (int l = 0; l <= dn; ++l) mid += binomial(dn, l) * NA[static_cast<size_t>(l)];  // 2^dn n_A(1/2)
+    if (!(mid.norm() > 0.0)) return std::nullopt;
+    mid.normalize();
+    for (int l = 0; l <= dn; ++l) {
+      nMin = std::min(nMin, mid.dot(NA[static_cast<size_t>(l)]));
+    }
+  }
+  if (!(nMin > 0.0)) return std::nullopt;
+  SharedRowBounds r;
+  r.g0 = d0 * kSharedRowSafety;
+  r.c1 = c1;
+  r.c2 = c2;
+  // G1: n_B = lambda n_A + e with |e| <= lambda dT |O| + |T| d1 + dT d1; sin(angle) <= |e| / (lambda |n_A|).
+  const double e = lambda * dT * oMax + tMax * d1 + dT * d1;
+  const double sinBound = kSharedRowSafety * e / (lambda * nMin);
+  if (!(sinBound < 1.0)) return std::nullopt;
+  r.g1 = std::asin(sinBound) * kSharedRowSafety;
+  // G2 (the quotient of g2Bound, pointwise): with L = lambda D + e_L', |e_L'| <= d1 |T| |n_A|, |K| <= |O| d1 |n_A|,
+  // D = -|n_A|^2 and B_cc = lambda^2 A_oo + e2, |V| / |n_A|^4 <= d2 + d1 |T| (2 lambda |n_A| + d1 |T|) |A_oo| / |n_A|^2
+  // + 2 (lambda |n_A| + d1 |T|) |O| d1 |A_ot| / |n_A|^2 + |O|^2 d1^2 |A_tt| / |n_A|^2 and |y| <= that x |T|^2 /
+  // |B_c x T|^2, |B_c x T| >= lambda |n_A| - d1 |T|: every term decreases with |n_A|, so |n_A| = nMin bounds it.
+  const double bLow = lambda * nMin - d1 * tMax;
+  if (!(bLow > 0.0)) return std::nullopt;
+  const double n2 = nMin * nMin, dt = d1 * tMax;
+  const double V = d2 + dt * (2.0 * lambda * nMin + dt) * aooMax / n2 + 2.0 * (lambda * nMin + dt) * oMax * d1 * aotMax / n2 +
+                   oMax * oMax * d1 * d1 * attMax / n2;
+  r.g2 = kSharedRowSafety * V * tMax * tMax / (bLow * bLow);
+  if (!(r.g1 <= kIdentityBoundFactor * kAngleBoundFloor) || !std::isfinite(r.g2)) return std::nullopt;
+  return r;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -808,10 +977,21 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   const double edgeScale = std::max(controlBox(A.curve).diagonal(), controlBox(B.curve).diagonal());
   const double exactFloor = kExactCorrespondenceRel * edgeScale;
 
-  // ---- correspondence: affine, then polynomial, else closest-point projection.
+  // ---- correspondence: shared control rows, affine, then polynomial, else closest-point projection.
   std::vector<Piece> pieces;
   bool certified = false;
   double corrBound = std::numeric_limits<double>::infinity();  // certified bound of |a - b o phi| when certified
+  // Both whole edges, the same spans and rows equal up to rounding (C^k splits): bounds straight from the rows.
+  std::optional<SharedRowBounds> shared;
+  if (opt.sharedRows && rep.overlapA.lo == A.dom.lo && rep.overlapA.hi == A.dom.hi && rep.overlapB.lo == B.dom.lo &&
+      rep.overlapB.hi == B.dom.hi)
+    shared = sharedRowBounds(A, B, rep.reversed);
+  if (shared) {
+    rep.correspondence = Correspondence::kAffine;
+    rep.sharedRows = true;
+    certified = true;
+    corrBound = shared->g0;
+  } else {
   auto tryMaps = [&](const Side& master, const Side& slave, bool masterIsA, const std::vector<MapSpan>& maps) {
     std::vector<Piece> pcs = buildPieces(master, slave, masterIsA, maps, opt);
     double best = 0.0, bx = 0.0;
@@ -874,6 +1054,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
       }
     }
   }
+  }
   for (const Piece& pc : pieces)
     if (pc.P.degree() > opt.maxCertifiedDegree) {
       certified = false;
@@ -892,6 +1073,16 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     // Plots (keepSamples) get the dense sampling; otherwise the bound subdivision does the refining.
     const int start = corrBound <= exactFloor ? opt.certifiedSamplesPerPiece : 2 * opt.certifiedSamplesPerPiece;
     const int perPiece = std::max(opt.keepSamples ? opt.samplesPerSpan : start, 2);
+    const size_t m = A.spans.size();
+    if (shared)  // the spans correspond one to one, each by the identity of its local parameter
+      for (size_t k = 0; k < m; ++k) {
+        const Interval sa = A.spans[k], sb = B.spans[rep.reversed ? m - 1 - k : k];
+        for (int i = 0; i <= perPiece; ++i) {
+          const double x = static_cast<double>(i) / perPiece;
+          S.t.push_back((1.0 - x) * sa.lo + x * sa.hi);
+          S.s.push_back(rep.reversed ? x * sb.lo + (1.0 - x) * sb.hi : (1.0 - x) * sb.lo + x * sb.hi);
+        }
+      }
     for (const Piece& pc : pieces)
       for (int i = 0; i <= perPiece; ++i) {
         const double x = static_cast<double>(i) / perPiece;
@@ -1018,7 +1209,28 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   rep.g1MaxDeg = rep.g1SampledDeg;
   rep.g2Max = rep.g2Sampled;
   bool c1Identity = false, c2Identity = false;
-  if (certified) {
+  if (certified && shared) {
+    // Bounds from the rows (sharedRowBounds): G1 and G2 hold as identities up to rounding, with these bounds. A G2
+    // bound above the identity floor of this seam's curvature, or samples that contradict the identities, send the
+    // seam to the general route (rare: the rows agree to rounding).
+    if (!(shared->g2 <= kIdentityBoundFactor * kIdentityRelTol * curvRef) || !(rep.g1SampledDeg <= opt.tol.angleDeg) ||
+        !(rep.g2Sampled <= opt.tol.curvatureRel * curvRef)) {
+      SeamOptions general = opt;
+      general.sharedRows = false;
+      return analyzeSeam(pa, ea, pb, eb, general, aRange);
+    }
+    rep.g0Max = std::max(corrBound, rep.g0Sampled);
+    rep.g1MaxDeg = std::max(shared->g1 * kRadToDeg, rep.g1SampledDeg);
+    rep.g1Identity = true;
+    if (!opt.certifyG2) {
+      rep.notes.push_back("G2 not certified (not requested): the G2 values are samples");
+    } else {
+      rep.g2Identity = true;
+      rep.g2Max = std::max(shared->g2, rep.g2Sampled);
+    }
+    c1Identity = shared->c1 <= kIdentityRelTol * c1s;
+    c2Identity = shared->c2 <= kIdentityRelTol * std::max(c2s, c1s);
+  } else if (certified) {
     auto tAt = [&](int piece, double x) { return pieces[static_cast<size_t>(piece)].tOf.scalar(x); };
     // G2 values that are not bounded: the sampled maximum refined by golden section, as for uncertified seams.
     auto refineG2 = [&] {

@@ -68,6 +68,11 @@ struct SeamOptions {
   /// samples only (a note says so) — for callers that need G0/G1 verdicts (heal of G0/G1 requests), where the G2
   /// subdivision of high-degree seams is most of the cost.
   bool certifyG2 = true;
+  /// Seams whose sides share their control rows up to rounding (C^k splits: both whole edges, polynomial, the same
+  /// Bezier spans, B_0 = A_0, B_1 = lambda A_out, B_2 = lambda^2 A_oo) get their G0/G1/G2 bounds straight from the
+  /// row differences, without the exact piece data and the subdivision (docs/algorithms/seam-measures.md). The
+  /// same classes; the bounds are rigorous and at round-off level. false: always the general route (tests).
+  bool sharedRows = true;
 };
 
 struct SeamReport {
@@ -100,6 +105,8 @@ struct SeamReport {
   bool certified = false;             ///< bounds computed in Bernstein form over the whole overlap
   bool g1Identity = false;            ///< G1 proved as a polynomial identity (coefficients zero to round-off)
   bool g2Identity = false;            ///< G2 proved as a polynomial identity
+  /// The bounds came from the sides' shared control rows (SeamOptions::sharedRows), not from the exact piece data.
+  bool sharedRows = false;
   std::vector<std::string> notes;     ///< why something was not certified, degenerate normals, ...
   std::vector<SeamSample> samples;    ///< only with SeamOptions::keepSamples
 };
