@@ -32,12 +32,14 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
 
 #include "continuity/sampling.h"
 #include "occt/cad_internal.h"
+#include "occt/pcurve_correspondence.h"
 
 namespace seam::occt {
 
@@ -57,6 +59,14 @@ constexpr int kParamCheckPoints = 16;
 /// The note of a seam sampled through the pcurves (replaced when G0 and G1 are certified afterwards).
 constexpr const char* kSampledNote =
     "sampled through the pcurves of the shared B-rep edge (trimmed faces): not certified";
+/// Gauss-Newton steps, and the step relative to the domain at which they stop, of the projection of a face's point
+/// onto its converted patch (isoLineInPatch).
+constexpr int kProjectIterations = 30;
+constexpr double kProjectStepRel = 1e-15;
+/// Intervals at which an edge re-expressed as an iso-line of a converted patch is checked against the face's points.
+constexpr int kReparamCheckPoints = 32;
+/// A parameter that changes by less than this fraction of the domain along an edge is constant there (iso-lines).
+constexpr double kIsoLineRel = 1e-9;
 /// Points per edge polyline (drawings in reports).
 constexpr int kPolylinePoints = 24;
 /// Gauss-Newton steps that move B's partner point to the point of B's edge closest to A's (sampled route), and the
@@ -244,10 +254,91 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   return rep;
 }
 
-/// A face side for the certified route: the pcurve over [first, last] as a seam B-spline (polynomial or rational).
-/// kUnsupported, with the reason, when OpenCASCADE cannot convert it, when it leaves the patch's domain, or when the
-/// patch made from the face does not reproduce the face's surface along it.
-Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
+/// A face's edge for the certified route: an exact curve in the patch's parameters, either in the edge's own
+/// parameter (`ownParameter` false: the pcurve's B-spline form over [first, last]) or in a parameter of its own
+/// (`ownParameter` true: the rational B-spline form of a circle or ellipse, whose parameter is not the angle; or an
+/// iso-line of a converted analytic surface, whose patch parameter along a circle is not the angle). A side with
+/// its own parameter is paired with the other face's edge by detail::correspondInParameterOf.
+struct FacePCurve {
+  PCurveSide side;
+  bool ownParameter = false;
+  std::string how;  ///< for the seam's notes, when ownParameter
+};
+
+/// The patch parameters of the point of `patch` closest to x, by Gauss-Newton steps on |P(u, v) - x|^2 from `uv`
+/// (clamped to the domain); x is expected on the patch (a point of the surface the patch converts).
+std::array<double, 2> projectOntoPatch(const BSplineSurface& patch, const Vec3& x, std::array<double, 2> uv) {
+  const Interval du = patch.domainU(), dv = patch.domainV();
+  uv = {std::clamp(uv[0], du.lo, du.hi), std::clamp(uv[1], dv.lo, dv.hi)};
+  for (int it = 0; it < kProjectIterations; ++it) {
+    Vec3 p, su, sv;
+    patch.pointAndFirstDerivatives(uv[0], uv[1], p, su, sv);
+    const Vec3 r = x - p;
+    const double a = su.dot(su), b = su.dot(sv), c = sv.dot(sv), det = a * c - b * b;
+    if (!(det > 0.0)) break;  // a pole of the patch: keep the point reached
+    const double ru = su.dot(r), rv = sv.dot(r);
+    const double nu = std::clamp(uv[0] + (c * ru - b * rv) / det, du.lo, du.hi);
+    const double nv = std::clamp(uv[1] + (a * rv - b * ru) / det, dv.lo, dv.hi);
+    if (!std::isfinite(nu) || !std::isfinite(nv)) break;
+    const bool done = std::abs(nu - uv[0]) <= kProjectStepRel * du.length() &&
+                      std::abs(nv - uv[1]) <= kProjectStepRel * dv.length();
+    uv = {nu, nv};
+    if (done) break;
+  }
+  return uv;
+}
+
+/// For a face whose converted patch has other parameters than the face (a cylinder, cone, sphere, torus or surface
+/// of revolution: along a circle the patch parameter is a rational function of tan(angle / 2), not the angle):
+/// the edge as an iso-line of the patch, when it is an iso-line of the face (a tensor-product conversion maps the
+/// face's iso-lines to the patch's, each direction on its own). The line runs in a parameter of its own, [0, 1],
+/// from the projection onto the patch of the edge's first face point to that of its last; it is kept only when the
+/// projections of the face's points at kReparamCheckPoints + 1 parameters lie on it and the patch reproduces them
+/// within kSameParametrisationRel of the model size.
+Result<BSplineCurve> isoLineInPatch(const FaceSide& f, const BSplineCurve& facePCurve, const BSplineSurface& patch,
+                                    double modelSize) {
+  const Interval dom[2] = {patch.domainU(), patch.domainV()};
+  const Matrix& cp = facePCurve.points();
+  int fixed = -1;  // the face parameter that is constant along the edge
+  for (int k = 0; k < 2; ++k)
+    if (cp.col(k).maxCoeff() - cp.col(k).minCoeff() <= kIsoLineRel * dom[k].length()) fixed = k;
+  if (fixed < 0)
+    return Status(ErrorCode::kUnsupported,
+                  "the patch does not reproduce the face's surface in its own parameters (a converted analytic "
+                  "surface), and the edge is no iso-line of the face");
+  const size_t n = kReparamCheckPoints + 1;
+  std::vector<Vec3> x(n);
+  std::vector<std::array<double, 2>> uv(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double t = f.first + (f.last - f.first) * static_cast<double>(i) / kReparamCheckPoints;
+    const VecX o = facePCurve.evaluate(t);
+    const gp_Pnt2d q = f.pcurve->Value(t);
+    x[i] = toVec(f.surface->Value(q.X(), q.Y()));
+    uv[i] = projectOntoPatch(patch, x[i], {o[0], o[1]});
+  }
+  const int moving = 1 - fixed;
+  const double level = uv[n / 2][static_cast<size_t>(fixed)];
+  for (size_t i = 0; i < n; ++i) {
+    const bool onLine = std::abs(uv[i][static_cast<size_t>(fixed)] - level) <= kIsoLineRel * dom[fixed].length();
+    const Vec3 y = patch.evaluate(uv[i][0], uv[i][1]).head<3>();
+    if (!onLine || !((y - x[i]).norm() <= kSameParametrisationRel * modelSize))
+      return Status(ErrorCode::kUnsupported,
+                    "the patch does not reproduce the face's surface in its own parameters (a converted analytic "
+                    "surface), and its edge is no iso-line of the patch");
+  }
+  const double m0 = uv.front()[static_cast<size_t>(moving)], m1 = uv.back()[static_cast<size_t>(moving)];
+  if (!(std::abs(m1 - m0) > kIsoLineRel * dom[moving].length()))
+    return Status(ErrorCode::kUnsupported, "the edge is a single point of the converted patch");
+  Matrix pts(2, 2);
+  pts(0, fixed) = pts(1, fixed) = level;
+  pts(0, moving) = m0;
+  pts(1, moving) = m1;
+  return BSplineCurve::create(1, std::vector<double>{0.0, 0.0, 1.0, 1.0}, std::move(pts), VecX());
+}
+
+/// kUnsupported, with the reason, when OpenCASCADE cannot convert the pcurve, when it leaves the patch's domain, or
+/// when the patch made from the face reproduces the face's edge neither along the pcurve nor as an iso-line.
+Result<FacePCurve> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
                               double modelSize) {
   auto why = [&](std::string_view reason) {
     std::string type = "?";
@@ -307,19 +398,31 @@ Result<PCurveSide> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
                                "{:.9g}] x [{:.9g}, {:.9g}]",
                                uv[0], uv[1], pd.lo, pd.hi, qd.lo, qd.hi));
       const Vec3 x = patch.evaluate(std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi)).head<3>();
-      if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize)
-        return why("the patch does not reproduce the face's surface in its own parameters (a converted analytic "
-                   "surface: its pcurves are in angular parameters)");
-      // The B-spline form of the pcurve must keep the pcurve's own parameter (the edge's): a circle or ellipse
-      // becomes a rational B-spline whose parameter differs from the angle by up to ~0.016 rad, and evaluating the
-      // other face at the same parameter would then measure a gap of 2 R sin(error / 2) that is not there.
+      if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize) {
+        // A converted analytic surface: the edge as an iso-line of the patch, in a parameter of its own.
+        Result<BSplineCurve> line = isoLineInPatch(f, side.pcurve, patch, modelSize);
+        if (!line) return why(line.status().message());
+        side.pcurve = std::move(line).value();
+        side.range = {0.0, 1.0};
+        side.faceU = pd;  // the patch converts the face's surface over the face's box
+        side.faceV = qd;
+        return FacePCurve{std::move(side), true,
+                          "an iso-line of its converted patch (whose parameter is not the angle)"};
+      }
+      // The B-spline form of the pcurve must keep the pcurve's own parameter (the edge's) for the two faces to be
+      // paired by parameter: a circle or ellipse becomes a rational B-spline whose parameter differs from the
+      // angle by up to ~0.016 rad (evaluating the other face at the same parameter would measure a gap of
+      // 2 R sin(error / 2) that is not there). Such a form is exact in a parameter of its own: the other face is
+      // paired with it by correspondence.
       const gp_Pnt2d o = f.pcurve->Value(t);
-      if ((x - toVec(f.surface->Value(o.X(), o.Y()))).norm() > kSameParametrisationRel * modelSize)
-        return why(fmt::format("the pcurve's B-spline form has another parameter than the pcurve itself (a {} "
-                               "converted to a rational B-spline): no common parameter with the other face",
-                               basisName(f.pcurve)));
+      if ((x - toVec(f.surface->Value(o.X(), o.Y()))).norm() > kSameParametrisationRel * modelSize) {
+        side.range = side.pcurve.domain();
+        return FacePCurve{std::move(side), true,
+                          fmt::format("the rational B-spline form of its {} pcurve (whose parameter is not the angle)",
+                                      basisName(f.pcurve))};
+      }
     }
-    return side;
+    return FacePCurve{std::move(side), false, {}};
   } catch (const Standard_Failure& e) {
     return why(std::string("OpenCASCADE failed on the pcurve: ") + e.GetMessageString());
   }
@@ -376,6 +479,41 @@ void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSid
                                "({} pieces, degree <= {}); {}",
                                r->pieces, r->maxDegree, g2));
   reconcileVerdict(rep, opt.tol);
+}
+
+/// The certified route for two faces whose edges do not share a parameter: B's side (or A's, when only B has a
+/// parameter of its own, or when B's pcurve has the higher degree) re-expressed in the other's parameter by a
+/// monotone piecewise-cubic correspondence (detail::correspondInParameterOf), then certifyThroughPCurves.
+void certifyByCorrespondence(SeamReport& rep, const FacePCurve& a, const FacePCurve& b, bool sameParameter,
+                             const std::string& nameA, const std::string& nameB, const SeamOptions& opt,
+                             double modelSize) {
+  // The master keeps its parameter; the other is composed with a cubic (its degree triples): master = the side
+  // with its own parameter, or of the higher pcurve degree.
+  bool masterA = a.ownParameter && !b.ownParameter;
+  if (a.ownParameter == b.ownParameter) masterA = a.side.pcurve.degree() >= b.side.pcurve.degree();
+  const FacePCurve& master = masterA ? a : b;
+  const FacePCurve& other = masterA ? b : a;
+  const Result<detail::Correspondence> c = detail::correspondInParameterOf(master.side, other.side, opt.tol.distance);
+  if (!c) {
+    rep.notes.push_back(fmt::format("not certified: no common parameter for the two edges: {}", c.status().message()));
+    return;
+  }
+  SeamOptions o = opt;
+  o.maxBoundWork = std::min(o.maxBoundWork, detail::kCorrespondenceBoundWork);
+  if (masterA)
+    certifyThroughPCurves(rep, master.side, c->b, o, modelSize);
+  else
+    certifyThroughPCurves(rep, c->b, master.side, o, modelSize);
+  if (!rep.certified) return;
+  std::string why = !sameParameter ? "the edge's pcurves do not share its parameter (no SameParameter / SameRange)"
+                                   : "";
+  for (const auto& [s, name] : {std::pair{&a, &nameA}, std::pair{&b, &nameB}})
+    if (s->ownParameter)
+      why += fmt::format("{}{}'s edge is {}", why.empty() ? "" : "; ", *name, s->how);
+  rep.notes.push_back(fmt::format(
+      "no common parameter ({}): {}'s edge was paired with {}'s by a monotone piecewise-cubic correspondence ({} "
+      "pieces, within {:.3g} of the closest points) composed exactly; the bounds hold for the edges themselves",
+      why, masterA ? nameB : nameA, masterA ? nameA : nameB, c->pieces, c->pairingError));
 }
 
 Vec3 edgeMidpoint(const TopoDS_Edge& e) {
@@ -555,18 +693,18 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
-          if (!BRep_Tool::SameParameter(edge) || !BRep_Tool::SameRange(edge)) {
-            seam.report.notes.push_back(
-                "not certified: the edge's pcurves do not share its parameter (no SameParameter / SameRange): "
-                "measured by closest points");
-          } else if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
+          if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
             const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
             const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
-            if (sideA && sideB)
-              certifyThroughPCurves(seam.report, *sideA, *sideB, seamOpt, size);
-            else
+            const bool sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
+            if (!sideA || !sideB) {
               seam.report.notes.push_back(fmt::format("not certified: on {}, {}", sideA ? seam.b : seam.a,
                                                       (sideA ? sideB : sideA).status().message()));
+            } else if (sameParameter && !sideA->ownParameter && !sideB->ownParameter) {
+              certifyThroughPCurves(seam.report, sideA->side, sideB->side, seamOpt, size);
+            } else {
+              certifyByCorrespondence(seam.report, *sideA, *sideB, sameParameter, seam.a, seam.b, seamOpt, size);
+            }
           } else {
             seam.report.notes.push_back(
                 fmt::format("not certified: {} was approximated, not converted exactly (see the import warnings)",

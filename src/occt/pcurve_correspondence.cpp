@@ -1,0 +1,205 @@
+// B's side of a B-rep edge re-expressed in A's parameter through a monotone piecewise-cubic correspondence
+// (pcurve_correspondence.h).
+#include "occt/pcurve_correspondence.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "seam/core/bernstein.h"
+#include "seam/spline/bezier.h"
+
+namespace seam::occt::detail {
+
+namespace {
+
+/// A side's edge point S(c(t)) and its derivative along the edge (chain rule; the pcurve clamped to the domain).
+struct EdgeJet {
+  Vec3 point, tangent;
+};
+
+EdgeJet jet(const PCurveSide& s, double t) {
+  const Matrix d = s.pcurve.derivatives(t, 1);
+  const Interval du = s.surface->domainU(), dv = s.surface->domainV();
+  Vec3 p, su, sv;
+  s.surface->pointAndFirstDerivatives(std::clamp(d(0, 0), du.lo, du.hi), std::clamp(d(0, 1), dv.lo, dv.hi), p, su,
+                                      sv);
+  return {p, su * d(1, 0) + sv * d(1, 1)};
+}
+
+/// The parameter of the point of side `s`'s edge closest to x, from `t` (Gauss-Newton, clamped to the range).
+double closest(const PCurveSide& s, const Vec3& x, double t) {
+  const Interval r = s.range;
+  t = std::clamp(t, r.lo, r.hi);
+  for (int it = 0; it < kClosestIterations; ++it) {
+    const EdgeJet j = jet(s, t);
+    const double tt = j.tangent.squaredNorm();
+    if (!(tt > 0.0)) break;  // a vanishing tangent (a pole of the edge): keep the point reached
+    const double next = std::clamp(t + (x - j.point).dot(j.tangent) / tt, r.lo, r.hi);
+    if (!std::isfinite(next)) break;
+    const bool done = std::abs(next - t) <= kClosestStepRel * r.length();
+    t = next;
+    if (done) break;
+  }
+  return t;
+}
+
+/// The Bernstein cubic on [0, 1] through (0, q0), (1/3, q1), (2/3, q2), (1, q3).
+BernsteinPoly cubicThrough(double q0, double q1, double q2, double q3) {
+  // Bernstein coefficients from the values at 0, 1/3, 2/3, 1 (inverse of the collocation matrix).
+  const double b1 = (-5.0 * q0 + 18.0 * q1 - 9.0 * q2 + 2.0 * q3) / 6.0;
+  const double b2 = (2.0 * q0 - 9.0 * q1 + 18.0 * q2 - 5.0 * q3) / 6.0;
+  Matrix c(4, 1);
+  c << q0, b1, b2, q3;
+  return BernsteinPoly(std::move(c));
+}
+
+struct Piece {
+  double r0, r1;       // A's parameter
+  BernsteinPoly phi;   // B's parameter as a cubic in s = (r - r0) / (r1 - r0)
+};
+
+}  // namespace
+
+Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurveSide& b, double distanceTol) {
+  auto unsupported = [](std::string why) { return Status(ErrorCode::kUnsupported, std::move(why)); };
+  if (!(distanceTol > 0.0) || !a.surface || !b.surface) return invalidInput("correspondence: bad sides");
+  const Interval ra = a.range, rb = b.range;
+  // Orientation from the end points: B's range runs along A's or against it.
+  const Vec3 a0 = jet(a, ra.lo).point, a1 = jet(a, ra.hi).point;
+  const Vec3 b0 = jet(b, rb.lo).point, b1 = jet(b, rb.hi).point;
+  const bool reversed = (a0 - b1).norm() + (a1 - b0).norm() < (a0 - b0).norm() + (a1 - b1).norm();
+  const double qStart = reversed ? rb.hi : rb.lo, qEnd = reversed ? rb.lo : rb.hi;
+  auto linearGuess = [&](double r) { return qStart + (r - ra.lo) / ra.length() * (qEnd - qStart); };
+  auto phiStar = [&](double r, double guess) { return closest(b, jet(a, r).point, guess); };
+
+  // Breakpoints in r: A's pcurve breakpoints and the preimages of B's (so that every piece of phi stays inside one
+  // Bezier piece of B's pcurve), with B's parameter there: B's own knot values exactly.
+  struct Break {
+    double r, q;
+  };
+  std::vector<Break> breaks{{ra.lo, qStart}, {ra.hi, qEnd}};
+  const double minGap = 1e-9;
+  for (const BezierCurvePiece& p : a.pcurve.bezierPieces()) {
+    const double r = p.interval.lo;
+    if (r > ra.lo + minGap * ra.length() && r < ra.hi - minGap * ra.length())
+      breaks.push_back({r, phiStar(r, linearGuess(r))});
+  }
+  for (const BezierCurvePiece& p : b.pcurve.bezierPieces()) {
+    const double q = p.interval.lo;
+    if (!(q > rb.lo + minGap * rb.length() && q < rb.hi - minGap * rb.length())) continue;
+    const double guess = ra.lo + (q - qStart) / (qEnd - qStart) * ra.length();
+    breaks.push_back({closest(a, jet(b, q).point, guess), q});
+  }
+  std::sort(breaks.begin(), breaks.end(), [](const Break& x, const Break& y) { return x.r < y.r; });
+  {
+    std::vector<Break> kept{breaks.front()};
+    for (size_t i = 1; i < breaks.size(); ++i) {
+      if (breaks[i].r - kept.back().r <= minGap * ra.length()) {
+        if (i + 1 == breaks.size()) kept.back() = breaks[i];  // keep the range end itself
+        continue;
+      }
+      kept.push_back(breaks[i]);
+    }
+    breaks = std::move(kept);
+  }
+  for (size_t i = 0; i + 1 < breaks.size(); ++i)
+    if ((breaks[i + 1].q - breaks[i].q) * (qEnd - qStart) <= 0.0)
+      return unsupported("the two edges' breakpoints do not correspond in order");
+
+  const double pairTol = kCorrespondenceTolFraction * distanceTol;
+  std::vector<Piece> pieces;
+  double pairingError = 0.0;
+  std::function<bool(double, double, double, double, int)> build = [&](double r0, double q0, double r1, double q3,
+                                                                       int depth) -> bool {
+    const double h = r1 - r0;
+    const double q1 = phiStar(r0 + h / 3.0, q0 + (q3 - q0) / 3.0);
+    const double q2 = phiStar(r0 + 2.0 * h / 3.0, q0 + 2.0 * (q3 - q0) / 3.0);
+    BernsteinPoly phi = cubicThrough(q0, q1, q2, q3);
+    // Strictly monotone in the sense of the whole correspondence (the derivative's Bernstein coefficients).
+    const BernsteinPoly d = phi.derivative();
+    const double sense = qEnd > qStart ? 1.0 : -1.0;
+    bool ok = (d.coeffs().array() * sense).minCoeff() > 0.0;
+    double err = 0.0;
+    if (ok) {
+      for (const double s : {1.0 / 6.0, 0.5, 5.0 / 6.0}) {
+        const double r = r0 + s * h, q = phi.scalar(s);
+        const double qs = phiStar(r, q);
+        err = std::max(err, (jet(b, q).point - jet(b, qs).point).norm());
+      }
+      ok = err <= pairTol;
+    }
+    if (ok) {
+      pairingError = std::max(pairingError, err);
+      pieces.push_back({r0, r1, std::move(phi)});
+      return true;
+    }
+    if (depth >= kCorrespondenceMaxDepth) return false;
+    const double rm = 0.5 * (r0 + r1);
+    const double qm = phiStar(rm, 0.5 * (q0 + q3));
+    if (!((qm - q0) * sense > 0.0 && (q3 - qm) * sense > 0.0)) return false;
+    return build(r0, q0, rm, qm, depth + 1) && build(rm, qm, r1, q3, depth + 1);
+  };
+  for (size_t i = 0; i + 1 < breaks.size(); ++i)
+    if (!build(breaks[i].r, breaks[i].q, breaks[i + 1].r, breaks[i + 1].q, 0))
+      return unsupported(fmt::format("no monotone correspondence between the edges within {:.3g} near r = {:.9g}",
+                                     pairTol, breaks[i].r));
+
+  // Composition: on each piece, B's Bezier piece (in homogeneous form when rational) of the local parameter
+  // (phi - k0) / (k1 - k0), composed with the cubic exactly.
+  const std::vector<BezierCurvePiece> bp = b.pcurve.bezierPieces();
+  const bool rational = b.pcurve.isRational();
+  const int degree = 3 * b.pcurve.degree();
+  const int cols = rational ? 3 : 2;
+  Matrix rows(static_cast<Eigen::Index>(pieces.size()) * degree + 1, cols);
+  std::vector<double> knots(static_cast<size_t>(degree + 1), ra.lo);
+  Eigen::Index row = 0;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const Piece& p = pieces[i];
+    const double qMid = p.phi.scalar(0.5);
+    const auto it = std::find_if(bp.begin(), bp.end(), [&](const BezierCurvePiece& x) {
+      return qMid >= x.interval.lo && qMid <= x.interval.hi;
+    });
+    if (it == bp.end()) return unsupported("the correspondence leaves B's pcurve");
+    const double k0 = it->interval.lo, k1 = it->interval.hi;
+    BernsteinPoly local = p.phi;
+    local.coeffs().array() = (local.coeffs().array() - k0) / (k1 - k0);
+    const BernsteinPoly h = it->curve.homogeneous().composed(local);
+    const Matrix& c = h.coeffs();
+    if (i == 0) {
+      rows.row(row++) = c.row(0);
+    } else {
+      rows.row(row - 1) = 0.5 * (rows.row(row - 1) + c.row(0));  // the shared end, equal up to round-off
+    }
+    for (int k = 1; k <= degree; ++k) rows.row(row++) = c.row(k);
+    if (i + 1 < pieces.size())
+      for (int k = 0; k < degree; ++k) knots.push_back(p.r1);
+  }
+  for (int k = 0; k <= degree; ++k) knots.push_back(ra.hi);
+  Matrix pts(rows.rows(), 2);
+  VecX weights;
+  if (rational) {
+    weights = rows.col(2);
+    if (!(weights.minCoeff() > 0.0)) return unsupported("the composed pcurve has a weight that is not positive");
+    pts.col(0) = rows.col(0).cwiseQuotient(weights);
+    pts.col(1) = rows.col(1).cwiseQuotient(weights);
+  } else {
+    pts = rows;
+  }
+  Result<BSplineCurve> curve = BSplineCurve::create(degree, std::move(knots), std::move(pts), std::move(weights));
+  if (!curve) return unsupported("the composed pcurve is not a valid B-spline: " + curve.status().message());
+
+  Correspondence out;
+  out.b = b;
+  out.b.pcurve = std::move(curve).value();
+  out.b.range = ra;
+  out.pieces = static_cast<int>(pieces.size());
+  out.pairingError = pairingError;
+  out.reversed = reversed;
+  return out;
+}
+
+}  // namespace seam::occt::detail
