@@ -26,6 +26,9 @@
 #include <Geom_Ellipse.hxx>
 #include <Geom_Plane.hxx>
 #include <Geom_SphericalSurface.hxx>
+#include <Geom_ToroidalSurface.hxx>
+#include <gp_Circ.hxx>
+#include <gp_Pln.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColStd_Array1OfInteger.hxx>
@@ -296,6 +299,41 @@ TEST(OcctTruth, SeamsAlongRulingsOfAConvertedCylinderAreCertified) {
     }
     EXPECT_EQ(rulings, 2) << "radius " << radius;
     expectConsistent(*r);
+  }
+}
+
+// A plane with a circular hole and a torus fillet tangent to it along the hole's circle (axis z, major radius Rm,
+// minor radius r, the torus tube's lowest circle on the plane): exactly G1 with no gap; across the edge the torus
+// curves by 1/r and the plane not at all, so not G2. The plane's pcurve is a circle (its rational form is not in the
+// angle) and the torus' converted patch has other parameters than the angles: certified through a correspondence.
+TEST(OcctTruth, TorusFilletOnAPlaneAlongACircleIsCertifiedG1) {
+  for (const double rm : {3.0, 40.0}) {
+    const double r = 0.25 * rm, w = 2.0 * rm;
+    const Handle(Geom_ToroidalSurface) torus =
+        new Geom_ToroidalSurface(gp_Ax3(gp_Pnt(0, 0, r), gp::DZ(), gp::DX()), rm, r);
+    // v = -pi/2 is the tube's lowest circle (z = 0, radius rm); the quarter tube turns inwards and up to v = -pi.
+    const TopoDS_Face fillet = BRepBuilderAPI_MakeFace(torus, 0.0, 2.0 * kPi, -kPi, -kPi / 2, 1e-9);
+    const TopoDS_Edge hole = BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp::Origin(), gp::DZ()), rm));
+    BRepBuilderAPI_MakePolygon square(gp_Pnt(-w, -w, 0), gp_Pnt(w, -w, 0), gp_Pnt(w, w, 0), gp_Pnt(-w, w, 0), true);
+    BRepBuilderAPI_MakeFace plane(gp_Pln(gp::XOY()), square.Wire(), true);
+    plane.Add(TopoDS::Wire(BRepBuilderAPI_MakeWire(hole).Wire().Reversed()));
+    ASSERT_TRUE(plane.IsDone());
+    const fs::path f = writeStep(sewn({fillet, plane.Face()}), "torus_fillet");
+    const Result<occt::BRepCheckReport> r0 = occt::checkBRepFile(f);
+    fs::remove(f);
+    ASSERT_TRUE(r0.isOk()) << r0.status().message();
+    int circles = 0;
+    for (const occt::BRepSeam& s : r0->seams) {
+      if (s.a == s.b) continue;  // the torus' own seam line
+      ++circles;
+      SCOPED_TRACE(::testing::Message() << "Rm " << rm << ", " << s.a << "/" << s.b);
+      EXPECT_TRUE(s.report.certified);
+      EXPECT_LE(s.report.g0Max, 1e-9 * rm);
+      EXPECT_LE(s.report.g1MaxDeg, 1e-6);
+      EXPECT_EQ(s.report.geometric, GeometricClass::kG1) << "curvature 1/r on the torus, 0 on the plane";
+    }
+    EXPECT_EQ(circles, 1);
+    expectConsistent(*r0);
   }
 }
 
