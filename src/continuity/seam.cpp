@@ -716,7 +716,7 @@ double controlDiagonal(const BSplineSurface& s) { return controlBox(s).diagonal(
 
 /// Rounding allowance of the shared-row test, in units of the machine epsilon times (degree + 1) times the magnitude
 /// of the coordinates the rows were computed from: rows that differ by more are not "the same row up to rounding"
-/// (a perturbation of 1e-12 of the coordinates is 50 times above it) and take the general route.
+/// (a perturbation of 1e-12 of the coordinates is 70 times above it for cubics) and take the general route.
 constexpr double kSharedRowUlps = 16.0;
 /// Relative inflation of the shared-row bounds: covers the rounding of the few dozen operations that form them.
 constexpr double kSharedRowSafety = 1.0 + 1e-12;
@@ -790,7 +790,8 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
   const double eps0 = ulp, eps1 = ulp * (lambda * fa1 + fb1), eps2 = ulp * (lambda * lambda * fa2 + fb2);
 
   double d0 = 0.0, d1 = 0.0, d2 = 0.0, dT = 0.0, c1 = 0.0, c2 = 0.0;
-  double tMax = 0.0, oMax = 0.0, aooMax = 0.0, aotMax = 0.0, attMax = 0.0, nMin = std::numeric_limits<double>::infinity();
+  double tMax = 0.0, oMax = 0.0, aooMax = 0.0, aotMax = 0.0, attMax = 0.0;
+  double nMin = std::numeric_limits<double>::infinity();
   constexpr int kMaxDegree = kJetStackDegree;
   if (n > kMaxDegree) return std::nullopt;
   std::array<Vec3, kMaxDegree + 1> diff;
@@ -867,8 +868,8 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
   const double bLow = lambda * nMin - d1 * tMax;
   if (!(bLow > 0.0)) return std::nullopt;
   const double n2 = nMin * nMin, dt = d1 * tMax;
-  const double V = d2 + dt * (2.0 * lambda * nMin + dt) * aooMax / n2 + 2.0 * (lambda * nMin + dt) * oMax * d1 * aotMax / n2 +
-                   oMax * oMax * d1 * d1 * attMax / n2;
+  const double V = d2 + dt * (2.0 * lambda * nMin + dt) * aooMax / n2 +
+                   2.0 * (lambda * nMin + dt) * oMax * d1 * aotMax / n2 + oMax * oMax * d1 * d1 * attMax / n2;
   r.g2 = kSharedRowSafety * V * tMax * tMax / (bLow * bLow);
   if (!(r.g1 <= kIdentityBoundFactor * kAngleBoundFloor) || !std::isfinite(r.g2)) return std::nullopt;
   return r;
@@ -921,13 +922,16 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   if (pa.surface.dim() != 3 || pb.surface.dim() != 3)
     return invalidInput(fmt::format("seam {}:{} / {}:{}: patches must have 3-D control points", pa.name,
                                     edgeName(ea), pb.name, edgeName(eb)));
-  const std::string label = fmt::format("seam {}:{} / {}:{}", pa.name, edgeName(ea), pb.name, edgeName(eb));
+  // Formatted only for an error (not on the per-seam path).
+  const auto label = [&] {
+    return fmt::format("seam {}:{} / {}:{}", pa.name, edgeName(ea), pb.name, edgeName(eb));
+  };
   const Side A = makeSide(pa, ea), B = makeSide(pb, eb);
   const double scale = std::max(controlDiagonal(pa.surface), controlDiagonal(pb.surface));
   for (const Side* s : {&A, &B}) {
     const BoundingBox box = controlBox(s->curve);
     if (!(box.diagonal() > kRoundoff * scale))
-      return Status(ErrorCode::kDegenerate, fmt::format("{}: edge {} of patch \"{}\" collapses to a point", label,
+      return Status(ErrorCode::kDegenerate, fmt::format("{}: edge {} of patch \"{}\" collapses to a point", label(),
                                                         edgeName(s->edge), s->patch->name));
   }
   SeamReport rep;
@@ -943,17 +947,20 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   const Vec3 b0 = B.curve.point3(db.lo), b1 = B.curve.point3(db.hi);
   // An end point whose partner edge's end is about as close as the partner curve itself (a gap, not a
   // T-junction) is snapped to that end, so that offset seams keep their exact end-to-end correspondence.
-  auto project = [](const BSplineCurve& c, const Vec3& p, Interval range) {
-    const double dLo = (c.point3(range.lo) - p).norm(), dHi = (c.point3(range.hi) - p).norm();
-    const double roundoff = kRoundoff * controlBox(c).diagonal();
+  // `lo`, `hi`: the curve's points at the range ends (computed once above); `diag`: its control box diagonal.
+  auto project = [](const BSplineCurve& c, const Vec3& lo, const Vec3& hi, double diag, const Vec3& p,
+                    Interval range) {
+    const double dLo = (lo - p).norm(), dHi = (hi - p).norm();
+    const double roundoff = kRoundoff * diag;
     if (std::min(dLo, dHi) <= roundoff) return dLo <= dHi ? range.lo : range.hi;  // shared end point
     const detail::CurvePoint cp = detail::closestPoint(c, p, range);
     const double slack = kOverlapSnapFactor * cp.distance + roundoff;
     if (std::min(dLo, dHi) <= slack) return dLo <= dHi ? range.lo : range.hi;
     return cp.t;
   };
-  const double tb0 = project(A.curve, b0, da), tb1 = project(A.curve, b1, da);
-  const double sa0 = project(B.curve, a0, db), sa1 = project(B.curve, a1, db);
+  const double diagA = controlBox(A.curve).diagonal(), diagB = controlBox(B.curve).diagonal();
+  const double tb0 = project(A.curve, a0, a1, diagA, b0, da), tb1 = project(A.curve, a0, a1, diagA, b1, da);
+  const double sa0 = project(B.curve, b0, b1, diagB, a0, db), sa1 = project(B.curve, b0, b1, diagB, a1, db);
   rep.reversed = tb0 > tb1 || (tb0 == tb1 && sa0 > sa1);
   // End mismatch (issue 15 §4): an end point of A and an end point of B matched to each other both ways (each is
   // the other's partner end) are the same end of the seam, so the gap there is their distance, also where one edge
@@ -972,9 +979,9 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   rep.overlapB = {std::min(sa0, sa1), std::max(sa0, sa1)};
   const double minOverlap = kKnotRelTol * 1e3;
   if (!(rep.overlapA.length() > minOverlap * da.length()) || !(rep.overlapB.length() > minOverlap * db.length()))
-    return Status(ErrorCode::kNotFound, fmt::format("{}: the edges do not overlap", label));
+    return Status(ErrorCode::kNotFound, fmt::format("{}: the edges do not overlap", label()));
   const double sgn = rep.reversed ? -1.0 : 1.0;
-  const double edgeScale = std::max(controlBox(A.curve).diagonal(), controlBox(B.curve).diagonal());
+  const double edgeScale = std::max(diagA, diagB);
   const double exactFloor = kExactCorrespondenceRel * edgeScale;
 
   // ---- correspondence: shared control rows, affine, then polynomial, else closest-point projection.
@@ -1104,7 +1111,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     }
   }
   // Sort by t (pieces may come in B's order when B is the master).
-  {
+  if (!std::is_sorted(S.t.begin(), S.t.end())) {
     std::vector<size_t> idx(S.t.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
     std::sort(idx.begin(), idx.end(), [&](size_t x, size_t y) { return S.t[x] < S.t[y]; });
@@ -1115,6 +1122,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     }
     S = std::move(sorted);
   }
+  S.m.reserve(S.t.size());
   for (size_t i = 0; i < S.t.size(); ++i) S.m.push_back(measureAt(A, S.t[i], B, S.s[i], sgn));
 
   // Curvature reference for relative G2 values: the largest curvature on the seam, floored at "flat".
