@@ -23,9 +23,9 @@ struct CliRun {
   std::string out;
 };
 
-/// Runs `seam <args>` with stdout captured (stderr discarded).
-CliRun runSeam(const std::string& args) {
-  const std::string cmd = std::string("\"") + SEAM_CLI_PATH + "\" " + args + " 2>/dev/null";
+/// Runs `seam <args>` with stdout captured (stderr discarded, or with `withStderr` captured after stdout).
+CliRun runSeam(const std::string& args, bool withStderr = false) {
+  const std::string cmd = std::string("\"") + SEAM_CLI_PATH + "\" " + args + (withStderr ? " 2>&1" : " 2>/dev/null");
   CliRun r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -298,6 +298,58 @@ TEST_F(CliVerdicts, JsonNamesTheFileAndHasTheSchemaKeys) {
   EXPECT_EQ(k["summary"]["seams"], 0);
 }
 
+// Issue 17 §2: a JSON model is unit-less (relative default) unless --units gives it a unit; then presets and the
+// default distance, absolute lengths in mm, are converted into model units (0.001 mm = 1e-6 m).
+TEST_F(CliVerdicts, UnitsOfJsonModelsAndTheUnitsOption) {
+  auto check = [&](const std::string& options) {
+    const CliRun r = runSeam("check \"" + hinges_ + "\" --json " + options);
+    EXPECT_EQ(r.exitCode, 0) << options;
+    return nlohmann::json::parse(r.out);
+  };
+  nlohmann::json j = check("");
+  const nlohmann::json unitLess = {{"length", nullptr}, {"file_unit", nullptr},
+                                   {"source", "none (unit-less model)"}, {"declared_resolution", nullptr}};
+  EXPECT_EQ(j["units"], unitLess);
+  EXPECT_EQ(j["tolerances"]["distance_source"], "relative default");
+  j = check("--preset catia --units m");
+  const nlohmann::json metres = {{"length", "m"}, {"file_unit", nullptr}, {"source", "--units"},
+                                 {"declared_resolution", nullptr}};
+  EXPECT_EQ(j["units"], metres);
+  EXPECT_NEAR(j["tolerances"]["distance"].get<double>(), 0.001 / 1000.0, 1e-20);  // CATIA's 0.001 mm in metres
+  EXPECT_EQ(j["tolerances"]["distance_source"], "preset");
+  j = check("--units in");
+  EXPECT_NEAR(j["tolerances"]["distance"].get<double>(), 0.001 / 25.4, 1e-20);  // the absolute default in inches
+  EXPECT_EQ(j["tolerances"]["distance_source"], "absolute default");
+  j = check("--units cm --tol-distance 0.5");
+  EXPECT_EQ(j["tolerances"]["distance"], 0.5);  // in model units, as given
+  EXPECT_EQ(j["tolerances"]["distance_source"], "option");
+  // The hinge with a gap of 0.01: NX's 0.0254 taken as model units (unit-less) closes it; in inches the preset is
+  // 0.0254 mm = 0.001 in < 0.01, so the seam is a gap.
+  auto gapVerdicts = [&](const std::string& options) { return check(options)["summary"]["verdicts"]["gap"]; };
+  EXPECT_EQ(gapVerdicts("--preset nx"), 0);
+  EXPECT_EQ(gapVerdicts("--preset nx --units in"), 1);
+  EXPECT_EQ(gapVerdicts("--preset nx --units mm"), 0);    // 0.0254 mm > the gap of 0.01 mm
+  EXPECT_EQ(gapVerdicts("--preset catia --units mm"), 1);  // 0.001 mm < 0.01 mm
+}
+
+TEST_F(CliVerdicts, UnitsInTheTextAndBadUnits) {
+  const CliRun r = runSeam("check \"" + hinges_ + "\" --preset catia --units m");
+  ASSERT_EQ(r.exitCode, 0);
+  EXPECT_NE(r.out.find("length unit: m (--units)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("gap tolerance 1e-06 m (--preset catia)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("G0 gap (m)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("worst gap: "), std::string::npos);
+  EXPECT_NE(r.out.find(" m at ["), std::string::npos) << r.out;  // "gap 0.0100000 m at [...]"
+  const CliRun plain = runSeam("check \"" + hinges_ + "\"");
+  EXPECT_NE(plain.out.find("length unit: none (unit-less model"), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find("(default for unit-less models: 1e-6 x bounding-box diagonal)"), std::string::npos);
+  const CliRun bad = runSeam("check \"" + hinges_ + "\" --units furlong", true);
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.out.find("\"furlong\" is not a length unit (use mm, cm, m, in, ft)"), std::string::npos) << bad.out;
+  EXPECT_EQ(runSeam("info \"" + hinges_ + "\" --units ft --json").exitCode, 0);
+  EXPECT_EQ(nlohmann::json::parse(runSeam("info \"" + hinges_ + "\" --units ft --json").out)["units"]["length"], "ft");
+}
+
 #ifdef SEAM_HAVE_OCCT_CLI
 // The same verdicts through the B-rep route: the hinges written as STEP, read back as sewn faces.
 TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {
@@ -325,6 +377,30 @@ TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {
   const CliRun t = runSeam("check \"" + step + "\" --only problems --top 1");
   EXPECT_NE(t.out.find("worst kink: edge "), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("showing 1 of 3, problems only"), std::string::npos) << t.out;
+}
+// A CAD file has a length unit: mm from its header, the absolute default 0.001 mm, said in the text and the JSON.
+// With --units m the file's numbers are metres: every coordinate is 1000 times larger (the worst kink's point).
+TEST_F(CliVerdicts, StepFileHasMillimetresAndTheAbsoluteDefault) {
+  const std::string step = (dir_ / "hinges.step").string();
+  ASSERT_EQ(runSeam("convert \"" + hinges_ + "\" \"" + step + "\"").exitCode, 0);
+  const nlohmann::json j = nlohmann::json::parse(runSeam("check \"" + step + "\" --json").out);
+  EXPECT_EQ(j["units"]["length"], "mm");
+  EXPECT_EQ(j["units"]["source"], "file header");
+  EXPECT_TRUE(j["units"]["file_unit"].is_string());
+  EXPECT_EQ(j["tolerances"]["distance"], 0.001);
+  EXPECT_EQ(j["tolerances"]["distance_source"], "absolute default");
+  const CliRun text = runSeam("check \"" + step + "\"");
+  EXPECT_NE(text.out.find("length unit: mm (file header: "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("gap tolerance 0.001 mm (default for models with a length unit, e.g. CAD files)"),
+            std::string::npos)
+      << text.out;
+  const nlohmann::json m = nlohmann::json::parse(runSeam("check \"" + step + "\" --json --units m").out);
+  EXPECT_EQ(m["units"]["source"], "--units");
+  EXPECT_EQ(m["units"]["length"], "mm");
+  const nlohmann::json& p = j["summary"]["worst_kink"]["point"];
+  const nlohmann::json& q = m["summary"]["worst_kink"]["point"];
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(q[k].get<double>(), 1000.0 * p[k].get<double>(), 1e-6 * (1.0 + 1000.0 * std::abs(p[k].get<double>())));
 }
 #endif
 

@@ -562,5 +562,142 @@ TEST(OcctBRep, CurvatureJumpsOnTrimmedEdgesAreCertifiedWhereTheEdgeIsG1) {
   EXPECT_EQ(found, 1);
 }
 
+// ---- Length units (issue 17 §2). OpenCASCADE converts coordinates to millimetres on read; the expected values
+// come from the file text and the unit definitions (1 in = 25.4 mm, 1 ft = 304.8 mm, 1 m = 1000 mm).
+
+void writeText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+}
+
+/// Replaces every `from` by `to`; returns how many there were.
+int replaceAll(std::string& text, const std::string& from, const std::string& to) {
+  int n = 0;
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()), ++n)
+    text.replace(at, from.size(), to);
+  return n;
+}
+
+/// Every control point of `read` equals `scale` x the same control point of `original`, to round-off.
+void expectScaledCopy(const Model& original, const Model& read, double scale) {
+  ASSERT_EQ(original.patches.size(), read.patches.size());
+  for (size_t k = 0; k < original.patches.size(); ++k) {
+    const Matrix& a = original.patches[k].surface.points();
+    const Matrix& b = read.patches[k].surface.points();
+    ASSERT_EQ(a.rows(), b.rows());
+    const double size = scale * a.cwiseAbs().maxCoeff();
+    EXPECT_LE((scale * a - b).cwiseAbs().maxCoeff(), 1e-14 * size) << "patch " << k;
+  }
+}
+
+// A STEP file written by seam (in mm) whose length unit is edited to the metre (SI_UNIT without prefix): every
+// coordinate comes back multiplied by exactly 1000, and the declared uncertainty with it.
+TEST(OcctUnits, StepFileInMetresIsReadInMillimetres) {
+  const Model m = randomModel(7);
+  const fs::path file = tempPath("metres.step");
+  ASSERT_TRUE(occt::writeCadFile(m, file, occt::CadFormat::kStep).isOk());
+  std::string text = fileText(file);
+  ASSERT_GE(replaceAll(text, "SI_UNIT(.MILLI.,.METRE.)", "SI_UNIT($,.METRE.)"), 1);
+  std::smatch uncertainty;
+  ASSERT_TRUE(std::regex_search(text, uncertainty, std::regex(R"(UNCERTAINTY_MEASURE_WITH_UNIT\(LENGTH_MEASURE\(([^)]+)\))")));
+  const double declared = std::stod(uncertainty[1].str());
+  writeText(file, text);
+  const Result<occt::CadImport> r = occt::readCadFile(file);
+  fs::remove(file);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->units.millimetresPerFileUnit, 1000.0);
+  EXPECT_EQ(r->units.statedScale, 1.0);
+  EXPECT_FALSE(r->units.fileUnit.empty());
+  ASSERT_TRUE(r->units.declaredResolutionMm);
+  EXPECT_NEAR(*r->units.declaredResolutionMm, 1000.0 * declared, 1e-12 * 1000.0 * declared);
+  expectScaledCopy(m, r->model, 1000.0);
+  // The unchanged file (mm) reads as written.
+  const fs::path mmFile = tempPath("mm.step");
+  ASSERT_TRUE(occt::writeCadFile(m, mmFile, occt::CadFormat::kStep).isOk());
+  const Result<occt::CadImport> mm = occt::readCadFile(mmFile);
+  fs::remove(mmFile);
+  ASSERT_TRUE(mm.isOk());
+  EXPECT_EQ(mm->units.millimetresPerFileUnit, 1.0);
+  expectScaledCopy(m, mm->model, 1.0);
+  // --units m on the mm file (the header is wrong, the numbers are metres): rescaled by 1000 as well.
+  occt::CadReadOptions stated;
+  stated.statedUnitMm = 1000.0;
+  ASSERT_TRUE(occt::writeCadFile(m, mmFile, occt::CadFormat::kStep).isOk());
+  const Result<occt::CadImport> overridden = occt::readCadFile(mmFile, stated);
+  fs::remove(mmFile);
+  ASSERT_TRUE(overridden.isOk());
+  EXPECT_EQ(overridden->units.statedScale, 1000.0);
+  expectScaledCopy(m, overridden->model, 1000.0);
+}
+
+// An IGES file written by seam (unit flag 2, "MM") edited to inches (flag 1, "IN"): coordinates times 25.4.
+TEST(OcctUnits, IgesFileInInchesIsReadInMillimetres) {
+  const Model m = randomModel(8);
+  const fs::path file = tempPath("inches.igs");
+  ASSERT_TRUE(occt::writeCadFile(m, file, occt::CadFormat::kIges).isOk());
+  std::string text = fileText(file);
+  ASSERT_EQ(replaceAll(text, ",2,2HMM,", ",1,2HIN,"), 1) << "the global section's unit flag and name";
+  writeText(file, text);
+  const Result<occt::CadImport> r = occt::readCadFile(file);
+  fs::remove(file);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->units.fileUnit, "IN");
+  EXPECT_NEAR(r->units.millimetresPerFileUnit, 25.4, 1e-12);
+  expectScaledCopy(m, r->model, 25.4);
+}
+
+// The fuselage is in feet (CONVERSION_BASED_UNIT('FOOT') = 304.8 mm; uncertainty 1e-6 ft): each control point of
+// its bare B-spline surfaces is a CARTESIAN_POINT of the file times 304.8.
+TEST(OcctUnits, FuselageInFeetMatchesTheFileTextTimes304_8) {
+  const fs::path file = kData / "step" / "bug28366_fuselage.stp";
+  const Result<occt::CadImport> r = occt::readCadFile(file);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_NE(r->units.fileUnit.find("FOOT"), std::string::npos) << r->units.fileUnit;
+  EXPECT_NEAR(r->units.millimetresPerFileUnit, 304.8, 1e-12 * 304.8);
+  ASSERT_TRUE(r->units.declaredResolutionMm);
+  EXPECT_NEAR(*r->units.declaredResolutionMm, 1e-6 * 304.8, 1e-12);
+  const std::string text = fileText(file);
+  const std::regex point(R"(CARTESIAN_POINT\('[^']*',\(([^,]+),([^,]+),([^)]+)\)\))");
+  std::vector<Vec3> filePoints;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), point); it != std::sregex_iterator(); ++it)
+    filePoints.emplace_back(std::stod((*it)[1].str()), std::stod((*it)[2].str()), std::stod((*it)[3].str()));
+  ASSERT_GT(filePoints.size(), 100u);
+  int matched = 0, total = 0;
+  for (const Patch& p : r->model.patches)
+    for (int i = 0; i < p.surface.points().rows(); ++i) {
+      const Vec3 x = p.surface.points().row(i).transpose();
+      ++total;
+      for (const Vec3& q : filePoints)
+        if ((304.8 * q - x).norm() <= 1e-12 * std::max(1.0, x.norm())) {
+          ++matched;
+          break;
+        }
+    }
+  EXPECT_EQ(matched, total);
+}
+
+// The IGES lens says IN (flag 1) in its global section and a resolution of 3.937007874016E-011 in (parameter 19).
+TEST(OcctUnits, IgesHeaderUnitAndResolution) {
+  const Result<occt::CadImport> r = occt::readCadFile(kData / "iges" / "sunglasses_lens.igs");
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->units.fileUnit, "IN");
+  EXPECT_NEAR(r->units.millimetresPerFileUnit, 25.4, 1e-12);
+  ASSERT_TRUE(r->units.declaredResolutionMm);
+  EXPECT_NEAR(*r->units.declaredResolutionMm, 3.937007874016E-011 * 25.4, 1e-20);
+  const ModelUnits u = occt::cadModelUnits(*r);
+  EXPECT_EQ(u.name(), "mm");
+  EXPECT_EQ(u.source, UnitSource::kFileHeader);
+}
+
+// The B-rep check of a CAD file judges gaps by the absolute default (0.001 mm), whatever the model's size.
+TEST(OcctUnits, BRepCheckDefaultsToTheAbsoluteCadTolerance) {
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "step" / "bug28366_fuselage.stp");
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  EXPECT_EQ(rep->tolerances.distance, 0.001);
+  EXPECT_EQ(rep->distanceSource, DistanceSource::kAbsoluteDefault);
+  EXPECT_EQ(rep->units.name(), "mm");
+  EXPECT_NE(rep->units.fileUnit.find("FOOT"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace seam

@@ -124,8 +124,10 @@ OrderedJson cornerJson(const Model& m, const CornerReport& c) {
   return j;
 }
 
-OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing, double creaseAngleDeg) {
+OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing, double creaseAngleDeg,
+                           DistanceSource source) {
   OrderedJson j{{"distance", t.distance},
+                {"distance_source", toString(source)},
                 {"angle_deg", t.angleDeg},
                 {"curvature_rel", t.curvatureRel},
                 {"parametric", t.parametric},
@@ -198,10 +200,20 @@ void addVerdictSummary(OrderedJson& summary, const Model& m, const ModelCheckRep
 
 }  // namespace
 
-OrderedJson noPatchesJson(const std::string& name) {
+OrderedJson unitsJson(const ModelUnits& units) {
+  OrderedJson j;
+  j["length"] = units.length ? OrderedJson(units.name()) : OrderedJson(nullptr);
+  j["file_unit"] = units.fileUnit.empty() ? OrderedJson(nullptr) : OrderedJson(units.fileUnit);
+  j["source"] = toString(units.source);
+  j["declared_resolution"] = optionalNumber(units.declaredResolution);
+  return j;
+}
+
+OrderedJson noPatchesJson(const std::string& name, const ModelUnits& units) {
   OrderedJson geometric{{"none", 0}, {"G0", 0}, {"G1", 0}, {"G2", 0}};
   OrderedJson verdicts{{"gap", 0}, {"kink", 0}, {"crease", 0}, {"G1", 0}, {"G2", 0}};
   return OrderedJson{{"model", {{"patches", 0}}},
+                     {"units", unitsJson(units)},
                      {"tolerances", nullptr},
                      {"seams", OrderedJson::array()},
                      {"corners", OrderedJson::array()},
@@ -223,7 +235,7 @@ std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r) {
 
 OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
                            const std::optional<GeometricClass>& require, std::optional<double> pairing,
-                           double creaseAngleDeg) {
+                           double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
   OrderedJson seams = OrderedJson::array();
   for (size_t k : order) {
     const ModelSeam& s = report.seams[k];
@@ -255,7 +267,8 @@ OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const
   OrderedJson summary = summaryJson(report, require);
   addVerdictSummary(summary, m, report, creaseAngleDeg);
   return OrderedJson{{"model", {{"patches", m.patches.size()}}},
-                     {"tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg)},
+                     {"units", unitsJson(units)},
+                     {"tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg, distanceSource)},
                      {"seams", seams},
                      {"corners", corners},
                      {"free_edges", free},
@@ -325,7 +338,9 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
                              {"faces", r.import.faces.size()},
                              {"sewn", r.sewn},
                              {"face_names", faceNames}}},
-                  {"tolerances", {{"distance", tol.distance}, {"angle_deg", tol.angleDeg},
+                  {"units", unitsJson(r.units)},
+                  {"tolerances", {{"distance", tol.distance}, {"distance_source", toString(r.distanceSource)},
+                                  {"angle_deg", tol.angleDeg},
                                   {"curvature_rel", tol.curvatureRel}, {"crease_angle_deg", creaseAngleDeg}}},
                   {"seams", seams},
                   {"corners", OrderedJson::array()},  // not analysed for B-rep files (summary.corners is null)
@@ -395,11 +410,19 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
 #endif
   }
   Model model;
+  ModelUnits units;
+  if (o.tol.units) {
+    units.length = o.tol.units;
+    units.source = UnitSource::kOption;
+  }
 #ifdef SEAM_HAVE_OCCT
   if (isCad(file)) {
-    Result<occt::CadImport> cad = occt::readCadFile(file);
+    occt::CadReadOptions ro;
+    if (o.tol.units) ro.statedUnitMm = lengthUnitInfo(*o.tol.units).millimetres;
+    Result<occt::CadImport> cad = occt::readCadFile(file, ro);
     if (!cad) return cad.status();
     out.warnings = cad->warnings;
+    units = occt::cadModelUnits(*cad, o.tol);
     model = std::move(cad->model);
   } else
 #endif
@@ -408,7 +431,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
     if (!m) return m.status();
     model = std::move(m).value();
   }
-  Result<FileCheck> checked = checkModel(model, file.string(), o);
+  Result<FileCheck> checked = checkModel(model, file.string(), o, units);
   if (!checked) return checked;
   checked->warnings = std::move(out.warnings);
   return checked;
@@ -416,20 +439,23 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
 
 }  // namespace
 
-Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& o) {
+Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& o,
+                             const ModelUnits& units) {
   FileCheck out;
   if (model.patches.empty()) {  // as `seam check`: only curves, or "patches": []
-    out.json = withInputFile(name, noPatchesJson(name));
+    out.json = withInputFile(name, noPatchesJson(name, units));
     return out;
   }
   ModelCheckOptions mo;
-  mo.tolerances = o.tol.appliedTo(Tolerances::forModelSize(model.boundingBox().diagonal()));
+  const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model.boundingBox().diagonal());
+  mo.tolerances = resolved.tolerances;
   mo.require = o.require;
   Result<ModelCheckReport> r = seam::checkModel(model, mo);
   if (!r) return r.status().withContext(name);
   out.belowRequired = o.require && r->summary.belowRequired > 0;
   out.json = withInputFile(name, modelCheckJson(model, *r, selectSeams(reportsOf(*r), o.selection), o.require,
-                                               r->pairingTolerance, o.selection.creaseAngleDeg));
+                                               r->pairingTolerance, o.selection.creaseAngleDeg, units,
+                                               resolved.distanceSource));
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include "seam/continuity/verdict.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
+#include "seam/core/units.h"
 #include "seam/model/model.h"
 #ifdef SEAM_HAVE_OCCT
 #include "seam/occt/brep_check.h"
@@ -28,9 +29,16 @@ std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r);
 
 /// `seam check --json` of a patch model: `order` lists the seams to print (selectSeams of the listing options),
 /// `pairing` is the pairing tolerance of a whole-model check (nullopt for a single --seam).
+/// `units` is the model's length unit (unitsJson) and `distanceSource` where tolerances.distance comes from.
 OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& r, const std::vector<size_t>& order,
                            const std::optional<GeometricClass>& require, std::optional<double> pairing,
-                           double creaseAngleDeg);
+                           double creaseAngleDeg, const ModelUnits& units = {},
+                           DistanceSource distanceSource = DistanceSource::kRelative);
+
+/// `seam check --json`'s "units" (issue 17 §2): {"length": "mm" | null (unit-less), "file_unit": the STEP/IGES
+/// header's name ("MM", "INCH") | null, "source": "file header" | "--units" | "none (unit-less model)",
+/// "declared_resolution": the file's declared precision in model units | null}.
+OrderedJson unitsJson(const ModelUnits& units);
 
 #ifdef SEAM_HAVE_OCCT
 /// `seam check --json` of a STEP/IGES B-rep (every shared edge, OpenCASCADE's verdict alongside).
@@ -43,11 +51,11 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
 OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check);
 
 /// The check JSON of a model without patches (every key of the schema, empty lists, zero counts, and a `note`).
-OrderedJson noPatchesJson(const std::string& name);
+OrderedJson noPatchesJson(const std::string& name, const ModelUnits& units = {});
 
 /// The options of a whole-file check (those of `seam check` that apply to a whole model).
 struct FileCheckOptions {
-  ToleranceOverrides tol;                ///< --tol-distance / --tol-angle / --tol-curvature
+  ToleranceOverrides tol;                ///< --tol-distance / --tol-angle / --tol-curvature / --preset / --units
   std::optional<GeometricClass> require; ///< --require
   SeamSelection selection;               ///< --crease-angle / --sort / --top / --only
   bool patches = false;                  ///< --patches: a STEP/IGES file's faces as patches, not its B-rep edges
@@ -67,6 +75,8 @@ Result<FileCheck> checkFile(const std::filesystem::path& file, const FileCheckOp
 
 /// A loaded model checked whole, as checkFile does after reading it; `name` (the file or the model's name) prefixes
 /// the error message of a failed check.
-Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& options = {});
+/// `units`: the model's length unit (a JSON/.bpt model gets options.tol.units; unit-less without it).
+Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& options = {},
+                             const ModelUnits& units = {});
 
 }  // namespace seam::cli

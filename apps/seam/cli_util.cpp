@@ -36,7 +36,9 @@ bool isCadFile(const std::filesystem::path& file) {
 }
 
 void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
-  cmd.add_option("--tol-distance", overrides.distance, "G0 tolerance (length); default 1e-6 x bounding-box diagonal");
+  cmd.add_option("--tol-distance", overrides.distance,
+                 "G0 tolerance, in the model's length unit (mm for STEP/IGES); default 0.001 mm for models with a "
+                 "length unit (STEP/IGES, or --units), 1e-6 x bounding-box diagonal for unit-less ones");
   cmd.add_option("--tol-angle", overrides.angleDeg, "G1 tolerance in degrees; default 0.01");
   cmd.add_option("--tol-curvature", overrides.curvatureRel, "G2 tolerance, relative; default 0.01");
   // Added after the --tol-* options: CLI11 runs the callbacks in this order, so an explicit --tol-* value is already
@@ -48,14 +50,67 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
          [&overrides](const std::string& name) {
            for (const TolerancePreset& p : kTolerancePresets) {
              if (name != p.name) continue;
-             if (!overrides.distance) overrides.distance = p.distance;
+             overrides.preset = p.name;
+             overrides.presetDistanceMm = p.distance;  // converted to model units once the unit is known
              if (!overrides.angleDeg) overrides.angleDeg = p.angleDeg;
              if (!overrides.curvatureRel && p.curvatureRel > 0.0) overrides.curvatureRel = p.curvatureRel;
            }
          },
-         "Tolerances of a CAD system: catia (0.001, 0.5 deg), rhino (0.001, 1 deg, curvature 5 %), nx (0.0254, 0.5 "
-         "deg); distances in model units (mm for STEP/IGES); --tol-* options override single values")
+         "Tolerances of a CAD system: catia (0.001 mm, 0.5 deg), rhino (0.001 mm, 1 deg, curvature 5 %), nx "
+         "(0.0254 mm, 0.5 deg); distances converted to the model's unit (taken as model units for a unit-less "
+         "model); --tol-* options override single values")
       ->check(CLI::IsMember(names));
+  addUnitsOption(cmd, overrides);
+}
+
+void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides) {
+  cmd.add_option_function<std::string>(
+         "--units",
+         [&overrides](const std::string& name) { overrides.units = parseLengthUnit(name); },
+         "Length unit of the model's numbers: mm, cm, m, in or ft. JSON/.bpt: gives the unit-less model this unit "
+         "(presets and the default tolerance become absolute). STEP/IGES: the file's coordinates are in this unit "
+         "whatever its header says (the model is rescaled to mm)")
+      ->check([](const std::string& name) -> std::string {
+        if (parseLengthUnit(name)) return "";
+        return fmt::format("\"{}\" is not a length unit (use {})", name, unitNames());
+      })
+      ->type_name("UNIT");
+}
+
+std::string unitNames() {
+  std::string names;
+  for (const LengthUnitInfo& u : kLengthUnits) names += (names.empty() ? "" : ", ") + std::string(u.name);
+  return names;
+}
+
+std::string withUnit(const std::string& length, const ModelUnits& units) {
+  return units.length ? length + " " + units.name() : length;
+}
+
+std::string unitText(const ModelUnits& units) {
+  std::string unit;
+  if (!units.length) {
+    unit = "length unit: none (unit-less model; --units gives one)";
+  } else if (units.source == UnitSource::kOption) {
+    unit = fmt::format("length unit: {} (--units{})", units.name(),
+                       units.fileUnit.empty() ? "" : fmt::format("; the file header says {}", units.fileUnit));
+  } else {
+    unit = fmt::format("length unit: {} (file header: {})", units.name(),
+                       units.fileUnit.empty() ? "none" : units.fileUnit);
+  }
+  if (units.declaredResolution)
+    unit += fmt::format("; declared resolution {}", withUnit(formatNumber(*units.declaredResolution), units));
+  return unit;
+}
+
+std::string unitLine(const ModelUnits& units, const ResolvedTolerances& tol, double creaseAngleDeg,
+                     std::optional<double> pairing) {
+  const Tolerances& t = tol.tolerances;
+  return fmt::format("{}\ngap tolerance {} ({}), angle {} deg, curvature {} relative{}; crease angle {} deg\n", unitText(units),
+                     withUnit(formatNumber(t.distance), units), distanceSourceText(tol.distanceSource, tol.preset),
+                     formatNumber(t.angleDeg), formatNumber(t.curvatureRel),
+                     pairing ? fmt::format(", pairing {}", withUnit(formatNumber(*pairing), units)) : "",
+                     formatNumber(creaseAngleDeg));
 }
 
 bool validToleranceOptions(const ToleranceOverrides& overrides) {
@@ -147,12 +202,22 @@ void printError(std::string_view message) {
 
 namespace {
 
-std::optional<Model> loadModelUnguarded(const std::filesystem::path& file) {
+std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const ToleranceOverrides& overrides,
+                                        ModelUnits* units) {
+  if (units != nullptr) {
+    *units = {};
+    if (overrides.units) {
+      units->length = overrides.units;
+      units->source = UnitSource::kOption;
+    }
+  }
   if (isCadFile(file)) {
     // A directory, a FIFO or a device is refused here with the same words as for .json/.bpt.
     if (!checkInputPath(file)) return std::nullopt;
 #ifdef SEAM_HAVE_OCCT
-    Result<occt::CadImport> cad = occt::readCadFile(file);
+    occt::CadReadOptions ro;
+    if (overrides.units) ro.statedUnitMm = lengthUnitInfo(*overrides.units).millimetres;
+    Result<occt::CadImport> cad = occt::readCadFile(file, ro);
     if (!cad) {
       printError(cad.status().message());
       return std::nullopt;
@@ -170,6 +235,7 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file) {
     if (approximated > 0)
       std::cerr << fmt::format("seam: note: {}: {} faces were approximated (see `seam info`)\n", file.string(),
                                approximated);
+    if (units != nullptr) *units = occt::cadModelUnits(*cad, overrides);
     return std::move(cad->model);
 #else
     printError(fmt::format("{}: STEP/IGES support needs a build with SEAM_WITH_OCCT=ON (scripts/setup.sh does)",
@@ -187,9 +253,12 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file) {
 
 }  // namespace
 
-std::optional<Model> loadModel(const std::filesystem::path& file) {
+std::optional<Model> loadModel(const std::filesystem::path& file) { return loadModel(file, {}, nullptr); }
+
+std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
+                               ModelUnits* units) {
   try {
-    return loadModelUnguarded(file);
+    return loadModelUnguarded(file, overrides, units);
   } catch (const std::bad_alloc&) {
     printError(fmt::format("{}: the model is too large: out of memory while reading it", file.string()));
     return std::nullopt;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "seam/core/tolerances.h"
+#include "seam/core/units.h"
 #include "seam/model/model.h"
 
 namespace seam::cli {
@@ -35,8 +36,8 @@ std::string lowerExtension(const std::filesystem::path& file);
 bool isCadFile(const std::filesystem::path& file);
 
 /// The distance and angle thresholds of a CAD system's continuity checks, for `--preset` (issue 17 §2); values and
-/// sources in docs/tolerances.md. Distances are absolute, in the model's length unit (millimetres for STEP/IGES,
-/// which OpenCASCADE reads in mm); curvatureRel 0 keeps seam's default.
+/// sources in docs/tolerances.md. Distances are absolute, in millimetres, converted to the model's length unit
+/// (resolveTolerances; a unit-less model takes the number as is); curvatureRel 0 keeps seam's default.
 struct TolerancePreset {
   const char* name;
   double distance;
@@ -49,7 +50,8 @@ inline constexpr TolerancePreset kTolerancePresets[] = {
     {"nx", 0.0254, 0.5, 0.0},     // Siemens NX modeling preferences: distance 0.0254 mm (0.001 in), angle 0.5 deg
 };
 
-/// The --tol-distance / --tol-angle / --tol-curvature / --preset options shared by the commands that classify seams.
+/// The --tol-distance / --tol-angle / --tol-curvature / --preset / --units options shared by the commands that
+/// classify seams (a --units name that is not one of unitNames() is a usage error: exit 2).
 void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides);
 /// False (with a message on stderr) when a given tolerance is not a positive finite number.
 bool validToleranceOptions(const ToleranceOverrides& overrides);
@@ -65,6 +67,27 @@ std::string continuityWords(int order);
 /// Loads a model: STEP/IGES through seam::occt::readCadFile (when built with OpenCASCADE), else io::readModel; on failure prints the message on stderr and returns nullopt
 /// (the command then exits with kExitBadInput).
 std::optional<Model> loadModel(const std::filesystem::path& file);
+/// loadModel with the units: a STEP/IGES file is read with `overrides.units` as the unit of its coordinates (when
+/// given); `units` (when not null) receives the model's length unit: mm from the header (or --units) for STEP/IGES,
+/// `overrides.units` or none for JSON/.bpt.
+std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
+                               ModelUnits* units);
+
+/// --units alone (for commands without tolerances, e.g. info): sets overrides.units.
+void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides);
+
+/// "mm, cm, m, in, ft": the names --units accepts.
+std::string unitNames();
+/// "0.001 mm": a formatted length followed by the model's unit (nothing for a unit-less model).
+std::string withUnit(const std::string& length, const ModelUnits& units);
+/// "length unit: mm (file header: INCH); declared resolution 0.0254 mm", "length unit: m (--units)", "length unit:
+/// none (unit-less model; --units gives one)": the model's unit and where it comes from, one line, no newline.
+std::string unitText(const ModelUnits& units);
+/// The two header lines of `check` and `report` text: the model's length unit and where it comes from (and the
+/// file's declared resolution), then "gap tolerance 0.001 mm (default for ...), angle ... deg, curvature ...
+/// relative[, pairing ...]; crease angle ... deg". Each ends with a newline.
+std::string unitLine(const ModelUnits& units, const ResolvedTolerances& tol, double creaseAngleDeg,
+                     std::optional<double> pairing = std::nullopt);
 
 /// False (with the message on stderr) when `file` is not a regular file of at most the size its format may have
 /// (io::checkInputFile: kMaxCadFileBytes for STEP/IGES, kMaxModelFileBytes otherwise). loadModel calls it; the

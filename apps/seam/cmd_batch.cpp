@@ -93,6 +93,8 @@ struct Row {
   int seams = 0;
   std::array<int, 5> verdicts{};  // gap, kink, crease, G1, G2
   std::optional<double> worstGap, worstAngleDeg;
+  std::string unit;                    // the model's length unit ("mm"; "" for a unit-less model)
+  std::optional<double> gapTolerance;  // the distance tolerance the gaps were judged by, in `unit`
   double seconds = 0.0;
 };
 
@@ -132,6 +134,10 @@ void fillFromJson(Row& row, const std::string& text, bool require) {
   };
   row.worstGap = number(summary.value("worst_gap", nlohmann::json()), "gap");
   row.worstAngleDeg = number(summary.value("worst_kink", nlohmann::json()), "angle_deg");
+  const nlohmann::json units = j.value("units", nlohmann::json::object());
+  if (units.is_object() && units.contains("length") && units["length"].is_string())
+    row.unit = units["length"].get<std::string>();
+  row.gapTolerance = number(j.value("tolerances", nlohmann::json()), "distance");
   const bool below = require && summary.value("below_required", 0) > 0;
   row.status = row.verdicts[0] > 0 || row.verdicts[1] > 0 || below ? "problem" : "ok";
 }
@@ -189,12 +195,17 @@ std::optional<Child> spawnCheck(const std::string& exe, const std::vector<std::s
 
 std::string number(const std::optional<double>& x) { return x ? formatNumber(*x) : "-"; }
 
+/// A length of the row's model with its unit ("0.0012 mm"; the number alone for a unit-less model; "-" for none).
+std::string length(const std::optional<double>& x, const Row& r) {
+  return x && !r.unit.empty() ? formatNumber(*x) + " " + r.unit : number(x);
+}
+
 std::string rowLine(const Row& r) {
   if (r.status == "error") return fmt::format("{}: error: {}", r.file, r.error);
   return fmt::format("{}: {}: {} seams (gap {}, kink {}, crease {}, G1 {}, G2 {}), worst gap {}, worst kink {} deg, "
                      "{:.2f} s",
                      r.file, r.status, r.seams, r.verdicts[0], r.verdicts[1], r.verdicts[2], r.verdicts[3],
-                     r.verdicts[4], number(r.worstGap), number(r.worstAngleDeg), r.seconds);
+                     r.verdicts[4], length(r.worstGap, r), number(r.worstAngleDeg), r.seconds);
 }
 
 OrderedJson rowJson(const Row& r) {
@@ -206,6 +217,8 @@ OrderedJson rowJson(const Row& r) {
   for (size_t k = 0; k < 5; ++k) j[kVerdictKeys[k]] = r.verdicts[k];
   j["worst_gap"] = opt(r.worstGap);
   j["worst_angle_deg"] = opt(r.worstAngleDeg);
+  j["length_unit"] = r.unit.empty() ? OrderedJson(nullptr) : OrderedJson(r.unit);
+  j["gap_tolerance"] = opt(r.gapTolerance);
   j["seconds"] = r.seconds;
   return j;
 }
@@ -238,6 +251,8 @@ int runBatch(const BatchOptions& o) {
   addNumber("--tol-distance", o.tol.distance);
   addNumber("--tol-angle", o.tol.angleDeg);
   addNumber("--tol-curvature", o.tol.curvatureRel);
+  if (!o.tol.preset.empty()) extra.insert(extra.end(), {"--preset", o.tol.preset});  // its distance, in mm
+  if (o.tol.units) extra.insert(extra.end(), {"--units", lengthUnitInfo(*o.tol.units).name});
   if (!o.require.empty()) extra.insert(extra.end(), {"--require", o.require});
   if (o.patches) extra.emplace_back("--patches");
   const size_t jobs =
@@ -331,7 +346,7 @@ int runBatch(const BatchOptions& o) {
       }
       std::vector<std::string> line{r.file, r.status, std::to_string(r.seams)};
       for (int v : r.verdicts) line.push_back(std::to_string(v));
-      line.insert(line.end(), {number(r.worstGap), number(r.worstAngleDeg), fmt::format("{:.2f}", r.seconds)});
+      line.insert(line.end(), {length(r.worstGap, r), number(r.worstAngleDeg), fmt::format("{:.2f}", r.seconds)});
       table.push_back(line);
     }
     fmt::print("{}", formatTable({"file", "status", "seams", "gap", "kink", "crease", "G1", "G2", "worst gap",

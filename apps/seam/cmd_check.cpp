@@ -7,6 +7,7 @@
 // Exit codes: 0 ok, 1 --require given and some seam is below it, 2 bad usage or input.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -137,20 +138,20 @@ std::string seamName(const Model& m, const ModelSeam& s) {
 
 /// The worst kink and the worst gap with their location (issue 17: what a CAD user looks at first).
 std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg, double distanceTol,
-                       const std::function<std::string(size_t)>& name) {
+                       const ModelUnits& units, const std::function<std::string(size_t)>& name) {
   const WorstDefects w = worstDefects(reports, creaseAngleDeg);
   std::string out;
   if (w.kink) {
     const SeamReport& x = *reports[*w.kink];
     out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), formatAngle(x.g1MaxDeg),
-                       formatVector(x.g1Worst.point.data(), 3), formatDistance(x.g0Max, distanceTol));
+                       formatVector(x.g1Worst.point.data(), 3), withUnit(formatDistance(x.g0Max, distanceTol), units));
   } else {
     out += "worst kink: none\n";
   }
   if (w.gap) {
     const SeamReport& x = *reports[*w.gap];
     out += fmt::format("worst gap: {}, gap {} at {} (angle {} deg)\n", name(*w.gap),
-                       formatDistance(x.g0Max, distanceTol), formatVector(x.g0Worst.point.data(), 3),
+                       withUnit(formatDistance(x.g0Max, distanceTol), units), formatVector(x.g0Worst.point.data(), 3),
                        formatAngle(x.g1MaxDeg));
   } else {
     out += "worst gap: none\n";
@@ -165,7 +166,12 @@ std::string formatCurvatureJump(double rel, double abs) {
   return fmt::format("{:.3g}% ({:.4g})", 100.0 * rel, abs);
 }
 
-std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelection& sel) {
+/// "G0 gap (mm)", or "G0 gap" for a unit-less model.
+std::string gapHeader(const ModelUnits& units) {
+  return units.length ? fmt::format("G0 gap ({})", units.name()) : "G0 gap";
+}
+
+std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelection& sel, const ModelUnits& units) {
   const std::vector<const SeamReport*> reports = reportsOf(r);
   const SeamListing l = listSeams(reports, sel);
   auto rowOf = [&](size_t k) {
@@ -187,7 +193,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
     return row;
   };
   const std::vector<std::string> header{"A",         "edge",      "B",         "edge",          "verdict",
-                                        "G0 gap",    "G1 angle (deg)",       "G2 jump % (abs)", "geometric",
+                                        gapHeader(units), "G1 angle (deg)",   "G2 jump % (abs)", "geometric",
                                         "parametric", "certified", "overlap"};
   const std::vector<bool> right{false, false, false, false, false, true, true, true, false, false, false, false};
   auto table = [&](const std::vector<size_t>& list) {
@@ -257,21 +263,22 @@ std::string edgeLists(const Model& m, const ModelCheckReport& r) {
 }
 
 std::string summaryLine(const Model& m, const ModelCheckReport& r, const std::optional<GeometricClass>& require,
-                        double creaseAngleDeg) {
+                        double creaseAngleDeg, const ModelUnits& units) {
   const ModelCheckSummary& s = r.summary;
   std::string line = fmt::format(
       "\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified{}), worst {} / {}, max gap {}, max angle {} "
       "deg, max G2 jump {}; {} corners ({} 4-valent, {} degenerate), {} free edges, {} degenerate edges",
       s.seams, s.geometric[3], s.geometric[2], s.geometric[1], s.geometric[0], s.certifiedSeams,
       s.failedSeams > 0 ? fmt::format(", {} failed", s.failedSeams) : "", toString(s.worstGeometric),
-      toString(s.worstParametric), num(s.g0Max), num(s.g1MaxDeg), num(s.g2Max), s.corners, s.fourValentCorners,
+      toString(s.worstParametric), withUnit(num(s.g0Max), units), num(s.g1MaxDeg), num(s.g2Max), s.corners,
+      s.fourValentCorners,
       s.degenerateCorners, s.freeEdges, s.degenerateEdges);
   if (require)
     line += s.belowRequired > 0 ? fmt::format("; {} below {}", s.belowRequired, toString(*require))
                                 : fmt::format("; all meet {}", toString(*require));
   const std::vector<const SeamReport*> reports = reportsOf(r);
   return line + "\n" + verdictLine(countVerdicts(reports, creaseAngleDeg), creaseAngleDeg) +
-         worstLines(reports, creaseAngleDeg, r.tolerances.distance,
+         worstLines(reports, creaseAngleDeg, r.tolerances.distance, units,
                     [&](size_t k) { return seamName(m, r.seams[k]); });
 }
 
@@ -316,10 +323,8 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   if (o.json) {
     printJson(withInputFile(o.file, brepCheckJson(*r, selectSeams(reports, sel), require, sel.creaseAngleDeg)));
   } else {
-    fmt::print("{}: B-rep of {} faces{}; tolerances distance {}, angle {} deg, curvature {} relative; crease angle {} "
-               "deg\n\n",
-               o.file, r->import.faces.size(), r->sewn ? " (sewn)" : "", formatNumber(tol.distance),
-               formatNumber(tol.angleDeg), formatNumber(tol.curvatureRel), formatNumber(sel.creaseAngleDeg));
+    fmt::print("{}: B-rep of {} faces{}; {}\n", o.file, r->import.faces.size(), r->sewn ? " (sewn)" : "",
+               unitLine(r->units, {tol, r->distanceSource, o.tol.preset}, sel.creaseAngleDeg));
     const SeamListing l = listSeams(reports, sel);
     // A face as "F12 #1283" where the file names its entity (docs/check-output.md).
     std::map<std::string, std::string> entityOf;
@@ -340,7 +345,8 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                         s.occtContinuity});
       }
       return rows.empty() ? std::string()
-                          : formatTable({"edge", "A", "B", "verdict", "G0 gap", "G1 angle (deg)", "G2 jump % (abs)",
+                          : formatTable({"edge", "A", "B", "verdict", gapHeader(r->units), "G1 angle (deg)",
+                                         "G2 jump % (abs)",
                                          "geometric", "certified", "OCCT"},
                                         rows, {false, false, false, false, true, true, true, false, false, false});
     };
@@ -358,13 +364,16 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     for (const occt::BRepFreeEdge& f : r->freeEdges) fmt::print(" {}@{}", f.edge, f.face);
     fmt::print("\nnon-manifold edges ({}):", r->nonManifoldEdges.size());
     for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges) fmt::print(" {}", e.edge);
-    fmt::print("\n\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}; {} free edges, {} "
-               "non-manifold, {} degenerate, {} loose (bound no face); OpenCASCADE agrees on G1-or-not for {} of {}\n",
+    double maxGap = 0.0;
+    for (const occt::BRepSeam& s : r->seams) maxGap = std::max(maxGap, s.report.g0Max);
+    fmt::print("\n\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}, max gap {}; {} free "
+               "edges, {} non-manifold, {} degenerate, {} loose (bound no face); OpenCASCADE agrees on G1-or-not for "
+               "{} of {}\n",
                r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
-               toString(r->worstGeometric), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
+               toString(r->worstGeometric), withUnit(formatDistance(maxGap, tol.distance), r->units), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
                r->looseEdges, r->occtAgreement, r->seams.size());
     fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
-               worstLines(reports, sel.creaseAngleDeg, tol.distance, [&](size_t k) {
+               worstLines(reports, sel.creaseAngleDeg, tol.distance, r->units, [&](size_t k) {
                  const occt::BRepSeam& s = r->seams[k];
                  return fmt::format("edge {} ({} / {})", s.edge, face(s.a), face(s.b));
                }));
@@ -389,17 +398,19 @@ int runCheck(const CheckOptions& o) {
   if (isCadFile(o.file) && !checkInputPath(o.file)) return kExitBadInput;  // a directory, FIFO, device: not OCCT's
   if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require, *sel);
 #endif
-  const std::optional<Model> model = loadModel(o.file);
+  ModelUnits units;
+  const std::optional<Model> model = loadModel(o.file, o.tol, &units);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {  // only curves, or "patches": []: as `report` and `heal` (issue 15)
     const std::string note = fmt::format("{}: the model has no patches: nothing to check", o.file);
     if (o.json)
-      printJson(withInputFile(o.file, noPatchesJson(o.file)));
+      printJson(withInputFile(o.file, noPatchesJson(o.file, units)));
     else
       fmt::print("{}\n", note);
     return kExitOk;
   }
-  const Tolerances tol = o.tol.appliedTo(Tolerances::forModelSize(model->boundingBox().diagonal()));
+  const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model->boundingBox().diagonal());
+  const Tolerances tol = resolved.tolerances;
 
   ModelCheckReport report;
   std::optional<double> pairing;
@@ -454,15 +465,12 @@ int runCheck(const CheckOptions& o) {
 
   if (o.json) {
     printJson(withInputFile(o.file, modelCheckJson(*model, report, selectSeams(reportsOf(report), *sel), require,
-                                                   pairing, sel->creaseAngleDeg)));
+                                                   pairing, sel->creaseAngleDeg, units, resolved.distanceSource)));
   } else {
-    std::string out = fmt::format("{}: tolerances distance {}, angle {} deg, curvature {} relative{}; crease angle {} "
-                                  "deg\n\n",
-                                  o.file, num(tol.distance), num(tol.angleDeg), num(tol.curvatureRel),
-                                  pairing ? fmt::format(", pairing {}", num(*pairing)) : "", num(sel->creaseAngleDeg));
-    out += seamTable(*model, report, *sel);
+    std::string out = fmt::format("{}: {}\n", o.file, unitLine(units, resolved, sel->creaseAngleDeg, pairing));
+    out += seamTable(*model, report, *sel, units);
     if (o.seam.empty()) out += cornerTable(*model, report) + edgeLists(*model, report);
-    out += summaryLine(*model, report, require, sel->creaseAngleDeg);
+    out += summaryLine(*model, report, require, sel->creaseAngleDeg, units);
     fmt::print("{}", out);
   }
   return require && report.summary.belowRequired > 0 ? kExitGeometryProblem : kExitOk;

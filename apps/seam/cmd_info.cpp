@@ -1,9 +1,10 @@
-// seam info FILE [--json]: what a model holds (patches, curves, degrees, sizes, spans, bounding boxes).
+// seam info FILE [--json] [--units UNIT]: what a model holds (patches, curves, degrees, sizes, spans, bounding boxes).
 #include <fmt/format.h>
 
 #include <string>
 #include <vector>
 
+#include "check_json.h"
 #include "cli_util.h"
 #include "command_registry.h"
 #include "seam/core/tolerances.h"
@@ -50,7 +51,7 @@ std::string intervalText(const Interval& i) {
   return "[" + formatNumber(i.lo) + ", " + formatNumber(i.hi) + "]";
 }
 
-OrderedJson infoJson(const std::string& file, const Model& model) {
+OrderedJson infoJson(const std::string& file, const Model& model, const ModelUnits& units) {
   OrderedJson patches = OrderedJson::array();
   for (const Patch& p : model.patches) {
     const BSplineSurface& s = p.surface;
@@ -85,10 +86,11 @@ OrderedJson infoJson(const std::string& file, const Model& model) {
                          {"curves", model.curves.size()},
                          {"bbox", boxJson(box)},
                          {"diagonal", box.diagonal()}};
-  return OrderedJson{{"file", file}, {"patches", patches}, {"curves", curves}, {"summary", summary}};
+  return OrderedJson{
+      {"file", file}, {"units", unitsJson(units)}, {"patches", patches}, {"curves", curves}, {"summary", summary}};
 }
 
-std::string infoTable(const std::string& file, const Model& model) {
+std::string infoTable(const std::string& file, const Model& model, const ModelUnits& units) {
   std::vector<std::vector<std::string>> rows;
   for (const Patch& p : model.patches) {
     const BSplineSurface& s = p.surface;
@@ -113,6 +115,7 @@ std::string infoTable(const std::string& file, const Model& model) {
   std::string out = fmt::format("{}: {} patch{}, {} curve{}\n", file, model.patches.size(),
                                 model.patches.size() == 1 ? "" : "es", model.curves.size(),
                                 model.curves.size() == 1 ? "" : "s");
+  out += unitText(units) + "\n";
   if (!rows.empty()) {
     out += "\n" + formatTable({"kind", "name", "type", "degree", "points", "spans", "rational", "domain",
                                "bbox min", "bbox max"},
@@ -121,7 +124,7 @@ std::string infoTable(const std::string& file, const Model& model) {
   out += "\nbounding box: " +
          (box.empty() ? std::string("empty")
                       : boxCell(box, false) + " to " + boxCell(box, true) + ", diagonal " +
-                            formatNumber(box.diagonal())) +
+                            withUnit(formatNumber(box.diagonal()), units)) +
          "\n";
   return out;
 }
@@ -130,21 +133,24 @@ void addInfo(CLI::App& app, int& exit) {
   struct Options {
     std::string file;
     bool json = false;
+    ToleranceOverrides units;  // only its --units
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("info", "Describe the patches and curves of a model file");
   cmd->add_option("FILE", options->file, modelFileHelp())->required();
   cmd->add_flag("--json", options->json, "Print JSON instead of a table");
+  addUnitsOption(*cmd, options->units);
   cmd->callback([options, &exit]() {
-    const std::optional<Model> model = loadModel(options->file);
+    ModelUnits units;
+    const std::optional<Model> model = loadModel(options->file, options->units, &units);
     if (!model) {
       exit = kExitBadInput;
       return;
     }
     if (options->json) {
-      printJson(infoJson(options->file, *model));
+      printJson(infoJson(options->file, *model, units));
     } else {
-      fmt::print("{}", infoTable(options->file, *model));
+      fmt::print("{}", infoTable(options->file, *model, units));
     }
     exit = kExitOk;
   });

@@ -68,6 +68,14 @@ bool parseSelection(const ReportOptions& o, SeamSelection& sel) {
   return true;
 }
 
+/// The page's length unit, its origin and the distance tolerance's origin.
+void setUnits(report::ReportData& d, const ModelUnits& units, const ResolvedTolerances& tol) {
+  d.lengthUnit = units.name();
+  constexpr std::string_view kPrefix = "length unit: ";
+  d.unitNote = unitText(units).substr(kPrefix.size());
+  d.distanceSource = distanceSourceText(tol.distanceSource, tol.preset);
+}
+
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: the B-rep check (every shared edge through the pcurves), OpenCASCADE's verdict as an extra column.
 int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
@@ -82,6 +90,7 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
   }
   report::ReportData d;
   d.tolerances = r->tolerances;
+  setUnits(d, r->units, {r->tolerances, r->distanceSource, o.tol.preset});
   d.extraHeader = "OpenCASCADE";
   d.facts.emplace_back("faces", fmt::format("{}{}", r->import.faces.size(), r->sewn ? " (sewn)" : ""));
   d.facts.emplace_back("non-manifold edges", std::to_string(r->nonManifoldEdges.size()));
@@ -131,14 +140,16 @@ int runReport(const ReportOptions& o) {
     return runBRepReport(o, ro);
   }
 #endif
-  const std::optional<Model> model = loadModel(o.file);
+  ModelUnits units;
+  const std::optional<Model> model = loadModel(o.file, o.tol, &units);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {
     fmt::print("{}: the model has no patches: nothing to check (no report written)\n", o.file);
     return kExitOk;
   }
   ModelCheckOptions mo;
-  mo.tolerances = o.tol.appliedTo(Tolerances::forModelSize(model->boundingBox().diagonal()));
+  const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model->boundingBox().diagonal());
+  mo.tolerances = resolved.tolerances;
   mo.seam.keepSamples = true;
   if (model->patches.size() > kProgressPatches) std::cerr << fmt::format("seam: checking {} patches...\n", model->patches.size());
   const Result<ModelCheckReport> report = checkModel(*model, mo);
@@ -146,7 +157,9 @@ int runReport(const ReportOptions& o) {
     printError(fmt::format("{}: {}", o.file, report.status().message()));
     return kExitBadInput;
   }
-  if (!writeOutputFile(o.out, report::htmlReport(*model, *report, ro))) return kExitBadInput;
+  report::ReportData d = report::reportData(*model, *report, ro.samplesPerEdge);
+  setUnits(d, units, resolved);
+  if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
   fmt::print("wrote {} ({} seams, worst {})\n", o.out, report->seams.size(), toString(report->summary.worstGeometric));
   return kExitOk;
 }

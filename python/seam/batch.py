@@ -55,6 +55,8 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
         row[v] = verdicts.get(v, 0)
     row["worst_gap"] = worst_gap.get("gap")
     row["worst_angle_deg"] = worst_kink.get("angle_deg")
+    row["length_unit"] = (result.get("units") or {}).get("length")
+    row["gap_tolerance"] = (result.get("tolerances") or {}).get("distance")
     row["seconds"] = seconds
     return row
 
@@ -62,7 +64,8 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
 def error_row(path: str, message: str, seconds: float = 0.0) -> dict:
     """The row of a file that could not be checked."""
     return {"file": path, "status": "error", "error": message, "seams": 0, "gap": 0, "kink": 0, "crease": 0, "G1": 0,
-            "G2": 0, "worst_gap": None, "worst_angle_deg": None, "seconds": seconds}
+            "G2": 0, "worst_gap": None, "worst_angle_deg": None, "length_unit": None,
+            "gap_tolerance": None, "seconds": seconds}
 
 
 def check_file(path: str, **options) -> dict:

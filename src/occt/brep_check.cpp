@@ -557,7 +557,11 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
   std::vector<std::string> readWarnings;
   detail::FaceLabels labels;
-  Result<TopoDS_Shape> read = detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels);
+  detail::FileUnits units;
+  units.statedUnitMm = options.read.statedUnitMm;
+  if (options.tolerances.units) units.statedUnitMm = lengthUnitInfo(*options.tolerances.units).millimetres;
+  Result<TopoDS_Shape> read =
+      detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels, &units);
   if (!read) return read.status();
   BRepCheckReport out;
   // Every OpenCASCADE call of the check (bounding box, sewing, BRepLib::ContinuityOfFaces, pcurves, evaluation of
@@ -604,8 +608,12 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     out.import.warnings.insert(out.import.warnings.begin(), readWarnings.begin(), readWarnings.end());
     std::map<int, size_t> patchOfFace;  // 1-based face index -> patch index
     for (size_t k = 0; k < out.import.faces.size(); ++k) patchOfFace[out.import.faces[k].faceIndex] = k;
-    out.tolerances =
-        options.tolerances.appliedTo(Tolerances::forModelSize(out.import.model.boundingBox().diagonal()));
+    out.import.units = units.units;
+    out.units = cadModelUnits(out.import, options.tolerances);
+    const ResolvedTolerances resolved =
+        resolveTolerances(options.tolerances, out.units, out.import.model.boundingBox().diagonal());
+    out.tolerances = resolved.tolerances;
+    out.distanceSource = resolved.distanceSource;
     SeamOptions seamOpt = options.seam;
     seamOpt.tol = out.tolerances;
     const double size = out.import.model.boundingBox().diagonal();

@@ -63,9 +63,19 @@ struct FaceLabels {
   std::vector<Label> labels;
 };
 
+/// The length unit of a file (issue 17 §2): in, `statedUnitMm` (the user's --units: the file's coordinates are in
+/// units of this many mm whatever the header says); out, what the header declares and the scale applied.
+struct FileUnits {
+  std::optional<double> statedUnitMm;  ///< in: CadReadOptions::statedUnitMm
+  CadUnits units;                      ///< out
+};
+
+/// With `units`, the header's length unit and precision are read, and a shape whose stated unit differs from the
+/// header's is scaled (BRepBuilderAPI_Transform) so that it is in millimetres; `labels` follow the scaled faces.
 Result<TopoDS_Shape> readShape(const std::filesystem::path& file, CadFormat format,
                                std::vector<std::string>* warnings = nullptr,
-                               std::chrono::seconds timeLimit = kTransferTimeLimit, FaceLabels* labels = nullptr);
+                               std::chrono::seconds timeLimit = kTransferTimeLimit, FaceLabels* labels = nullptr,
+                               FileUnits* units = nullptr);
 
 /// Copies the entity and name of each face (CadFace::faceIndex, 1-based into `faces`) from `labels`.
 void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, const FaceLabels& labels);

@@ -13,6 +13,18 @@
 #include <unistd.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <IGESData_GlobalSection.hxx>
+#include <STEPConstruct_UnitContext.hxx>
+#include <StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx.hxx>
+#include <StepRepr_GlobalUncertaintyAssignedContext.hxx>
+#include <StepRepr_GlobalUnitAssignedContext.hxx>
+#include <StepBasic_NamedUnit.hxx>
+#include <StepBasic_UncertaintyMeasureWithUnit.hxx>
+#include <StepBasic_Unit.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <UnitsMethods.hxx>
+#include <gp_Trsf.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
@@ -324,6 +336,62 @@ namespace detail {
 
 namespace {
 
+/// A stated unit that differs from the header's by less than this (relative) is the header's: no rescaling.
+constexpr double kSameUnitRelTol = 1e-12;
+
+/// The STEP file's length unit and uncertainty: from the first representation context that assigns a length unit
+/// (OpenCASCADE's STEPConstruct_UnitContext computes the factor to millimetres and converts the uncertainty).
+void readStepUnits(STEPControl_Reader& reader, CadUnits& units) {
+  const Handle(Interface_InterfaceModel) model = reader.Model();
+  bool haveUnit = false;
+  for (int k = 1; k <= model->NbEntities() && !haveUnit; ++k) {
+    const Handle(Standard_Transient) e = model->Value(k);
+    Handle(StepRepr_GlobalUnitAssignedContext) unitCtx;
+    Handle(StepRepr_GlobalUncertaintyAssignedContext) uncertaintyCtx;
+    if (const auto complex = Handle(StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx)::DownCast(e);
+        !complex.IsNull()) {
+      unitCtx = complex->GlobalUnitAssignedContext();
+      uncertaintyCtx = complex->GlobalUncertaintyAssignedContext();
+    } else {
+      unitCtx = Handle(StepRepr_GlobalUnitAssignedContext)::DownCast(e);
+    }
+    if (unitCtx.IsNull()) continue;
+    STEPConstruct_UnitContext ctx;
+    if (ctx.ComputeFactors(unitCtx) != 0 || !ctx.LengthDone()) continue;
+    haveUnit = true;
+    units.millimetresPerFileUnit = ctx.LengthFactor();
+    // The uncertainty in its own unit (STEPConstruct_UnitContext::Uncertainty is not converted in OpenCASCADE 7.6).
+    for (int i = 1; !uncertaintyCtx.IsNull() && i <= uncertaintyCtx->NbUncertainty(); ++i) {
+      const Handle(StepBasic_UncertaintyMeasureWithUnit) u = uncertaintyCtx->UncertaintyValue(i);
+      if (u.IsNull()) continue;
+      const Handle(StepBasic_NamedUnit) unit = u->UnitComponent().NamedUnit();
+      STEPConstruct_UnitContext unitOfValue;
+      if (unit.IsNull() || unitOfValue.ComputeFactors(unit) != 0 || !unitOfValue.LengthDone()) continue;
+      const double mm = u->ValueComponent() * unitOfValue.LengthFactor();
+      if (std::isfinite(mm) && mm > 0.0) {
+        units.declaredResolutionMm = mm;
+        break;
+      }
+    }
+  }
+  TColStd_SequenceOfAsciiString lengths, angles, solidAngles;
+  reader.FileUnits(lengths, angles, solidAngles);
+  if (!lengths.IsEmpty()) units.fileUnit = lengths.First().ToCString();
+  else if (haveUnit) units.fileUnit = UnitsMethods::DumpLengthUnit(units.millimetresPerFileUnit);
+}
+
+/// The IGES file's global section: unit name (parameter 15), unit value and resolution (parameter 19).
+void readIgesUnits(const Handle(IGESData_IGESModel)& model, CadUnits& units) {
+  if (model.IsNull()) return;
+  const IGESData_GlobalSection& g = model->GlobalSection();
+  if (!g.UnitName().IsNull()) units.fileUnit = g.UnitName()->ToCString();
+  // UnitValue() is documented "in meters" but is in OpenCASCADE's length unit (mm): 25.4 for an inch file.
+  const double mm = g.UnitValue();
+  if (std::isfinite(mm) && mm > 0.0) units.millimetresPerFileUnit = mm;
+  if (std::isfinite(g.Resolution()) && g.Resolution() > 0.0)
+    units.declaredResolutionMm = g.Resolution() * units.millimetresPerFileUnit;
+}
+
 /// The file entity of every face of `shape` (issue 17 §3): the STEP instance id "#1234" and the entity's name, or the
 /// IGES directory entry "D17" and its name; "" where OpenCASCADE's transfer cannot trace a face back.
 void labelFaces(XSControl_Reader& reader, const TopoDS_Shape& shape, FaceLabels& labels) {
@@ -408,7 +476,7 @@ OcctSignalGuard::~OcctSignalGuard() {
 /// Reads the file into one shape (STEP or IGES), with OpenCASCADE's errors, crashes and overlong transfers turned
 /// into messages.
 Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vector<std::string>* warnings,
-                               std::chrono::seconds timeLimit, FaceLabels* labels) {
+                               std::chrono::seconds timeLimit, FaceLabels* labels, FileUnits* units) {
   if (Status st = io::checkInputFile(file, io::kMaxCadFileBytes); !st) return st;  // a FIFO, a directory, too large
   if (Status st = checkReals(file, format); !st) return st;
   silenceOcct();
@@ -437,6 +505,13 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
       return invalidInput(fmt::format("{}: OpenCASCADE's {} reader reports \"{}\" ({} entities loaded); the file is "
                                       "corrupt or truncated",
                                       name, kind, global->CFail(1), model->NbEntities()));
+    if (units != nullptr) {
+      units->units = {};
+      if (format == CadFormat::kStep)
+        readStepUnits(static_cast<STEPControl_Reader&>(*reader), units->units);
+      else
+        readIgesUnits(Handle(IGESData_IGESModel)::DownCast(model), units->units);
+    }
     const int roots = reader->NbRootsForTransfer();
     const Handle(DeadlineIndicator) deadline = new DeadlineIndicator(timeLimit);
     const int transferred = reader->TransferRoots(deadline->Start());
@@ -467,6 +542,30 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
     pendingReadWarnings = {file, std::move(pending)};
     TopoDS_Shape shape = reader->OneShape();
     if (labels != nullptr) labelFaces(*reader, shape, *labels);
+    if (units != nullptr && units->statedUnitMm) {
+      // The user states the coordinates' unit (--units): rescale from the header's unit to it.
+      const double scale = *units->statedUnitMm / units->units.millimetresPerFileUnit;
+      if (std::isfinite(scale) && scale > 0.0 && std::abs(scale - 1.0) > kSameUnitRelTol) {
+        gp_Trsf trsf;
+        trsf.SetScale(gp_Pnt(0, 0, 0), scale);
+        BRepBuilderAPI_Transform transform(shape, trsf, /*copy=*/true);
+        if (!transform.IsDone())
+          return invalidInput(fmt::format("{}: OpenCASCADE could not rescale the model to the stated unit", name));
+        if (labels != nullptr) {
+          FaceLabels scaled;
+          for (int i = 1; i <= labels->faces.Extent(); ++i) {
+            const TopoDS_Shape now = transform.ModifiedShape(labels->faces(i));
+            if (scaled.faces.Contains(now)) continue;
+            scaled.faces.Add(now);
+            scaled.labels.push_back(labels->labels[static_cast<size_t>(i - 1)]);
+          }
+          *labels = std::move(scaled);
+        }
+        shape = transform.Shape();
+        units->units.statedScale = scale;
+        if (units->units.declaredResolutionMm) *units->units.declaredResolutionMm *= scale;
+      }
+    }
     return shape;
   } catch (const Standard_Failure& f) {
     if (isSignal(f))
@@ -495,19 +594,32 @@ std::optional<CadFormat> cadFormatOf(const fs::path& file) {
   return std::nullopt;
 }
 
+ModelUnits cadModelUnits(const CadImport& import, const ToleranceOverrides& overrides) {
+  ModelUnits u;
+  u.length = LengthUnit::kMillimetre;
+  u.fileUnit = import.units.fileUnit;
+  u.source = overrides.units ? UnitSource::kOption : UnitSource::kFileHeader;
+  u.declaredResolution = import.units.declaredResolutionMm;
+  return u;
+}
+
 Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& options) {
   const std::optional<CadFormat> format = cadFormatOf(file);
   if (!format)
     return invalidInput(fmt::format("{}: not a STEP (.step/.stp) or IGES (.iges/.igs) file name", file.string()));
   std::vector<std::string> readWarnings;
   detail::FaceLabels labels;
-  Result<TopoDS_Shape> shape = detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels);
+  detail::FileUnits units;
+  units.statedUnitMm = options.statedUnitMm;
+  Result<TopoDS_Shape> shape =
+      detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels, &units);
   if (!shape) return shape.status();
   std::vector<TopoDS_Face> faces;
   for (TopExp_Explorer ex(*shape, TopAbs_FACE); ex.More(); ex.Next()) faces.push_back(TopoDS::Face(ex.Current()));
   Result<CadImport> out = detail::convertFaces(file, faces, options);
   if (out) detail::applyFaceLabels(*out, faces, labels);
   if (out) out->warnings.insert(out->warnings.begin(), readWarnings.begin(), readWarnings.end());
+  if (out) out->units = units.units;
   return out;
 }
 

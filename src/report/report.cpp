@@ -414,17 +414,21 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   row("worst kink", worstDefect.kink ? fmt::format("{}&deg;, {}", num(reports[*worstDefect.kink]->g1MaxDeg),
                                                    where(*worstDefect.kink, reports[*worstDefect.kink]->g1Worst.point))
                                      : "none");
-  row("worst gap", worstDefect.gap ? fmt::format("{}, {}", num(reports[*worstDefect.gap]->g0Max),
+  // A length with the model's unit ("0.0012 mm"; the number alone for a unit-less model).
+  auto len = [&](double x) { return data.lengthUnit.empty() ? num(x) : num(x) + " " + escape(data.lengthUnit); };
+  row("worst gap", worstDefect.gap ? fmt::format("{}, {}", len(reports[*worstDefect.gap]->g0Max),
                                                  where(*worstDefect.gap, reports[*worstDefect.gap]->g0Worst.point))
                                    : "none");
   row("by class", fmt::format("G2 {}, G1 {}, G0 {}, none {}", classes[3], classes[2], classes[1], classes[0]));
   row("worst", fmt::format("<span class=\"c{}\">{}</span>", static_cast<int>(worst), toString(worst)));
-  row("largest gap (G0)", num(g0));
+  row("largest gap (G0)", len(g0));
   row("largest angle (G1, degrees)", num(g1));
   row("largest curvature jump (G2)", fmt::format("{} (relative {})", num(g2), num(g2rel)));
   row("free edges / degenerate edges", fmt::format("{} / {}", data.freeEdges.size(), data.degenerateEdges.size()));
   for (const auto& [k, v] : data.facts) row(k, escape(v));
-  row("tolerances", fmt::format("distance {}, angle {}&deg;, curvature {} relative", num(tol.distance),
+  if (!data.unitNote.empty()) row("length unit", escape(data.unitNote));
+  row("tolerances", fmt::format("distance {}{}, angle {}&deg;, curvature {} relative", len(tol.distance),
+                                data.distanceSource.empty() ? "" : " (" + escape(data.distanceSource) + ")",
                                 num(tol.angleDeg), num(tol.curvatureRel)));
   h += "</table>\n";
 
@@ -520,7 +524,9 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   const bool extra = !data.extraHeader.empty();
   auto seamTable = [&](const std::vector<size_t>& rows) {
     std::string t = "<table class=\"sortable\"><thead><tr><th>#</th><th class=\"l\">A</th><th class=\"l\">edge</th>"
-                    "<th class=\"l\">B</th><th class=\"l\">edge</th><th class=\"l\">verdict</th><th>G0 gap</th>"
+                    "<th class=\"l\">B</th><th class=\"l\">edge</th><th class=\"l\">verdict</th>" +
+                    (data.lengthUnit.empty() ? std::string("<th>G0 gap</th>")
+                                             : "<th>G0 gap (" + escape(data.lengthUnit) + ")</th>") +
                     "<th>G1 angle (&deg;)</th><th>G2 jump</th><th>G2 relative</th><th class=\"l\">geometric</th>"
                     "<th class=\"l\">parametric</th><th class=\"l\">certified</th>";
     if (extra) t += fmt::format("<th class=\"l\">{}</th>", escape(data.extraHeader));

@@ -12,7 +12,7 @@ import seam
 import seam.batch
 
 ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "worst_gap",
-            "worst_angle_deg", "seconds"]
+            "worst_angle_deg", "length_unit", "gap_tolerance", "seconds"]
 
 
 def small_files(shared_data):

@@ -19,8 +19,8 @@ import jsonschema
 FORMATS = {".json": "json", ".bpt": "bpt", ".step": "step", ".stp": "step", ".iges": "iges", ".igs": "iges"}
 
 
-def check(schema, binary, model):
-    r = subprocess.run([binary, "check", model, "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+def check(schema, binary, model, extra=()):
+    r = subprocess.run([binary, "check", model, "--json", *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                        text=True, timeout=900)
     if r.returncode not in (0, 1):
         return [f"exit {r.returncode}: {r.stderr.strip()[-500:]}"]
@@ -37,6 +37,24 @@ def check(schema, binary, model):
             problems.append(f"seam {s.get('index')}: failed analysis without verdict error / geometric null")
     if out["summary"]["seams"] < len(out["seams"]):
         problems.append("summary counts fewer seams than listed")
+    units = out.get("units") or {}
+    if expected in ("step", "iges") and (units.get("length") != "mm" or units.get("source") != "file header"):
+        problems.append(f"STEP/IGES units {units!r}: not mm from the file header")
+    if expected in ("json", "bpt") and not extra and units.get("length") is not None:
+        problems.append(f"a JSON/.bpt model without --units has units {units!r}")
+    return problems
+
+
+def check_units(schema, binary, model):
+    """A unit-less model with `--units m --preset catia`: units from --units, CATIA's 0.001 mm = 1e-6 m."""
+    problems = check(schema, binary, model, ["--units", "m", "--preset", "catia"])
+    r = subprocess.run([binary, "check", model, "--json", "--units", "m", "--preset", "catia"],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=900)
+    out = json.loads(r.stdout)
+    if out["units"] != {"length": "m", "file_unit": None, "source": "--units", "declared_resolution": None}:
+        problems.append(f"--units m: units {out['units']!r}")
+    if abs(out["tolerances"]["distance"] - 1e-6) > 1e-18 or out["tolerances"]["distance_source"] != "preset":
+        problems.append(f"--units m --preset catia: tolerances {out['tolerances']!r}, expected 1e-6 from the preset")
     return problems
 
 
@@ -49,6 +67,8 @@ def main():
     failures = 0
     for model in models:
         problems = check(schema, binary, model)
+        if os.path.splitext(model)[1].lower() == ".json":
+            problems += check_units(schema, binary, model)
         print(f"{'ok' if not problems else 'FAILED'}: {model}")
         for p in problems[:20]:
             print(f"  {p}")

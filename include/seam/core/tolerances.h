@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
+
+#include "seam/core/units.h"
 
 namespace seam {
 
@@ -37,15 +40,85 @@ struct Tolerances {
   }
 };
 
-/// User choices (e.g. the CLI's --tol-* options) that replace single fields of the model-size defaults.
+/// Default G0 tolerance of a model whose length unit is known (STEP/IGES; JSON/.bpt with --units), in millimetres:
+/// the 0.001 mm CATIA and Rhino (mm template) work with. CAD checkers judge gaps in absolute length, not relative to
+/// the part's size. docs/tolerances.md, "Units", gives the measurements behind the choice.
+inline constexpr double kDefaultAbsoluteDistanceMm = 0.001;
+
+/// Where a classification's distance tolerance comes from.
+enum class DistanceSource {
+  kRelative,         ///< 1e-6 x bounding-box diagonal (Tolerances::forModelSize): unit-less models
+  kAbsoluteDefault,  ///< kDefaultAbsoluteDistanceMm converted to model units: models with a length unit
+  kPreset,           ///< a --preset's distance
+  kOption,           ///< --tol-distance
+};
+
+/// "default for unit-less models: 1e-6 x bounding-box diagonal", "default for models with a unit", "--preset catia",
+/// "--tol-distance" (`preset` names the preset).
+inline std::string distanceSourceText(DistanceSource s, const std::string& preset = {}) {
+  switch (s) {
+    case DistanceSource::kRelative: return "default for unit-less models: 1e-6 x bounding-box diagonal";
+    case DistanceSource::kAbsoluteDefault: return "default for models with a length unit, e.g. CAD files";
+    case DistanceSource::kPreset: return "--preset " + preset;
+    case DistanceSource::kOption: break;
+  }
+  return "--tol-distance";
+}
+
+/// "relative", "absolute default", "preset", "option": the words of `seam check --json`'s tolerances.distance_source.
+inline const char* toString(DistanceSource s) {
+  switch (s) {
+    case DistanceSource::kRelative: return "relative default";
+    case DistanceSource::kAbsoluteDefault: return "absolute default";
+    case DistanceSource::kPreset: return "preset";
+    case DistanceSource::kOption: break;
+  }
+  return "option";
+}
+
+/// User choices (e.g. the CLI's --tol-* / --preset / --units options) that replace single fields of the defaults.
 struct ToleranceOverrides {
   std::optional<double> distance, angleDeg, curvatureRel;
+  /// A preset's distance, in millimetres: converted to model units once the model's unit is known (for a unit-less
+  /// model it is taken as a number in model units). `distance` wins over it.
+  std::optional<double> presetDistanceMm;
+  std::string preset;                 ///< the preset's name ("" without one)
+  /// The unit of the model's numbers as the user states it (--units): a JSON/.bpt model gets this unit; a STEP/IGES
+  /// file's coordinates are taken in it whatever its header says (and rescaled to mm). nullopt: as the file says.
+  std::optional<LengthUnit> units;
+
   [[nodiscard]] Tolerances appliedTo(Tolerances t) const {
     if (distance) t.distance = *distance;
+    else if (presetDistanceMm) t.distance = *presetDistanceMm;
     if (angleDeg) t.angleDeg = *angleDeg;
     if (curvatureRel) t.curvatureRel = *curvatureRel;
     return t;
   }
 };
+
+/// Classification tolerances with the origin of their distance.
+struct ResolvedTolerances {
+  Tolerances tolerances;
+  DistanceSource distanceSource = DistanceSource::kRelative;
+  std::string preset;  ///< the preset's name when distanceSource is kPreset
+};
+
+/// The tolerances of a model with `units` and bounding-box diagonal `diagonal`: the overrides, and for the distance
+/// without one: kDefaultAbsoluteDistanceMm in model units when the model has a length unit, else 1e-6 x diagonal.
+inline ResolvedTolerances resolveTolerances(const ToleranceOverrides& o, const ModelUnits& units, double diagonal) {
+  ResolvedTolerances r;
+  r.tolerances = o.appliedTo(Tolerances::forModelSize(diagonal));
+  if (o.distance) {
+    r.distanceSource = DistanceSource::kOption;
+  } else if (o.presetDistanceMm) {
+    r.distanceSource = DistanceSource::kPreset;
+    r.preset = o.preset;
+    r.tolerances.distance = units.fromMillimetres(*o.presetDistanceMm).value_or(*o.presetDistanceMm);
+  } else if (const std::optional<double> d = units.fromMillimetres(kDefaultAbsoluteDistanceMm)) {
+    r.distanceSource = DistanceSource::kAbsoluteDefault;
+    r.tolerances.distance = *d;
+  }
+  return r;
+}
 
 }  // namespace seam

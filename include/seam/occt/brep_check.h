@@ -30,7 +30,9 @@
 namespace seam::occt {
 
 struct BRepCheckOptions {
-  /// Classification tolerances: Tolerances::forModelSize(bounding-box diagonal) with these fields replaced.
+  /// Classification tolerances: resolveTolerances of these overrides (the distance defaults to
+  /// kDefaultAbsoluteDistanceMm: a CAD file has a length unit). `tolerances.units` states the unit of the file's
+  /// coordinates (as CadReadOptions::statedUnitMm, which it replaces).
   ToleranceOverrides tolerances;
   /// Analysis settings (samplesPerSpan, keepSamples, bounds); its `tol` is replaced by the tolerances.
   SeamOptions seam;
@@ -70,6 +72,8 @@ struct BRepNonManifoldEdge {
 
 struct BRepCheckReport {
   Tolerances tolerances;
+  DistanceSource distanceSource = DistanceSource::kAbsoluteDefault;  ///< where tolerances.distance comes from
+  ModelUnits units;           ///< millimetres; the file's unit name and declared resolution (cadModelUnits)
   bool sewn = false;          ///< the file was sewn before the check
   CadImport import;           ///< the faces as patches (same names as in the seams)
   std::vector<BRepSeam> seams;

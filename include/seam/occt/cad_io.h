@@ -8,7 +8,8 @@
 // iso-parameter edges on its parameter box) becomes a plain patch; a trimmed face becomes the patch of its
 // parameter box and is flagged `trimmed` (its trimming loop is listed in CadFace; seam analyses its patch edges).
 // Files holding bare surfaces without faces (a STEP file of B_SPLINE_SURFACE_WITH_KNOTS only) are read too.
-// Coordinates are in millimetres (OpenCASCADE's unit conversion on read and write).
+// Coordinates are in millimetres (OpenCASCADE's unit conversion on read and write): a file in inches has its
+// coordinates multiplied by 25.4. The unit the file declares and its declared precision are kept (CadUnits).
 //
 // Export: B-spline faces (one per patch, knots and control points unchanged) sewn into a shell with the
 // distance tolerance, written as STEP (AP214) or IGES (5.3, B-rep mode); written atomically.
@@ -18,6 +19,8 @@
 #include <vector>
 
 #include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/core/units.h"
 #include "seam/model/model.h"
 
 namespace seam::occt {
@@ -31,6 +34,27 @@ struct CadReadOptions {
   /// Tolerance of approximations for faces OpenCASCADE cannot convert exactly, relative to the model's
   /// bounding-box diagonal (1e-6, the default distance tolerance of `seam check`).
   double approximationRelTol = 1e-6;
+  /// The unit of the file's coordinates in millimetres, when the user states it (`--units`): it replaces the unit
+  /// of the file's header (a file whose header says MM but whose numbers are metres: statedUnitMm = 1000), and the
+  /// model is rescaled to millimetres accordingly. nullopt: the header's unit.
+  std::optional<double> statedUnitMm;
+};
+
+/// The length unit of a STEP/IGES file (issue 17 §2).
+struct CadUnits {
+  /// The length unit as the file names it: STEP, the name OpenCASCADE's STEPControl_Reader::FileUnits gives
+  /// ("MM", "INCH", "FOOT", "CM", "M", ...); IGES, global parameter 15 ("MM", "IN", ...). "" when the file names
+  /// none.
+  std::string fileUnit;
+  /// What OpenCASCADE multiplied the file's coordinates by to get millimetres (25.4 for inches).
+  double millimetresPerFileUnit = 1.0;
+  /// The factor seam applied on top of it for CadReadOptions::statedUnitMm (statedUnitMm / millimetresPerFileUnit;
+  /// 1 without it).
+  double statedScale = 1.0;
+  /// The precision the file declares, in millimetres (scaled like the coordinates): STEP, the length
+  /// UNCERTAINTY_MEASURE_WITH_UNIT of its representation context; IGES, global parameter 19 (minimum
+  /// user-intended resolution). nullopt when the file declares none (or a non-positive value).
+  std::optional<double> declaredResolutionMm;
 };
 
 /// What the reader did with one face.
@@ -54,7 +78,12 @@ struct CadImport {
   Model model;
   std::vector<CadFace> faces;  ///< one per patch, same order
   std::vector<std::string> warnings;
+  CadUnits units;              ///< the file's length unit and declared precision; the model is in millimetres
 };
+
+/// The length unit of an imported model: millimetres, with the file's unit name and declared precision; the
+/// source is --units when `overrides.units` states the coordinates' unit, else the file header.
+ModelUnits cadModelUnits(const CadImport& import, const ToleranceOverrides& overrides = {});
 
 /// Reads a STEP or IGES file. Errors (kIoError / kParseError / kInvalidInput) name the file and, where there is
 /// one, the face; a file with no faces or surfaces is an error.

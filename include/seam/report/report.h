@@ -53,6 +53,12 @@ struct ReportSeam {
 /// What a report shows, from either check (patch model or B-rep).
 struct ReportData {
   Tolerances tolerances;
+  /// The model's length unit ("mm", "in"; "" for a unit-less model): printed after every length of the page.
+  std::string lengthUnit;
+  /// Where the unit comes from, e.g. "mm (file header: INCH)" (a summary row "length unit"; "" = no row).
+  std::string unitNote;
+  /// Where the distance tolerance comes from, e.g. "default for models with a length unit" ("" = not said).
+  std::string distanceSource;
   std::vector<std::pair<std::string, std::string>> facts;  ///< summary rows after the computed ones
   std::string extraHeader;                                 ///< header of ReportSeam::extra ("" = none)
   std::vector<ReportSeam> seams;
