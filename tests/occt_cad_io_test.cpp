@@ -627,6 +627,8 @@ TEST(OcctUnits, StepFileInMetresIsReadInMillimetres) {
   fs::remove(mmFile);
   ASSERT_TRUE(overridden.isOk());
   EXPECT_EQ(overridden->units.statedScale, 1000.0);
+  EXPECT_EQ(occt::cadModelUnits(*overridden).source, UnitSource::kOption);
+  EXPECT_EQ(occt::cadModelUnits(*mm).source, UnitSource::kFileHeader);
   expectScaledCopy(m, overridden->model, 1000.0);
 }
 

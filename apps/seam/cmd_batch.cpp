@@ -203,9 +203,10 @@ std::string length(const std::optional<double>& x, const Row& r) {
 std::string rowLine(const Row& r) {
   if (r.status == "error") return fmt::format("{}: error: {}", r.file, r.error);
   return fmt::format("{}: {}: {} seams (gap {}, kink {}, crease {}, G1 {}, G2 {}), worst gap {}, worst kink {} deg, "
-                     "{:.2f} s",
+                     "gap tolerance {}, {:.2f} s",
                      r.file, r.status, r.seams, r.verdicts[0], r.verdicts[1], r.verdicts[2], r.verdicts[3],
-                     r.verdicts[4], length(r.worstGap, r), number(r.worstAngleDeg), r.seconds);
+                     r.verdicts[4], length(r.worstGap, r), number(r.worstAngleDeg), length(r.gapTolerance, r),
+                     r.seconds);
 }
 
 OrderedJson rowJson(const Row& r) {

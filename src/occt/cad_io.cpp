@@ -598,7 +598,8 @@ ModelUnits cadModelUnits(const CadImport& import, const ToleranceOverrides& over
   ModelUnits u;
   u.length = LengthUnit::kMillimetre;
   u.fileUnit = import.units.fileUnit;
-  u.source = overrides.units ? UnitSource::kOption : UnitSource::kFileHeader;
+  // The user's unit (--units, or CadReadOptions::statedUnitMm when it rescaled the file) rather than the header's.
+  u.source = overrides.units || import.units.statedScale != 1.0 ? UnitSource::kOption : UnitSource::kFileHeader;
   u.declaredResolution = import.units.declaredResolutionMm;
   return u;
 }
