@@ -28,6 +28,10 @@ inline constexpr double kNormalVanishRel = 1e-8;
 /// A chart whose conditioning |a x b| / (|a|^2 + |b|^2) is below this gives curvatures with relative round-off
 /// ~ 1e-16 / conditioning^2: the sampled routes do not measure curvature there (1e-6 relative at the threshold).
 inline constexpr double kCurvatureChartRel = 1e-5;
+/// Breakpoints of two edges' parameter curves closer than this fraction of the edge are one breakpoint written with
+/// different digits in the two faces' pcurves (6e-13 apart in a real file): a piece between them would hold nothing
+/// but round-off. Used by the pcurve route and the B-rep correspondence.
+inline constexpr double kSameBreakpointRel = 1e-9;
 
 /// |a x b| / (|a|^2 + |b|^2) (0 for a zero chart): 1/2 for an orthonormal chart, 0 for a degenerate one.
 double chartConditioning(const Vec3& a, const Vec3& b);

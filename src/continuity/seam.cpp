@@ -1412,8 +1412,6 @@ constexpr int kPCurveSplitDepth = 60;
 constexpr int kCrossingBisections = 80;
 /// Start samples per composed piece (the bound subdivision refines).
 constexpr int kPCurveSamplesPerPiece = 8;
-/// Pcurve breakpoints of the two faces closer than this fraction of the edge are the same breakpoint.
-constexpr double kSameBreakpointRel = 1e-9;
 /// A chart whose two directions make an angle with sine below this is ill-conditioned at that point (a pole):
 /// its curvature samples are skipped, for the curvature reference and for refuting a G2 identity.
 constexpr double kChartRegularSin = 1e-3;
@@ -1705,7 +1703,7 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   // Breakpoints closer than kSameBreakpointRel of the edge are one breakpoint written with different digits in the
   // two faces' pcurves (6e-13 apart in a real file): a leaf between them would hold nothing but round-off.
   {
-    const double minGap = kSameBreakpointRel * a.range.length();
+    const double minGap = detail::kSameBreakpointRel * a.range.length();
     std::vector<double> kept{cuts.front()};
     for (size_t i = 1; i + 1 < cuts.size(); ++i)
       if (cuts[i] - kept.back() > minGap && a.range.hi - cuts[i] > minGap) kept.push_back(cuts[i]);

@@ -489,8 +489,8 @@ void certifyByCorrespondence(SeamReport& rep, const FacePCurve& a, const FacePCu
                              double modelSize) {
   // The master keeps its parameter; the other is composed with a cubic (its degree triples): master = the side
   // with its own parameter, or of the higher pcurve degree.
-  bool masterA = a.ownParameter && !b.ownParameter;
-  if (a.ownParameter == b.ownParameter) masterA = a.side.pcurve.degree() >= b.side.pcurve.degree();
+  const bool masterA = a.ownParameter != b.ownParameter ? a.ownParameter
+                                                        : a.side.pcurve.degree() >= b.side.pcurve.degree();
   const FacePCurve& master = masterA ? a : b;
   const FacePCurve& other = masterA ? b : a;
   const Result<detail::Correspondence> c = detail::correspondInParameterOf(master.side, other.side, opt.tol.distance);

@@ -9,12 +9,17 @@
 #include <functional>
 #include <vector>
 
+#include "continuity/sampling.h"
 #include "seam/core/bernstein.h"
 #include "seam/spline/bezier.h"
 
 namespace seam::occt::detail {
 
 namespace {
+
+/// Gauss-Newton steps of a closest-point search along an edge, and the step (relative to the range) that ends it.
+constexpr int kClosestIterations = 40;
+constexpr double kClosestStepRel = 1e-15;
 
 /// A side's edge point S(c(t)) and its derivative along the edge (chain rule; the pcurve clamped to the domain).
 struct EdgeJet {
@@ -82,7 +87,7 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
     double r, q;
   };
   std::vector<Break> breaks{{ra.lo, qStart}, {ra.hi, qEnd}};
-  const double minGap = 1e-9;
+  const double minGap = seam::detail::kSameBreakpointRel;  // of each range
   for (const BezierCurvePiece& p : a.pcurve.bezierPieces()) {
     const double r = p.interval.lo;
     if (r > ra.lo + minGap * ra.length() && r < ra.hi - minGap * ra.length())
@@ -198,7 +203,6 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
   out.b.range = ra;
   out.pieces = static_cast<int>(pieces.size());
   out.pairingError = pairingError;
-  out.reversed = reversed;
   return out;
 }
 

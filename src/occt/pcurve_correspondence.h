@@ -21,9 +21,6 @@ namespace seam::occt::detail {
 inline constexpr double kCorrespondenceTolFraction = 1e-3;
 /// Halvings of a piece of phi before the correspondence is given up (2^10 pieces per piece of the breakpoints).
 inline constexpr int kCorrespondenceMaxDepth = 10;
-/// Gauss-Newton steps of a closest-point search along an edge, and the step (relative to the range) that ends it.
-inline constexpr int kClosestIterations = 40;
-inline constexpr double kClosestStepRel = 1e-15;
 
 /// The bound work (SeamOptions::maxBoundWork) of a seam certified through a correspondence: its polynomials have
 /// three times the degree of the pcurve it composes, and with the default budget the G2 subdivision of a few such
@@ -35,7 +32,6 @@ struct Correspondence {
   PCurveSide b;               ///< B's side with pcurve c_B(phi(r)) over A's range
   int pieces = 0;             ///< cubic pieces of phi
   double pairingError = 0.0;  ///< largest |S_B(c_B(phi(r))) - S_B(c_B(phi*(r)))| at the check points (phi* closest)
-  bool reversed = false;      ///< phi decreasing (the edges run in opposite senses)
 };
 
 /// B's side in A's parameter, as above. `distanceTol` is the model's G0 tolerance (it sets how close phi must pair
