@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -52,10 +53,39 @@ BSplineSurface fromRows(const BSplineSurface& like, int numU, const Matrix& h, b
 /// Rational pairs whose reflected weights fall below this are not used (B's weights must be positive).
 constexpr double kMinWeight = 0.2;
 
+/// B's homogeneous net multiplied by the linear function g(v) = (1 - v) g0 + v g1 (a Bezier patch in v, degree 3 ->
+/// 4, exact Bernstein product (g h)_k = ((4 - k) g0 h_k + k g1 h_{k-1}) / 4). The surface is the same point set:
+/// the factor cancels in x / w. Along the seam the homogeneous G0 factor rho = w_B / w_A becomes g, which varies.
+struct VaryingRho {
+  double g0 = 1.0, g1 = 1.0;
+};
+
+BSplineSurface timesLinearInV(const Matrix& hb, bool rational, const VaryingRho& g) {
+  constexpr int kRows = 4, kCols = 4;  // bicubic Bezier
+  Matrix h(kRows * (kCols + 1), 4);
+  for (int i = 0; i < kRows; ++i) {
+    auto homog = [&](int j) {
+      Eigen::RowVector4d r;
+      if (rational) r = hb.row(i * kCols + j);
+      else r << hb.row(i * kCols + j), 1.0;
+      return r;
+    };
+    for (int k = 0; k <= kCols; ++k) {
+      Eigen::RowVector4d c = Eigen::RowVector4d::Zero();
+      if (k < kCols) c += (kCols - k) * g.g0 * homog(k);
+      if (k > 0) c += k * g.g1 * homog(k - 1);
+      h.row(i * (kCols + 1) + k) = c / kCols;
+    }
+  }
+  return BSplineSurface::fromHomogeneous(3, 4, KnotVector::clampedUniform(3, kRows), KnotVector::clampedUniform(4, 5),
+                                         kRows, kCols + 1, h, true);
+}
+
 /// A random pair with a G1 seam and a curvature jump scaled by `offset` (valid = false when B's weights would not
-/// be positive).
-Pair makePair(std::mt19937_64& rng, bool rational, bool mirrored, double offset, double weightScaleB) {
-  const int nv = test::uniformInt(rng, 4, 6);  // cubic in v: 1-3 spans
+/// be positive). With `rho`, A is a Bezier patch in v and B's net is multiplied by rho's linear function of v.
+Pair makePair(std::mt19937_64& rng, bool rational, bool mirrored, double offset, double weightScaleB,
+              const std::optional<VaryingRho>& rho = std::nullopt) {
+  const int nv = rho ? 4 : test::uniformInt(rng, 4, 6);  // cubic in v: 1-3 spans (one with rho)
   Matrix p(4 * nv, 3);
   VecX w(rational ? 4 * nv : 0);
   for (int i = 0; i < 4; ++i)
@@ -85,7 +115,7 @@ Pair makePair(std::mt19937_64& rng, bool rational, bool mirrored, double offset,
   }
   if (rational && !(hb.col(3).minCoeff() >= kMinWeight)) return {a, a, mirrored, false};  // B's weights must stay positive
   if (rational) hb *= weightScaleB;  // the same surface B, with all its weights scaled (rho = weightScaleB)
-  BSplineSurface b = fromRows(a, 4, hb, rational);
+  BSplineSurface b = rho ? timesLinearInV(hb, rational, *rho) : fromRows(a, 4, hb, rational);
   if (mirrored) b = b.reversedV();
   return {a, b, mirrored};
 }
@@ -153,12 +183,15 @@ JoinOptions g2Options() {
   return o;
 }
 
-void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0) {
+void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, bool varyingRho = false) {
   std::mt19937_64 rng(seed);
   int accepted = 0, achieved = 0;
   for (int trial = 0; trial < 200 && accepted < 12; ++trial) {
     const bool mirrored = trial % 2 == 1;
-    const Pair pr = makePair(rng, rational, mirrored, uniformReal(rng, 0.005, 0.08), weightScaleB);
+    const double offset = uniformReal(rng, 0.005, 0.08);
+    std::optional<VaryingRho> rho;
+    if (varyingRho) rho = VaryingRho{uniformReal(rng, 0.5, 1.0), uniformReal(rng, 1.5, 3.0)};  // rho: g0 -> g1
+    const Pair pr = makePair(rng, rational, mirrored, offset, weightScaleB, rho);
     if (!pr.valid) continue;
     const double size = std::max(patchSize(pr.a), patchSize(pr.b));
     const Comparison before = compareAlongSeam(pr, size);
@@ -186,6 +219,11 @@ void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0) {
       continue;
     }
     ++achieved;
+    if (varyingRho) {  // the join saw the varying ratio (else the construction did not exercise it)
+      EXPECT_TRUE(std::any_of(rep.notes.begin(), rep.notes.end(), [](const std::string& n) {
+        return n.find("weight ratio rho") != std::string::npos;
+      }));
+    }
     const Pair after{pr.a, r->model.patches[1].surface, pr.mirrored};
     // The certified check: G2, certified, with its bound next to G0 and G1.
     EXPECT_EQ(rep.after.geometric, GeometricClass::kG2);
@@ -218,6 +256,14 @@ TEST(G2Join, RationalPairsWithACurvatureJumpComeOutG2) { runTrials(true, 14002);
 // B's weights all scaled by 2.5 (the same surface): the homogeneous G0 factor rho is 2.5, not 1, and the quadratic
 // terms of the G2 equations carry 1 / rho.
 TEST(G2Join, RationalPairsWithScaledWeightsComeOutG2) { runTrials(true, 14003, 2.5); }
+
+// B's homogeneous net multiplied by a linear function of v (the same surface, degree 4 along the seam): rho = w_B /
+// w_A varies along the seam by a factor 1.5-6, and the G2 equations are multiplied through by it. A polynomial and
+// A rational.
+TEST(G2Join, PairsWhoseWeightRatioVariesAlongTheSeamComeOutG2) {
+  runTrials(false, 14004, 1.0, true);
+  runTrials(true, 14005, 1.0, true);
+}
 
 }  // namespace
 }  // namespace seam

@@ -597,6 +597,9 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
   std::vector<Eigen::VectorXd> rhoC(constraints.size());
   // Per constraint: lambda fixed to these global coefficients (empty: lambda is an unknown).
   std::vector<Eigen::VectorXd> fixedLambda(constraints.size());
+  // Rational G2: the seam's rho varies along it (non-constant G0 factor). Then the order-2 equations are multiplied
+  // through by rho, which keeps them linear (docs/algorithms/zheng-wang-liang.md, "Rational G2 joins").
+  std::vector<char> rhoVaries(constraints.size(), 0);
   // Rational: the moving rows' weights are known (not unknowns); the equations stay linear in the Cartesian points.
   bool weightsFixed = false;
   auto stage = [&](int rowLo, int rowHi, int kLo, int kHi, std::vector<char> fixedMask) -> Result<double> {
@@ -634,9 +637,11 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
         if (rational) b[3].degree = std::max(p - q, 0);
       }
       if (kHi >= 2) {
-        b[4].degree = std::max(p - qn, 0);
-        b[5].degree = std::max(p - q + 1, 0);
-        if (rational) b[6].degree = std::max(p - q, 0);
+        // With a varying rho the free functions are rho mu, rho nu2 and rho eta, of degrees up to p + deg(rho).
+        const int pe = p + (rhoVaries[c] ? static_cast<int>(rhoC[c].size()) - 1 : 0);
+        b[4].degree = std::max(pe - qn, 0);
+        b[5].degree = std::max(pe - q + 1, 0);
+        if (rational) b[6].degree = std::max(pe - q, 0);
       }
       for (auto& blk : b)
         if (blk.degree >= 0) {
@@ -658,8 +663,20 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
         const BernsteinPoly Tn = restrictedTo(tp.cross1, tp.u, sp.lo, sp.hi);
         const BernsteinPoly Tt = (1.0 / h) * Tp.derivative();
         for (int k = kLo; k <= kHi; ++k) {
-          // Known right-hand side polynomial (degree <= p) and the scalar-unknown terms.
-          BernsteinPoly known = BernsteinPoly::zero(e.p, dimH);
+          // The equation's degree: p, or p + deg(rho) when the order-2 equation is multiplied through by a varying
+          // rho; Ek holds the Bernstein coefficients (in that degree) of the patch's along basis times the factor.
+          const bool byRho = k == 2 && rhoVaries[c];
+          const int D = byRho ? e.p + static_cast<int>(rhoC[c].size()) - 1 : e.p;
+          Matrix Ek = E;
+          if (byRho) {
+            const BernsteinPoly rhoSpan = polyFromCoeffs(
+                restrictionMatrix(static_cast<int>(rhoC[c].size()) - 1, rg, sp.lo, sp.hi) * rhoC[c]);
+            Ek = Matrix(D + 1, E.cols());
+            for (Eigen::Index ai = 0; ai < E.cols(); ++ai)
+              Ek.col(ai) = product(polyFromCoeffs(E.col(ai)), rhoSpan).coeffs().col(0);
+          }
+          // Known right-hand side polynomial (degree <= D) and the scalar-unknown terms.
+          BernsteinPoly known = BernsteinPoly::zero(D, dimH);
           struct Term {
             const ScalarBlock* blk;
             BernsteinPoly factor;
@@ -689,18 +706,19 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
             // S_nn = lam^2 Tnn - 2 lam kap Tnt + kap^2 Ttt - mu Tn + nu2 Tt. Rational (homogeneous, S^h = r T^h(x, y)
             // with r = rho, kappa = r x_s, -lambda = r y_s on the edge): the quadratic terms carry 1 / rho, and
             // r_ss T^h, 2 r_s (x_s T_t + y_s T_n) and r (x_ss T_t + y_ss T_n) are absorbed by free functions eta,
-            // nu2, mu (docs/algorithms/zheng-wang-liang.md). rho must be constant along the edge (checked below).
-            const double invRho = rational ? 1.0 / rhoC[c][0] : 1.0;
+            // nu2, mu (docs/algorithms/zheng-wang-liang.md). A varying rho multiplies the equation through instead
+            // (rho S_nn = the quadratic terms + rho mu, rho nu2, rho eta terms, those products free polynomials).
+            const double invRho = rational && !byRho ? 1.0 / rhoC[c][0] : 1.0;
             known = known + invRho * (product(product(lam, lam), Tnn) - 2.0 * product(product(lam, kap), Tnt) +
                                       product(product(kap, kap), Ttt));
             terms.push_back({&sb[c][4], Tn, +1.0});
             terms.push_back({&sb[c][5], Tt, -1.0});
             if (rational) terms.push_back({&sb[c][6], Tp, -1.0});
           }
-          if (known.degree() > e.p)
+          if (known.degree() > D)
             return Status(ErrorCode::kNoSolution,
-                          fmt::format("edge {}: the G{} terms have degree {} > {}", edgeName(edge), k, known.degree(), e.p));
-          known = known.elevatedTo(e.p);
+                          fmt::format("edge {}: the G{} terms have degree {} > {}", edgeName(edge), k, known.degree(), D));
+          known = known.elevatedTo(D);
           // Scalar-term columns: for each global coefficient g, (restricted unit) * factor, elevated to p.
           std::vector<std::pair<int, Matrix>> scalarCols;
           for (const Term& t : terms) {
@@ -708,17 +726,17 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
             const Eigen::MatrixXd R = restrictionMatrix(t.blk->degree, rg, sp.lo, sp.hi);
             for (int g = 0; g < t.blk->size(); ++g) {
               BernsteinPoly prod = product(polyFromCoeffs(R.col(g)), t.factor);
-              if (prod.degree() > e.p)
+              if (prod.degree() > D)
                 return Status(ErrorCode::kNoSolution, fmt::format("edge {}: connecting-function degree too high", edgeName(edge)));
-              scalarCols.emplace_back(t.blk->offset + g, t.sign * prod.elevatedTo(e.p).coeffs());
+              scalarCols.emplace_back(t.blk->offset + g, t.sign * prod.elevatedTo(D).coeffs());
             }
           }
-          for (int r = 0; r <= e.p; ++r)
+          for (int r = 0; r <= D; ++r)
             for (int cc = 0; cc < dimH; ++cc) {
               Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
               double rhs = known.coeffs()(r, cc);
-              for (size_t ai = 0; ai < static_cast<size_t>(E.cols()); ++ai) {
-                const double ea = E(r, static_cast<Eigen::Index>(ai));
+              for (size_t ai = 0; ai < static_cast<size_t>(Ek.cols()); ++ai) {
+                const double ea = Ek(r, static_cast<Eigen::Index>(ai));
                 if (ea == 0.0) continue;
                 for (int j = 0; j <= k; ++j) {
                   const double wj = e.w[static_cast<size_t>(k)][static_cast<size_t>(j)];
@@ -855,16 +873,24 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
     }
     if (rational)
       for (size_t c = 0; c < constraints.size(); ++c) {
-        // The 1 / rho of the quadratic terms keeps the equations linear only for a constant rho (equal weight
-        // ratios along the seam: the usual case, e.g. matching weights); otherwise say so and leave the patch.
+        // The quadratic terms carry 1 / rho. A constant rho (equal weight ratios along the seam, the usual case)
+        // divides them; a varying one multiplies the whole order-2 equation instead (rhoVaries, in `stage`). rho is
+        // the ratio of two positive weight functions: a rho that is not positive on its Bernstein coefficients means
+        // the G0 stage failed, and the patch is left as it was.
         const Eigen::VectorXd& r = rhoC[c];
         const double r0 = r.size() > 0 ? r[0] : 0.0;
         const double spread = r.size() > 0 ? (r.array() - r0).abs().maxCoeff() : 0.0;
-        if (!(std::abs(r0) > 0.0) || spread > kConstraintRelTol * std::abs(r0))
-          return Status(ErrorCode::kUnsupported,
-                        fmt::format("edge {}: a rational G2 join needs the weight ratio of the two patches to be "
-                                    "constant along the seam (rho varies by {:.3g} of {:.6g})",
-                                    edgeName(constraints[c].edge), spread, r0));
+        if (!(r.size() > 0) || !(r.minCoeff() > 0.0))
+          return Status(ErrorCode::kNoSolution,
+                        fmt::format("edge {}: the weight ratio of the two patches along the seam is not positive "
+                                    "(rho's Bernstein coefficients reach {:.3g})",
+                                    edgeName(constraints[c].edge), r.size() > 0 ? r.minCoeff() : 0.0));
+        if (spread > kConstraintRelTol * r0) {
+          rhoVaries[c] = 1;
+          out.notes.push_back(fmt::format("edge {}: the weight ratio rho of the two patches varies along the seam "
+                                          "({:.6g} to {:.6g}); the curvature equations are multiplied through by it",
+                                          edgeName(constraints[c].edge), r.minCoeff(), r.maxCoeff()));
+        }
       }
     auto r2 = stage(2, 2, 2, 2, fixedMask);
     if (!r2) return r2.status();
