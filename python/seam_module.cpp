@@ -21,6 +21,8 @@
 #include "fill_json.h"
 #include "regularity_json.h"
 #include "seam/construct/fill.h"
+#include "seam/core/tolerance_presets.h"
+#include "seam/core/units.h"
 #include "seam/continuity/verdict.h"
 #include "seam/io/file.h"
 #include "seam/io/json.h"
@@ -251,14 +253,41 @@ std::optional<double> positive(const char* name, std::optional<double> x) {
   return x;
 }
 
+/// units= and preset= as the CLI's --units and --preset: the same library parsers (core/units.h,
+/// core/tolerance_presets.h); an unknown name raises ValueError.
+void applyUnitsAndPreset(ToleranceOverrides& tol, const std::optional<std::string>& units,
+                         const std::optional<std::string>& preset) {
+  if (units) {
+    tol.units = parseLengthUnit(*units);
+    if (!tol.units) {
+      std::string names;
+      for (const LengthUnitInfo& u : kLengthUnits) {
+        names += names.empty() ? "" : ", ";
+        names += u.name;
+      }
+      throw py::value_error(fmt::format("units: \"{}\" is not a length unit (use {})", *units, names));
+    }
+  }
+  if (preset && !applyTolerancePreset(tol, *preset)) {
+    std::string names;
+    for (const TolerancePreset& p : kTolerancePresets) {
+      names += names.empty() ? "" : ", ";
+      names += p.name;
+    }
+    throw py::value_error(fmt::format("preset: \"{}\" is not a preset (use {})", *preset, names));
+  }
+}
+
 cli::FileCheckOptions checkOptions(std::optional<double> tolDistance, std::optional<double> tolAngle,
                                    std::optional<double> tolCurvature, std::optional<double> creaseAngle,
                                    const std::optional<std::string>& require, const std::string& sort,
-                                   std::optional<size_t> top, const std::string& only, bool patches) {
+                                   std::optional<size_t> top, const std::string& only, bool patches,
+                                   const std::optional<std::string>& units, const std::optional<std::string>& preset) {
   cli::FileCheckOptions o;
   o.tol.distance = positive("tol_distance", tolDistance);
   o.tol.angleDeg = positive("tol_angle", tolAngle);
   o.tol.curvatureRel = positive("tol_curvature", tolCurvature);
+  applyUnitsAndPreset(o.tol, units, preset);
   o.require = parseRequire(require);
   if (creaseAngle) {
     if (!validCreaseAngle(*creaseAngle))
@@ -304,7 +333,13 @@ py::object checkLoaded(const PyModel& m, const cli::FileCheckOptions& o) {
   {
     py::gil_scoped_release release;
     try {
-      r = cli::checkModel(m.model, m.source, o);
+      // units= gives a loaded model the unit of its numbers, as --units does for a JSON/.bpt file.
+      ModelUnits units;
+      if (o.tol.units) {
+        units.length = o.tol.units;
+        units.source = UnitSource::kOption;
+      }
+      r = cli::checkModel(m.model, m.source, o, units);
     } catch (const std::bad_alloc&) {
       r = Status(ErrorCode::kInvalidInput, m.source + ": out of memory while checking the model");
     }
@@ -722,23 +757,26 @@ PYBIND11_MODULE(_seam, mod) {
           [](const std::filesystem::path& path, std::optional<double> tolDistance, std::optional<double> tolAngle,
              std::optional<double> tolCurvature, std::optional<double> creaseAngle,
              const std::optional<std::string>& require, const std::string& sort, std::optional<size_t> top,
-             const std::string& only, bool patches) {
+             const std::string& only, bool patches, const std::optional<std::string>& units,
+             const std::optional<std::string>& preset) {
             return checkPath(path, checkOptions(tolDistance, tolAngle, tolCurvature, creaseAngle, require, sort, top,
-                                                only, patches));
+                                                only, patches, units, preset));
           },
           py::arg("path"), py::kw_only(), py::arg("tol_distance") = py::none(), py::arg("tol_angle") = py::none(),
           py::arg("tol_curvature") = py::none(), py::arg("crease_angle") = py::none(), py::arg("require") = py::none(),
           py::arg("sort") = "file", py::arg("top") = py::none(), py::arg("only") = "all", py::arg("patches") = false,
-          checkDoc);
+          py::arg("units") = py::none(), py::arg("preset") = py::none(), checkDoc);
   mod.def("check",
           [](const PyModel& m, std::optional<double> tolDistance, std::optional<double> tolAngle,
              std::optional<double> tolCurvature, std::optional<double> creaseAngle,
              const std::optional<std::string>& require, const std::string& sort, std::optional<size_t> top,
-             const std::string& only) {
+             const std::string& only, const std::optional<std::string>& units,
+             const std::optional<std::string>& preset) {
             return checkLoaded(m, checkOptions(tolDistance, tolAngle, tolCurvature, creaseAngle, require, sort, top,
-                                               only, false));
+                                               only, false, units, preset));
           },
           py::arg("model"), py::kw_only(), py::arg("tol_distance") = py::none(), py::arg("tol_angle") = py::none(),
           py::arg("tol_curvature") = py::none(), py::arg("crease_angle") = py::none(), py::arg("require") = py::none(),
-          py::arg("sort") = "file", py::arg("top") = py::none(), py::arg("only") = "all", checkDoc);
+          py::arg("sort") = "file", py::arg("top") = py::none(), py::arg("only") = "all",
+          py::arg("units") = py::none(), py::arg("preset") = py::none(), checkDoc);
 }

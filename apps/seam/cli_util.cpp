@@ -9,6 +9,7 @@
 #include <iostream>
 #include <new>
 
+#include "seam/core/tolerance_presets.h"
 #include "seam/io/file.h"
 #include "seam/io/json.h"
 #ifdef SEAM_HAVE_OCCT
@@ -47,15 +48,7 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
   for (const TolerancePreset& p : kTolerancePresets) names.emplace_back(p.name);
   cmd.add_option_function<std::string>(
          "--preset",
-         [&overrides](const std::string& name) {
-           for (const TolerancePreset& p : kTolerancePresets) {
-             if (name != p.name) continue;
-             overrides.preset = p.name;
-             overrides.presetDistanceMm = p.distance;  // converted to model units once the unit is known
-             if (!overrides.angleDeg) overrides.angleDeg = p.angleDeg;
-             if (!overrides.curvatureRel && p.curvatureRel > 0.0) overrides.curvatureRel = p.curvatureRel;
-           }
-         },
+         [&overrides](const std::string& name) { applyTolerancePreset(overrides, name); },
          "Tolerances of a CAD system: catia (0.001 mm, 0.5 deg), rhino (0.001 mm, 1 deg, curvature 5 %), nx "
          "(0.0254 mm, 0.5 deg); distances converted to the model's unit (taken as model units for a unit-less "
          "model); --tol-* options override single values")

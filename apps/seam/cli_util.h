@@ -35,21 +35,6 @@ std::string lowerExtension(const std::filesystem::path& file);
 /// True for .step/.stp/.iges/.igs (any case).
 bool isCadFile(const std::filesystem::path& file);
 
-/// The distance and angle thresholds of a CAD system's continuity checks, for `--preset` (issue 17 §2); values and
-/// sources in docs/tolerances.md. Distances are absolute, in millimetres, converted to the model's length unit
-/// (resolveTolerances; a unit-less model takes the number as is); curvatureRel 0 keeps seam's default.
-struct TolerancePreset {
-  const char* name;
-  double distance;
-  double angleDeg;
-  double curvatureRel;
-};
-inline constexpr TolerancePreset kTolerancePresets[] = {
-    {"catia", 0.001, 0.5, 0.0},   // CATIA V5 healing / Connect Checker defaults: 0.001 mm, 0.5 deg
-    {"rhino", 0.001, 1.0, 0.05},  // Rhino document defaults (mm template): absolute 0.001, angle 1 deg; 5 % curvature
-    {"nx", 0.0254, 0.5, 0.0},     // Siemens NX modeling preferences: distance 0.0254 mm (0.001 in), angle 0.5 deg
-};
-
 /// The --tol-distance / --tol-angle / --tol-curvature / --preset / --units options shared by the commands that
 /// classify seams (a --units name that is not one of unitNames() is a usage error: exit 2).
 void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides);

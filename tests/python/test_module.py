@@ -92,6 +92,50 @@ def test_check_step_brep_matches_cli(shared_data, run_cli):
     assert len(m) == got["model"]["faces"]
 
 
+@pytest.mark.parametrize("units, preset", [("mm", None), ("in", "catia"), ("m", "nx"), ("ft", "rhino"),
+                                           (None, "rhino"), ("cm", None)])
+def test_check_units_preset_match_cli(examples, run_cli, units, preset):
+    """units= and preset= mean the CLI's --units and --preset: the same dict as `seam check --json` with those flags."""
+    path = os.path.join(examples, "models", "two_patches.json")
+    flags = (["--units", units] if units else []) + (["--preset", preset] if preset else [])
+    code, expected, err = run_cli("check", path, "--json", *flags)
+    assert expected is not None, err
+    got = seam.check(path, units=units, preset=preset)
+    assert got == expected
+    assert seam.check(seam.load(path), units=units, preset=preset) == expected  # a loaded model: the same
+    assert got["units"]["length"] == units  # None: unit-less
+    assert got["units"]["source"] == ("--units" if units else "none (unit-less model)")
+    # The preset's millimetres (docs/tolerances.md) converted to the model's unit.
+    scale = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, "ft": 304.8}
+    if preset and units:
+        mm = {"catia": 0.001, "rhino": 0.001, "nx": 0.0254}[preset]
+        assert got["tolerances"]["distance"] == pytest.approx(mm / scale[units], rel=1e-15)
+
+
+@pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")
+def test_check_units_preset_cad_match_cli(shared_data, run_cli):
+    """A STEP file (mm in its header): units= rescales it as --units does, a preset's mm stay mm."""
+    path = os.path.join(shared_data, "step", "bug28366_fuselage.stp")
+    for flags, kwargs in ((["--units", "in", "--preset", "catia"], dict(units="in", preset="catia")),
+                          (["--preset", "nx"], dict(preset="nx"))):
+        code, expected, err = run_cli("check", path, "--json", *flags)
+        assert expected is not None, err
+        assert seam.check(path, **kwargs) == expected
+    assert expected["tolerances"]["distance_source"] == "preset"
+
+
+def test_check_bad_units_preset_raise(examples, run_cli):
+    path = os.path.join(examples, "models", "two_patches.json")
+    with pytest.raises(ValueError, match=r'units: "furlong" is not a length unit \(use mm, cm, m, in, ft\)'):
+        seam.check(path, units="furlong")
+    with pytest.raises(ValueError, match=r'preset: "solidworks" is not a preset \(use catia, rhino, nx\)'):
+        seam.check(seam.load(path), preset="solidworks")
+    code, _, err = run_cli("check", path, "--units", "furlong")  # the CLI refuses the same values: exit 2
+    assert code == 2 and "furlong" in err
+    code, _, err = run_cli("check", path, "--preset", "solidworks")
+    assert code == 2 and "solidworks" in err
+
+
 def test_bad_input_raises(tmp_path, examples):
     missing = tmp_path / "missing.json"
     with pytest.raises(OSError, match="missing.json"):
