@@ -20,6 +20,7 @@
 #include "check_json.h"
 #include "fill_json.h"
 #include "regularity_json.h"
+#include "repair_units_json.h"
 #include "seam/construct/fill.h"
 #include "seam/core/tolerance_presets.h"
 #include "seam/core/units.h"
@@ -348,6 +349,19 @@ py::object checkLoaded(const PyModel& m, const cli::FileCheckOptions& o) {
 }
 
 
+/// The tolerances of a repair on a loaded model as `seam heal/join/fill` resolve them for a unit-less model (the
+/// relative defaults); the dicts carry them in "units" and "tolerances" as the CLI's --json does.
+ResolvedTolerances repairTolerances(const PyModel& m) {
+  return resolveTolerances({}, ModelUnits{}, m.model.boundingBox().diagonal());
+}
+
+/// The JSON text of a repair report with "units" and "tolerances" added (repair_units_json.h) as a Python dict.
+py::object repairDict(const std::string& json, const ResolvedTolerances& tol) {
+  cli::OrderedJson j = cli::OrderedJson::parse(json);
+  cli::addRepairUnits(j, ModelUnits{}, tol);
+  return toPython(j);
+}
+
 /// heal: the healed model and the dict of `seam heal --json` (without its "output").
 py::tuple heal(const PyModel& m, const std::string& continuity, const std::string& method,
                std::optional<double> maxGap, std::optional<double> creaseAngle) {
@@ -365,6 +379,8 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
     ho.maxAngleDeg = creaseAngle;
   }
   if (m.model.patches.empty()) throw py::value_error(m.source + ": the model has no patches: nothing to heal");
+  const ResolvedTolerances tol = repairTolerances(m);
+  ho.tolerances = tol.tolerances;
   Result<HealResult> r = Status(ErrorCode::kIoError, "not healed");
   std::string json;
   {
@@ -374,7 +390,7 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
   }
   if (!r) raise(r.status().withContext(m.source));
   PyModel healed{std::move(r->model), m.source + " (healed)"};
-  return py::make_tuple(std::move(healed), py::module_::import("json").attr("loads")(json));
+  return py::make_tuple(std::move(healed), repairDict(json, tol));
 }
 
 /// report: the HTML page of `seam report` for a patch model, written atomically; returns the path.
@@ -452,6 +468,8 @@ py::tuple join(const PyModel& m, const std::string& movePatch, const std::string
   jo.maxGap = nonNegative("max_gap", maxGap);
   if (maxDisplacement) jo.maxDisplacementRel = *nonNegative("max_displacement", maxDisplacement);
   jo.creaseAngleDeg = creaseAngleArg(creaseAngle);
+  const ResolvedTolerances tol = repairTolerances(m);
+  jo.tolerances = tol.tolerances;
   Result<JoinResult> r = Status(ErrorCode::kIoError, "not joined");
   std::string json;
   {
@@ -461,7 +479,7 @@ py::tuple join(const PyModel& m, const std::string& movePatch, const std::string
   }
   if (!r) raise(r.status().withContext(m.source));
   PyModel joined{std::move(r->model), m.source + " (joined)"};
-  return py::make_tuple(std::move(joined), jsonToPython(json));
+  return py::make_tuple(std::move(joined), repairDict(json, tol));
 }
 
 /// One "PATCH:EDGE[:EDGE]" corner argument of `seam corner`, as a sequence (patch, edge[, edge]).
@@ -546,6 +564,8 @@ py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& 
   options.patch.degreeU = options.patch.degreeV = degree;
   options.patch.maxDegree = kMaxFillDegree;
   options.patch.kappaZero = degree == 6;
+  const ResolvedTolerances tol = repairTolerances(m);
+  options.tolerances = tol.tolerances;
   const std::string mode = quad ? "quad" : hole ? "hole" : "fillet";
   Status status = Status::ok();
   cli::OrderedJson json;
@@ -568,6 +588,7 @@ py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& 
       }
       if (status) {
         json = cli::fillJson(mode, *r, check ? &*check : nullptr, withNew, options.patch, std::nullopt);
+        cli::addRepairUnits(json, ModelUnits{}, tol);
         if (r->surroundingG1) full = std::move(withNew);
       }
     }

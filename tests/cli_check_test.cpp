@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "hinge_models.h"
 #include "seam/io/json.h"
@@ -348,6 +349,71 @@ TEST_F(CliVerdicts, UnitsInTheTextAndBadUnits) {
   EXPECT_NE(bad.out.find("\"furlong\" is not a length unit (use mm, cm, m, in, ft)"), std::string::npos) << bad.out;
   EXPECT_EQ(runSeam("info \"" + hinges_ + "\" --units ft --json").exitCode, 0);
   EXPECT_EQ(nlohmann::json::parse(runSeam("info \"" + hinges_ + "\" --units ft --json").out)["units"]["length"], "ft");
+}
+
+// Issue 17 §2: heal, join and fill take --units / --preset / --tol-* with check's meaning, and name the unit and the
+// tolerances in their text and JSON. The hinge A4/B4 has a gap of 0.01 (by construction) and no kink: NX's 0.0254
+// taken as model units (unit-less) counts it as closed, so heal --continuity G0 keeps it; in inches the preset is
+// 0.0254 mm = 0.001 in < 0.01, a gap, which heal works on.
+TEST_F(CliVerdicts, RepairsTakeUnitsAndPresets) {
+  const std::string out = (dir_ / "repaired.json").string();
+  auto repair = [&](const std::string& command, const std::string& options) {
+    const CliRun r = runSeam(command + " \"" + hinges_ + "\" -o \"" + out + "\" --json " + options);
+    EXPECT_TRUE(r.exitCode == 0 || r.exitCode == 1) << command << " " << options << "\n" << r.out;
+    return r.exitCode <= 1 ? nlohmann::json::parse(r.out) : nlohmann::json();
+  };
+  // The A4/B4 seam's action and its class before healing.
+  auto hinge4 = [&](const nlohmann::json& j) {
+    for (const nlohmann::json& s : j["seams"])
+      if (s["before"]["a"] == "A4" && s["before"]["b"] == "B4")
+        return std::pair{s["action"].get<std::string>(), s["before"]["geometric"].get<std::string>()};
+    return std::pair{std::string("missing"), std::string()};
+  };
+  nlohmann::json j = repair("heal", "--continuity G0 --preset nx");
+  EXPECT_EQ(j["units"]["length"], nullptr);
+  EXPECT_EQ(j["tolerances"]["distance"], 0.0254);
+  EXPECT_EQ(j["tolerances"]["distance_source"], "preset");
+  EXPECT_EQ(hinge4(j), (std::pair<std::string, std::string>{"kept", "G1"})) << j.dump();  // within 0.0254
+  j = repair("heal", "--continuity G0 --preset nx --units in");
+  EXPECT_EQ(j["units"]["length"], "in");
+  EXPECT_EQ(j["units"]["source"], "--units");
+  EXPECT_NEAR(j["tolerances"]["distance"].get<double>(), 0.0254 / 25.4, 1e-18);
+  EXPECT_EQ(j["tolerances"]["angle_deg"], 0.5);
+  EXPECT_EQ(hinge4(j).second, "none") << j.dump();  // a gap: 0.01 in > 0.001 in
+  EXPECT_NE(hinge4(j).first, "kept") << j.dump();    // heal works on it (its step may be reverted: never worse)
+  const CliRun raw = runSeam("heal \"" + hinges_ + "\" --units in --json -o \"" + out + "\"");
+  EXPECT_LT(raw.out.find("\"units\": {"), raw.out.find("\"tolerances\": {")) << raw.out;
+  EXPECT_LT(raw.out.find("\"tolerances\": {"), raw.out.find("\"output\": ")) << raw.out;  // "output" stays last
+  // The absolute default in the model's unit (0.001 mm = 1e-4 cm), the relative one without a unit.
+  j = repair("heal", "--units cm");
+  EXPECT_NEAR(j["tolerances"]["distance"].get<double>(), 0.001 / 10.0, 1e-18);
+  EXPECT_EQ(j["tolerances"]["distance_source"], "absolute default");
+  EXPECT_EQ(repair("heal", "")["tolerances"]["distance_source"], "relative default");
+
+  // join: the same keys; the gap of 0.01 joined with G0 in mm, a CATIA tolerance.
+  j = repair("join", "--move B4:u0 --to A4:u1 --continuity G0 --preset catia --units mm");
+  EXPECT_EQ(j["units"]["length"], "mm");
+  EXPECT_EQ(j["tolerances"]["distance"], 0.001);
+  EXPECT_EQ(j["tolerances"]["angle_deg"], 0.5);
+  EXPECT_EQ(j["before"]["geometric"], "none");  // 0.01 > 0.001: a gap before the join
+  const CliRun text = runSeam("join \"" + hinges_ + "\" --move B4:u0 --to A4:u1 --continuity G0 --units mm -o \"" +
+                              out + "\"");
+  EXPECT_NE(text.out.find("length unit: mm (--units)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("gap tolerance 0.001 mm (default for models with a length unit"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("G0 gap (mm)"), std::string::npos) << text.out;
+  const CliRun healText = runSeam("heal \"" + hinges_ + "\" --units ft -o \"" + out + "\"");
+  EXPECT_NE(healText.out.find("length unit: ft (--units)"), std::string::npos) << healText.out;
+  EXPECT_NE(healText.out.find("gap before (ft)"), std::string::npos) << healText.out;
+
+  // Bad values: exit 2 with the problem named, as check.
+  for (const char* command : {"heal", "join --move B4:u0 --to A4:u1", "fill --hole"}) {
+    const CliRun bad = runSeam(std::string(command) + " \"" + hinges_ + "\" --units furlong -o \"" + out + "\"", true);
+    EXPECT_EQ(bad.exitCode, 2) << command;
+    EXPECT_NE(bad.out.find("\"furlong\" is not a length unit"), std::string::npos) << command << bad.out;
+    EXPECT_EQ(runSeam(std::string(command) + " \"" + hinges_ + "\" --preset solidworks -o \"" + out + "\"").exitCode, 2)
+        << command;
+  }
 }
 
 #ifdef SEAM_HAVE_OCCT_CLI

@@ -13,6 +13,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "repair_units_json.h"
 #include "fill_json.h"
 #include "seam/construct/fill.h"
 #include "seam/io/json.h"
@@ -34,6 +35,7 @@ struct FillCliOptions {
   int degree = 5;
   std::string name;
   std::string output;
+  ToleranceOverrides tol;  // --tol-* / --preset / --units, as `seam check`
   bool json = false;
 };
 
@@ -51,7 +53,7 @@ std::string rangeText(const Interval& i) {
   return "[" + formatNumber(i.lo) + ", " + formatNumber(i.hi) + "]";
 }
 
-std::string fillTable(const FillResult& fill, const FillCheck* check, const Model& full) {
+std::string fillTable(const FillResult& fill, const FillCheck* check, const Model& full, const ModelUnits& units) {
   std::string out;
   if (!fill.patches.empty()) {
     std::vector<std::vector<std::string>> rows;
@@ -87,7 +89,8 @@ std::string fillTable(const FillResult& fill, const FillCheck* check, const Mode
     return rows;
   };
   const std::vector<std::string> seamHeader = {"a",      "b",          "class",  "certified", "identity",
-                                               "G0 max", "G1 max deg", "lambda", "kappa"};
+                                               units.length ? "G0 max (" + units.name() + ")" : "G0 max",
+                                               "G1 max deg", "lambda", "kappa"};
   if (!fill.surrounding.empty()) {
     out += "surrounding seams\n" + formatTable(seamHeader, seamRows(fill.surrounding)) + "\n";
   }
@@ -119,12 +122,20 @@ void runFill(const FillCliOptions& o, int& exit) {
     exit = kExitBadInput;
     return;
   }
-  const std::optional<Model> model = loadModel(o.file);
+  if (!validToleranceOptions(o.tol)) {
+    exit = kExitBadInput;
+    return;
+  }
+  ModelUnits units;
+  const std::optional<Model> model = loadModel(o.file, o.tol, &units);
   if (!model) {
     exit = kExitBadInput;
     return;
   }
   FillOptions options;
+  // The tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
+  const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model->boundingBox().diagonal());
+  options.tolerances = resolved.tolerances;
   options.name = o.name;
   options.patch.degreeU = options.patch.degreeV = o.degree;
   options.patch.maxDegree = kMaxFillDegree;
@@ -164,10 +175,15 @@ void runFill(const FillCliOptions& o, int& exit) {
     }
   }
   if (o.json) {
-    printJson(fillJson(mode, *fill, check ? &*check : nullptr, full, options.patch,
-                       fill->surroundingG1 ? std::optional<std::string>(o.output) : std::nullopt));
+    OrderedJson j = fillJson(mode, *fill, check ? &*check : nullptr, full, options.patch,
+                             fill->surroundingG1 ? std::optional<std::string>(o.output) : std::nullopt);
+    addRepairUnits(j, units, resolved);
+    printJson(j);
   } else {
-    fmt::print("{}", fillTable(*fill, check ? &*check : nullptr, full));
+    fmt::print("{}\ngap tolerance {} ({}), angle {} deg\n", unitText(units),
+               withUnit(formatNumber(resolved.tolerances.distance), units),
+               distanceSourceText(resolved.distanceSource, resolved.preset), formatNumber(resolved.tolerances.angleDeg));
+    fmt::print("{}", fillTable(*fill, check ? &*check : nullptr, full, units));
     if (!fill->surroundingG1) {
       fmt::print("result: the surface around the hole is not G1; nothing was built and {} was not written\n",
                  o.output);
@@ -200,6 +216,7 @@ void addFill(CLI::App& app, int& exit) {
       ->check(CLI::IsMember({4, 5, 6}));
   cmd->add_option("--name", o->name, "Name of the new patch (more get _2, _3, ...)");
   cmd->add_option("-o", o->output, "Output model (input patches unchanged + new patches)")->required();
+  addToleranceOptions(*cmd, o->tol);
   cmd->add_flag("--json", o->json, "Print JSON instead of tables");
   around->needs(hole);
   quad->excludes(hole)->excludes(fillet);

@@ -16,6 +16,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "repair_units_json.h"
 #include "seam/continuity/model_check.h"
 #include "seam/io/json.h"
 #include "seam/repair/heal.h"
@@ -30,6 +31,7 @@ void addHeal(CLI::App& app, int& exit) {
   struct Options {
     std::string file, out, continuity = "G1", method = "auto";
     std::optional<double> maxGap, maxAngle;
+    ToleranceOverrides tol;  // --tol-* / --preset / --units, as `seam check`
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -39,13 +41,16 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("--continuity", o->continuity, "G0 or G1 (default G1)");
   cmd->add_option("--method", o->method,
                   "auto (default: successive, then the local scheme where it falls short), successive or local");
-  cmd->add_option("--max-gap", o->maxGap, "Largest gap to close (default 1% of the bounding-box diagonal)");
+  cmd->add_option("--max-gap", o->maxGap,
+                  "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal)");
   cmd->add_option("--crease-angle,--max-angle", o->maxAngle,
                   "Seams whose angle is above this (degrees, in (0, 180]) are design creases, left as designed "
                   "(default 20; 180 heals every seam)");
+  addToleranceOptions(*cmd, o->tol);
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
     exit = kExitBadInput;
+    if (!validToleranceOptions(o->tol)) return;
     HealOptions ho;
     auto cont = parseContinuity(o->continuity);
     if (!cont) return printError("--continuity: " + cont.status().message());
@@ -59,8 +64,12 @@ void addHeal(CLI::App& app, int& exit) {
       return printError("--crease-angle must be an angle in degrees in (0, 180]");
     ho.maxAngleDeg = o->maxAngle;
     if (!checkOutputPath(o->file, o->out)) return;
-    const std::optional<Model> model = loadModel(o->file);
+    ModelUnits units;
+    const std::optional<Model> model = loadModel(o->file, o->tol, &units);
     if (!model) return;
+    // The classification tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
+    const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());
+    ho.tolerances = resolved.tolerances;
     if (model->patches.empty()) {  // only curves, or nothing: the output is the input, unchanged
       if (!saveModel(*model, o->out)) return;
       fmt::print("{}: the model has no patches: nothing to heal; wrote {} unchanged\n", o->file, o->out);
@@ -73,6 +82,7 @@ void addHeal(CLI::App& app, int& exit) {
     if (!saveModel(res->model, o->out)) return;  // .json, .step/.stp, .iges/.igs by extension
     if (o->json) {
       OrderedJson j = OrderedJson::parse(healReportJson(r));
+      addRepairUnits(j, units, resolved);
       j["output"] = o->out;
       printJson(j);
     } else {
@@ -95,11 +105,13 @@ void addHeal(CLI::App& app, int& exit) {
                         s.worse ? "WORSE" : ""});
       }
       std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {}, creases above {} deg "
-                                     "left as designed)\n\n",
-                                     o->file, toString(r.requested), toString(r.method), formatNumber(r.maxGap),
-                                     formatNumber(r.maxAngleDeg));
-      text += formatTable({"seam", "region", "action", "moved", "gap before", "kink before (deg)", "before",
-                           "gap after", "kink after (deg)", "after", "certified before/after", ""},
+                                     "left as designed)\n",
+                                     o->file, toString(r.requested), toString(r.method),
+                                     withUnit(formatNumber(r.maxGap), units), formatNumber(r.maxAngleDeg));
+      text += unitLine(units, resolved, r.maxAngleDeg) + "\n";
+      const std::string gapUnit = units.length ? " (" + units.name() + ")" : "";
+      text += formatTable({"seam", "region", "action", "moved", "gap before" + gapUnit, "kink before (deg)", "before",
+                           "gap after" + gapUnit, "kink after (deg)", "after", "certified before/after", ""},
                           rows, {false, true, false, false, true, true, false, true, true, false, false, false});
       std::vector<std::vector<std::string>> regions;
       for (size_t g = 0; g < r.regions.size(); ++g) {
@@ -127,13 +139,14 @@ void addHeal(CLI::App& app, int& exit) {
       text += fmt::format("\npatches changed: {}\n", changed.empty() ? "none" : changed);
       text += fmt::format("largest surface displacement: {} ({} of the patch's size{}); control points: {}, moved "
                           "points: {}\n",
-                          formatNumber(r.maxSurfaceDisplacement), formatNumber(r.maxSurfaceDisplacementRel),
+                          withUnit(formatNumber(r.maxSurfaceDisplacement), units),
+                          formatNumber(r.maxSurfaceDisplacementRel),
                           r.surfaceDisplacementCertified ? ", a certified bound" : ", sampled",
                           formatNumber(r.maxDisplacement), r.movedPoints);
       text += fmt::format("seams reaching {}: {} of {}; worse than before: {}\n", toString(r.requested),
                           r.seamsAchieved, r.seamsToReach, r.seamsWorse);
       text += fmt::format("worst after healing: {} (gap {}, kink angle {} deg)\n", toString(r.worst),
-                          formatNumber(r.worstG0), formatNumber(r.worstG1Deg));
+                          withUnit(formatNumber(r.worstG0), units), formatNumber(r.worstG1Deg));
       for (const std::string& n : r.notes) text += "note: " + n + "\n";
       text += fmt::format("output: {}\n", o->out);
       text += r.achieved ? fmt::format("{} achieved on every seam\n", toString(r.requested))

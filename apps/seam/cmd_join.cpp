@@ -13,6 +13,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "repair_units_json.h"
 #include "seam/io/json.h"
 #include "seam/repair/join.h"
 #include "seam/repair/report_json.h"
@@ -43,10 +44,10 @@ std::optional<PatchEdge> parsePatchEdge(const std::string& text, const char* opt
 
 std::string yesNo(bool b) { return b ? "yes" : "no"; }
 
-std::string measureTable(const SeamReport& b, const SeamReport& a) {
+std::string measureTable(const SeamReport& b, const SeamReport& a, const ModelUnits& units) {
   std::vector<std::vector<std::string>> rows = {
       // Table precision (issue 17 §6): angles to 0.001 deg, gaps and jumps to 4 significant digits (JSON: full).
-      {"G0 gap", formatRatio(b.g0Max), formatRatio(a.g0Max)},
+      {units.length ? "G0 gap (" + units.name() + ")" : "G0 gap", formatRatio(b.g0Max), formatRatio(a.g0Max)},
       {"G1 angle (deg)", formatAngle(b.g1MaxDeg), formatAngle(a.g1MaxDeg)},
       {"G2 jump (1/length)", formatRatio(b.g2Max), formatRatio(a.g2Max)},
       {"lambda range", "[" + formatNumber(b.lambdaRange.lo) + ", " + formatNumber(b.lambdaRange.hi) + "]",
@@ -63,6 +64,7 @@ void addJoin(CLI::App& app, int& exit) {
     std::string file, move, to, out;
     std::string continuity = "G1", method = "auto";
     std::optional<double> ell, maxGap, maxDisplacement, creaseAngle;
+    ToleranceOverrides tol;  // --tol-* / --preset / --units, as `seam check`
     bool average = false, json = false;
   };
   auto o = std::make_shared<Options>();
@@ -74,7 +76,8 @@ void addJoin(CLI::App& app, int& exit) {
   cmd->add_option("--method", o->method, "auto, bspline, bezier-strip or least-squares (default auto)");
   cmd->add_option("--ell", o->ell, "bezier-strip: the free parameter l = xi2/xi0 (default: least displacement)");
   cmd->add_flag("--average", o->average, "Move both patches onto their common middle (least-squares)");
-  cmd->add_option("--max-gap", o->maxGap, "Largest gap to close (default 1% of the bounding-box diagonal)");
+  cmd->add_option("--max-gap", o->maxGap,
+                  "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal)");
   cmd->add_option("--max-displacement", o->maxDisplacement,
                   "Largest surface displacement, as a multiple of the moved patch's size (default 1: a join that "
                   "would move a patch by more than its own size is undone)");
@@ -82,9 +85,11 @@ void addJoin(CLI::App& app, int& exit) {
                   "A seam whose angle is at or above this (degrees, in (0, 180]) is a design crease: G1/G2 joins leave "
                   "it as designed (default 20)");
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
+  addToleranceOptions(*cmd, o->tol);
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
     exit = kExitBadInput;
+    if (!validToleranceOptions(o->tol)) return;
     const auto mv = parsePatchEdge(o->move, "--move");
     const auto to = parsePatchEdge(o->to, "--to");
     if (!mv || !to) return;
@@ -108,14 +113,19 @@ void addJoin(CLI::App& app, int& exit) {
       return printError("--crease-angle must be an angle in degrees in (0, 180]");
     jo.creaseAngleDeg = o->creaseAngle.value_or(kDefaultCreaseAngleDeg);
     if (!checkOutputPath(o->file, o->out)) return;
-    const std::optional<Model> model = loadModel(o->file);
+    ModelUnits units;
+    const std::optional<Model> model = loadModel(o->file, o->tol, &units);
     if (!model) return;
+    // The classification tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
+    const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());
+    jo.tolerances = resolved.tolerances;
     auto res = joinSeam(*model, mv->patch, mv->edge, to->patch, to->edge, jo);
     if (!res) return printError(res.status().message());
     const JoinReport& r = res->report;
     if (!saveModel(res->model, o->out)) return;  // .json, .step/.stp, .iges/.igs by extension
     if (o->json) {
       OrderedJson j = OrderedJson::parse(joinReportJson(r));
+      addRepairUnits(j, units, resolved);
       j["output"] = o->out;
       printJson(j);
     } else {
@@ -126,14 +136,16 @@ void addJoin(CLI::App& app, int& exit) {
                                      toString(r.requested),
                                      r.achieved ? "achieved"
                                                 : fmt::format("NOT achieved (the seam is {})", toString(r.after.geometric)));
+      text += unitLine(units, resolved, jo.creaseAngleDeg.value_or(kDefaultCreaseAngleDeg));
       text += fmt::format("details: method {} ({})", toString(r.method), r.reason);
       if (r.proportionalKnots)
         text += fmt::format("; proportional knots (Def. 3.1): {}", yesNo(*r.proportionalKnots));
       text += "\n";
-      text += "\n" + measureTable(r.before, r.after) + "\n";
-      text += fmt::format("max control-point displacement: {}\n", formatNumber(r.maxDisplacement));
+      text += "\n" + measureTable(r.before, r.after, units) + "\n";
+      text += fmt::format("max control-point displacement: {}\n", withUnit(formatNumber(r.maxDisplacement), units));
       text += fmt::format("surface moved by at most {} (certified; {} found on a grid), {} % of the patch size\n",
-                          formatNumber(r.maxSurfaceDisplacement), formatNumber(r.maxSurfaceDisplacementSampled),
+                          withUnit(formatNumber(r.maxSurfaceDisplacement), units),
+                          withUnit(formatNumber(r.maxSurfaceDisplacementSampled), units),
                           formatNumber(100.0 * r.maxSurfaceDisplacementRel));
       if (r.reverted) text += "the join was undone: the model is the input, unchanged (see the notes)\n";
       if (r.creaseKept) text += "crease, left as designed: the model is the input, unchanged\n";
