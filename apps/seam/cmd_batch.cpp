@@ -342,17 +342,19 @@ int runBatch(const BatchOptions& o) {
     std::vector<std::vector<std::string>> table;
     for (const Row& r : rows) {
       if (r.status == "error") {
-        table.push_back({r.file, "error", "-", "-", "-", "-", "-", "-", "-", "-", fmt::format("{:.2f}", r.seconds)});
+        table.push_back(
+            {r.file, "error", "-", "-", "-", "-", "-", "-", "-", "-", "-", fmt::format("{:.2f}", r.seconds)});
         continue;
       }
       std::vector<std::string> line{r.file, r.status, std::to_string(r.seams)};
       for (int v : r.verdicts) line.push_back(std::to_string(v));
-      line.insert(line.end(), {length(r.worstGap, r), number(r.worstAngleDeg), fmt::format("{:.2f}", r.seconds)});
+      line.insert(line.end(), {length(r.worstGap, r), number(r.worstAngleDeg), length(r.gapTolerance, r),
+                               fmt::format("{:.2f}", r.seconds)});
       table.push_back(line);
     }
     fmt::print("{}", formatTable({"file", "status", "seams", "gap", "kink", "crease", "G1", "G2", "worst gap",
-                                  "worst kink (deg)", "seconds"},
-                                 table, {false, false, true, true, true, true, true, true, true, true, true}));
+                                  "worst kink (deg)", "gap tolerance", "seconds"},
+                                 table, {false, false, true, true, true, true, true, true, true, true, true, true}));
     for (const Row& r : rows)
       if (r.status == "error") fmt::print("{}: error: {}\n", r.file, r.error);
     fmt::print("\n{} files: {} ok, {} with gaps or kinks, {} unreadable; {:.2f} s with {} jobs ({:.3g} files/s)\n",

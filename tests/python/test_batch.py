@@ -74,6 +74,35 @@ def test_cli_batch_exit_codes(cli, tmp_path, examples):
     assert p.returncode == 2 and "--timeout" in p.stderr
 
 
+@pytest.mark.parametrize("units", [None, "in"])
+def test_cli_batch_table_names_each_gap_tolerance(cli, run_cli, shared_data, examples, units):
+    """The combined table has a "gap tolerance" column: each file's distance tolerance with its unit, as the
+    file's own `seam check --json` resolves it (tolerances.distance, units.length; the number alone when unit-less);
+    the --json rows carry the same in gap_tolerance and length_unit."""
+    files = [os.path.join(examples, "models", "two_patches.json")]
+    if seam.has_occt:
+        files.append(os.path.join(shared_data, "step", "bug28366_fuselage.stp"))
+    flags = ["--units", units] if units else []
+    p = subprocess.run([cli, "batch", *files, "-j", "1", *flags], capture_output=True, text=True, timeout=300)
+    assert p.returncode in (0, 1), p.stderr
+    lines = p.stdout.splitlines()
+    header = next(line for line in lines if line.startswith("file "))
+    column_end = header.index("gap tolerance") + len("gap tolerance")  # the column is right-aligned
+    rows = json.loads(subprocess.run([cli, "batch", *files, "-j", "1", "--json", *flags], capture_output=True,
+                                     text=True, timeout=300).stdout)["files"]
+    for f in files:
+        code, single, err = run_cli("check", f, "--json", *flags)
+        assert code in (0, 1), err
+        distance, unit = single["tolerances"]["distance"], single["units"]["length"]
+        cell = "%.10g" % distance + (" " + unit if unit else "")  # the CLI's formatNumber: %.10g
+        line = next(line for line in lines if line.startswith(f + " "))
+        assert line[:column_end].endswith(" " + cell), (cell, header, line)
+        row = next(r for r in rows if r["file"] == f)
+        assert row["gap_tolerance"] == distance and row["length_unit"] == unit
+    if units == "in":  # the absolute default 0.001 mm in inches for the JSON model
+        assert rows[0]["gap_tolerance"] == pytest.approx(0.001 / 25.4, rel=1e-15)
+
+
 def test_python_batch_matches_cli_batch(cli, batch_dir):
     p = subprocess.run([cli, "batch", str(batch_dir), "--json", "-j", "2"], capture_output=True, text=True,
                        timeout=300)
