@@ -76,26 +76,6 @@ std::string unitNames() {
   return names;
 }
 
-std::string withUnit(const std::string& length, const ModelUnits& units) {
-  return units.length ? length + " " + units.name() : length;
-}
-
-std::string unitText(const ModelUnits& units) {
-  std::string unit;
-  if (!units.length) {
-    unit = "length unit: none (unit-less model; --units gives one)";
-  } else if (units.source == UnitSource::kOption) {
-    unit = fmt::format("length unit: {} (--units{})", units.name(),
-                       units.fileUnit.empty() ? "" : fmt::format("; the file header says {}", units.fileUnit));
-  } else {
-    unit = fmt::format("length unit: {} (file header: {})", units.name(),
-                       units.fileUnit.empty() ? "none" : units.fileUnit);
-  }
-  if (units.declaredResolution)
-    unit += fmt::format("; declared resolution {}", withUnit(formatNumber(*units.declaredResolution), units));
-  return unit;
-}
-
 std::string unitLine(const ModelUnits& units, const ResolvedTolerances& tol, double creaseAngleDeg,
                      std::optional<double> pairing) {
   const Tolerances& t = tol.tolerances;
@@ -327,8 +307,6 @@ std::string jsonText(const OrderedJson& value) {
 }
 
 void printJson(const OrderedJson& value) { std::cout << jsonText(value) << std::flush; }
-
-std::string formatNumber(double x) { return fmt::format("{:.10g}", x); }
 
 std::string formatAngle(double deg) { return fmt::format("{:.3f}", deg); }
 

@@ -13,6 +13,7 @@
 #include "seam/core/tolerances.h"
 #include "seam/core/units.h"
 #include "seam/model/model.h"
+#include "units_text.h"  // formatNumber, withUnit, unitText (apps/common: shared with the Python module)
 
 namespace seam::cli {
 
@@ -63,11 +64,6 @@ void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides);
 
 /// "mm, cm, m, in, ft": the names --units accepts.
 std::string unitNames();
-/// "0.001 mm": a formatted length followed by the model's unit (nothing for a unit-less model).
-std::string withUnit(const std::string& length, const ModelUnits& units);
-/// "length unit: mm (file header: INCH); declared resolution 0.0254 mm", "length unit: m (--units)", "length unit:
-/// none (unit-less model; --units gives one)": the model's unit and where it comes from, one line, no newline.
-std::string unitText(const ModelUnits& units);
 /// The two header lines of `check` and `report` text: the model's length unit and where it comes from (and the
 /// file's declared resolution), then "gap tolerance 0.001 mm (default for ...), angle ... deg, curvature ...
 /// relative[, pairing ...]; crease angle ... deg". Each ends with a newline.
@@ -90,8 +86,6 @@ std::string jsonText(const OrderedJson& value);
 /// Prints jsonText(value) on stdout.
 void printJson(const OrderedJson& value);
 
-/// A number for tables: up to 10 significant digits (%.10g).
-std::string formatNumber(double x);
 /// An angle in degrees for tables and text: three decimals ("0.000", "2.816", "90.000"; issue 17 §6). JSON keeps
 /// full precision.
 std::string formatAngle(double deg);

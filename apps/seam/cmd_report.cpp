@@ -5,6 +5,8 @@
 //   the patches tessellated (Wavefront OBJ, per-vertex normals) for any mesh viewer.
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -13,13 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "brep_report.h"
 #include "cli_util.h"
 #include "command_registry.h"
 #include "seam/continuity/model_check.h"
 #include "seam/report/report.h"
-#ifdef SEAM_HAVE_OCCT
-#include "seam/occt/brep_check.h"
-#endif
 
 namespace seam::cli {
 
@@ -68,60 +68,17 @@ bool parseSelection(const ReportOptions& o, SeamSelection& sel) {
   return true;
 }
 
-/// The page's length unit, its origin and the distance tolerance's origin.
-void setUnits(report::ReportData& d, const ModelUnits& units, const ResolvedTolerances& tol) {
-  d.lengthUnit = units.name();
-  constexpr std::string_view kPrefix = "length unit: ";
-  d.unitNote = unitText(units).substr(kPrefix.size());
-  d.distanceSource = distanceSourceText(tol.distanceSource, tol.preset);
-}
-
 #ifdef SEAM_HAVE_OCCT
-/// STEP/IGES: the B-rep check (every shared edge through the pcurves), OpenCASCADE's verdict as an extra column.
+/// STEP/IGES: the B-rep check (every shared edge through the pcurves), OpenCASCADE's verdict as an extra column
+/// (brepReportPage, apps/common/brep_report.h: the same page as Python's seam.report).
 int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
-  occt::BRepCheckOptions bo;
-  bo.seam.keepSamples = true;
-  bo.tolerances = o.tol;
-  bo.progress = brepProgressPrinter(o.file);
-  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
-  if (!r) {
-    printError(r.status().message());
+  const Result<BRepReportPage> page = brepReportPage(o.file, o.tol, ro, brepProgressPrinter(o.file));
+  if (!page) {
+    printError(page.status().message());
     return kExitBadInput;
   }
-  report::ReportData d;
-  d.tolerances = r->tolerances;
-  setUnits(d, r->units, {r->tolerances, r->distanceSource, o.tol.preset});
-  d.extraHeader = "OpenCASCADE";
-  d.facts.emplace_back("faces", fmt::format("{}{}", r->import.faces.size(), r->sewn ? " (sewn)" : ""));
-  d.facts.emplace_back("non-manifold edges", std::to_string(r->nonManifoldEdges.size()));
-  d.facts.emplace_back("agrees with OpenCASCADE (G1 or not)",
-                       fmt::format("{} of {}", r->occtAgreement, r->seams.size()));
-  for (const occt::BRepSeam& s : r->seams) {
-    report::ReportSeam rs;
-    rs.a = s.a;
-    rs.b = s.b;
-    rs.aEdge = fmt::format("e{}", s.edge);
-    rs.report = s.report;
-    rs.extra = s.occtContinuity;
-    rs.curve = s.curve;
-    d.seams.push_back(std::move(rs));
-  }
-  for (const occt::BRepFreeEdge& f : r->freeEdges) {
-    d.freeEdges.push_back(fmt::format("e{} of {}", f.edge, f.face));
-    if (!f.curve.empty()) d.outline.push_back(f.curve);
-  }
-  for (int k = 0; k < r->degenerateEdges; ++k) d.degenerateEdges.push_back("pole");
-  // The 3-D view shades the untrimmed faces (a trimmed face's patch is its whole parameter box, larger than the face).
-  std::vector<bool> shade;
-  size_t trimmed = 0;
-  for (const occt::CadFace& f : r->import.faces) {
-    shade.push_back(!f.trimmed);
-    trimmed += f.trimmed ? 1 : 0;
-  }
-  d.meshes = report::reportMeshes(r->import.model, shade);
-  if (trimmed > 0) d.facts.emplace_back("3-D view", fmt::format("{} trimmed faces not shaded (seams drawn)", trimmed));
-  if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
-  fmt::print("wrote {} ({} B-rep seams, worst {})\n", o.out, r->seams.size(), toString(r->worstGeometric));
+  if (!writeOutputFile(o.out, page->html)) return kExitBadInput;
+  fmt::print("wrote {} ({} B-rep seams, worst {})\n", o.out, page->seams, toString(page->worst));
   return kExitOk;
 }
 #endif
@@ -158,7 +115,7 @@ int runReport(const ReportOptions& o) {
     return kExitBadInput;
   }
   report::ReportData d = report::reportData(*model, *report, ro.samplesPerEdge);
-  setUnits(d, units, resolved);
+  setReportUnits(d, units, resolved);
   if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
   fmt::print("wrote {} ({} seams, worst {})\n", o.out, report->seams.size(), toString(report->summary.worstGeometric));
   return kExitOk;

@@ -39,6 +39,7 @@
 
 #include "continuity/sampling.h"
 #include "occt/cad_internal.h"
+#include "occt/face_mesh.h"
 #include "occt/pcurve_correspondence.h"
 
 namespace seam::occt {
@@ -729,6 +730,27 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       }
     }
     if (options.progress) options.progress(nFaces, nEdges, nEdges);
+    if (options.meshFaces) {
+      // The view's meshes: kFaceMeshDeflectionRel x the diagonal, doubled (after removing the triangulation) while
+      // the meshes exceed the vertex budget, at most kFaceMeshCoarsenings times.
+      std::vector<bool> wanted;
+      if (options.meshTrimmedOnly)
+        for (const CadFace& f : out.import.faces) {
+          if (wanted.size() < static_cast<size_t>(f.faceIndex)) wanted.resize(static_cast<size_t>(f.faceIndex), false);
+          wanted[static_cast<size_t>(f.faceIndex - 1)] = f.trimmed;
+        }
+      out.meshDeflection = options.meshDeflectionRel * diag;
+      for (int attempt = 0;; ++attempt) {
+        out.faceMeshes = detail::meshFaces(shape, faces, out.meshDeflection, wanted);
+        size_t vertices = 0;
+        for (const BRepFaceMesh& m : out.faceMeshes) vertices += m.points.size();
+        if (options.meshVertexBudget <= 0 || vertices <= static_cast<size_t>(options.meshVertexBudget) ||
+            attempt == kFaceMeshCoarsenings)
+          break;
+        BRepTools::Clean(shape);
+        out.meshDeflection *= 2.0;
+      }
+    }
   } catch (const Standard_Failure& f) {
     return Status(ErrorCode::kInvalidInput,
                   fmt::format("{}: OpenCASCADE {} during the B-rep check: {}", file.string(),

@@ -29,6 +29,24 @@
 
 namespace seam::occt {
 
+/// The report's 3-D view meshes the B-rep faces with OpenCASCADE (BRepMesh_IncrementalMesh, which keeps the trims):
+/// their linear deflection, the largest distance between a triangle and its face, as a fraction of the model's
+/// bounding-box diagonal. 1e-3 keeps the facets below a pixel of a whole-model view (a 1000-pixel canvas) and a part
+/// of the 100 000-vertex range on ../shared/data's files (docs/report.md).
+inline constexpr double kFaceMeshDeflectionRel = 1e-3;
+/// Their angular deflection, radians (BRepMesh's default: a circle gets at least 2 pi / 0.5 = 13 segments).
+inline constexpr double kFaceMeshAngle = 0.5;
+/// How many times the deflection is doubled while the meshes exceed BRepCheckOptions::meshVertexBudget.
+inline constexpr int kFaceMeshCoarsenings = 4;
+
+/// One B-rep face triangulated for a view: the face's own trimmed region, in model coordinates (its location
+/// applied), triangles counter-clockwise seen from the side its normal points to (its orientation respected).
+struct BRepFaceMesh {
+  std::string face;                   ///< "F<n>", as the seams name it
+  std::vector<Vec3> points, normals;  ///< unit normals of the face (the surface's, reversed on a reversed face)
+  std::vector<int> triangles;         ///< three 0-based vertex indices per triangle
+};
+
 struct BRepCheckOptions {
   /// Classification tolerances: resolveTolerances of these overrides (the distance defaults to
   /// kDefaultAbsoluteDistanceMm: a CAD file has a length unit). `tolerances.units` states the unit of the file's
@@ -43,6 +61,12 @@ struct BRepCheckOptions {
   /// Called with (faces, edges done, edges in all) once the faces are converted (done = 0) and then after every
   /// kProgressEdgeStep edges and at the end; empty: no calls. The CLI prints a line on stderr for large models.
   std::function<void(int faces, int done, int total)> progress;
+  /// Triangulate the faces into BRepCheckReport::faceMeshes (for the report's 3-D view); off by default.
+  bool meshFaces = false;
+  bool meshTrimmedOnly = false;  ///< only the trimmed faces (the untrimmed ones are shaded from their patches)
+  double meshDeflectionRel = kFaceMeshDeflectionRel;  ///< linear deflection / model diagonal
+  /// The deflection is doubled (up to kFaceMeshCoarsenings times) while the meshes have more vertices; 0: no limit.
+  int meshVertexBudget = 0;
 };
 
 /// Edges between two progress calls.
@@ -86,6 +110,8 @@ struct BRepCheckReport {
   std::array<int, 4> geometric{};  ///< counts per GeometricClass
   GeometricClass worstGeometric = GeometricClass::kG2;
   int occtAgreement = 0;      ///< seams where "G1 or better" agrees between seam and OpenCASCADE
+  std::vector<BRepFaceMesh> faceMeshes;  ///< with BRepCheckOptions::meshFaces: the faces' triangles
+  double meshDeflection = 0.0;           ///< the linear deflection they were made with (model units; 0: none)
 };
 
 /// Reads and checks a STEP/IGES file. Errors as readCadFile; a crash inside OpenCASCADE during the check (a signal,

@@ -1,0 +1,98 @@
+#include "brep_report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <string_view>
+
+#include "units_text.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/brep_check.h"
+#endif
+
+namespace seam::cli {
+
+void setReportUnits(report::ReportData& d, const ModelUnits& units, const ResolvedTolerances& tol) {
+  d.lengthUnit = units.name();
+  constexpr std::string_view kPrefix = "length unit: ";
+  d.unitNote = unitText(units).substr(kPrefix.size());
+  d.distanceSource = distanceSourceText(tol.distanceSource, tol.preset);
+}
+
+#ifdef SEAM_HAVE_OCCT
+bool hasBRepReport() { return true; }
+
+Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const ToleranceOverrides& tol,
+                                      const report::HtmlReportOptions& options,
+                                      const std::function<void(int, int, int)>& progress) {
+  occt::BRepCheckOptions bo;
+  bo.seam.keepSamples = true;
+  bo.tolerances = tol;
+  bo.progress = progress;
+  // The trimmed faces are shaded from OpenCASCADE's triangulation (their patch is the whole parameter box, larger
+  // than the face); half of the view's vertex budget is theirs at most, the untrimmed faces' patch meshes get the rest.
+  bo.meshFaces = options.view3d;
+  bo.meshTrimmedOnly = true;
+  bo.meshVertexBudget = report::kDefaultViewVertexBudget / 2;
+  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, bo);
+  if (!r) return r.status();
+  report::ReportData d;
+  d.tolerances = r->tolerances;
+  setReportUnits(d, r->units, {r->tolerances, r->distanceSource, tol.preset});
+  d.extraHeader = "OpenCASCADE";
+  d.facts.emplace_back("faces", fmt::format("{}{}", r->import.faces.size(), r->sewn ? " (sewn)" : ""));
+  d.facts.emplace_back("non-manifold edges", std::to_string(r->nonManifoldEdges.size()));
+  d.facts.emplace_back("agrees with OpenCASCADE (G1 or not)",
+                       fmt::format("{} of {}", r->occtAgreement, r->seams.size()));
+  for (const occt::BRepSeam& s : r->seams) {
+    report::ReportSeam rs;
+    rs.a = s.a;
+    rs.b = s.b;
+    rs.aEdge = fmt::format("e{}", s.edge);
+    rs.report = s.report;
+    rs.extra = s.occtContinuity;
+    rs.curve = s.curve;
+    d.seams.push_back(std::move(rs));
+  }
+  for (const occt::BRepFreeEdge& f : r->freeEdges) {
+    d.freeEdges.push_back(fmt::format("e{} of {}", f.edge, f.face));
+    if (!f.curve.empty()) d.outline.push_back(f.curve);
+  }
+  for (int k = 0; k < r->degenerateEdges; ++k) d.degenerateEdges.push_back("pole");
+  // The 3-D view: the untrimmed faces' patches meshed as for a patch model, the trimmed faces by OpenCASCADE
+  // (BRepMesh_IncrementalMesh, kFaceMeshDeflectionRel x the diagonal: the trims and holes kept).
+  std::vector<bool> shade;
+  size_t trimmed = 0;
+  for (const occt::CadFace& f : r->import.faces) {
+    shade.push_back(!f.trimmed);
+    trimmed += f.trimmed ? 1 : 0;
+  }
+  int faceMeshVertices = 0;
+  for (const occt::BRepFaceMesh& m : r->faceMeshes) faceMeshVertices += static_cast<int>(m.points.size());
+  d.meshes = report::reportMeshes(r->import.model, shade,
+                                  std::max(report::kDefaultViewVertexBudget - faceMeshVertices,
+                                           report::kDefaultViewVertexBudget / 2));
+  for (const occt::BRepFaceMesh& m : r->faceMeshes) d.meshes.push_back({m.face, m.points, m.normals, m.triangles});
+  if (trimmed > 0)
+    d.facts.emplace_back("3-D view", fmt::format("{} of {} trimmed faces shaded from OpenCASCADE's triangulation "
+                                                 "(deflection {})",
+                                                 r->faceMeshes.size(), trimmed,
+                                                 withUnit(formatNumber(r->meshDeflection), r->units)));
+  BRepReportPage page;
+  page.html = report::htmlReport(d, options);
+  page.seams = r->seams.size();
+  page.worst = r->worstGeometric;
+  page.warnings = r->import.warnings;
+  return page;
+}
+#else
+bool hasBRepReport() { return false; }
+
+Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const ToleranceOverrides&,
+                                      const report::HtmlReportOptions&, const std::function<void(int, int, int)>&) {
+  return Status(ErrorCode::kInvalidInput,
+                fmt::format("{}: STEP/IGES need a build with SEAM_WITH_OCCT (OpenCASCADE)", file.string()));
+}
+#endif
+
+}  // namespace seam::cli
