@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "brep_report.h"
 #include "check_json.h"
 #include "fill_json.h"
 #include "regularity_json.h"
@@ -425,6 +426,38 @@ void save(const PyModel& m, const std::filesystem::path& out) {
 }
 
 
+/// report of a STEP/IGES path: the page of `seam report FILE` (apps/common/brep_report.h, the CLI's builder),
+/// written atomically; returns the path.
+std::string writeBRepReport(const std::filesystem::path& file, const std::filesystem::path& out,
+                            const std::optional<std::string>& title, const std::optional<std::string>& units,
+                            const std::optional<std::string>& preset) {
+  ToleranceOverrides tol;
+  applyUnitsAndPreset(tol, units, preset);
+  if (const Status s = io::checkOutputFile(out); !s) raise(s);
+  if (const Status s = io::checkInputFile(file, io::kMaxCadFileBytes); !s) raise(s);
+  report::HtmlReportOptions ro;
+  ro.title = title ? *title : "seam report: " + file.filename().string();
+  Result<cli::BRepReportPage> page = Status(ErrorCode::kIoError, "not read");
+  Status written = Status::ok();
+  {
+    py::gil_scoped_release release;
+    std::lock_guard lock(cadMutex());
+    try {
+      page = cli::brepReportPage(file, tol, ro);
+    } catch (const std::bad_alloc&) {
+      page = Status(ErrorCode::kInvalidInput, file.string() + ": out of memory while checking the model");
+    }
+    if (page) written = io::writeFileAtomically(out, page->html);
+  }
+  if (!page) raise(page.status());
+  if (!written) raise(written);
+  if (!page->warnings.empty()) {
+    py::module_ warn = py::module_::import("warnings");
+    for (const std::string& w : page->warnings) warn.attr("warn")(w);
+  }
+  return out.string();
+}
+
 /// JSON text of the library's report builders (repair/report_json.h) -> a Python dict, keys in order.
 py::object jsonToPython(const std::string& text) { return toPython(cli::OrderedJson::parse(text)); }
 
@@ -760,15 +793,18 @@ PYBIND11_MODULE(_seam, mod) {
   mod.def("report", &writeReport, py::arg("model"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
           "Writes the self-contained HTML report of `seam report` (patch models) atomically; returns the path");
   mod.def("report",
-          [](const std::filesystem::path& file, const std::filesystem::path& out, const std::optional<std::string>& title) {
-            if (isCadPath(file))
-              throw py::value_error(fmt::format("{}: the B-rep report of a STEP/IGES file is `seam report {}` (CLI); "
-                                                "seam.report(seam.load(path), out) reports its faces as patches",
-                                                file.string(), file.string()));
+          [](const std::filesystem::path& file, const std::filesystem::path& out, const std::optional<std::string>& title,
+             const std::optional<std::string>& units, const std::optional<std::string>& preset) {
+            if (isCadPath(file)) return writeBRepReport(file, out, title, units, preset);
+            if (units || preset)
+              throw py::value_error(fmt::format("{}: units= and preset= apply to the B-rep report of a STEP/IGES "
+                                                "file", file.string()));
             return writeReport(load(file), out, title);
           },
           py::arg("file"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
-          "`seam report FILE -o PATH` of a .json or .bpt model file");
+          py::arg("units") = py::none(), py::arg("preset") = py::none(),
+          "`seam report FILE -o PATH`: a .json/.bpt model file, or the B-rep report of a STEP/IGES file (every "
+          "shared edge, OpenCASCADE alongside, trimmed faces shaded); returns the path");
   mod.def("save", &save, py::arg("model"), py::arg("path"), "Writes a model as .json (atomically)");
 
   auto checkDoc =

@@ -2,6 +2,7 @@
 (`seam eval --json`, `seam check --json`), and bad input raises exceptions that name the problem."""
 import math
 import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -182,6 +183,33 @@ def test_heal_matches_cli(examples, run_cli, tmp_path):
     assert py_out.read_bytes() == cli_out.read_bytes()  # the same healed model, written by the same writer
     with pytest.raises(ValueError, match="continuity"):
         seam.heal(healed, continuity="G2")
+
+
+@pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")
+@pytest.mark.parametrize("name, kwargs", [("iges/BUC50025.igs", {}),
+                                          ("step/bug28366_fuselage.stp", dict(units="in", preset="catia"))])
+def test_brep_report_matches_cli(cli, shared_data, run_cli, tmp_path, name, kwargs):
+    """seam.report on a STEP/IGES path is the B-rep report of `seam report FILE` (same builder): the same page, byte
+    for byte, as the CLI process writes with the same flags; the CLI names as many B-rep seams as `seam check
+    --json` finds."""
+    path = os.path.join(shared_data, name)
+    flags = [x for k, v in kwargs.items() for x in (f"--{k}", v)]
+    cli_out, py_out = tmp_path / "cli.html", tmp_path / "py.html"
+    p = subprocess.run([cli, "report", path, "-o", str(cli_out), *flags], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert seam.report(path, py_out, **kwargs) == str(py_out)
+    page = py_out.read_text()
+    assert page == cli_out.read_text()
+    code, checked, err = run_cli("check", path, "--json", *flags)
+    assert code in (0, 1), err
+    assert f"({checked['summary']['seams']} B-rep seams" in p.stdout
+    assert "OpenCASCADE" in page  # the B-rep route's extra column, not the patch route
+    if kwargs.get("units"):
+        assert "--units" in page
+    with pytest.raises(ValueError, match="furlong"):
+        seam.report(path, tmp_path / "bad.html", units="furlong")
+    with pytest.raises(OSError, match="missing.step"):
+        seam.report(tmp_path / "missing.step", tmp_path / "bad.html")
 
 
 def test_report_writes_html(examples, tmp_path):

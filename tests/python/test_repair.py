@@ -310,7 +310,10 @@ def test_report_of_a_file(examples, tmp_path):
     out = tmp_path / "r.html"
     assert seam.report(path, out, title="from a file") == str(out)
     assert "from a file" in out.read_text()
-    with pytest.raises(ValueError, match="seam report"):
+    # A STEP/IGES path is the B-rep report (test_module.py compares it with the CLI's); a missing one names itself.
+    with pytest.raises(OSError, match="part.step"):
         seam.report(os.path.join(examples, "part.step"), tmp_path / "s.html")
+    with pytest.raises(ValueError, match="units= and preset= apply to the B-rep report"):
+        seam.report(path, tmp_path / "u.html", units="mm")
     with pytest.raises(OSError, match="missing.json"):
         seam.report(tmp_path / "missing.json", tmp_path / "m.html")
