@@ -1,5 +1,6 @@
 // The report's 3-D view in a real headless Chromium (docs/report.md), driven by playwright-core (web/package.json).
-// Usage: node tests/report_view_test.mjs SEAM_BINARY MODEL OUT_DIR   (CTest: report_view_browser)
+// Usage: node tests/report_view_test.mjs SEAM_BINARY MODEL OUT_DIR [--all-faces-shaded]
+//        (CTest: report_view_browser; report_view_browser_brep on a STEP file with trimmed faces)
 // Writes OUT_DIR/report.html with `seam report`, opens it from file:// and checks: no console error or page error,
 // the WebGL canvas is not blank (pixel variance of a screenshot), zebra stripes change the picture, a click on a
 // seam opens its three plots in the side panel; without WebGL (getContext refused) the 2-D drawing is the view.
@@ -14,7 +15,10 @@ const here = path.dirname(fileURLToPath(import.meta.url));
 const require = createRequire(path.join(here, '..', 'web', 'package.json'));
 const { chromium } = require('playwright-core');
 
-const [seam, model, outDir] = process.argv.slice(2);
+const [seam, model, outDir, option] = process.argv.slice(2);
+// --all-faces-shaded: every face (patch) of the model is a mesh of the view; for a STEP/IGES file with trimmed faces,
+// those are OpenCASCADE's triangulations (issue 17 §4). The count comes from `seam check MODEL --json`.
+const allFacesShaded = option === '--all-faces-shaded';
 if (!seam || !model || !outDir) {
   console.error('usage: node report_view_test.mjs SEAM_BINARY MODEL OUT_DIR');
   process.exit(2);
@@ -53,6 +57,11 @@ try {
   await page.waitForFunction(() => window.seamView && window.seamView.ready, null, { timeout: 60000 });
   const info = await page.evaluate(() => ({ seams: window.seamView.seams, meshes: window.seamView.meshes }));
   check(info.seams > 0 && info.meshes > 0, `view holds ${info.meshes} meshes and ${info.seams} seams`);
+  if (allFacesShaded) {
+    const checked = spawnSync(seam, ['check', model, '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 });
+    const faces = JSON.parse(checked.stdout).model.patches;
+    check(info.meshes === faces, `every face is shaded: ${info.meshes} meshes for ${faces} faces`);
+  }
 
   // Pixel statistics of a PNG screenshot, decoded by the browser itself.
   const stats = async (png) => page.evaluate(async (b64) => {
