@@ -736,6 +736,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       std::vector<bool> wanted;
       if (options.meshTrimmedOnly)
         for (const CadFace& f : out.import.faces) {
+          if (f.faceIndex < 1) continue;  // 1-based; 0 = not traced to a face of the file
           if (wanted.size() < static_cast<size_t>(f.faceIndex)) wanted.resize(static_cast<size_t>(f.faceIndex), false);
           wanted[static_cast<size_t>(f.faceIndex - 1)] = f.trimmed;
         }
