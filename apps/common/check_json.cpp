@@ -8,6 +8,8 @@
 #include <array>
 #include <functional>
 #include <new>
+#include <ostream>
+#include <string_view>
 #include <utility>
 
 #include "seam/continuity/seam.h"
@@ -28,100 +30,218 @@ OrderedJson verdictCountsJson(const std::array<int, 5>& n) {
 
 
 OrderedJson point(const Vec3& p) { return OrderedJson::array({p.x(), p.y(), p.z()}); }
-OrderedJson range(const Interval& i) { return OrderedJson::array({i.lo, i.hi}); }
 
 const std::string& patchName(const Model& m, int index) { return m.patches[static_cast<size_t>(index)].name; }
 
-OrderedJson seamJson(const SeamReport& r, double creaseAngleDeg) {
-  auto worst = [](const WorstLocation& w) { return OrderedJson{{"t", w.t}, {"point", point(w.point)}}; };
-  OrderedJson j{{"a", r.a},
-                {"a_edge", std::string(edgeName(r.aEdge))},
-                {"b", r.b},
-                {"b_edge", std::string(edgeName(r.bEdge))},
-                {"overlap", range(r.overlapA)},
-                {"g0_max", r.g0Max},
-                {"g1_max_deg", r.g1MaxDeg},
-                {"g2_max", r.g2Max},
-                {"g2_rel_max", r.g2RelMax},
-                {"lambda_range", range(r.lambdaRange)},
-                {"kappa_range", range(r.kappaRange)},
-                {"verdict", std::string(toString(seamVerdict(r, creaseAngleDeg)))},
-                {"geometric", std::string(toString(r.geometric))},
-                {"parametric", std::string(toString(r.parametric))},
-                {"certified", r.certified},
-                {"worst", {{"g0", worst(r.g0Worst)}, {"g1", worst(r.g1Worst)}, {"g2", worst(r.g2Worst)}}}};
-  j["overlap_b"] = range(r.overlapB);
-  j["reversed"] = r.reversed;
-  j["correspondence"] = std::string(toString(r.correspondence));
-  j["g0_sampled"] = r.g0Sampled;
-  j["end_mismatch"] = r.endMismatch;
-  j["g1_sampled_deg"] = r.g1SampledDeg;
-  j["g2_sampled"] = r.g2Sampled;
-  j["g2_rel_sampled"] = r.g2RelSampled;
-  j["g2_residual_max"] = r.g2ResidualMax;
-  j["c1_mismatch"] = r.c1Mismatch;
-  j["c2_mismatch"] = r.c2Mismatch;
-  j["notes"] = r.notes;
-  return j;
-}
-
-OrderedJson failedSeamJson(const Model& m, const EdgePair& p, const Status& error) {
-  return OrderedJson{{"a", patchName(m, p.a.patch)},
-                     {"a_edge", std::string(edgeName(p.a.edge))},
-                     {"b", patchName(m, p.b.patch)},
-                     {"b_edge", std::string(edgeName(p.b.edge))},
-                     {"overlap", range(p.overlapA)},
-                     {"verdict", "error"},
-                     {"geometric", nullptr},
-                     {"parametric", nullptr},
-                     {"certified", nullptr},
-                     {"g0_max", nullptr},
-                     {"g1_max_deg", nullptr},
-                     {"g2_max", nullptr},
-                     {"g2_rel_max", nullptr},
-                     {"error", error.message()}};
-}
-
 OrderedJson optionalNumber(const std::optional<double>& x) { return x ? OrderedJson(*x) : OrderedJson(nullptr); }
 
-OrderedJson cornerJson(const Model& m, const CornerReport& c) {
-  OrderedJson patches = OrderedJson::array();
-  for (const PatchCorner& k : c.corners) patches.push_back(patchName(m, k.patch));
-  OrderedJson j{{"point", point(c.point)},
-                {"patches", patches},
-                {"valence", c.valence},
-                {"normal_spread_deg", optionalNumber(c.normalSpreadDeg)},
-                {"g1_residual", c.fourPatch ? OrderedJson(c.fourPatch->g1Residual) : OrderedJson(nullptr)},
-                {"g2_residual", c.fourPatch ? optionalNumber(c.fourPatch->g2Residual) : OrderedJson(nullptr)}};
-  j["closed"] = c.closed;
-  j["degenerate"] = c.degenerate;
-  j["corner_gap"] = c.cornerGap;
-  if (c.fourPatch) {
-    OrderedJson numbering = OrderedJson::array();
-    for (int k : c.fourPatch->corner) numbering.push_back(patchName(m, c.corners[static_cast<size_t>(k)].patch));
-    j["paper_patches"] = numbering;
-    OrderedJson seams = OrderedJson::array();
-    for (const VertexSeam& s : c.fourPatch->seams) {
-      seams.push_back({{"from", s.from},
-                       {"to", s.to},
-                       {"lambda", s.lambda},
-                       {"kappa", s.kappa},
-                       {"d_lambda", s.dLambda},
-                       {"d_kappa", s.dKappa},
-                       {"mu", optionalNumber(s.mu)},
-                       {"nu", optionalNumber(s.nu)},
-                       {"g1", s.g1},
-                       {"g2", s.g2}});
-    }
-    j["seams"] = seams;
-    j["g1_relations"] = OrderedJson(std::vector<double>(c.fourPatch->g1Relations.begin(), c.fourPatch->g1Relations.end()));
-    j["g2_relations"] = c.fourPatch->g2Relations
-                            ? OrderedJson(std::vector<double>(c.fourPatch->g2Relations->begin(),
-                                                              c.fourPatch->g2Relations->end()))
-                            : OrderedJson(nullptr);
+// ---- Records written once for two routes. Each record is a function template writing its members in order into
+// an Out: DomObject (an OrderedJson object: modelCheckJson, the Python module's dicts, the B-rep check) or
+// TextObject (JSON text streamed by writeModelCheckJson). Out has field(key, value) for numbers, bools, strings,
+// null, Vec3 (a point), Interval (a range), optional numbers, lists of strings / numbers and DOM values;
+// object(key, fill) for a nested object and objects(key, count, fill) for an array of objects.
+
+class DomObject {
+ public:
+  explicit DomObject(OrderedJson& j) : j_(j) {}
+  template <class T>
+  void field(const char* key, const T& value) {
+    j_[key] = dom(value);
   }
-  if (!c.notes.empty()) j["notes"] = c.notes;
-  return j;
+  template <class Fill>
+  void object(const char* key, Fill&& fill) {
+    OrderedJson sub = OrderedJson::object();
+    DomObject o(sub);
+    fill(o);
+    j_[key] = std::move(sub);
+  }
+  template <class Fill>
+  void objects(const char* key, size_t count, Fill&& fill) {
+    OrderedJson list = OrderedJson::array();
+    for (size_t k = 0; k < count; ++k) {
+      OrderedJson item = OrderedJson::object();
+      DomObject o(item);
+      fill(o, k);
+      list.push_back(std::move(item));
+    }
+    j_[key] = std::move(list);
+  }
+
+ private:
+  static OrderedJson dom(const Vec3& p) { return point(p); }
+  static OrderedJson dom(const Interval& i) { return OrderedJson::array({i.lo, i.hi}); }
+  static OrderedJson dom(const std::optional<double>& x) { return optionalNumber(x); }
+  static OrderedJson dom(std::string_view s) { return OrderedJson(std::string(s)); }
+  template <class T>
+  static OrderedJson dom(const T& x) {
+    return OrderedJson(x);
+  }
+  OrderedJson& j_;
+};
+
+class TextObject {
+ public:
+  explicit TextObject(JsonTextWriter& w) : w_(w) {}
+  template <class T>
+  void field(const char* key, const T& value) {
+    w_.key(key);
+    put(value);
+  }
+  template <class Fill>
+  void object(const char* key, Fill&& fill) {
+    w_.key(key);
+    w_.beginObject();
+    fill(*this);
+    w_.endObject();
+  }
+  template <class Fill>
+  void objects(const char* key, size_t count, Fill&& fill) {
+    w_.key(key);
+    w_.beginArray();
+    for (size_t k = 0; k < count; ++k) {
+      w_.beginObject();
+      fill(*this, k);
+      w_.endObject();
+    }
+    w_.endArray();
+  }
+
+ private:
+  void put(const Vec3& p) { w_.numbers(std::array<double, 3>{p.x(), p.y(), p.z()}); }
+  void put(const Interval& i) { w_.numbers(std::array<double, 2>{i.lo, i.hi}); }
+  void put(const std::optional<double>& x) {
+    if (x) {
+      w_.value(*x);
+    } else {
+      w_.value(nullptr);
+    }
+  }
+  void put(const std::vector<std::string>& xs) { w_.strings(xs); }
+  void put(const std::vector<double>& xs) { w_.numbers(xs); }
+  template <size_t N>
+  void put(const std::array<double, N>& xs) {
+    w_.numbers(xs);
+  }
+  template <class T>
+  void put(const T& x) {
+    w_.value(x);
+  }
+  JsonTextWriter& w_;
+};
+
+/// The members of a seam record; aEdge / bEdge name the edges (a patch edge "u0", or a B-rep edge "E12").
+template <class Out>
+void seamFields(Out& o, const SeamReport& r, double creaseAngleDeg, std::string_view aEdge, std::string_view bEdge) {
+  auto worst = [](const WorstLocation& w) {
+    return [&w](auto& x) {
+      x.field("t", w.t);
+      x.field("point", w.point);
+    };
+  };
+  o.field("a", r.a);
+  o.field("a_edge", aEdge);
+  o.field("b", r.b);
+  o.field("b_edge", bEdge);
+  o.field("overlap", r.overlapA);
+  o.field("g0_max", r.g0Max);
+  o.field("g1_max_deg", r.g1MaxDeg);
+  o.field("g2_max", r.g2Max);
+  o.field("g2_rel_max", r.g2RelMax);
+  o.field("lambda_range", r.lambdaRange);
+  o.field("kappa_range", r.kappaRange);
+  o.field("verdict", toString(seamVerdict(r, creaseAngleDeg)));
+  o.field("geometric", toString(r.geometric));
+  o.field("parametric", toString(r.parametric));
+  o.field("certified", r.certified);
+  o.object("worst", [&](auto& x) {
+    x.object("g0", worst(r.g0Worst));
+    x.object("g1", worst(r.g1Worst));
+    x.object("g2", worst(r.g2Worst));
+  });
+  o.field("overlap_b", r.overlapB);
+  o.field("reversed", r.reversed);
+  o.field("correspondence", toString(r.correspondence));
+  o.field("g0_sampled", r.g0Sampled);
+  o.field("end_mismatch", r.endMismatch);
+  o.field("g1_sampled_deg", r.g1SampledDeg);
+  o.field("g2_sampled", r.g2Sampled);
+  o.field("g2_rel_sampled", r.g2RelSampled);
+  o.field("g2_residual_max", r.g2ResidualMax);
+  o.field("c1_mismatch", r.c1Mismatch);
+  o.field("c2_mismatch", r.c2Mismatch);
+  o.field("notes", r.notes);
+}
+
+/// The members of a seam whose analysis failed.
+template <class Out>
+void failedSeamFields(Out& o, const Model& m, const EdgePair& p, const Status& error) {
+  o.field("a", patchName(m, p.a.patch));
+  o.field("a_edge", edgeName(p.a.edge));
+  o.field("b", patchName(m, p.b.patch));
+  o.field("b_edge", edgeName(p.b.edge));
+  o.field("overlap", p.overlapA);
+  o.field("verdict", "error");
+  for (const char* key : {"geometric", "parametric", "certified", "g0_max", "g1_max_deg", "g2_max", "g2_rel_max"})
+    o.field(key, nullptr);
+  o.field("error", error.message());
+}
+
+/// The members of a seam of a patch-model check, `index` its place in the check's list.
+template <class Out>
+void modelSeamFields(Out& o, const Model& m, const ModelSeam& s, size_t index, double creaseAngleDeg) {
+  if (s.report) {
+    seamFields(o, *s.report, creaseAngleDeg, edgeName(s.report->aEdge), edgeName(s.report->bEdge));
+  } else {
+    failedSeamFields(o, m, s.pair, s.error);
+  }
+  o.field("index", index);
+}
+
+template <class Out>
+void cornerFields(Out& o, const Model& m, const CornerReport& c) {
+  std::vector<std::string> patches;
+  patches.reserve(c.corners.size());
+  for (const PatchCorner& k : c.corners) patches.push_back(patchName(m, k.patch));
+  o.field("point", c.point);
+  o.field("patches", patches);
+  o.field("valence", c.valence);
+  o.field("normal_spread_deg", c.normalSpreadDeg);
+  if (c.fourPatch) {
+    o.field("g1_residual", c.fourPatch->g1Residual);
+    o.field("g2_residual", c.fourPatch->g2Residual);
+  } else {
+    o.field("g1_residual", nullptr);
+    o.field("g2_residual", nullptr);
+  }
+  o.field("closed", c.closed);
+  o.field("degenerate", c.degenerate);
+  o.field("corner_gap", c.cornerGap);
+  if (c.fourPatch) {
+    const FourPatchVertex& f = *c.fourPatch;
+    std::vector<std::string> numbering;
+    for (int k : f.corner) numbering.push_back(patchName(m, c.corners[static_cast<size_t>(k)].patch));
+    o.field("paper_patches", numbering);
+    o.objects("seams", f.seams.size(), [&](auto& x, size_t k) {
+      const VertexSeam& s = f.seams[k];
+      x.field("from", s.from);
+      x.field("to", s.to);
+      x.field("lambda", s.lambda);
+      x.field("kappa", s.kappa);
+      x.field("d_lambda", s.dLambda);
+      x.field("d_kappa", s.dKappa);
+      x.field("mu", s.mu);
+      x.field("nu", s.nu);
+      x.field("g1", s.g1);
+      x.field("g2", s.g2);
+    });
+    o.field("g1_relations", f.g1Relations);
+    if (f.g2Relations) {
+      o.field("g2_relations", *f.g2Relations);
+    } else {
+      o.field("g2_relations", nullptr);
+    }
+  }
+  if (!c.notes.empty()) o.field("notes", c.notes);
 }
 
 OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing, double creaseAngleDeg,
@@ -233,58 +353,87 @@ std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r) {
   return reports;
 }
 
-OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
-                           const std::optional<GeometricClass>& require, std::optional<double> pairing,
-                           double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
-  OrderedJson seams = OrderedJson::array();
-  for (size_t k : order) {
-    const ModelSeam& s = report.seams[k];
-    OrderedJson j = s.report ? seamJson(*s.report, creaseAngleDeg) : failedSeamJson(m, s.pair, s.error);
-    j["index"] = k;
-    seams.push_back(std::move(j));
-  }
-  OrderedJson corners = OrderedJson::array();
-  for (const ModelCorner& c : report.corners) corners.push_back(cornerJson(m, c.report));
-  OrderedJson free = OrderedJson::array();
-  for (const FreeEdge& f : report.freeEdges) {
-    OrderedJson e{{"patch", patchName(m, f.edge.patch)}, {"edge", std::string(edgeName(f.edge.edge))}};
-    e["range"] = range(f.range);
-    e["partial"] = f.partial;
-    free.push_back(e);
-  }
-  OrderedJson degenerate = OrderedJson::array();
-  for (const DegenerateEdge& d : report.degenerateEdges)
-    degenerate.push_back({{"patch", patchName(m, d.edge.patch)},
-                          {"edge", std::string(edgeName(d.edge.edge))},
-                          {"point", point(d.point)}});
-  OrderedJson coincident = OrderedJson::array();
-  for (const CoincidentEdges& c : report.coincidentEdges) {
-    OrderedJson edges = OrderedJson::array();
-    for (const EdgeRef& e : c.edges)
-      edges.push_back({{"patch", patchName(m, e.patch)}, {"edge", std::string(edgeName(e.edge))}});
-    coincident.push_back({{"point", point(c.point)}, {"edges", edges}});
-  }
+namespace {
+
+/// The members of `seam check --json` of a patch model after "file" and "format" (modelCheckJson's keys).
+template <class Out>
+void modelCheckFields(Out& o, const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
+                      const std::optional<GeometricClass>& require, std::optional<double> pairing,
+                      double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
+  o.object("model", [&](auto& x) { x.field("patches", m.patches.size()); });
+  o.field("units", unitsJson(units));
+  o.field("tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg, distanceSource));
+  o.objects("seams", order.size(), [&](auto& x, size_t k) {
+    modelSeamFields(x, m, report.seams[order[k]], order[k], creaseAngleDeg);
+  });
+  o.objects("corners", report.corners.size(),
+            [&](auto& x, size_t k) { cornerFields(x, m, report.corners[k].report); });
+  o.objects("free_edges", report.freeEdges.size(), [&](auto& x, size_t k) {
+    const FreeEdge& f = report.freeEdges[k];
+    x.field("patch", patchName(m, f.edge.patch));
+    x.field("edge", edgeName(f.edge.edge));
+    x.field("range", f.range);
+    x.field("partial", f.partial);
+  });
+  o.objects("degenerate_edges", report.degenerateEdges.size(), [&](auto& x, size_t k) {
+    const DegenerateEdge& d = report.degenerateEdges[k];
+    x.field("patch", patchName(m, d.edge.patch));
+    x.field("edge", edgeName(d.edge.edge));
+    x.field("point", d.point);
+  });
+  o.objects("coincident_edges", report.coincidentEdges.size(), [&](auto& x, size_t k) {
+    const CoincidentEdges& c = report.coincidentEdges[k];
+    x.field("point", c.point);
+    x.objects("edges", c.edges.size(), [&](auto& y, size_t e) {
+      y.field("patch", patchName(m, c.edges[e].patch));
+      y.field("edge", edgeName(c.edges[e].edge));
+    });
+  });
   OrderedJson summary = summaryJson(report, require);
   addVerdictSummary(summary, m, report, creaseAngleDeg);
-  return OrderedJson{{"model", {{"patches", m.patches.size()}}},
-                     {"units", unitsJson(units)},
-                     {"tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg, distanceSource)},
-                     {"seams", seams},
-                     {"corners", corners},
-                     {"free_edges", free},
-                     {"degenerate_edges", degenerate},
-                     {"coincident_edges", coincident},
-                     {"summary", summary}};
+  o.field("summary", summary);
 }
 
-OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check) {
+/// withInputFile's "format": "json", "bpt", "step", "iges" or null.
+OrderedJson inputFormat(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   OrderedJson format = nullptr;
   if (ext == ".json" || ext == ".bpt") format = ext.substr(1);
   if (ext == ".step" || ext == ".stp") format = "step";
   if (ext == ".iges" || ext == ".igs") format = "iges";
-  OrderedJson out{{"file", file.string()}, {"format", format}};
+  return format;
+}
+
+}  // namespace
+
+OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
+                           const std::optional<GeometricClass>& require, std::optional<double> pairing,
+                           double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
+  OrderedJson j = OrderedJson::object();
+  DomObject o(j);
+  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource);
+  return j;
+}
+
+void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, const Model& m,
+                         const ModelCheckReport& report, const std::vector<size_t>& order,
+                         const std::optional<GeometricClass>& require, std::optional<double> pairing,
+                         double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
+  JsonTextWriter w(&out);
+  TextObject o(w);
+  w.beginObject();
+  o.field("file", file.string());
+  o.field("format", inputFormat(file));
+  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource);
+  w.endObject();
+  w.flush();
+  out << '\n';
+  out.flush();
+}
+
+OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check) {
+  OrderedJson out{{"file", file.string()}, {"format", inputFormat(file)}};
   for (const auto& [key, value] : check.items())
     if (key != "file") out[key] = value;
   return out;
@@ -307,9 +456,10 @@ OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size
   OrderedJson seams = OrderedJson::array();
   for (size_t k : order) {
     const occt::BRepSeam& s = r.seams[k];
-    OrderedJson j = seamJson(s.report, creaseAngleDeg);
-    j["a_edge"] = brepEdgeName(s.edge);  // the shared B-rep edge, the same on both faces
-    j["b_edge"] = brepEdgeName(s.edge);
+    OrderedJson j = OrderedJson::object();
+    DomObject o(j);
+    const std::string edge = brepEdgeName(s.edge);  // the shared B-rep edge, the same on both faces
+    seamFields(o, s.report, creaseAngleDeg, edge, edge);
     j["index"] = k;
     j["edge"] = s.edge;
     j["route"] = s.viaPatchEdges ? "patch edges (Bernstein form)" : "pcurves (sampled)";

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <new>
 
+#include "json_text.h"
 #include "seam/core/tolerance_presets.h"
 #include "seam/io/file.h"
 #include "seam/io/json.h"
@@ -98,58 +99,6 @@ bool validToleranceOptions(const ToleranceOverrides& overrides) {
   return true;
 }
 
-namespace {
-
-bool isScalar(const OrderedJson& v) { return !v.is_object() && !v.is_array(); }
-
-std::string scalarText(const OrderedJson& v) {
-  if (v.is_number_float() && !std::isfinite(v.get<double>())) return "null";
-  return v.dump(-1, ' ', false, OrderedJson::error_handler_t::replace);
-}
-
-void appendJson(std::string& out, const OrderedJson& v, int indent) {
-  const std::string pad(static_cast<size_t>(indent + 2), ' ');
-  if (v.is_object()) {
-    if (v.empty()) {
-      out += "{}";
-      return;
-    }
-    out += "{\n";
-    bool first = true;
-    for (const auto& [key, value] : v.items()) {
-      if (!first) out += ",\n";
-      first = false;
-      out += pad + OrderedJson(key).dump(-1, ' ', false, OrderedJson::error_handler_t::replace) + ": ";
-      appendJson(out, value, indent + 2);
-    }
-    out += '\n';
-    out.append(static_cast<size_t>(indent), ' ');
-    out += '}';
-  } else if (v.is_array()) {
-    if (std::all_of(v.begin(), v.end(), isScalar)) {
-      out += "[";
-      for (size_t k = 0; k < v.size(); ++k) {
-        if (k > 0) out += ", ";
-        out += scalarText(v[k]);
-      }
-      out += "]";
-      return;
-    }
-    out += "[\n";
-    for (size_t k = 0; k < v.size(); ++k) {
-      if (k > 0) out += ",\n";
-      out += pad;
-      appendJson(out, v[k], indent + 2);
-    }
-    out += '\n';
-    out.append(static_cast<size_t>(indent), ' ');
-    out += ']';
-  } else {
-    out += scalarText(v);
-  }
-}
-
-}  // namespace
 
 std::string modelFileHelp() {
 #ifdef SEAM_HAVE_OCCT
@@ -301,7 +250,7 @@ bool saveModel(const Model& model, const std::filesystem::path& file) {
 
 std::string jsonText(const OrderedJson& value) {
   std::string out;
-  appendJson(out, value, 0);
+  appendJsonText(out, value, 0);
   out += "\n";
   return out;
 }

@@ -464,8 +464,10 @@ int runCheck(const CheckOptions& o) {
   }
 
   if (o.json) {
-    printJson(withInputFile(o.file, modelCheckJson(*model, report, selectSeams(reportsOf(report), *sel), require,
-                                                   pairing, sel->creaseAngleDeg, units, resolved.distanceSource)));
+    // Streamed record by record (the DOM of a 10 000-patch check took ~300 MB and 3 s); the same bytes as
+    // jsonText(withInputFile(file, modelCheckJson(...))), which the Python module returns as a dict.
+    writeModelCheckJson(std::cout, o.file, *model, report, selectSeams(reportsOf(report), *sel), require, pairing,
+                        sel->creaseAngleDeg, units, resolved.distanceSource);
   } else {
     std::string out = fmt::format("{}: {}\n", o.file, unitLine(units, resolved, sel->creaseAngleDeg, pairing));
     out += seamTable(*model, report, *sel, units);
