@@ -350,22 +350,37 @@ py::object checkLoaded(const PyModel& m, const cli::FileCheckOptions& o) {
 }
 
 
-/// The tolerances of a repair on a loaded model as `seam heal/join/fill` resolve them for a unit-less model (the
-/// relative defaults); the dicts carry them in "units" and "tolerances" as the CLI's --json does.
-ResolvedTolerances repairTolerances(const PyModel& m) {
-  return resolveTolerances({}, ModelUnits{}, m.model.boundingBox().diagonal());
+/// The tolerances of a repair on a loaded model as `seam heal/join/fill MODEL.json [--units U] [--preset P]` resolve
+/// them: unit-less (relative defaults) unless units= gives the model's numbers a length unit (then absolute, 0.001 mm
+/// by default), preset= as --preset. The dicts carry them in "units" and "tolerances" as the CLI's --json does.
+struct RepairUnits {
+  ModelUnits units;
+  ResolvedTolerances tol;
+};
+RepairUnits repairTolerances(const PyModel& m, const std::optional<std::string>& units,
+                             const std::optional<std::string>& preset) {
+  ToleranceOverrides overrides;
+  applyUnitsAndPreset(overrides, units, preset);
+  RepairUnits r;
+  if (overrides.units) {
+    r.units.length = overrides.units;
+    r.units.source = UnitSource::kOption;
+  }
+  r.tol = resolveTolerances(overrides, r.units, m.model.boundingBox().diagonal());
+  return r;
 }
 
 /// The JSON text of a repair report with "units" and "tolerances" added (repair_units_json.h) as a Python dict.
-py::object repairDict(const std::string& json, const ResolvedTolerances& tol) {
+py::object repairDict(const std::string& json, const RepairUnits& ru) {
   cli::OrderedJson j = cli::OrderedJson::parse(json);
-  cli::addRepairUnits(j, ModelUnits{}, tol);
+  cli::addRepairUnits(j, ru.units, ru.tol);
   return toPython(j);
 }
 
 /// heal: the healed model and the dict of `seam heal --json` (without its "output").
 py::tuple heal(const PyModel& m, const std::string& continuity, const std::string& method,
-               std::optional<double> maxGap, std::optional<double> creaseAngle) {
+               std::optional<double> maxGap, std::optional<double> creaseAngle, const std::optional<std::string>& units,
+               const std::optional<std::string>& preset) {
   HealOptions ho;
   if (continuity == "G0") ho.continuity = GeometricClass::kG0;
   else if (continuity == "G1") ho.continuity = GeometricClass::kG1;
@@ -380,8 +395,8 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
     ho.maxAngleDeg = creaseAngle;
   }
   if (m.model.patches.empty()) throw py::value_error(m.source + ": the model has no patches: nothing to heal");
-  const ResolvedTolerances tol = repairTolerances(m);
-  ho.tolerances = tol.tolerances;
+  const RepairUnits tol = repairTolerances(m, units, preset);
+  ho.tolerances = tol.tol.tolerances;
   Result<HealResult> r = Status(ErrorCode::kIoError, "not healed");
   std::string json;
   {
@@ -488,7 +503,8 @@ double creaseAngleArg(std::optional<double> a) {
 py::tuple join(const PyModel& m, const std::string& movePatch, const std::string& moveEdge, const std::string& toPatch,
                const std::string& toEdge, const std::string& continuity, const std::string& method,
                std::optional<double> ell, bool average, std::optional<double> maxGap,
-               std::optional<double> maxDisplacement, std::optional<double> creaseAngle) {
+               std::optional<double> maxDisplacement, std::optional<double> creaseAngle,
+               const std::optional<std::string>& units, const std::optional<std::string>& preset) {
   JoinOptions jo;
   const Edge me = edgeArg("move_edge", moveEdge), te = edgeArg("to_edge", toEdge);
   jo.continuity = continuityArg(continuity);
@@ -501,8 +517,8 @@ py::tuple join(const PyModel& m, const std::string& movePatch, const std::string
   jo.maxGap = nonNegative("max_gap", maxGap);
   if (maxDisplacement) jo.maxDisplacementRel = *nonNegative("max_displacement", maxDisplacement);
   jo.creaseAngleDeg = creaseAngleArg(creaseAngle);
-  const ResolvedTolerances tol = repairTolerances(m);
-  jo.tolerances = tol.tolerances;
+  const RepairUnits tol = repairTolerances(m, units, preset);
+  jo.tolerances = tol.tol.tolerances;
   Result<JoinResult> r = Status(ErrorCode::kIoError, "not joined");
   std::string json;
   {
@@ -583,7 +599,8 @@ py::tuple corner(const PyModel& m, const std::optional<std::vector<std::vector<s
 py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& quad, bool hole,
                const std::vector<std::string>& around,
                const std::optional<std::pair<std::vector<std::string>, std::vector<std::string>>>& fillet, int degree,
-               const std::string& name) {
+               const std::string& name, const std::optional<std::string>& units,
+               const std::optional<std::string>& preset) {
   const int modes = (quad ? 1 : 0) + (hole ? 1 : 0) + (fillet ? 1 : 0);
   if (modes != 1) throw py::value_error("fill: give exactly one of quad=(A, B, C), hole=True, fillet=(strip1, strip2)");
   if (!around.empty() && !hole) throw py::value_error("fill: around= needs hole=True");
@@ -597,8 +614,8 @@ py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& 
   options.patch.degreeU = options.patch.degreeV = degree;
   options.patch.maxDegree = kMaxFillDegree;
   options.patch.kappaZero = degree == 6;
-  const ResolvedTolerances tol = repairTolerances(m);
-  options.tolerances = tol.tolerances;
+  const RepairUnits tol = repairTolerances(m, units, preset);
+  options.tolerances = tol.tol.tolerances;
   const std::string mode = quad ? "quad" : hole ? "hole" : "fillet";
   Status status = Status::ok();
   cli::OrderedJson json;
@@ -621,7 +638,7 @@ py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& 
       }
       if (status) {
         json = cli::fillJson(mode, *r, check ? &*check : nullptr, withNew, options.patch, std::nullopt);
-        cli::addRepairUnits(json, ModelUnits{}, tol);
+        cli::addRepairUnits(json, tol.units, tol.tol);
         if (r->surroundingG1) full = std::move(withNew);
       }
     }
@@ -761,11 +778,13 @@ PYBIND11_MODULE(_seam, mod) {
   mod.def("join", &join, py::arg("model"), py::arg("move_patch"), py::arg("move_edge"), py::arg("to_patch"),
           py::arg("to_edge"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
           py::arg("ell") = py::none(), py::arg("average") = false, py::arg("max_gap") = py::none(),
-          py::arg("max_displacement") = py::none(), py::arg("crease_angle") = py::none(),
+          py::arg("max_displacement") = py::none(), py::arg("crease_angle") = py::none(), py::arg("units") = py::none(),
+          py::arg("preset") = py::none(),
           "`seam join`: moves edge move_edge ('u0', 'u1', 'v0', 'v1') of move_patch onto edge to_edge of to_patch "
           "with the requested continuity (G0, G1, G2), never making the seam worse: (joined Model, the dict of "
           "`seam join --json`). ValueError for bad input (unknown patch, edges that do not meet, a gap above max_gap, "
-          "a method that does not apply).");
+          "a method that does not apply). units= and preset= as --units and --preset (the classification "
+          "tolerances; the dict's \"units\" and \"tolerances\").");
   mod.def("corner", &corner, py::arg("model"), py::kw_only(), py::arg("three") = py::none(),
           py::arg("four") = py::none(), py::arg("method") = "auto", py::arg("fallback") = "bezier-strip",
           py::arg("max_gap") = py::none(),
@@ -773,7 +792,7 @@ PYBIND11_MODULE(_seam, mod) {
           "...): (Model, the dict of `seam corner --json`)");
   mod.def("fill", &fill, py::arg("model"), py::kw_only(), py::arg("quad") = py::none(), py::arg("hole") = false,
           py::arg("around") = std::vector<std::string>{}, py::arg("fillet") = py::none(), py::arg("degree") = 5,
-          py::arg("name") = "",
+          py::arg("name") = "", py::arg("units") = py::none(), py::arg("preset") = py::none(),
           "`seam fill` (exact G1 Bezier patches, Johansson §4): quad=(corner, b, c) the 4th patch at a vertex, "
           "hole=True [around=names] four-sided holes, fillet=(strip1, strip2): (the model with the new patches "
           "appended, or None when a hole's surrounding is not G1 and nothing was built, the dict of "
@@ -788,8 +807,10 @@ PYBIND11_MODULE(_seam, mod) {
           py::arg("file"), py::kw_only(), py::arg("patch") = py::none(), py::arg("curve") = py::none(),
           py::arg("ell") = regularity::RegularityOptions{}.maxEll, "`seam regularity FILE --json` of a model file");
   mod.def("heal", &heal, py::arg("model"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
-          py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(),
-          "Makes every seam G1 (or G0) where it can, never worse: (healed Model, the dict of `seam heal --json`)");
+          py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(), py::arg("units") = py::none(),
+          py::arg("preset") = py::none(),
+          "Makes every seam G1 (or G0) where it can, never worse: (healed Model, the dict of `seam heal --json`); "
+          "units= and preset= as --units and --preset");
   mod.def("report", &writeReport, py::arg("model"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
           "Writes the self-contained HTML report of `seam report` (patch models) atomically; returns the path");
   mod.def("report",

@@ -317,3 +317,52 @@ def test_report_of_a_file(examples, tmp_path):
         seam.report(path, tmp_path / "u.html", units="mm")
     with pytest.raises(OSError, match="missing.json"):
         seam.report(tmp_path / "missing.json", tmp_path / "m.html")
+
+
+@pytest.mark.parametrize("units,preset", [("in", None), (None, "rhino"), ("mm", "catia")])
+def test_repairs_take_units_and_preset_as_the_cli(examples, run_cli, tmp_path, units, preset):
+    """units= and preset= on heal, join and fill mean the CLI's --units and --preset: the same "units" and
+    "tolerances" (and the same rest of the dict) as `seam heal/join/fill --json` with those flags."""
+    flags, kwargs = [], {}
+    if units:
+        flags += ["--units", units]
+        kwargs["units"] = units
+    if preset:
+        flags += ["--preset", preset]
+        kwargs["preset"] = preset
+
+    kinked = tmp_path / "kinked.json"
+    seam.save(seam.loads(json.dumps(kinked_two_patches(examples)), "kinked"), kinked)
+    _, info = seam.join(seam.load(kinked), "B", "u0", "A", "u1", **kwargs)
+    code, expected, err = run_cli("join", str(kinked), "--move", "B:u0", "--to", "A:u1", "-o",
+                                  str(tmp_path / "j.json"), "--json", *flags)
+    assert code in (0, 1), err
+    expected.pop("output")
+    assert info == expected
+    assert info["units"] == expected["units"] and info["tolerances"] == expected["tolerances"]
+    if units:
+        assert info["units"]["length"] == units
+        assert info["tolerances"]["distance_source"] != "relative default"
+
+    fan = os.path.join(examples, "models", "network_fan5.json")
+    _, info = seam.heal(seam.load(fan), **kwargs)
+    code, expected, err = run_cli("heal", fan, "-o", str(tmp_path / "h.json"), "--json", *flags)
+    assert code in (0, 1), err
+    expected.pop("output")
+    assert info == expected
+
+    quad = os.path.join(examples, "models", "fill_quad.json")
+    _, info = seam.fill(seam.load(quad), quad=("r1", "r2", "r4"), **kwargs)
+    code, expected, err = run_cli("fill", quad, "--quad", "r1", "r2", "r4", "-o", str(tmp_path / "f.json"), "--json",
+                                  *flags)
+    assert code in (0, 1), err
+    info["output"] = expected["output"]
+    assert info == expected
+
+
+def test_repairs_refuse_bad_units_and_preset(examples):
+    m = seam.loads(json.dumps(kinked_two_patches(examples)), "kinked")
+    with pytest.raises(ValueError, match="units"):
+        seam.join(m, "B", "u0", "A", "u1", units="furlong")
+    with pytest.raises(ValueError, match="preset"):
+        seam.heal(m, preset="solidworks")
