@@ -2,7 +2,7 @@
 // C2 bicubic B-spline surface, with some seams perturbed (a gap or a kink).
 //
 //   BM_CheckModel/n/threads  full certified check of n x n patches (target for 100 x 100: < 1 s on one core)
-//   BM_CheckModelPairingAndCorners/100   the same without the seam analyses (pairing + vertices)
+//   BM_CheckModelPairingAndCorners/100/threads   the same without the seam analyses (pairing + vertices)
 //   BM_AnalyzeSeam           one interior seam (per-seam cost)
 //   BM_PairEdges/n           pairing alone for n x n patches, n = 32 (1k), 100 (10k), 200 (40k): O(N log N)
 #include <benchmark/benchmark.h>
@@ -62,13 +62,15 @@ void BM_CheckModelPairingAndCorners(benchmark::State& state) {
   const Model& m = cachedModel(static_cast<int>(state.range(0)));
   seam::ModelCheckOptions o;
   o.analyzeSeams = false;
+  o.threads = static_cast<int>(state.range(1));
   for (auto _ : state) {
     auto r = seam::checkModel(m, o);
     benchmark::DoNotOptimize(r);
   }
   state.counters["patches"] = static_cast<double>(m.patches.size());
 }
-BENCHMARK(BM_CheckModelPairingAndCorners)->Arg(100)->Unit(benchmark::kMillisecond);
+// Args: n, threads (1 = one core, 0 = all).
+BENCHMARK(BM_CheckModelPairingAndCorners)->Args({100, 1})->Args({100, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_AnalyzeSeam(benchmark::State& state) {
   const Model& m = cachedModel(100);

@@ -2,6 +2,7 @@
 // spatial index against a brute-force N^2 search written here, T-junctions, free and collapsed edges,
 // vertices, and the Newell tea set end to end (expected counts from shared/data/README.md, which were found
 // independently by comparing control polygons and sampling normals in numpy).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -543,6 +544,85 @@ TEST(ModelCheckCoincident, TwoCoincidentEdgesAreAnOrdinarySeam) {
   bool found = false;
   for (const CoincidentEdges& c : r->coincidentEdges) found = found || c.edges == shared;
   EXPECT_TRUE(found);
+}
+
+/// Every field of a report that the pairing, the corners and the seam analyses produce, as text (doubles in their
+/// shortest exact form), so that two reports compare equal only when they are identical, in the same order.
+std::string reportText(const ModelCheckReport& r) {
+  std::string out = fmt::format("tau {} seams {} corners {}\n", r.pairingTolerance, r.seams.size(), r.corners.size());
+  for (const ModelSeam& s : r.seams) {
+    const EdgePair& p = s.pair;
+    out += fmt::format("P {} {} {} {} [{} {}] [{} {}] {}{}{} {} {}", p.a.patch, static_cast<int>(p.a.edge), p.b.patch,
+                       static_cast<int>(p.b.edge), p.overlapA.lo, p.overlapA.hi, p.overlapB.lo, p.overlapB.hi, p.fullA,
+                       p.fullB, p.reversed, p.distance, p.identicalControlPolygons);
+    if (s.report)
+      out += fmt::format(" {} {} {} {} {} {} {}", static_cast<int>(s.report->geometric),
+                         static_cast<int>(s.report->parametric), s.report->g0Max, s.report->g1MaxDeg, s.report->g2Max,
+                         s.report->g2RelMax, s.report->certified);
+    out += "\n";
+  }
+  for (const ModelCorner& c : r.corners) {
+    const CornerReport& cr = c.report;
+    out += fmt::format("C {} {} {} {} {} {} {}", cr.point.x(), cr.point.y(), cr.point.z(), cr.cornerGap, cr.valence,
+                       cr.closed, cr.degenerate);
+    for (const PatchCorner& pc : cr.corners) out += fmt::format(" {}/{}{}", pc.patch, pc.uMax, pc.vMax);
+    for (int o : cr.orientation) out += fmt::format(" {}", o);
+    if (cr.normalSpreadDeg) out += fmt::format(" n{}", *cr.normalSpreadDeg);
+    if (cr.fourPatch) out += fmt::format(" g1 {} g2 {}", cr.fourPatch->g1Residual, cr.fourPatch->g2Residual.value_or(-1.0));
+    out += "\n";
+  }
+  for (const FreeEdge& f : r.freeEdges)
+    out += fmt::format("F {} {} [{} {}] {}\n", f.edge.patch, static_cast<int>(f.edge.edge), f.range.lo, f.range.hi, f.partial);
+  for (const DegenerateEdge& d : r.degenerateEdges)
+    out += fmt::format("D {} {}\n", d.edge.patch, static_cast<int>(d.edge.edge));
+  for (const CoincidentEdges& c : r.coincidentEdges) {
+    out += "K";
+    for (const EdgeRef& e : c.edges) out += fmt::format(" {}/{}", e.patch, static_cast<int>(e.edge));
+    out += "\n";
+  }
+  const ModelCheckSummary& S = r.summary;
+  out += fmt::format("S {} {} {} {} {} {} {} {} {} {}\n", S.seams, S.corners, S.fourValentCorners, S.certifiedSeams,
+                     S.g0Max, S.g1MaxDeg, S.g2Max, S.g0Seam, S.g1Seam, S.g2Seam);
+  return out;
+}
+
+TEST(ModelCheckThreads, OneAndTwoThreadsGiveIdenticalReports) {
+  // A random model large enough for every parallel stage (edges, candidate pairs, sampled overlaps, vertices, seams)
+  // to be split between threads: a 12 x 12 grid in random storage orientations with a split column (T-junctions, the
+  // sampled overlap test), a lifted patch (gapped seams), kinked patches, and three copies of one patch (coincident
+  // edges). The report with two threads must equal the serial one field for field, in the same order.
+  std::mt19937_64 rng(20261126);
+  Model m = gridModel(12, 12, 4, 30, 1e-3, rng);
+  std::uniform_real_distribution<double> jitter(-2e-3, 2e-3);
+  for (int k : {17, 58, 99}) {
+    BSplineSurface& s = m.patches[static_cast<size_t>(k)].surface;
+    Matrix pts = s.points();
+    for (Eigen::Index i = 0; i < pts.rows(); ++i) pts(i, 2) += jitter(rng);
+    s = BSplineSurface(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(), pts);
+  }
+  for (int copy = 0; copy < 2; ++copy) {
+    Patch p = m.patches[7];
+    p.name += "_copy" + std::to_string(copy);
+    m.patches.push_back(std::move(p));
+  }
+  ModelCheckOptions serial;
+  serial.threads = 1;
+  ModelCheckOptions two = serial;
+  two.threads = 2;
+  const Result<ModelCheckReport> a = checkModel(m, serial);
+  const Result<ModelCheckReport> b = checkModel(m, two);
+  ASSERT_TRUE(a.isOk()) << a.status().message();
+  ASSERT_TRUE(b.isOk()) << b.status().message();
+  EXPECT_GT(a->seams.size(), 250u);
+  EXPECT_GT(a->corners.size(), 100u);
+  EXPECT_FALSE(a->coincidentEdges.empty());
+  EXPECT_GT(a->summary.g0Max, 5e-4);  // the lifted patch's gaps are in it
+  EXPECT_EQ(reportText(*a), reportText(*b));
+  // The pairing alone, too.
+  const Result<EdgePairing> pa = pairEdges(m, serial), pb = pairEdges(m, two);
+  ASSERT_TRUE(pa.isOk() && pb.isOk());
+  ASSERT_EQ(pa->pairs.size(), a->seams.size());
+  EXPECT_EQ(pairSet(pa->pairs), pairSet(pb->pairs));
 }
 
 }  // namespace

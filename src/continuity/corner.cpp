@@ -304,7 +304,7 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
     jets[static_cast<size_t>(i)] = cornerJet(s, c);
     const Jet& j = jets[static_cast<size_t>(i)];
     report.point += j.p;
-    scale = std::max(scale, controlBox(s).diagonal());
+    if (!options.lengthScale) scale = std::max(scale, controlBox(s).diagonal());  // only for the default below
     const Vec3 cr = j.u.cross(j.v);
     const double m = std::max(j.u.norm(), j.v.norm());
     if (!(cr.norm() > kDegenerateNormalRel * m * m)) {

@@ -6,12 +6,15 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
-#include <map>
 #include <numeric>
+#include <span>
 #include <tuple>
+#include <utility>
 
 #include "continuity/model_check_internal.h"
 
@@ -123,6 +126,96 @@ constexpr double kMaxCornerCells = 1e12;
 /// pair's distance) of its end covers that end.
 constexpr double kParamRelSlack = 1e-9;
 
+/// Runs body(k) for k in [0, n): serially on the calling thread when threads == 1 (or n is small), else in a TBB arena
+/// of `threads` threads (0 = all). Every body writes only its own slot, so the result does not depend on the threads.
+template <class Body>
+void forEachIndex(size_t n, int threads, const Body& body) {
+  constexpr size_t kMinParallel = 64;  // below this, a task arena costs more than it saves
+  if (threads == 1 || n < kMinParallel) {
+    for (size_t k = 0; k < n; ++k) body(k);
+    return;
+  }
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k) body(k);
+    });
+  });
+}
+
+/// Open-addressing hash index from 64-bit keys to a range [first, last) of a sorted array (the cells of the spatial
+/// grids): O(1) look-ups where a binary search over all keys cost ~log2(4 N) comparisons per neighbour cell.
+class RangeIndex {
+ public:
+  explicit RangeIndex(size_t count) {
+    size_t cap = 16;
+    while (cap < 2 * count) cap *= 2;
+    slots_.assign(cap, Slot{});
+    mask_ = cap - 1;
+  }
+  void insert(std::uint64_t key, size_t first, size_t last) {
+    size_t h = hash(key);
+    while (slots_[h].last != 0) h = (h + 1) & mask_;
+    slots_[h] = {key, first, last};
+  }
+  /// The range of `key`, or an empty one.
+  [[nodiscard]] std::pair<size_t, size_t> find(std::uint64_t key) const {
+    for (size_t h = hash(key);; h = (h + 1) & mask_) {
+      const Slot& s = slots_[h];
+      if (s.last == 0) return {0, 0};
+      if (s.key == key) return {s.first, s.last};
+    }
+  }
+
+ private:
+  struct Slot {
+    std::uint64_t key = 0;
+    size_t first = 0, last = 0;  ///< last == 0: empty (a stored range is never empty)
+  };
+  [[nodiscard]] size_t hash(std::uint64_t key) const {
+    key ^= key >> 33;
+    key *= 0xff51afd7ed558ccdULL;  // MurmurHash3's 64-bit finaliser
+    key ^= key >> 33;
+    return static_cast<size_t>(key) & mask_;
+  }
+  std::vector<Slot> slots_;
+  size_t mask_ = 0;
+};
+
+/// Stable sort of (key, index) pairs by key alone, least significant 16 bits first (`bits`: how many low bits of the
+/// keys are used; a pass whose digit is the same for every entry is skipped): linear time where std::sort of the
+/// pairs was a third of the candidate search. Entries made in increasing index order come out ordered by (key, index).
+void radixSortByKey(std::vector<std::pair<std::uint64_t, int>>& v, int bits) {
+  constexpr int kDigitBits = 16;
+  constexpr size_t kBuckets = size_t{1} << kDigitBits;
+  if (v.size() < 2) return;
+  std::vector<std::pair<std::uint64_t, int>> buffer(v.size());
+  std::vector<size_t> count(kBuckets);
+  for (int shift = 0; shift < bits; shift += kDigitBits) {
+    std::fill(count.begin(), count.end(), size_t{0});
+    for (const auto& k : v) ++count[(k.first >> shift) & (kBuckets - 1)];
+    if (count[(v.front().first >> shift) & (kBuckets - 1)] == v.size()) continue;
+    size_t sum = 0;
+    for (size_t& c : count) sum += std::exchange(c, sum);
+    for (const auto& k : v) buffer[count[(k.first >> shift) & (kBuckets - 1)]++] = k;
+    v.swap(buffer);
+  }
+}
+
+/// A 64-bit hash of doubles by their bits (-0 taken as +0, so that values that compare equal hash equally).
+std::uint64_t hashDoubles(std::span<const double> x) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (const double v : x) {
+    std::uint64_t bits = 0;
+    const double w = v + 0.0;  // -0.0 + 0.0 = +0.0
+    std::memcpy(&bits, &w, sizeof bits);
+    h ^= bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 32;
+  }
+  return h;
+}
+
 struct EdgeInfo {
   EdgeRef ref;
   BSplineCurve curve;
@@ -231,35 +324,47 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
     return std::nullopt;
   const std::vector<double>& ka = a.unitKnots;
   const std::vector<double>& kb = b.unitKnots;
+  const size_t nk = ka.size();
+  if (kb.size() != nk) return std::nullopt;
   const int n = ca.numPoints();
-  std::optional<EdgePair> best;
-  for (bool reversed : {false, true}) {
+  const Matrix& pa = ca.points();
+  const Matrix& pb = cb.points();
+  const bool rational = ca.isRational();
+  // The best orientation so far: its distance, or none.
+  bool found = false, bestReversed = false;
+  double bestD = 0.0;
+  for (const bool reversed : {false, true}) {
     bool knotsMatch = true;
-    for (size_t i = 0; i < ka.size() && knotsMatch; ++i) {
-      const double other = reversed ? 1.0 - kb[ka.size() - 1 - i] : kb[i];
+    for (size_t i = 0; i < nk && knotsMatch; ++i) {
+      const double other = reversed ? 1.0 - kb[nk - 1 - i] : kb[i];
       knotsMatch = std::abs(ka[i] - other) <= kKnotRelTol;
     }
     if (!knotsMatch) continue;
+    // Stops at the first control point that rules this orientation out (too far, or no closer than the other one).
     double d = 0.0;
-    bool weightsMatch = true;
-    for (int i = 0; i < n; ++i) {
+    bool ruledOut = false;
+    for (int i = 0; i < n && !ruledOut; ++i) {
       const int j = reversed ? n - 1 - i : i;
-      d = std::max(d, (ca.points().row(i) - cb.points().row(j)).head<3>().norm());
-      if (ca.isRational())
-        weightsMatch = weightsMatch && std::abs(ca.weights()[i] - cb.weights()[j]) <= kRoundoff * std::abs(ca.weights()[i]);
+      d = std::max(d, (pa.row(i) - pb.row(j)).head<3>().norm());
+      if (rational && !(std::abs(ca.weights()[i] - cb.weights()[j]) <= kRoundoff * std::abs(ca.weights()[i])))
+        ruledOut = true;
+      ruledOut = ruledOut || d > tol || (found && d >= bestD);
     }
-    if (!weightsMatch || d > tol || (best && best->distance <= d)) continue;
-    EdgePair p;
-    p.a = a.ref;
-    p.b = b.ref;
-    p.overlapA = a.domain;
-    p.overlapB = b.domain;
-    p.reversed = reversed;
-    p.distance = d;
-    p.identicalControlPolygons = true;
-    best = p;
+    if (ruledOut) continue;
+    found = true;
+    bestReversed = reversed;
+    bestD = d;
   }
-  return best;
+  if (!found) return std::nullopt;
+  EdgePair p;
+  p.a = a.ref;
+  p.b = b.ref;
+  p.overlapA = a.domain;
+  p.overlapB = b.domain;
+  p.reversed = bestReversed;
+  p.distance = bestD;
+  p.identicalControlPolygons = true;
+  return p;
 }
 
 /// The longest run of consecutive samples within `tol` of the other edge; returns (first, last) indices.
@@ -298,17 +403,17 @@ bool mayOverlap(const EdgeInfo& a, const EdgeInfo& b, double tol) {
          check(b.end, b.endDir, a);
 }
 
-/// General overlap test by sampling both edges and projecting onto the other. A candidate shared part is built from
-/// the longest run of samples of A within `tol` of B and the longest such run of B (or from one of them alone), and
+/// General overlap test by sampling both edges and projecting onto the other (the samples are filled by
+/// ensureSamples before: the test only reads the edges, so that candidates are tested in parallel). A candidate
+/// shared part is built from the longest run of samples of A within `tol` of B and the longest such run of B (or from one of them alone), and
 /// kept only when it verifies: every sample of A inside it lies within `tol` of B and every sample of B inside its
 /// image lies within `tol` of A. (Without the check, two curves that meet only at both of their ends, like the
 /// two halves of a closed loop, would combine their two end runs into a false full overlap.)
 /// With `exact` false, every projection is onto the other edge's dense polyline (cheap; used to reject most
 /// candidates); with `exact` true, onto the curve itself (Newton).
-std::optional<EdgePair> sampledOverlap(EdgeInfo& a, EdgeInfo& b, double tol, const ModelCheckOptions& options,
-                                       bool exact) {
-  ensureSamples(a);
-  ensureSamples(b);
+std::optional<EdgePair> sampledOverlap(const EdgeInfo& a, const EdgeInfo& b, double tol,
+                                       const ModelCheckOptions& options, bool exact) {
+  assert(!a.sampleT.empty() && !b.sampleT.empty());  // ensureSamples(a), ensureSamples(b) before
   auto project = [exact](const EdgeInfo& onto, const Vec3& p) {
     return exact ? detail::projectOntoCurve(onto.curve, p) : polylineProjection(onto, p);
   };
@@ -495,7 +600,8 @@ bool finiteBox(const BoundingBox& b) { return b.min.allFinite() && b.max.allFini
 /// Candidate pairs from a uniform grid over the inflated edge boxes: sorted (cell, edge) keys, then every two edges
 /// that share a cell. Edge i's box is inflated by inflate[i]; two edges within inflate[i] + inflate[j] of each other
 /// always share a cell. Edges covering too many cells are compared with every edge by box.
-std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf) {
+std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf,
+                                                int threads) {
   std::vector<int> active;
   std::vector<double> sizes;
   for (int i = 0; i < static_cast<int>(edges.size()); ++i) {
@@ -560,46 +666,71 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
       for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
         for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) keys.emplace_back(code(x, y, z), i);
   }
-  std::sort(keys.begin(), keys.end());
+  // Sorted by (cell, edge): the keys were made in increasing edge order, so a stable sort by cell alone does it.
+  radixSortByKey(keys, 3 * kCellBits);
+  // Each occupied cell's run of keys, found by a hash of its code.
+  size_t cells = 0;
+  for (size_t k = 0; k < keys.size(); ++k) cells += (k == 0 || keys[k].first != keys[k - 1].first) ? 1 : 0;
+  RangeIndex cellIndex(cells);
+  for (size_t k = 0; k < keys.size();) {
+    size_t end = k + 1;
+    while (end < keys.size() && keys[end].first == keys[k].first) ++end;
+    cellIndex.insert(keys[k].first, k, end);
+    k = end;
+  }
   // Pairs (i, j), i < j, in increasing order without a global sort: each edge gathers the higher-numbered edges of
-  // its own cells (plus the oversize ones), and only that short list is sorted.
+  // its own cells (plus the oversize ones), and only that short list is sorted. The active edges are cut into a fixed
+  // number of chunks (independent of the thread count) whose pair lists are concatenated in order.
   std::vector<char> isOversize(edges.size(), 0);
   for (int i : oversize) isOversize[static_cast<size_t>(i)] = 1;
-  std::vector<int> partners;
-  for (int i : active) {
-    partners.clear();
-    if (isOversize[static_cast<size_t>(i)]) {
-      for (int j : active)
-        if (j > i) partners.push_back(j);
-    } else {
-      const auto& [lo, hi] = cellRange[static_cast<size_t>(i)];
-      for (std::uint64_t x = lo[0]; x <= hi[0]; ++x)
-        for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
-          for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) {
-            const std::uint64_t c = code(x, y, z);
-            auto it = std::upper_bound(keys.begin(), keys.end(), std::pair{c, i});  // this cell's edges above i
-            for (; it != keys.end() && it->first == c; ++it) partners.push_back(it->second);
-          }
-      for (int j : oversize)
-        if (j > i) partners.push_back(j);
-    }
-    std::sort(partners.begin(), partners.end());
-    partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
-    for (int j : partners) out.emplace_back(i, j);
-  }
-  // Exact box test (both inflations).
-  std::erase_if(out, [&](const std::pair<int, int>& p) {
-    const BoundingBox& a = edges[static_cast<size_t>(p.first)].box;
-    const BoundingBox& b = edges[static_cast<size_t>(p.second)].box;
-    const double r = inflateOf[static_cast<size_t>(p.first)] + inflateOf[static_cast<size_t>(p.second)];
+  auto boxesApart = [&](int i, int j) {  // the exact box test (both inflations)
+    const BoundingBox& a = edges[static_cast<size_t>(i)].box;
+    const BoundingBox& b = edges[static_cast<size_t>(j)].box;
+    const double r = inflateOf[static_cast<size_t>(i)] + inflateOf[static_cast<size_t>(j)];
     return ((a.min.array() - r) > b.max.array()).any() || ((b.min.array() - r) > a.max.array()).any();
+  };
+  constexpr size_t kChunks = 64;
+  std::vector<std::vector<std::pair<int, int>>> chunkPairs(kChunks);
+  forEachIndex(kChunks, threads, [&](size_t chunk) {
+    const size_t first = active.size() * chunk / kChunks, last = active.size() * (chunk + 1) / kChunks;
+    std::vector<std::pair<int, int>>& local = chunkPairs[chunk];
+    std::vector<int> partners;
+    for (size_t a = first; a < last; ++a) {
+      const int i = active[a];
+      partners.clear();
+      if (isOversize[static_cast<size_t>(i)]) {
+        for (int j : active)
+          if (j > i) partners.push_back(j);
+      } else {
+        const auto& [lo, hi] = cellRange[static_cast<size_t>(i)];
+        for (std::uint64_t x = lo[0]; x <= hi[0]; ++x)
+          for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
+            for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) {
+              const std::uint64_t c = code(x, y, z);
+              const auto [cellFirst, cellLast] = cellIndex.find(c);
+              // This cell's edges above i.
+              auto it = std::upper_bound(keys.begin() + cellFirst, keys.begin() + cellLast, std::pair{c, i});
+              for (; it != keys.begin() + cellLast; ++it) partners.push_back(it->second);
+            }
+        for (int j : oversize)
+          if (j > i) partners.push_back(j);
+      }
+      std::sort(partners.begin(), partners.end());
+      partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
+      for (int j : partners)
+        if (!boxesApart(i, j)) local.emplace_back(i, j);
+    }
   });
+  size_t total = 0;
+  for (const auto& c : chunkPairs) total += c.size();
+  out.reserve(total);
+  for (const auto& c : chunkPairs) out.insert(out.end(), c.begin(), c.end());
   return out;
 }
 
 /// Groups of three or more coincident edges (same end points, either way round, and mid point within `tol`), found
 /// by sorting quantised keys: O(N log N). All but the first two edges of each group are marked coincidentExtra.
-std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, double tol) {
+std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, double tol, int threads) {
   const double q = tol > 0.0 ? tol : std::numeric_limits<double>::min();
   // Cell index of a coordinate (the coordinate itself when the index would not be an exact integer): identical
   // points always get identical keys; points within tol of each other usually do (the rest pair the usual way).
@@ -611,11 +742,13 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
     std::array<double, 9> k;
     int edge;
   };
-  std::vector<Key> keys;
+  // Keys and hashes per edge in parallel (each edge its own slot), then the non-collapsed ones in edge order.
   std::vector<Vec3> mids(edges.size(), Vec3::Zero());
-  for (size_t i = 0; i < edges.size(); ++i) {
+  std::vector<Key> all(edges.size());
+  std::vector<std::uint64_t> hashes(edges.size());
+  forEachIndex(edges.size(), threads, [&](size_t i) {
     const EdgeInfo& e = edges[i];
-    if (e.collapsed) continue;
+    if (e.collapsed) return;
     mids[i] = e.curve.point3(0.5 * (e.domain.lo + e.domain.hi));
     Vec3 a = e.start, b = e.end;
     if (std::lexicographical_compare(b.data(), b.data() + 3, a.data(), a.data() + 3)) std::swap(a, b);
@@ -625,10 +758,40 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
       key.k[static_cast<size_t>(3 + c)] = quant(b[c]);
       key.k[static_cast<size_t>(6 + c)] = quant(mids[i][c]);
     }
-    keys.push_back(key);
+    all[i] = key;
+    hashes[i] = hashDoubles(key.k);
+  });
+  std::vector<Key> keys;
+  std::vector<std::pair<std::uint64_t, int>> byHash;
+  keys.reserve(edges.size());
+  byHash.reserve(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    if (edges[i].collapsed) continue;
+    byHash.emplace_back(hashes[i], static_cast<int>(keys.size()));
+    keys.push_back(all[i]);
   }
-  std::sort(keys.begin(), keys.end(),
-            [](const Key& x, const Key& y) { return std::tie(x.k, x.edge) < std::tie(y.k, y.edge); });
+  // Ordered so that equal keys are contiguous, in increasing edge order: by a hash of the key (a stable linear sort of
+  // keys made in edge order), runs of one hash holding different keys (collisions) then stably by the key itself.
+  {
+    radixSortByKey(byHash, 64);
+    std::vector<Key> sorted;
+    sorted.reserve(keys.size());
+    for (size_t r = 0; r < byHash.size();) {
+      size_t end = r + 1;
+      while (end < byHash.size() && byHash[end].first == byHash[r].first) ++end;
+      const size_t first = sorted.size();
+      bool mixed = false;
+      for (size_t m = r; m < end; ++m) {
+        sorted.push_back(keys[static_cast<size_t>(byHash[m].second)]);
+        mixed = mixed || !(sorted.back().k == sorted[first].k);
+      }
+      if (mixed)
+        std::stable_sort(sorted.begin() + static_cast<std::ptrdiff_t>(first), sorted.end(),
+                         [](const Key& x, const Key& y) { return x.k < y.k; });
+      r = end;
+    }
+    keys.swap(sorted);
+  }
   std::vector<CoincidentEdges> out;
   for (size_t g = 0; g < keys.size();) {
     size_t end = g + 1;
@@ -665,20 +828,24 @@ struct Pairing {
   std::vector<std::vector<Interval>> claimed;  // per edge
 };
 
-Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const ModelCheckOptions& options) {
+/// `diagonal`: the model's bounding-box diagonal (computed once by the caller).
+Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances& tol,
+                           const ModelCheckOptions& options) {
   Pairing P;
-  const double diagonal = model.boundingBox().diagonal();
   const double tau = std::max(tol.distance, options.pairingRelTol * (std::isfinite(diagonal) ? diagonal : 0.0));
   P.result.pairingTolerance = tau;
-  P.edges.reserve(model.patches.size() * 4);
-  for (int i = 0; i < static_cast<int>(model.patches.size()); ++i) {
-    const Patch& patch = model.patches[static_cast<size_t>(i)];
+  for (const Patch& patch : model.patches)
     if (patch.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", patch.name));
-    for (Edge e : kAllEdges) P.edges.push_back(makeEdge(patch, i, e, tol.distance));
-    const size_t base = P.edges.size() - 4;  // kAllEdges order: U0, U1, V0, V1
+  // Edge data per patch, in parallel (each patch fills its own four slots: index 4 * patch + edge, kAllEdges order
+  // U0, U1, V0, V1).
+  P.edges.resize(model.patches.size() * 4);
+  forEachIndex(model.patches.size(), options.threads, [&](size_t i) {
+    const Patch& patch = model.patches[i];
+    const size_t base = 4 * i;
+    for (size_t k = 0; k < 4; ++k) P.edges[base + k] = makeEdge(patch, static_cast<int>(i), kAllEdges[k], tol.distance);
     setWidths(P.edges[base], P.edges[base + 1]);
     setWidths(P.edges[base + 2], P.edges[base + 3]);
-  }
+  });
   // Edges whose points overflow doubles (a weight near 1e308, coordinates near +-1e308) cannot be measured: refused
   // here, before they reach the spatial hash or the seam analysis.
   for (const EdgeInfo& e : P.edges)
@@ -690,21 +857,81 @@ Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const Mode
                                       model.patches[static_cast<size_t>(e.ref.patch)].name, edgeName(e.ref.edge)));
   for (const EdgeInfo& e : P.edges)
     if (e.collapsed) P.result.degenerateEdges.push_back({e.ref, e.start});
-  P.result.coincidentEdges = markCoincidentEdges(P.edges, tol.distance);
+  P.result.coincidentEdges = markCoincidentEdges(P.edges, tol.distance, options.threads);
 
-  std::vector<EdgePair> accepted;
-  std::vector<EdgePair> candidates;
   // A pair of different patches is kept only with a gap below min(tau, maxGapToWidth x both widths), a pair within one
   // patch only when exact: inflating each box by half of its own bound finds every such pair.
   std::vector<double> inflate(P.edges.size());
   for (size_t k = 0; k < P.edges.size(); ++k)
     inflate[k] = 0.5 * std::min(tau, std::max(tol.distance, options.maxGapToWidth * P.edges[k].width));
-  for (const auto& [i, j] : candidatePairs(P.edges, inflate)) {
-    EdgeInfo& a = P.edges[static_cast<size_t>(i)];
-    EdgeInfo& b = P.edges[static_cast<size_t>(j)];
+  const std::vector<std::pair<int, int>> pairs = candidatePairs(P.edges, inflate, options.threads);
+  // Gapped pairs must have a gap below maxGapToWidth x the patch widths, and a patch meets itself only exactly: the
+  // sampled test never needs a larger tolerance than that.
+  auto tauPairOf = [&](const EdgeInfo& a, const EdgeInfo& b) {
+    return a.ref.patch == b.ref.patch
+               ? tol.distance
+               : std::min(tau, std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width)));
+  };
+  // The gap rules every pair must meet (after the identical-polygon or the sampled test).
+  auto keepPair = [&](const EdgePair& p, const EdgeInfo& a, const EdgeInfo& b) {
+    if (p.distance <= tol.distance) return true;
+    if (a.ref.patch == b.ref.patch) return false;  // a patch meets itself only exactly (closed surfaces)
+    if (p.distance > options.maxGapToWidth * std::min(a.width, b.width)) return false;
+    return plausibleGappedSeam(p, a, b);
+  };
+  // Stage 1 (parallel, read-only): identical control polygons (within tau, then the gap rules: small patches whose
+  // polygons all lie within tau of each other stop here), or else the cheap necessary condition of the sampled test.
+  enum class Stage : char { kRejected, kIdentical, kSampled };
+  std::vector<Stage> stage(pairs.size(), Stage::kRejected);
+  forEachIndex(pairs.size(), options.threads, [&](size_t k) {
+    const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
+    const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
+    // Shortcut with the same outcome: when the end control points rule out every identical-polygon pair that the gap
+    // rules would keep (in both orientations the distance of the polygons, at least that of their end points, exceeds
+    // the largest gap keepPair allows) and the sampled test's necessary condition fails, the candidate is rejected
+    // whichever way identicalPolygons decides (edges that only share a corner).
+    const Matrix& pa = a.curve.points();
+    const Matrix& pb = b.curve.points();
+    if (pa.rows() == pb.rows() && pa.rows() > 0) {
+      const Eigen::Index last = pa.rows() - 1;
+      auto dist = [&](Eigen::Index i, Eigen::Index j) { return (pa.row(i) - pb.row(j)).head<3>().norm(); };
+      const double keptGap = a.ref.patch == b.ref.patch
+                                 ? tol.distance
+                                 : std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width));
+      const double sameWay = std::max(dist(0, 0), dist(last, last));
+      const double reversedWay = std::max(dist(0, last), dist(last, 0));
+      if (sameWay > keptGap && reversedWay > keptGap && !mayOverlap(a, b, tauPairOf(a, b))) return;
+    }
+    if (std::optional<EdgePair> p = identicalPolygons(a, b, tau)) {
+      snapOverlap(*p, a, b);
+      if (keepPair(*p, a, b)) stage[k] = Stage::kIdentical;
+    } else if (mayOverlap(a, b, tauPairOf(a, b))) {
+      stage[k] = Stage::kSampled;
+    }
+  });
+  std::vector<size_t> survivors;
+  std::vector<char> needsSamples(P.edges.size(), 0);
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (stage[k] == Stage::kRejected) continue;
+    survivors.push_back(k);
+    if (stage[k] == Stage::kSampled)
+      needsSamples[static_cast<size_t>(pairs[k].first)] = needsSamples[static_cast<size_t>(pairs[k].second)] = 1;
+  }
+  // Stage 2: the samples of the edges that need them, each edge once, in parallel.
+  std::vector<size_t> sampledEdges;
+  for (size_t e = 0; e < P.edges.size(); ++e)
+    if (needsSamples[e]) sampledEdges.push_back(e);
+  forEachIndex(sampledEdges.size(), options.threads, [&](size_t k) { ensureSamples(P.edges[sampledEdges[k]]); });
+  // Stage 3 (parallel, read-only): the pair of each surviving candidate, or none.
+  std::vector<std::optional<EdgePair>> found(survivors.size());
+  forEachIndex(survivors.size(), options.threads, [&](size_t s) {
+    const size_t k = survivors[s];
+    const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
+    const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
     const bool samePatch = a.ref.patch == b.ref.patch;
-    std::optional<EdgePair> p = identicalPolygons(a, b, tau);
-    if (p) {
+    std::optional<EdgePair> p;
+    if (stage[k] == Stage::kIdentical) {
+      p = identicalPolygons(a, b, tau);
       snapOverlap(*p, a, b);
     } else {
       // Two passes: the cheap polyline pass rejects most candidates (edges that only touch at a corner, parallel
@@ -721,28 +948,27 @@ Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const Mode
         }
         return true;
       };
-      // Gapped pairs must have a gap below maxGapToWidth x the patch widths, and a patch meets itself only exactly:
-      // the sampled test never needs a larger tolerance than that.
-      const double tauPair =
-          samePatch ? tol.distance : std::min(tau, std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width)));
-      if (!mayOverlap(a, b, tauPair)) continue;
+      const double tauPair = tauPairOf(a, b);
       p = sampledOverlap(a, b, tauPair, options, false);
-      if (!p || !accept(*p, false)) continue;
+      if (!p || !accept(*p, false)) return;
       p = sampledOverlap(a, b, tauPair, options, true);
-      if (!p || !accept(*p, true)) continue;
+      if (!p || !accept(*p, true)) return;
     }
-    if (p->distance > tol.distance) {
-      if (samePatch) continue;  // a patch meets itself only exactly (closed surfaces)
-      if (p->distance > options.maxGapToWidth * std::min(a.width, b.width)) continue;
-      if (!plausibleGappedSeam(*p, a, b)) continue;
-    }
-    candidates.push_back(*p);
-  }
-  // Closest partners first; a candidate whose shared part is mostly claimed already (on either edge) is dropped.
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const EdgePair& x, const EdgePair& y) { return x.distance < y.distance; });
+    if (keepPair(*p, a, b)) found[s] = p;
+  });
+  std::vector<EdgePair> candidates;  // in candidate order, i.e. ordered by (a, b): each pair of edges comes once
+  for (const std::optional<EdgePair>& p : found)
+    if (p) candidates.push_back(*p);
+  // Closest partners first; a candidate whose shared part is mostly claimed already (on either edge) is dropped. The
+  // accepted ones are listed in candidate order (by a, then b).
+  std::vector<size_t> byDistance(candidates.size());
+  std::iota(byDistance.begin(), byDistance.end(), size_t{0});
+  std::stable_sort(byDistance.begin(), byDistance.end(),
+                   [&](size_t x, size_t y) { return candidates[x].distance < candidates[y].distance; });
+  std::vector<char> isAccepted(candidates.size(), 0);
   P.claimed.assign(P.edges.size(), {});
-  for (const EdgePair& c : candidates) {
+  for (size_t k : byDistance) {
+    const EdgePair& c = candidates[k];
     const size_t ia = static_cast<size_t>(4 * c.a.patch + static_cast<int>(c.a.edge));
     const size_t ib = static_cast<size_t>(4 * c.b.patch + static_cast<int>(c.b.edge));
     const double fa = claimedLength(P.claimed[ia], c.overlapA) / c.overlapA.length();
@@ -750,12 +976,10 @@ Result<Pairing> runPairing(const Model& model, const Tolerances& tol, const Mode
     if (fa > kMaxClaimedFraction || fb > kMaxClaimedFraction) continue;
     P.claimed[ia].push_back(c.overlapA);
     P.claimed[ib].push_back(c.overlapB);
-    accepted.push_back(c);
+    isAccepted[k] = 1;
   }
-  std::sort(accepted.begin(), accepted.end(), [](const EdgePair& x, const EdgePair& y) {
-    return std::tie(x.a, x.b, x.overlapA.lo) < std::tie(y.a, y.b, y.overlapA.lo);
-  });
-  P.result.pairs = std::move(accepted);
+  for (size_t k = 0; k < candidates.size(); ++k)
+    if (isAccepted[k]) P.result.pairs.push_back(candidates[k]);
   for (size_t k = 0; k < P.edges.size(); ++k) {
     const EdgeInfo& e = P.edges[k];
     if (e.collapsed || e.coincidentExtra) continue;
@@ -811,7 +1035,7 @@ struct CornerLinkGlobal {
 
 std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeInfo>& edges,
                                      const std::vector<EdgePair>& pairs, double cornerTol,
-                                     const CornerOptions& cornerOptions, bool analyze) {
+                                     const CornerOptions& cornerOptions, bool analyze, int threads) {
   const int np = static_cast<int>(model.patches.size());
   const int nc = 4 * np;
   std::vector<Vec3> points(static_cast<size_t>(nc));
@@ -884,51 +1108,140 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
             static_cast<long>(std::clamp(std::floor((q[a] / scale - slo[a]) / cellSize), 0.0, kMaxCornerCells));
       keys.push_back({k, c});
     }
-    std::sort(keys.begin(), keys.end());
-    for (const Key& k : keys) {
-      // Each pair of cells is visited once: the same cell (pairs with a higher corner index), and the 13
-      // neighbouring cells that come after it in lexicographic order (all their corners).
+    // Keys grouped by cell (runs of one cell, corners in increasing order): sorted by a hash of the cell (a stable
+    // linear sort of keys made in corner order), runs of one hash holding different cells (collisions) then by cell.
+    // Each run is found again by its hash; the runs of one hash are contiguous.
+    auto cellHash = [](const std::array<long, 3>& c) {
+      const auto u = [](long x) { return static_cast<std::uint64_t>(x); };
+      std::uint64_t h =
+          u(c[0]) * 0x9e3779b97f4a7c15ULL ^ u(c[1]) * 0xc2b2ae3d27d4eb4fULL ^ u(c[2]) * 0x165667b19e3779f9ULL;
+      h ^= h >> 29;
+      return h;
+    };
+    std::vector<std::pair<std::uint64_t, int>> byHash(keys.size());
+    for (size_t i = 0; i < keys.size(); ++i) byHash[i] = {cellHash(keys[i].cell), static_cast<int>(i)};
+    radixSortByKey(byHash, 64);
+    std::vector<Key> sorted;
+    sorted.reserve(keys.size());
+    std::vector<std::pair<size_t, size_t>> runs;  // [first, last) of each cell in keys
+    RangeIndex cellIndex(keys.size());
+    for (size_t r = 0; r < byHash.size();) {
+      size_t end = r + 1;
+      while (end < byHash.size() && byHash[end].first == byHash[r].first) ++end;
+      const size_t first = sorted.size();
+      bool mixed = false;
+      for (size_t m = r; m < end; ++m) {
+        sorted.push_back(keys[static_cast<size_t>(byHash[m].second)]);
+        mixed = mixed || !sorted.back().inCell(sorted[first].cell);
+      }
+      if (mixed) std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(first), sorted.end());
+      const size_t firstRun = runs.size();
+      for (size_t k = first; k < sorted.size();) {
+        size_t runEnd = k + 1;
+        while (runEnd < sorted.size() && sorted[runEnd].inCell(sorted[k].cell)) ++runEnd;
+        runs.emplace_back(k, runEnd);
+        k = runEnd;
+      }
+      cellIndex.insert(byHash[r].first, firstRun, runs.size());
+      r = end;
+    }
+    keys.swap(sorted);
+    auto findRun = [&](const std::array<long, 3>& cell) -> std::optional<std::pair<size_t, size_t>> {
+      const auto [first, last] = cellIndex.find(cellHash(cell));
+      for (size_t r = first; r < last; ++r)
+        if (keys[runs[r].first].inCell(cell)) return runs[r];
+      return std::nullopt;
+    };
+    auto near = [&](int a, int b) {
+      const Vec3 d = points[static_cast<size_t>(b)] - points[static_cast<size_t>(a)];
+      double dist = d.norm();
+      if (!std::isfinite(dist)) dist = d.stableNorm();  // squares of coordinates near 1e300 overflow
+      return dist <= cornerTol;
+    };
+    // Each pair of cells is visited once: the same cell (each pair of its corners), and the 13 neighbouring cells that
+    // come after it in lexicographic order (all their corners). The order of the unions does not matter: a cluster's
+    // root is always its smallest corner.
+    for (const auto& [first, last] : runs) {
+      const std::array<long, 3>& base = keys[first].cell;
+      for (size_t m = first; m < last; ++m)
+        for (size_t n = m + 1; n < last; ++n)
+          if (near(keys[m].corner, keys[n].corner)) uf.unite(keys[m].corner, keys[n].corner);
       for (long dx = 0; dx <= 1; ++dx)
         for (long dy = dx == 0 ? 0 : -1; dy <= 1; ++dy)
-          for (long dz = (dx == 0 && dy == 0) ? 0 : -1; dz <= 1; ++dz) {
-            const bool same = dx == 0 && dy == 0 && dz == 0;
-            const std::array<long, 3> cell{k.cell[0] + dx, k.cell[1] + dy, k.cell[2] + dz};
-            auto it = std::lower_bound(keys.begin(), keys.end(), Key{cell, -1});
-            for (; it != keys.end() && it->inCell(cell); ++it) {
-              if (same && it->corner <= k.corner) continue;
-              const Vec3 d = points[static_cast<size_t>(it->corner)] - points[static_cast<size_t>(k.corner)];
-              double dist = d.norm();
-              if (!std::isfinite(dist)) dist = d.stableNorm();  // squares of coordinates near 1e300 overflow
-              if (dist <= cornerTol) uf.unite(k.corner, it->corner);
-            }
+          for (long dz = (dx == 0 && dy == 0) ? 1 : -1; dz <= 1; ++dz) {
+            const auto other = findRun({base[0] + dx, base[1] + dy, base[2] + dz});
+            if (!other) continue;
+            for (size_t m = first; m < last; ++m)
+              for (size_t n = other->first; n < other->second; ++n)
+                if (near(keys[m].corner, keys[n].corner)) uf.unite(keys[m].corner, keys[n].corner);
           }
     }
   }
-  // Clusters by root (the smallest member), in increasing order of root.
-  std::vector<std::vector<int>> clusters(static_cast<size_t>(nc));
-  for (int c = 0; c < nc; ++c) clusters[static_cast<size_t>(uf.find(c))].push_back(c);
-  std::vector<std::vector<CornerLinkGlobal>> clusterLinks(static_cast<size_t>(nc));
-  for (const CornerLinkGlobal& l : links) clusterLinks[static_cast<size_t>(uf.find(l.a))].push_back(l);
+  // Clusters by root (the smallest member), in increasing order of root, members in increasing order; the links of
+  // each cluster in the order they were made. Flat arrays (offsets per root) instead of one vector per corner.
+  std::vector<int> rootOf(static_cast<size_t>(nc));
+  for (int c = 0; c < nc; ++c) rootOf[static_cast<size_t>(c)] = uf.find(c);
+  std::vector<size_t> memberStart(static_cast<size_t>(nc) + 1, 0), linkStart(static_cast<size_t>(nc) + 1, 0);
+  for (int c = 0; c < nc; ++c) ++memberStart[static_cast<size_t>(rootOf[static_cast<size_t>(c)]) + 1];
+  for (const CornerLinkGlobal& l : links) ++linkStart[static_cast<size_t>(rootOf[static_cast<size_t>(l.a)]) + 1];
+  for (size_t r = 0; r < static_cast<size_t>(nc); ++r) {
+    memberStart[r + 1] += memberStart[r];
+    linkStart[r + 1] += linkStart[r];
+  }
+  std::vector<int> members(static_cast<size_t>(nc));
+  std::vector<CornerLinkGlobal> clusterLinks(links.size());
+  {
+    std::vector<size_t> fill(memberStart.begin(), memberStart.end() - 1);
+    for (int c = 0; c < nc; ++c) members[fill[static_cast<size_t>(rootOf[static_cast<size_t>(c)])]++] = c;
+    fill.assign(linkStart.begin(), linkStart.end() - 1);
+    for (const CornerLinkGlobal& l : links)
+      clusterLinks[fill[static_cast<size_t>(rootOf[static_cast<size_t>(l.a)])]++] = l;
+  }
+  std::vector<size_t> vertexRoots;  // clusters of two or more corners
+  for (size_t root = 0; root < static_cast<size_t>(nc); ++root)
+    if (memberStart[root + 1] - memberStart[root] >= 2) vertexRoots.push_back(root);
 
-  std::vector<ModelCorner> out;
+  // The default length scale of analyzeCorner (the largest control-box diagonal of the patches at the vertex), from
+  // each patch's diagonal computed once instead of once per corner.
+  std::vector<double> patchDiagonal(static_cast<size_t>(np));
+  forEachIndex(static_cast<size_t>(np), threads,
+               [&](size_t p) { patchDiagonal[p] = controlBox(model.patches[p].surface).diagonal(); });
+
+  // The vertices are analysed in parallel, each into its own slot, and listed in order of root.
+  std::vector<std::optional<ModelCorner>> analysed(vertexRoots.size());
   const std::span<const Patch> patches(model.patches);
-  for (size_t root = 0; root < clusters.size(); ++root) {
-    const std::vector<int>& members = clusters[root];
-    if (members.size() < 2) continue;
+  forEachIndex(vertexRoots.size(), threads, [&](size_t v) {
+    const size_t root = vertexRoots[v];
+    const std::span<const int> cluster(members.data() + memberStart[root], memberStart[root + 1] - memberStart[root]);
     std::vector<PatchCorner> corners;
-    std::map<int, int> local;
-    for (int c : members) {
-      local[c] = static_cast<int>(corners.size());
+    corners.reserve(cluster.size());
+    double scale = 0.0;
+    for (int c : cluster) {
       corners.push_back(cornerOf(c));
+      scale = std::max(scale, patchDiagonal[static_cast<size_t>(c / 4)]);
     }
+    // Members are sorted: a corner's index in the cluster by binary search.
+    auto local = [&](int c) {
+      return static_cast<int>(std::lower_bound(cluster.begin(), cluster.end(), c) - cluster.begin());
+    };
     std::vector<CornerLink> cl;
-    for (const CornerLinkGlobal& l : clusterLinks[root]) cl.push_back({local[l.a], l.aEdge, local[l.b], l.bEdge});
-    Result<CornerReport> r = analyzeCorner(patches, corners, cl, cornerOptions);
-    if (!r) continue;  // cannot happen for valid indices and 3-D patches (checked before)
+    cl.reserve(linkStart[root + 1] - linkStart[root]);
+    for (size_t l = linkStart[root]; l < linkStart[root + 1]; ++l) {
+      const CornerLinkGlobal& g = clusterLinks[l];
+      cl.push_back({local(g.a), g.aEdge, local(g.b), g.bEdge});
+    }
+    CornerOptions co = cornerOptions;
+    if (!co.lengthScale) co.lengthScale = scale > 0.0 && std::isfinite(scale) ? scale : 1.0;
+    Result<CornerReport> r = analyzeCorner(patches, corners, cl, co);
+    if (!r) return;  // cannot happen for valid indices and 3-D patches (checked before)
     ModelCorner mc{std::move(r).value()};
     if (!analyze) mc.report.fourPatch.reset();
-    out.push_back(std::move(mc));
-  }
+    analysed[v] = std::move(mc);
+  });
+  std::vector<ModelCorner> out;
+  out.reserve(analysed.size());
+  for (std::optional<ModelCorner>& c : analysed)
+    if (c) out.push_back(std::move(*c));
   return out;
 }
 
@@ -936,8 +1249,9 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
 
 Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& options) {
   if (model.patches.empty()) return invalidInput("the model has no patches");
-  const Tolerances tol = options.tolerances.value_or(Tolerances::forModelSize(model.boundingBox().diagonal()));
-  Result<Pairing> p = runPairing(model, tol, options);
+  const double diagonal = model.boundingBox().diagonal();
+  const Tolerances tol = options.tolerances.value_or(Tolerances::forModelSize(diagonal));
+  Result<Pairing> p = runPairing(model, diagonal, tol, options);
   if (!p) return p.status();
   return std::move(p->result);
 }
@@ -945,9 +1259,10 @@ Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& optio
 Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options) {
   if (model.patches.empty()) return invalidInput("the model has no patches");
   ModelCheckReport report;
-  report.tolerances = options.tolerances.value_or(Tolerances::forModelSize(model.boundingBox().diagonal()));
+  const double diagonal = model.boundingBox().diagonal();
+  report.tolerances = options.tolerances.value_or(Tolerances::forModelSize(diagonal));
   const Tolerances& tol = report.tolerances;
-  Result<Pairing> pairing = runPairing(model, tol, options);
+  Result<Pairing> pairing = runPairing(model, diagonal, tol, options);
   if (!pairing) return pairing.status();
   Pairing& P = pairing.value();
   report.pairingTolerance = P.result.pairingTolerance;
@@ -988,7 +1303,8 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   CornerOptions co;
   co.tol = tol;
   const double cornerTol = options.cornerTolerance.value_or(tol.distance);
-  for (ModelCorner& c : findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners))
+  for (ModelCorner& c :
+       findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads))
     report.corners.push_back(std::move(c));
 
   // Summary.

@@ -120,8 +120,9 @@ struct ModelCheckOptions {
   std::optional<double> cornerTolerance;
   bool analyzeSeams = true;    ///< false: pairing only (seams carry no report)
   bool analyzeCorners = true;  ///< false: vertices are found but not analysed beyond valence and normals
-  /// Threads for the seam analyses (TBB): 0 = all hardware threads, 1 = serial on the calling thread. The report
-  /// does not depend on it (seams are independent and kept in pairing order).
+  /// Threads (TBB) for the seam analyses and the parallel stages of the pairing and of the vertices (edge data,
+  /// candidate tests, corner analyses): 0 = all hardware threads, 1 = serial on the calling thread. The report does
+  /// not depend on it (every task writes its own slot; seams and vertices are kept in pairing order).
   int threads = 0;
 };
 
