@@ -534,6 +534,38 @@ TEST(OcctBRep, ProgressIsReportedFromStartToEnd) {
   EXPECT_EQ(static_cast<int>(calls.size()), 2 + (total - 1) / occt::kProgressEdgeStep);
 }
 
+TEST(OcctBRep, TheReportDoesNotDependOnTheNumberOfThreads) {
+  // The shared edges are analysed on BRepCheckOptions::threads threads and merged in edge order (issue 16 goal 6):
+  // serial and parallel checks give the same seams, values and notes, free edges and warnings.
+  occt::BRepCheckOptions serial, parallel;
+  serial.threads = 1;
+  parallel.threads = 2;
+  for (const fs::path& file : {kData / "iges" / "bearing.iges", kData / "step" / "linkrods.step"}) {
+    const Result<occt::BRepCheckReport> a = occt::checkBRepFile(file, serial);
+    const Result<occt::BRepCheckReport> b = occt::checkBRepFile(file, parallel);
+    ASSERT_TRUE(a.isOk() && b.isOk()) << file;
+    ASSERT_EQ(a->seams.size(), b->seams.size()) << file;
+    for (size_t k = 0; k < a->seams.size(); ++k) {
+      const occt::BRepSeam &x = a->seams[k], &y = b->seams[k];
+      EXPECT_EQ(x.edge, y.edge);
+      EXPECT_EQ(x.a, y.a);
+      EXPECT_EQ(x.b, y.b);
+      EXPECT_EQ(x.occtContinuity, y.occtContinuity);
+      EXPECT_EQ(x.report.certified, y.report.certified);
+      EXPECT_EQ(x.report.geometric, y.report.geometric);
+      EXPECT_EQ(x.report.g0Max, y.report.g0Max);  // bit for bit
+      EXPECT_EQ(x.report.g1MaxDeg, y.report.g1MaxDeg);
+      EXPECT_EQ(x.report.g2Max, y.report.g2Max);
+      EXPECT_EQ(x.report.notes, y.report.notes);
+    }
+    ASSERT_EQ(a->freeEdges.size(), b->freeEdges.size());
+    for (size_t k = 0; k < a->freeEdges.size(); ++k) EXPECT_EQ(a->freeEdges[k].edge, b->freeEdges[k].edge);
+    EXPECT_EQ(a->import.warnings, b->import.warnings);
+    EXPECT_EQ(a->certifiedSeams, b->certifiedSeams);
+    EXPECT_EQ(a->degenerateEdges, b->degenerateEdges);
+  }
+}
+
 TEST(OcctBRep, CurvatureJumpsOnTrimmedEdgesAreCertifiedWhereTheEdgeIsG1) {
   // linkrods F25/F27: a G1 edge along which one face's normal curvature runs from 14.2 down to 3.85 and the other's
   // stays 0 across the edge. OpenCASCADE's own evaluators (the sampled route, GeomLProp-style shape operators from

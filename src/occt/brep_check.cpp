@@ -37,6 +37,9 @@
 #include <map>
 #include <numbers>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "continuity/sampling.h"
 #include "occt/cad_internal.h"
 #include "occt/face_mesh.h"
@@ -550,6 +553,15 @@ int countFreeEdges(const TopoDS_Shape& s) {
   return n;
 }
 
+/// What one edge of the model contributes to the report (checkBRepFile's edge loop).
+struct EdgeOutcome {
+  enum Kind { kNone, kDegenerate, kLoose, kNonManifold, kFree, kSeam, kUnanalysed } kind = kNone;
+  BRepSeam seam;
+  BRepFreeEdge free;
+  BRepNonManifoldEdge nonManifold;
+  std::string warning;  ///< kUnanalysed: why
+};
+
 }  // namespace
 
 Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptions& options) {
@@ -623,14 +635,16 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
     const int nEdges = edgeFaces.Extent(), nFaces = faceMap.Extent();
-    if (options.progress) options.progress(nFaces, 0, nEdges);
-    for (int i = 1; i <= nEdges; ++i) {
-      if (options.progress && i > 1 && (i - 1) % kProgressEdgeStep == 0) options.progress(nFaces, i - 1, nEdges);
+    // One edge: everything it contributes to the report, computed from read-only state (the shape, the maps, the
+    // converted patches), so that edges can be analysed on several threads and merged in edge order.
+    auto analyseEdge = [&](int i) {
+      EdgeOutcome o;
+      OCC_CATCH_SIGNALS  // this thread's handler: a signal here comes back as an OSD_Signal failure
       try {
         const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
         if (BRep_Tool::Degenerated(edge)) {
-          ++out.degenerateEdges;
-          continue;
+          o.kind = EdgeOutcome::kDegenerate;
+          return o;
         }
         // Distinct faces around the edge (a periodic face's seam edge lists its face twice, or once when closed).
         std::vector<TopoDS_Face> around;
@@ -640,22 +654,24 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
             around.push_back(f);
         }
         if (around.empty()) {  // a loose edge: a 3-D curve of the file that bounds no face
-          ++out.looseEdges;
-          continue;
+          o.kind = EdgeOutcome::kLoose;
+          return o;
         }
         if (around.size() > 2) {
           BRepNonManifoldEdge nm{i, {}, edgeMidpoint(edge)};
           for (const TopoDS_Face& f : around) nm.faces.push_back(faceName(faceMap.FindIndex(f)));
-          out.nonManifoldEdges.push_back(std::move(nm));
-          continue;
+          o.kind = EdgeOutcome::kNonManifold;
+          o.nonManifold = std::move(nm);
+          return o;
         }
         FaceSide A, B;
         TopoDS_Face fa = around[0], fb;
         TopoDS_Edge ea = edge, eb = edge;
         if (around.size() == 1) {
           if (!BRep_Tool::IsClosed(edge, fa)) {
-            out.freeEdges.push_back({i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge), edgePolyline(edge)});
-            continue;
+            o.kind = EdgeOutcome::kFree;
+            o.free = {i, faceName(faceMap.FindIndex(fa)), edgeMidpoint(edge), edgePolyline(edge)};
+            return o;
           }
           fb = fa;  // the seam of a closed (periodic) face: its two pcurves
           ea = TopoDS::Edge(edge.Oriented(TopAbs_FORWARD));
@@ -668,8 +684,8 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
         seam.edge = i;
         seam.a = faceName(ia);
         seam.b = faceName(ib);
-        if (!patchOfFace.count(ia) || !patchOfFace.count(ib)) continue;  // a face that could not be read (warned)
-        const size_t pa = patchOfFace[ia], pb = patchOfFace[ib];
+        if (!patchOfFace.count(ia) || !patchOfFace.count(ib)) return o;  // a face that could not be read (warned)
+        const size_t pa = patchOfFace.at(ia), pb = patchOfFace.at(ib);
         try {
           seam.occtContinuity = continuityName(
               BRepLib::ContinuityOfFaces(edge, fa, fb, out.tolerances.angleDeg * std::numbers::pi / 180.0));
@@ -696,8 +712,9 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
           if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
               !(A.last > A.first) || !(B.last > B.first)) {
-            out.freeEdges.push_back({i, seam.a, edgeMidpoint(edge), edgePolyline(edge)});  // not on both faces
-            continue;
+            o.kind = EdgeOutcome::kFree;  // not on both faces
+            o.free = {i, seam.a, edgeMidpoint(edge), edgePolyline(edge)};
+            return o;
           }
           A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
@@ -721,12 +738,46 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           }
         }
         seam.curve = edgePolyline(edge);
-        out.seams.push_back(std::move(seam));
+        o.kind = EdgeOutcome::kSeam;
+        o.seam = std::move(seam);
       } catch (const Standard_Failure& f) {
         if (isSignal(f)) throw;
-        out.import.warnings.push_back(fmt::format("{}: edge {} not analysed: OpenCASCADE failed on it: {}",
-                                                  file.string(), i, f.GetMessageString()));
-        ++out.unanalysedEdges;
+        o = EdgeOutcome{};
+        o.kind = EdgeOutcome::kUnanalysed;
+        o.warning = fmt::format("{}: edge {} not analysed: OpenCASCADE failed on it: {}", file.string(), i,
+                                f.GetMessageString());
+      }
+      return o;
+    };
+    // The edges in blocks of kProgressEdgeStep: each block on options.threads threads, then merged in edge order
+    // (the report does not depend on the number of threads) and reported to the progress callback on this thread.
+    if (options.progress) options.progress(nFaces, 0, nEdges);
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    std::vector<EdgeOutcome> block;
+    for (int first = 1; first <= nEdges; first += kProgressEdgeStep) {
+      if (options.progress && first > 1) options.progress(nFaces, first - 1, nEdges);
+      const int n = std::min(kProgressEdgeStep, nEdges - first + 1);
+      block.assign(static_cast<size_t>(n), EdgeOutcome{});
+      if (options.threads == 1) {
+        for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(first + k);
+      } else {
+        arena.execute([&] {
+          tbb::parallel_for(0, n, [&](int k) { block[static_cast<size_t>(k)] = analyseEdge(first + k); });
+        });
+      }
+      for (EdgeOutcome& o : block) {
+        switch (o.kind) {
+          case EdgeOutcome::kNone: break;
+          case EdgeOutcome::kDegenerate: ++out.degenerateEdges; break;
+          case EdgeOutcome::kLoose: ++out.looseEdges; break;
+          case EdgeOutcome::kNonManifold: out.nonManifoldEdges.push_back(std::move(o.nonManifold)); break;
+          case EdgeOutcome::kFree: out.freeEdges.push_back(std::move(o.free)); break;
+          case EdgeOutcome::kSeam: out.seams.push_back(std::move(o.seam)); break;
+          case EdgeOutcome::kUnanalysed:
+            out.import.warnings.push_back(std::move(o.warning));
+            ++out.unanalysedEdges;
+            break;
+        }
       }
     }
     if (options.progress) options.progress(nFaces, nEdges, nEdges);

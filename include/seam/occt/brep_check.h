@@ -58,6 +58,10 @@ struct BRepCheckOptions {
   /// are sewn, then measured and classified with the distance tolerance).
   double sewingRelTol = 1e-4;
   CadReadOptions read;
+  /// Threads for the shared edges (analysed kProgressEdgeStep at a time, merged in edge order: the report is the same
+  /// for every value): 0 = all hardware threads, 1 = serial on the calling thread (the default: the wall-time gain
+  /// on free cores is not yet measured, docs/performance.md "STEP/IGES check against OpenCASCADE").
+  int threads = 1;
   /// Called with (faces, edges done, edges in all) once the faces are converted (done = 0) and then after every
   /// kProgressEdgeStep edges and at the end; empty: no calls. The CLI prints a line on stderr for large models.
   std::function<void(int faces, int done, int total)> progress;
