@@ -3,6 +3,7 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(TBB REQUIRED)  # parallel seam analysis in checkModel
+find_package(simdjson 3 REQUIRED)  # the fast route of the JSON model reader (src/io/json.cpp)
 
 # GLPK ships no CMake config: wrap it in an imported target.
 find_path(GLPK_INCLUDE_DIR glpk.h REQUIRED)

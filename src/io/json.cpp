@@ -7,14 +7,17 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <simdjson.h>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "seam/core/tolerances.h"
 #include "seam/io/file.h"
+#include "json_read.h"
 
 namespace seam::io {
 
@@ -34,6 +37,132 @@ std::string quote(const std::string& s) {
 std::string brief(const Json& j) {
   constexpr size_t kMaxChars = 40;
   std::string s = j.dump(-1, ' ', false, Json::error_handler_t::replace);
+  if (s.size() > kMaxChars) s = s.substr(0, kMaxChars) + "...";
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The fast parser's DOM (simdjson) behind the member names of nlohmann::json that ModelReader uses, so that one
+// converter serves both parsers. Only values that the converter reads go through it; it never throws.
+
+class SimdValue {
+ public:
+  SimdValue() = default;
+  explicit SimdValue(simdjson::dom::element e) : e_(e), valid_(true) {}
+
+  bool is_object() const { return type() == simdjson::dom::element_type::OBJECT; }
+  bool is_array() const { return type() == simdjson::dom::element_type::ARRAY; }
+  bool is_string() const { return type() == simdjson::dom::element_type::STRING; }
+  bool is_number() const { return is_number_integer() || type() == simdjson::dom::element_type::DOUBLE; }
+  /// nlohmann: a non-negative integer literal; simdjson keeps those up to INT64_MAX as int64.
+  bool is_number_unsigned() const {
+    if (type() == simdjson::dom::element_type::UINT64) return true;
+    int64_t v = 0;
+    return type() == simdjson::dom::element_type::INT64 && e_.get_int64().get(v) == simdjson::SUCCESS && v >= 0;
+  }
+  bool is_number_integer() const {
+    return type() == simdjson::dom::element_type::INT64 || type() == simdjson::dom::element_type::UINT64;
+  }
+
+  const char* type_name() const {
+    switch (type()) {
+      case simdjson::dom::element_type::OBJECT: return "object";
+      case simdjson::dom::element_type::ARRAY: return "array";
+      case simdjson::dom::element_type::STRING: return "string";
+      case simdjson::dom::element_type::BOOL: return "boolean";
+      case simdjson::dom::element_type::NULL_VALUE: return "null";
+      default: return "number";
+    }
+  }
+
+  size_t size() const {
+    if (is_array()) return simdjson::dom::array(e_).size();
+    if (is_object()) return simdjson::dom::object(e_).size();
+    return 1;  // as nlohmann: a scalar has size 1
+  }
+  bool empty() const { return size() == 0; }
+
+  /// Element `i` of an array (the caller has checked the size). simdjson's at(i) walks the array from its start,
+  /// so a long array ("patches", a long knot vector) lists its elements once, on the first access.
+  SimdValue operator[](size_t i) const {
+    constexpr size_t kWalkAtMost = 16;
+    if (i < kWalkAtMost && !elements_) {
+      simdjson::dom::element out;
+      if (simdjson::dom::array(e_).at(i).get(out) != simdjson::SUCCESS) return {};
+      return SimdValue(out);
+    }
+    if (!elements_) {
+      auto elements = std::make_shared<std::vector<simdjson::dom::element>>();
+      for (const simdjson::dom::element e : simdjson::dom::array(e_)) elements->push_back(e);
+      elements_ = std::move(elements);
+    }
+    return i < elements_->size() ? SimdValue((*elements_)[i]) : SimdValue();
+  }
+  /// The value of `key`; with a repeated key the last one, as nlohmann keeps it.
+  SimdValue operator[](std::string_view key) const {
+    SimdValue found;
+    if (!is_object()) return found;
+    for (const auto field : simdjson::dom::object(e_)) {
+      if (field.key == key) found = SimdValue(field.value);
+    }
+    return found;
+  }
+  bool contains(std::string_view key) const {
+    if (!is_object()) return false;
+    for (const auto field : simdjson::dom::object(e_)) {
+      if (field.key == key) return true;
+    }
+    return false;
+  }
+  /// (key, value) of each member, as nlohmann's items() (membership is all the converter asks of them).
+  std::vector<std::pair<std::string, SimdValue>> items() const {
+    std::vector<std::pair<std::string, SimdValue>> out;
+    if (!is_object()) return out;
+    for (const auto field : simdjson::dom::object(e_)) out.emplace_back(std::string(field.key), SimdValue(field.value));
+    return out;
+  }
+
+  template <class T>
+  T get() const {
+    if constexpr (std::is_same_v<T, double>) {
+      double v = 0.0;  // simdjson converts int64/uint64 with a cast, as nlohmann does
+      return e_.get_double().get(v) == simdjson::SUCCESS ? v : 0.0;
+    } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+      if (type() == simdjson::dom::element_type::UINT64) return e_.get_uint64().value_unsafe();
+      return static_cast<std::uint64_t>(e_.get_int64().value_unsafe());
+    } else if constexpr (std::is_same_v<T, std::int64_t>) {
+      if (type() == simdjson::dom::element_type::UINT64)
+        return static_cast<std::int64_t>(e_.get_uint64().value_unsafe());
+      return e_.get_int64().value_unsafe();
+    } else {
+      static_assert(std::is_same_v<T, std::string>);
+      std::string_view v;
+      return e_.get_string().get(v) == simdjson::SUCCESS ? std::string(v) : std::string();
+    }
+  }
+  template <class T>
+  std::string get_ref() const {
+    return get<std::string>();
+  }
+
+  /// Compact text of the value (simdjson's minified form; messages of the fast route are not shown, see
+  /// parseModelJson).
+  std::string dump() const { return valid_ ? simdjson::minify(e_) : std::string("null"); }
+
+ private:
+  /// A default value (a key not found) reads as null.
+  simdjson::dom::element_type type() const {
+    return valid_ ? e_.type() : simdjson::dom::element_type::NULL_VALUE;
+  }
+
+  simdjson::dom::element e_;
+  bool valid_ = false;
+  mutable std::shared_ptr<const std::vector<simdjson::dom::element>> elements_;  ///< a long array's elements
+};
+
+std::string brief(const SimdValue& j) {
+  constexpr size_t kMaxChars = 40;
+  std::string s = j.dump();
   if (s.size() > kMaxChars) s = s.substr(0, kMaxChars) + "...";
   return s;
 }
@@ -178,14 +307,15 @@ OverflowScan rewriteOverflowingNumbers(std::string_view text) {
 /// Largest degree read from a file: degrees are stored as int and degree + 1 (the points it needs) must fit too.
 constexpr long long kMaxDegree = std::numeric_limits<int>::max() - 1;
 
-std::optional<long long> asInteger(const Json& j) {
+template <class J>
+std::optional<long long> asInteger(const J& j) {
   if (j.is_number_unsigned()) {
-    const auto v = j.get<std::uint64_t>();
+    const auto v = j.template get<std::uint64_t>();
     return v > static_cast<std::uint64_t>(std::numeric_limits<long long>::max())
                ? std::numeric_limits<long long>::max()
                : static_cast<long long>(v);
   }
-  if (j.is_number_integer()) return j.get<std::int64_t>();
+  if (j.is_number_integer()) return j.template get<std::int64_t>();
   return std::nullopt;
 }
 
@@ -198,11 +328,14 @@ struct PointGrid {
   VecX weights;   ///< empty or nu * nv
 };
 
+/// Turns a parsed JSON value into a Model, with the messages that name the file, the object and the problem.
+/// J is nlohmann::json or SimdValue (the fast parser's DOM behind the same member names); one converter for both.
+template <class J>
 class ModelReader {
  public:
   explicit ModelReader(std::string source) : src_(std::move(source)) {}
 
-  Result<Model> read(const Json& root) {
+  Result<Model> read(const J& root) {
     if (!root.is_object()) {
       return top(std::string("the top level must be an object with \"patches\" and/or \"curves\", found ") +
                  root.type_name());
@@ -217,9 +350,10 @@ class ModelReader {
     }
     Model model;
     if (root.contains("patches")) {
-      const Json& patches = root["patches"];
+      const auto& patches = root["patches"];
       if (!patches.is_array())
         return top(std::string("\"patches\" must be an array, found ") + patches.type_name());
+      model.patches.reserve(patches.size());
       for (size_t index = 0; index < patches.size(); ++index) {
         Result<Patch> patch = readPatch(patches[index], index);
         if (!patch) return patch.status();
@@ -227,7 +361,7 @@ class ModelReader {
       }
     }
     if (root.contains("curves")) {
-      const Json& curves = root["curves"];
+      const auto& curves = root["curves"];
       if (!curves.is_array())
         return top(std::string("\"curves\" must be an array, found ") + curves.type_name());
       for (size_t index = 0; index < curves.size(); ++index) {
@@ -247,16 +381,16 @@ class ModelReader {
 
   /// Reads "name" of element `index` of the "patches"/"curves" array and checks it is unique. On success
   /// `where` becomes `patch "S1"` / `curve "C1"`.
-  Status readName(const Json& j, const char* kind, const char* array, size_t index, std::string& name,
+  Status readName(const J& j, const char* kind, const char* array, size_t index, std::string& name,
                   std::string& where) {
     where = fmt::format("{}[{}]", array, index);
     if (!j.is_object()) return fail(where, std::string("must be an object, found ") + j.type_name());
     if (!j.contains("name")) return fail(where, "missing \"name\"");
-    const Json& n = j["name"];
-    if (!n.is_string() || n.get_ref<const std::string&>().empty()) {
+    const auto& n = j["name"];
+    if (!n.is_string() || n.template get_ref<const std::string&>().empty()) {
       return fail(where, "\"name\" must be a non-empty string, found " + brief(n));
     }
-    name = n.get<std::string>();
+    name = n.template get<std::string>();
     where = std::string(kind) + " " + quote(name);
     const auto [it, inserted] = usedNames_.emplace(name, where);
     if (!inserted) return fail(where, "duplicate name (already used by " + it->second + ")");
@@ -264,12 +398,12 @@ class ModelReader {
   }
 
   /// Reads "type": "bspline" or "bezier" and rejects keys that the type does not have.
-  Status readType(const Json& j, const std::string& where, const char* kind, bool& bezier) {
+  Status readType(const J& j, const std::string& where, const char* kind, bool& bezier) {
     if (!j.contains("type")) return fail(where, "missing \"type\" (\"bspline\" or \"bezier\")");
-    const Json& t = j["type"];
+    const auto& t = j["type"];
     if (!t.is_string())
       return fail(where, "\"type\" must be the string \"bspline\" or \"bezier\", found " + brief(t));
-    const std::string& type = t.get_ref<const std::string&>();
+    const std::string& type = t.template get_ref<const std::string&>();
     if (type != "bspline" && type != "bezier") {
       return fail(where, "unknown type " + quote(type) + " (expected \"bspline\" or \"bezier\")");
     }
@@ -288,28 +422,28 @@ class ModelReader {
   }
 
   /// A finite number, or a message naming `what` (e.g. `point [1][2]: z`, `u knot 3`).
-  Status readNumber(const Json& j, const std::string& where, const std::string& what, double& out) const {
+  Status readNumber(const J& j, const std::string& where, const std::string& what, double& out) const {
     if (j.is_string()) {
-      const std::string& s = j.get_ref<const std::string&>();
+      const std::string& s = j.template get_ref<const std::string&>();
       if (s.compare(0, kOverflowMarker.size(), kOverflowMarker) == 0) {
         return fail(where, what + " = " + s.substr(kOverflowMarker.size()) +
                                " is not a finite number (it overflows a double)");
       }
     }
     if (!j.is_number()) return fail(where, what + " is not a number (found " + brief(j) + ")");
-    out = j.get<double>();
+    out = j.template get<double>();
     if (!std::isfinite(out)) return fail(where, what + " = " + num(out) + " is not a finite number");
     return Status::ok();
   }
 
-  Status readWeight(const Json& j, const std::string& where, const std::string& what, double& out) const {
+  Status readWeight(const J& j, const std::string& where, const std::string& what, double& out) const {
     if (Status s = readNumber(j, where, what, out); !s) return s;
     if (!(out > 0.0)) return fail(where, what + " = " + num(out) + " is not positive (weights must be > 0)");
     return Status::ok();
   }
 
   /// One point: an array of numbers with `dim` entries (dim = 0: take 2 or 3 from this point).
-  Status readPoint(const Json& j, const std::string& where, const std::string& what, int& dim,
+  Status readPoint(const J& j, const std::string& where, const std::string& what, int& dim,
                    double* out) const {
     const char* expected = dim == 0 ? "2 or 3" : (dim == 2 ? "2" : "3");
     if (!j.is_array()) {
@@ -331,9 +465,9 @@ class ModelReader {
   }
 
   /// "points" (and "weights") of a patch: points[i][j] = [x, y, z], i along u.
-  Status readPatchGrid(const Json& j, const std::string& where, PointGrid& grid) const {
+  Status readPatchGrid(const J& j, const std::string& where, PointGrid& grid) const {
     if (!j.contains("points")) return fail(where, "missing \"points\"");
-    const Json& rows = j["points"];
+    const auto& rows = j["points"];
     if (!rows.is_array() || rows.empty()) {
       return fail(where,
                   "\"points\" must be a non-empty array of rows of points [[[x, y, z], ...], ...], found " +
@@ -365,7 +499,7 @@ class ModelReader {
       }
     }
     if (!j.contains("weights")) return Status::ok();
-    const Json& w = j["weights"];
+    const auto& w = j["weights"];
     if (!w.is_array()) {
       return fail(
           where, "\"weights\" must be an array of rows of numbers shaped like \"points\", found " + brief(w));
@@ -376,7 +510,7 @@ class ModelReader {
     }
     grid.weights.resize(static_cast<Eigen::Index>(grid.nu) * grid.nv);
     for (int i = 0; i < grid.nu; ++i) {
-      const Json& row = w[static_cast<size_t>(i)];
+      const auto& row = w[static_cast<size_t>(i)];
       if (!row.is_array() || static_cast<int>(row.size()) != grid.nv) {
         return fail(
             where, fmt::format("\"weights\"[{}] must be an array of {} numbers like \"points\"[{}], found {}",
@@ -394,9 +528,9 @@ class ModelReader {
   }
 
   /// "points" (and "weights") of a curve: points[i] = [x, y, z] or [x, y] (all the same dimension).
-  Status readCurvePoints(const Json& j, const std::string& where, PointGrid& grid) const {
+  Status readCurvePoints(const J& j, const std::string& where, PointGrid& grid) const {
     if (!j.contains("points")) return fail(where, "missing \"points\"");
-    const Json& pts = j["points"];
+    const auto& pts = j["points"];
     if (!pts.is_array() || pts.empty()) {
       return fail(where,
                   "\"points\" must be a non-empty array of points [[x, y, z], ...], found " + brief(pts));
@@ -423,7 +557,7 @@ class ModelReader {
       for (int k = 0; k < grid.dim; ++k) grid.points(i, k) = values[static_cast<size_t>(3 * i + k)];
     }
     if (!j.contains("weights")) return Status::ok();
-    const Json& w = j["weights"];
+    const auto& w = j["weights"];
     if (!w.is_array()) return fail(where, "\"weights\" must be an array of numbers, found " + brief(w));
     if (static_cast<int>(w.size()) != grid.nu) {
       return fail(where,
@@ -457,7 +591,7 @@ class ModelReader {
   }
 
   /// A knot vector: an array of finite numbers.
-  Status readKnotArray(const Json& j, const std::string& where, const std::string& dir,
+  Status readKnotArray(const J& j, const std::string& where, const std::string& dir,
                        std::vector<double>& knots) const {
     if (!j.is_array()) {
       return fail(where, fmt::format("{}knot vector must be an array of numbers, found {}", dir, brief(j)));
@@ -513,7 +647,7 @@ class ModelReader {
     return Status::ok();
   }
 
-  Result<Patch> readPatch(const Json& j, size_t index) {
+  Result<Patch> readPatch(const J& j, size_t index) {
     Patch patch;
     std::string where;
     if (Status s = readName(j, "patch", "patches", index, patch.name, where); !s) return s;
@@ -532,7 +666,7 @@ class ModelReader {
       kv = bezierKnots(static_cast<int>(pv));
     } else {
       if (!j.contains("degree")) return fail(where, "missing \"degree\" ([p, q] for a bspline patch)");
-      const Json& d = j["degree"];
+      const auto& d = j["degree"];
       if (!d.is_array() || d.size() != 2 || !asInteger(d[0]) || !asInteger(d[1])) {
         return fail(where, "\"degree\" must be an array of two integers [p, q], found " + brief(d));
       }
@@ -540,7 +674,7 @@ class ModelReader {
       pv = *asInteger(d[1]);
       if (!j.contains("knots"))
         return fail(where, "missing \"knots\" ([[u knots], [v knots]] for a bspline patch)");
-      const Json& k = j["knots"];
+      const auto& k = j["knots"];
       if (!k.is_array() || k.size() != 2) {
         return fail(where, "\"knots\" must be an array of two knot vectors [[u knots], [v knots]], found " +
                                brief(k));
@@ -563,9 +697,9 @@ class ModelReader {
   }
 
   /// A bezier object may repeat its degree; it must then be (number of points - 1) per direction.
-  Status checkBezierDegree(const Json& j, const std::string& where, std::vector<int> counts) const {
+  Status checkBezierDegree(const J& j, const std::string& where, std::vector<int> counts) const {
     if (!j.contains("degree")) return Status::ok();
-    const Json& d = j["degree"];
+    const auto& d = j["degree"];
     bool matches = false;
     if (counts.size() == 1) {
       matches = asInteger(d) && *asInteger(d) == counts[0] - 1;
@@ -582,7 +716,7 @@ class ModelReader {
                            expected);
   }
 
-  Result<Curve> readCurve(const Json& j, size_t index) {
+  Result<Curve> readCurve(const J& j, size_t index) {
     Curve curve;
     std::string where;
     if (Status s = readName(j, "curve", "curves", index, curve.name, where); !s) return s;
@@ -738,7 +872,7 @@ std::string jsonExceptionText(const char* what) {
   return s;
 }
 
-Result<Model> parseModelJson(std::string_view text, std::string_view source) {
+Result<Model> detail::parseModelJsonNlohmann(std::string_view text, std::string_view source) {
   const std::string src(source);
   if (Status s = scanJsonText(text, src); !s) return s;
   Json root;
@@ -759,11 +893,38 @@ Result<Model> parseModelJson(std::string_view text, std::string_view source) {
     }
   }
   try {
-    return ModelReader(src).read(root);
+    return ModelReader<Json>(src).read(root);
   } catch (const std::exception& e) {
     // Not expected (every access is checked first); never let an exception leave the library.
     return invalidInput(src + ": " + e.what());
   }
+}
+
+std::optional<Model> detail::parseModelJsonFast(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  // A \u escape (only names and types hold strings) goes the nlohmann way: the two parsers differ on lone
+  // surrogates, and models rarely have one.
+  if (text.find("\\u") != std::string_view::npos) return std::nullopt;
+  // scanJsonText's checks without its pass over the text: simdjson refuses a NUL byte (outside a string it is no
+  // JSON, inside one an unescaped control character) and, with this limit, nesting deeper than kMaxJsonDepth.
+  simdjson::dom::parser parser;
+  if (parser.allocate(text.size(), kMaxJsonDepth) != simdjson::SUCCESS) return std::nullopt;
+  simdjson::dom::element root;
+  // Syntax errors, numbers that overflow a double, integers beyond 64 bits, invalid UTF-8, a byte-order mark:
+  // declined, the nlohmann route gives its message or reads it as before.
+  if (parser.parse(text.data(), text.size(), true).get(root) != simdjson::SUCCESS) return std::nullopt;
+  try {
+    Result<Model> model = ModelReader<SimdValue>(src).read(SimdValue(root));
+    if (!model) return std::nullopt;  // the message comes from the nlohmann route, exactly as before
+    return std::move(model).value();
+  } catch (const std::exception&) {
+    return std::nullopt;  // not expected (every access is checked first); the nlohmann route decides
+  }
+}
+
+Result<Model> parseModelJson(std::string_view text, std::string_view source) {
+  if (std::optional<Model> model = detail::parseModelJsonFast(text, source)) return std::move(*model);
+  return detail::parseModelJsonNlohmann(text, source);
 }
 
 Status checkJsonText(std::string_view text, std::string_view source) { return scanJsonText(text, source); }

@@ -1,0 +1,384 @@
+// The two routes of the JSON model reader (src/io/json.cpp, issue 16 goal 4): the fast route (simdjson's DOM) and
+// the nlohmann route go through one converter; the fast route declines anything that is not a valid model, so every
+// message stays the nlohmann route's. Tests: random model texts (numbers spelt in many ways, duplicate keys,
+// whitespace) give bit-identical Models on both routes and the doubles strtod gives for the same literals; every
+// hostile input gives the same message through parseModelJson as through the nlohmann route; the fast route is
+// taken for valid files.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/json_read.h"
+#include "seam/io/json.h"
+#include "seam/model/model.h"
+
+namespace seam {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readText(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+void expectSameValues(const double* a, const double* b, Eigen::Index n, const std::string& what) {
+  for (Eigen::Index k = 0; k < n; ++k) {
+    EXPECT_EQ(bits(a[k]), bits(b[k])) << what << " [" << k << "]: " << a[k] << " vs " << b[k];
+  }
+}
+
+void expectSameModel(const Model& a, const Model& b) {
+  ASSERT_EQ(a.patches.size(), b.patches.size());
+  for (size_t k = 0; k < a.patches.size(); ++k) {
+    const BSplineSurface& p = a.patches[k].surface;
+    const BSplineSurface& q = b.patches[k].surface;
+    const std::string& name = a.patches[k].name;
+    EXPECT_EQ(name, b.patches[k].name);
+    EXPECT_EQ(a.patches[k].kind, b.patches[k].kind) << name;
+    ASSERT_EQ(p.degreeU(), q.degreeU()) << name;
+    ASSERT_EQ(p.degreeV(), q.degreeV()) << name;
+    ASSERT_EQ(p.numU(), q.numU()) << name;
+    ASSERT_EQ(p.numV(), q.numV()) << name;
+    ASSERT_EQ(p.knotsU().values().size(), q.knotsU().values().size()) << name;
+    ASSERT_EQ(p.knotsV().values().size(), q.knotsV().values().size()) << name;
+    expectSameValues(p.knotsU().values().data(), q.knotsU().values().data(),
+                     static_cast<Eigen::Index>(p.knotsU().values().size()), name + " u knots");
+    expectSameValues(p.knotsV().values().data(), q.knotsV().values().data(),
+                     static_cast<Eigen::Index>(p.knotsV().values().size()), name + " v knots");
+    ASSERT_EQ(p.points().size(), q.points().size()) << name;
+    expectSameValues(p.points().data(), q.points().data(), p.points().size(), name + " points");
+    ASSERT_EQ(p.weights().size(), q.weights().size()) << name;
+    expectSameValues(p.weights().data(), q.weights().data(), p.weights().size(), name + " weights");
+  }
+  ASSERT_EQ(a.curves.size(), b.curves.size());
+  for (size_t k = 0; k < a.curves.size(); ++k) {
+    const BSplineCurve& c = a.curves[k].curve;
+    const BSplineCurve& d = b.curves[k].curve;
+    const std::string& name = a.curves[k].name;
+    EXPECT_EQ(name, b.curves[k].name);
+    ASSERT_EQ(c.degree(), d.degree()) << name;
+    ASSERT_EQ(c.dim(), d.dim()) << name;
+    ASSERT_EQ(c.knots().values().size(), d.knots().values().size()) << name;
+    expectSameValues(c.knots().values().data(), d.knots().values().data(),
+                     static_cast<Eigen::Index>(c.knots().values().size()), name + " knots");
+    ASSERT_EQ(c.points().size(), d.points().size()) << name;
+    expectSameValues(c.points().data(), d.points().data(), c.points().size(), name + " points");
+    ASSERT_EQ(c.weights().size(), d.weights().size()) << name;
+    expectSameValues(c.weights().data(), d.weights().data(), c.weights().size(), name + " weights");
+  }
+}
+
+/// Both routes on `text`: when the fast route reads a model, the nlohmann route reads the same one; the public
+/// function gives exactly the nlohmann route's result. Returns whether the fast route was taken.
+bool expectSameOnBothRoutes(const std::string& text, const std::string& source) {
+  const std::optional<Model> fast = io::detail::parseModelJsonFast(text, source);
+  const Result<Model> slow = io::detail::parseModelJsonNlohmann(text, source);
+  const Result<Model> pub = io::parseModelJson(text, source);
+  EXPECT_EQ(pub.isOk(), slow.isOk());
+  if (fast) {
+    EXPECT_TRUE(slow.isOk()) << "the fast route read a model that the nlohmann route refuses: "
+                             << slow.status().message();
+    if (slow) expectSameModel(*fast, *slow);
+  }
+  if (slow && pub) {
+    expectSameModel(*pub, *slow);
+  } else if (!slow && !pub) {
+    EXPECT_EQ(pub.status().message(), slow.status().message());
+    EXPECT_EQ(pub.status().code(), slow.status().code());
+  }
+  return fast.has_value();
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Random model texts, written by the test with numbers spelt in many ways; the expected value of every number is
+// strtod of its literal (glibc's correctly rounded conversion), an independent route.
+
+class TextGen {
+ public:
+  explicit TextGen(std::uint32_t seed) : rng_(seed) {}
+
+  /// A number literal and its value. `positive`: > 0 (weights); `integral`: an integer literal.
+  std::string number(double& value, bool positive = false) {
+    std::string s;
+    const int kind = pick(12);
+    const double x = std::uniform_real_distribution<double>(-1000.0, 1000.0)(rng_);
+    switch (kind) {
+      case 0: s = fmt::format("{}", x); break;                   // shortest round trip
+      case 1: s = fmt::format("{:.17g}", x); break;               // 17 digits
+      case 2: s = fmt::format("{:.25e}", x); break;               // more digits than a double holds
+      case 3: s = fmt::format("{:.3E}", x); break;                // capital E
+      case 4: s = fmt::format("{}", static_cast<long long>(x)); break;  // integer literal
+      case 5: s = pick(2) ? "-0" : "-0.0"; break;
+      case 6: s = fmt::format("{}", std::bit_cast<double>(
+                                    (rng_() | std::uint64_t{rng_()} << 32) & 0x000fffffffffffffULL));
+        break;  // subnormal
+      case 7: s = fmt::format("{}e{}", static_cast<int>(x), pick(600) - 300); break;
+      case 8: s = fmt::format("{}", static_cast<std::uint64_t>(rng_()) << 31 | rng_()); break;  // big integer
+      case 9: s = "9007199254740993"; break;                        // 2^53 + 1, not a double
+      case 10: s = fmt::format("0.{}e-5", rng_()); break;
+      default: s = fmt::format("{:.{}f}", x, pick(20)); break;
+    }
+    if (positive) {
+      if (s[0] == '-') s = s.substr(1);
+      if (std::strtod(s.c_str(), nullptr) <= 0.0) s = "1e-3";
+    }
+    value = std::strtod(s.c_str(), nullptr);
+    if (s == "-0") value = 0.0;  // an integer literal: integer 0 on both parsers, read as +0.0 (as before)
+    return s;
+  }
+
+  std::string ws() {
+    static const char* const kSpaces[] = {"", " ", "\n", "\t", " \r\n  "};
+    return kSpaces[pick(5)];
+  }
+
+  /// A clamped knot vector of `count` knots for degree p (non-decreasing by construction).
+  std::string knots(int p, int count, std::vector<double>& values) {
+    std::string s = "[";
+    const int inner = count - 2 * (p + 1);
+    values.clear();
+    const double scale = 0.1 * (1 + pick(30));
+    for (int k = 0; k < count; ++k) {
+      const int level = k <= p ? 0 : (k >= count - p - 1 ? inner + 1 : k - p);
+      const std::string lit = fmt::format("{}", level * scale);
+      values.push_back(std::strtod(lit.c_str(), nullptr));
+      s += (k ? "," : "") + ws() + lit;
+    }
+    return s + "]";
+  }
+
+  int pick(int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng_); }
+
+  std::mt19937 rng_;
+};
+
+/// A random model text; `expected` gets the strtod value of every point coordinate and weight in file order.
+std::string randomModelText(TextGen& g, std::vector<double>& expected) {
+  std::string s = "{" + g.ws() + "\"patches\":" + g.ws() + "[";
+  const int patches = 1 + g.pick(4);
+  for (int n = 0; n < patches; ++n) {
+    const bool bezier = g.pick(3) == 0;
+    const int p = 1 + g.pick(3);
+    const int q = 1 + g.pick(3);
+    const int nu = bezier ? p + 1 : p + 1 + g.pick(3);
+    const int nv = bezier ? q + 1 : q + 1 + g.pick(3);
+    const bool rational = g.pick(2) == 0;
+    std::string obj = fmt::format("{{\"name\":\"P{}\",{}\"type\":\"{}\"", n, g.ws(), bezier ? "bezier" : "bspline");
+    if (g.pick(4) == 0) obj += fmt::format(",\"name\":\"dup{}\"", n);  // a repeated key: nlohmann keeps the last
+    obj += ",\"points\":[";
+    for (int i = 0; i < nu; ++i) {
+      obj += i ? ",[" : "[";
+      for (int j = 0; j < nv; ++j) {
+        obj += j ? ",[" : "[";
+        for (int c = 0; c < 3; ++c) {
+          double v = 0.0;
+          obj += (c ? "," : "") + g.ws() + g.number(v);
+          expected.push_back(v);
+        }
+        obj += "]";
+      }
+      obj += "]";
+    }
+    obj += "]";
+    if (rational) {
+      obj += ",\"weights\":[";
+      for (int i = 0; i < nu; ++i) {
+        obj += i ? ",[" : "[";
+        for (int j = 0; j < nv; ++j) {
+          double v = 0.0;
+          obj += (j ? "," : "") + g.number(v, true);
+          expected.push_back(v);
+        }
+        obj += "]";
+      }
+      obj += "]";
+    }
+    if (!bezier) {
+      std::vector<double> ku;
+      std::vector<double> kv;
+      obj += fmt::format(",\"degree\":[{},{}]", p, q);
+      obj += ",\"knots\":[" + g.knots(p, nu + p + 1, ku) + "," + g.knots(q, nv + q + 1, kv) + "]";
+    }
+    s += (n ? "," : "") + g.ws() + obj + "}";
+  }
+  s += "]";
+  if (g.pick(2)) {
+    s += ",\"curves\":[";
+    const int curves = 1 + g.pick(3);
+    for (int n = 0; n < curves; ++n) {
+      const int p = 1 + g.pick(3);
+      const int count = p + 1 + g.pick(4);
+      const int dim = 2 + g.pick(2);
+      std::string obj = fmt::format("{{\"name\":\"C{}\",\"type\":\"bspline\",\"degree\":{},\"points\":[", n, p);
+      for (int i = 0; i < count; ++i) {
+        obj += i ? ",[" : "[";
+        for (int c = 0; c < dim; ++c) {
+          double v = 0.0;
+          obj += (c ? "," : "") + g.number(v);
+          expected.push_back(v);
+        }
+        obj += "]";
+      }
+      std::vector<double> k;
+      obj += "],\"knots\":" + g.knots(p, count + p + 1, k);
+      s += (n ? "," : "") + obj + "}";
+    }
+    s += "]";
+  }
+  return s + g.ws() + "}" + g.ws();
+}
+
+/// Every point coordinate and weight of a model read from randomModelText, in file order.
+std::vector<double> valuesInFileOrder(const Model& m) {
+  std::vector<double> out;
+  for (const Patch& patch : m.patches) {
+    const BSplineSurface& s = patch.surface;
+    const Eigen::Index n = static_cast<Eigen::Index>(s.numU()) * s.numV();
+    for (Eigen::Index r = 0; r < n; ++r) {
+      for (Eigen::Index c = 0; c < 3; ++c) out.push_back(s.points()(r, c));
+    }
+    for (Eigen::Index r = 0; r < s.weights().size(); ++r) out.push_back(s.weights()[r]);
+  }
+  for (const Curve& curve : m.curves) {
+    for (Eigen::Index r = 0; r < curve.curve.points().rows(); ++r) {
+      for (Eigen::Index c = 0; c < curve.curve.dim(); ++c) out.push_back(curve.curve.points()(r, c));
+    }
+  }
+  return out;
+}
+
+TEST(JsonReadRoutes, RandomModelTextsGiveBitIdenticalModelsOnBothRoutes) {
+  TextGen g(20261126);
+  constexpr int kModels = 300;
+  int fastTaken = 0;
+  for (int k = 0; k < kModels; ++k) {
+    SCOPED_TRACE(fmt::format("model {}", k));
+    std::vector<double> expected;
+    const std::string text = randomModelText(g, expected);
+    const std::optional<Model> fast = io::detail::parseModelJsonFast(text, "random.json");
+    const Result<Model> slow = io::detail::parseModelJsonNlohmann(text, "random.json");
+    ASSERT_TRUE(slow.isOk()) << slow.status().message() << "\n" << text;
+    ASSERT_TRUE(fast.has_value()) << text;
+    ++fastTaken;
+    expectSameModel(*fast, *slow);
+    // Independent route: strtod of each literal. Non-rational surfaces keep no weights, so compare per value.
+    const std::vector<double> got = valuesInFileOrder(*fast);
+    ASSERT_EQ(got.size(), expected.size()) << text;
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(bits(got[i]), bits(expected[i])) << i << "\n" << text;
+    if (HasFailure()) break;
+  }
+  EXPECT_EQ(fastTaken, kModels);
+}
+
+TEST(JsonReadRoutes, WriterOutputAndExampleModelsTakeTheFastRoute) {
+  for (const auto& entry : fs::directory_iterator(fs::path(SEAM_EXAMPLES_DIR) / "models")) {
+    if (entry.path().extension() != ".json" || entry.path().stem() == "zwl_example") continue;
+    SCOPED_TRACE(entry.path().string());
+    const std::string text = readText(entry.path());
+    EXPECT_TRUE(expectSameOnBothRoutes(text, entry.path().string()));
+    // What seam writes reads back on the fast route too.
+    const Result<Model> model = io::parseModelJson(text, "m.json");
+    ASSERT_TRUE(model.isOk());
+    EXPECT_TRUE(expectSameOnBothRoutes(io::modelToJson(*model), "written.json"));
+  }
+}
+
+TEST(JsonReadRoutes, HostileFilesGiveTheSameMessageOnBothRoutes) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(SEAM_TEST_DATA_DIR) / "hostile")) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    expectSameOnBothRoutes(readText(entry.path()), entry.path().string());
+    ++files;
+  }
+  EXPECT_GE(files, 5);
+}
+
+TEST(JsonReadRoutes, InputsTheParsersTreatDifferentlyGoTheNlohmannWay) {
+  const std::string patch =
+      R"("type":"bezier","points":[[[0,0,0],[1,0,0]],[[0,1,0],[1,1,X]]])";
+  auto model = [&](const std::string& z, const std::string& extra = "") {
+    std::string p = patch;
+    p.replace(p.find('X'), 1, z);
+    return R"({"patches":[{"name":"A",)" + p + extra + "}]}";
+  };
+  struct Case {
+    std::string text;
+    bool fast;  ///< the fast route reads it
+  };
+  const std::vector<Case> cases = {
+      {model("0"), true},
+      {model("1e999"), false},                   // overflows a double: the nlohmann route names the point
+      {model("-1e999"), false},
+      {model("18446744073709551616"), false},    // beyond 64 bits: nlohmann reads a double
+      {model("-9223372036854775809"), false},
+      {model("18446744073709551615"), true},     // uint64
+      {model("1e-400"), true},                   // underflows to 0
+      {model("-1e-400"), true},                  // -0
+      {model("-0"), true},                       // integer 0: +0.0 on both routes
+      {model("0", R"(,"name":"B")"), true},      // repeated key: the last one
+      {model("0", R"(,"name":"\u00e9")"), false},  // \u escapes: the nlohmann route
+      {model("0", R"(,"name":"\ud800")"), false},  // lone surrogate: an error on both
+      {model("0", R"(,"name":"\udc00x")"), false},
+      {"\xEF\xBB\xBF" + model("0"), false},       // byte-order mark: nlohmann skips it
+      {model("0", ",\"name\":\"\xC3\x28\""), false},  // invalid UTF-8
+      {model("0", ",\"name\":\"caf\xC3\xA9\""), true},  // valid UTF-8
+      {model("0", R"(,"degree":[1,1])"), true},
+      {model("0", R"(,"degree":[1.0,1])"), false},  // not an integer
+      {model("0", R"(,"degree":[2,1])"), false},
+      {model("\"1\""), false},
+      {model("null"), false},
+      {model("true"), false},
+      {model("0") + ",", false},
+      {model("0") + "{}", false},
+      {model("[0]"), false},
+      {model("0", R"(,"extra":1)"), false},
+      {R"({"patches":[]})", true},
+      {R"({"curves":[]})", true},
+      {R"({"patches":{}})", false},
+      {R"([])", false},
+      {"", false},
+      {"   ", false},
+      {R"({"patches":[],"patches":{}})", false},  // repeated key, the last one is wrong
+      {R"({"patches":{},"patches":[]})", true},   // repeated key, the last one is right
+  };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    SCOPED_TRACE(fmt::format("case {}: {}", k, cases[k].text));
+    EXPECT_EQ(expectSameOnBothRoutes(cases[k].text, "case.json"), cases[k].fast);
+  }
+}
+
+TEST(JsonReadRoutes, NestingAtTheDepthLimitIsReadAlikeOnBothRoutes) {
+  // "$schema" is not read, so its value may nest as deep as scanJsonText allows (256 with the top level).
+  for (int depth = 250; depth <= 260; ++depth) {
+    SCOPED_TRACE(depth);
+    const std::string nested = std::string(static_cast<size_t>(depth - 1), '[') + std::string(static_cast<size_t>(depth - 1), ']');
+    const std::string text = R"({"patches":[],"$schema":)" + nested + "}";
+    const bool fast = expectSameOnBothRoutes(text, "deep.json");
+    EXPECT_EQ(io::detail::parseModelJsonNlohmann(text, "deep.json").isOk(), depth <= 256);
+    if (depth > 256) EXPECT_FALSE(fast);
+  }
+  // A NUL byte, outside and inside a string.
+  EXPECT_FALSE(expectSameOnBothRoutes(std::string(R"({"patches":[]})") + '\0', "nul.json"));
+  EXPECT_FALSE(expectSameOnBothRoutes(std::string(R"({"patches":[],"$schema":"a)") + '\0' + "\"}", "nul.json"));
+  EXPECT_FALSE(expectSameOnBothRoutes("{\"patches\":[],\"$schema\":\"a\tb\"}", "tab.json"));
+}
+
+}  // namespace
+}  // namespace seam
