@@ -53,19 +53,11 @@ status=0
 for h in "${harnesses[@]}"; do
   mkdir -p "build-fuzz/corpus/$h"
   limit=(-max_total_time="$seconds" -max_len=65536)
-  asan_options=detect_leaks=1:abort_on_error=1
-  if [ "$h" = step ] || [ "$h" = iges ]; then
-    limit=(-runs="$cad_runs" -max_len=262144)
-    # OpenCASCADE's readers allocate and free large blocks for every input: ASan's filling of new blocks, deep
-    # allocation stacks and its 256 MB quarantine cost half the time there (IGES 33 -> 50 inputs a second,
-    # docs/reliability.md). Reports keep 4 frames of the allocation stack; use-after-free is still caught within
-    # 16 MB of later allocations.
-    asan_options+=:max_malloc_fill_size=0:malloc_context_size=4:quarantine_size_mb=16
-  fi
+  if [ "$h" = step ] || [ "$h" = iges ]; then limit=(-runs="$cad_runs" -max_len=262144); fi
   echo "== fuzz_$h: ${limit[0]}"
   # -rss_limit_mb: the harnesses read at most -max_len bytes, so 2 GB is a leak or a blow-up; -timeout: a single
   # input taking 10 s is a hang (the readers are linear).
-  if ! ASAN_OPTIONS="$asan_options" UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       "build-fuzz/fuzz/fuzz_$h" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -seed="$fuzz_seed" -artifact_prefix="build-fuzz/artifacts/${h}-" \
       "build-fuzz/corpus/$h" "build-fuzz/seeds/$h" 2>"build-fuzz/fuzz_$h.log"; then
