@@ -2,13 +2,21 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <new>
 
+#include "command_registry.h"
 #include "json_text.h"
 #include "seam/core/tolerance_presets.h"
 #include "seam/io/file.h"
@@ -24,6 +32,72 @@ std::function<void(int, int, int)> brepProgressPrinter(const std::filesystem::pa
     if (faces > static_cast<int>(kProgressPatches))
       std::cerr << fmt::format("seam: {}: {} faces, {} of {} edges checked\n", file.string(), faces, done, total);
   };
+}
+
+namespace {
+/// The value of --time-limit (seconds, 0 = none), set while the command line is parsed.
+std::atomic<double> cadTimeLimitSeconds{kDefaultCadTimeLimitSeconds};
+/// Limits above this (about 115 days) are no limit: steady_clock durations must not overflow.
+constexpr double kLongestTimeLimitSeconds = 1e7;
+}  // namespace
+
+void addTimeLimitOption(CLI::App& app) {
+  // Inherited by the subcommands added after this: `seam check f.step --time-limit 60` reaches this option.
+  app.fallthrough();
+  app.add_option_function<double>(
+      "--time-limit",
+      [](double seconds) {
+        if (!std::isfinite(seconds) || seconds < 0.0)
+          throw CLI::ValidationError("--time-limit", "must be a number of seconds >= 0 (0: no limit)");
+        cadTimeLimitSeconds = seconds;
+      },
+      fmt::format("Seconds that reading and analysing one STEP/IGES file may take before seam stops with exit code "
+                  "2 (default {}; 0: no limit); before or after the command",
+                  formatNumber(kDefaultCadTimeLimitSeconds)));
+}
+
+struct CadTimeLimit::State {
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool done = false;
+  std::thread watcher;
+};
+
+CadTimeLimit::CadTimeLimit(std::filesystem::path file, std::string what) {
+  const double limit = cadTimeLimitSeconds.load();
+  if (!(limit > 0.0) || limit > kLongestTimeLimitSeconds) return;
+  state_ = std::make_unique<State>();
+  State* s = state_.get();
+  s->watcher = std::thread([s, file = std::move(file), what = std::move(what), limit] {
+    const auto wait = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(limit));
+    std::unique_lock<std::mutex> lock(s->mutex);
+    if (s->finished.wait_for(lock, wait, [s] { return s->done; })) return;
+    // The main thread is inside OpenCASCADE and cannot be interrupted: say why and end the process. Buffered
+    // standard output (a partial table) is dropped on purpose; no output file has been written yet.
+    const std::string message = fmt::format(
+        "seam: error: {}: {} the file took longer than the time limit of {} s and was stopped (a corrupt STEP/IGES "
+        "file can keep OpenCASCADE's shape healing busy for minutes); allow more time with --time-limit SECONDS, "
+        "or 0 for no limit\n",
+        file.string(), what, formatNumber(limit));
+    size_t written = 0;
+    while (written < message.size()) {
+      const ssize_t n = ::write(STDERR_FILENO, message.data() + written, message.size() - written);
+      if (n <= 0) break;
+      written += static_cast<size_t>(n);
+    }
+    ::_exit(kExitBadInput);
+  });
+}
+
+CadTimeLimit::~CadTimeLimit() {
+  if (!state_) return;
+  {
+    std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->done = true;
+  }
+  state_->finished.notify_one();
+  state_->watcher.join();
 }
 
 std::string lowerExtension(const std::filesystem::path& file) {
@@ -139,7 +213,10 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
 #ifdef SEAM_HAVE_OCCT
     occt::CadReadOptions ro;
     if (overrides.units) ro.statedUnitMm = lengthUnitInfo(*overrides.units).millimetres;
-    Result<occt::CadImport> cad = occt::readCadFile(file, ro);
+    Result<occt::CadImport> cad = [&] {
+      const CadTimeLimit limit(file, "reading");
+      return occt::readCadFile(file, ro);
+    }();
     if (!cad) {
       printError(cad.status().message());
       return std::nullopt;

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -26,6 +27,31 @@ inline constexpr size_t kProgressPatches = 300;
 /// A B-rep check progress callback (faces, edges done, edges in all) that prints a line on stderr for models above
 /// kProgressPatches faces and stays silent below.
 std::function<void(int, int, int)> brepProgressPrinter(const std::filesystem::path& file);
+
+/// Default of `seam --time-limit`: wall-clock seconds that reading and analysing one STEP/IGES file may take. Every
+/// real file seam has met takes a few seconds; a corrupt one can keep OpenCASCADE's shape healing busy for minutes
+/// in code that never looks at a clock (docs/reliability.md, "Time limit").
+inline constexpr double kDefaultCadTimeLimitSeconds = 300.0;
+
+/// Adds the global `--time-limit SECONDS` option (0 = no limit) to the application; it may be given before or after
+/// the command's name.
+void addTimeLimitOption(CLI::App& app);
+
+/// While alive, a watchdog thread measures the time spent on a STEP/IGES file (`what`: "reading", "checking", ...).
+/// When the limit of --time-limit passes before destruction, it prints "seam: error: <file>: ..." on stderr and
+/// ends the process with exit code 2 (kExitBadInput) at once: OpenCASCADE cannot be interrupted, and no output file
+/// exists yet (outputs are written after the model is read, atomically). The CLI only: never in the Python module.
+class CadTimeLimit {
+ public:
+  CadTimeLimit(std::filesystem::path file, std::string what);
+  ~CadTimeLimit();
+  CadTimeLimit(const CadTimeLimit&) = delete;
+  CadTimeLimit& operator=(const CadTimeLimit&) = delete;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// Prints "seam: error: <message>" on stderr.
 void printError(std::string_view message);

@@ -173,7 +173,8 @@ std::optional<Child> spawnCheck(const std::string& exe, const std::vector<std::s
     error = fmt::format("cannot create a temporary file in {}", tmp.string());
     return std::nullopt;
   }
-  std::vector<std::string> args{exe, "check", row.file, "--json"};
+  // The batch's own --timeout stops a child (and names the option): the child's --time-limit is off.
+  std::vector<std::string> args{exe, "check", row.file, "--json", "--time-limit", "0"};
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());

@@ -307,7 +307,10 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
   bo.progress = brepProgressPrinter(o.file);
-  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(o.file, bo);
+  const Result<occt::BRepCheckReport> r = [&] {
+    const CadTimeLimit limit(o.file, "reading and checking");
+    return occt::checkBRepFile(o.file, bo);
+  }();
   if (!r) {
     printError(r.status().message());
     return kExitBadInput;

@@ -72,7 +72,10 @@ bool parseSelection(const ReportOptions& o, SeamSelection& sel) {
 /// STEP/IGES: the B-rep check (every shared edge through the pcurves), OpenCASCADE's verdict as an extra column
 /// (brepReportPage, apps/common/brep_report.h: the same page as Python's seam.report).
 int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
-  const Result<BRepReportPage> page = brepReportPage(o.file, o.tol, ro, brepProgressPrinter(o.file));
+  const Result<BRepReportPage> page = [&] {
+    const CadTimeLimit limit(o.file, "reading and checking");
+    return brepReportPage(o.file, o.tol, ro, brepProgressPrinter(o.file));
+  }();
   if (!page) {
     printError(page.status().message());
     return kExitBadInput;

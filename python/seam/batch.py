@@ -70,11 +70,11 @@ def error_row(path: str, message: str, seconds: float = 0.0) -> dict:
 
 def check_file(path: str, **options) -> dict:
     """One file's row; never raises for a bad file (status "error" and the message instead)."""
-    from . import _seam  # imported here so that a Dask worker unpickling this function imports the module itself
+    from . import check  # imported here so that a Dask worker unpickling this function imports the module itself
 
     start = time.perf_counter()
     try:
-        result = _seam.check(path, **options)
+        result = check(path, **options)  # options may hold timeout= (a child process per file)
     except (ValueError, OSError, RuntimeError) as e:
         return error_row(path, str(e), time.perf_counter() - start)
     return summarize(path, result, time.perf_counter() - start, options.get("require"))
@@ -83,7 +83,9 @@ def check_file(path: str, **options) -> dict:
 def check_files(paths, client=None, function=None, **options) -> list[dict]:
     """Rows of check_file for every path, in the order given. With a distributed.Client the files are mapped over
     its workers (one task per file); without one they are checked here, one after another. `options` are
-    seam.check's keyword options (tol_distance, require, ...). `function` replaces check_file (same arguments, same
+    seam.check's keyword options (tol_distance, require, timeout, ...): with timeout=SECONDS each file is checked
+    in a process of its own and a file past the limit gets an error row (a corrupt file cannot hold up a worker
+    for minutes inside OpenCASCADE). `function` replaces check_file (same arguments, same
     row), e.g. to add columns. A task that fails on a worker (a worker killed by a crash in a reader gives
     distributed's KilledWorker) becomes that file's error row: the batch goes on."""
     paths = [os.fspath(p) for p in paths]
