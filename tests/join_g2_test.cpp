@@ -84,8 +84,10 @@ BSplineSurface timesLinearInV(const Matrix& hb, bool rational, const VaryingRho&
 /// A random pair with a G1 seam and a curvature jump scaled by `offset` (valid = false when B's weights would not
 /// be positive). With `rho`, A is a Bezier patch in v and B's net is multiplied by rho's linear function of v.
 Pair makePair(std::mt19937_64& rng, bool rational, bool mirrored, double offset, double weightScaleB,
-              const std::optional<VaryingRho>& rho = std::nullopt) {
-  const int nv = rho ? 4 : test::uniformInt(rng, 4, 6);  // cubic in v: 1-3 spans (one with rho)
+              const std::optional<VaryingRho>& rho = std::nullopt,
+              const std::optional<KnotVector>& knotsV = std::nullopt) {
+  // Cubic in v: 1-3 spans (one with rho), or the given knots.
+  const int nv = knotsV ? knotsV->size() - 4 : rho ? 4 : test::uniformInt(rng, 4, 6);
   Matrix p(4 * nv, 3);
   VecX w(rational ? 4 * nv : 0);
   for (int i = 0; i < 4; ++i)
@@ -95,7 +97,8 @@ Pair makePair(std::mt19937_64& rng, bool rational, bool mirrored, double offset,
           0.3 * std::sin(2.0 * x + 1.3 * y) + uniformReal(rng, -0.05, 0.05);
       if (rational) w[i * nv + j] = uniformReal(rng, 0.8, 1.25);  // 2 w3 - w2 > 0: B's weights stay positive
     }
-  const BSplineSurface a(3, 3, KnotVector::clampedUniform(3, 4), KnotVector::clampedUniform(3, nv), 4, nv, p, w);
+  const BSplineSurface a(3, 3, KnotVector::clampedUniform(3, 4), knotsV ? *knotsV : KnotVector::clampedUniform(3, nv),
+                         4, nv, p, w);
   const Matrix ha = homogeneousOf(a);
   const int cols = static_cast<int>(ha.cols());
   Matrix hb(4 * nv, cols);
@@ -142,6 +145,9 @@ double normalCurvature(const Jet& j, const Vec3& d, const Vec3& n) {
   return n.dot(second) / d.squaredNorm();
 }
 
+/// Distance (fraction of the seam's parameter range) of the samples taken on both sides of an interior knot.
+constexpr double kKnotSampleShift = 1e-9;
+
 struct Comparison {
   double gap = 0.0, angleDeg = 0.0, jumpRel = 0.0;
 };
@@ -153,8 +159,23 @@ Comparison compareAlongSeam(const Pair& pr, double size) {
   Comparison out;
   double scale = 1.0 / size, worstJump = 0.0;
   const Interval va = pr.a.domainV(), vb = pr.b.domainV();
+  // Samples at an interior knot of the seam's direction are taken just before and just after it: with a double or
+  // triple knot the edge is only C1 or C0 there, and the two sides' one-sided limits are what must agree.
+  std::vector<double> ts;
+  const std::vector<double>& knots = pr.a.knotsV().values();
   for (int k = 0; k < kSeamSamples; ++k) {
     const double t = static_cast<double>(k) / (kSeamSamples - 1);
+    const bool atKnot = std::any_of(knots.begin(), knots.end(), [&](double x) {
+      return x > va.lo && x < va.hi && std::abs(va.lo + t * va.length() - x) < kKnotSampleShift * va.length();
+    });
+    if (atKnot) {
+      ts.push_back(t - kKnotSampleShift);
+      ts.push_back(t + kKnotSampleShift);
+    } else {
+      ts.push_back(t);
+    }
+  }
+  for (const double t : ts) {
     const double v1 = va.lo + t * va.length();
     const double v2 = pr.mirrored ? vb.hi - t * vb.length() : vb.lo + t * vb.length();
     const Jet ja = jetAt(pr.a, pr.a.domainU().hi, v1), jb = jetAt(pr.b, pr.b.domainU().lo, v2);
@@ -183,7 +204,8 @@ JoinOptions g2Options() {
   return o;
 }
 
-void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, bool varyingRho = false) {
+void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, bool varyingRho = false,
+               const std::optional<KnotVector>& knotsV = std::nullopt) {
   std::mt19937_64 rng(seed);
   int accepted = 0, achieved = 0;
   for (int trial = 0; trial < 200 && accepted < 12; ++trial) {
@@ -191,7 +213,7 @@ void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, boo
     const double offset = uniformReal(rng, 0.005, 0.08);
     std::optional<VaryingRho> rho;
     if (varyingRho) rho = VaryingRho{uniformReal(rng, 0.5, 1.0), uniformReal(rng, 1.5, 3.0)};  // rho: g0 -> g1
-    const Pair pr = makePair(rng, rational, mirrored, offset, weightScaleB, rho);
+    const Pair pr = makePair(rng, rational, mirrored, offset, weightScaleB, rho, knotsV);
     if (!pr.valid) continue;
     const double size = std::max(patchSize(pr.a), patchSize(pr.b));
     const Comparison before = compareAlongSeam(pr, size);
@@ -263,6 +285,19 @@ TEST(G2Join, RationalPairsWithScaledWeightsComeOutG2) { runTrials(true, 14003, 2
 TEST(G2Join, PairsWhoseWeightRatioVariesAlongTheSeamComeOutG2) {
   runTrials(false, 14004, 1.0, true);
   runTrials(true, 14005, 1.0, true);
+}
+
+// Double and triple interior knots along the seam (issue 14 §2, the thesis' Theorems 9 and 10): the edge curve is
+// only C1 (double) or C0 (triple) at the knot, so the blending functions may jump there. Both patches share the
+// knots; the G2 conditions hold span by span.
+TEST(G2Join, PairsWithDoubleAndTripleInteriorKnotsAlongTheSeamComeOutG2) {
+  const KnotVector twice({0, 0, 0, 0, 0.5, 0.5, 1, 1, 1, 1});
+  const KnotVector thrice({0, 0, 0, 0, 0.4, 0.4, 0.4, 1, 1, 1, 1});
+  const KnotVector mixed({0, 0, 0, 0, 0.3, 0.6, 0.6, 0.6, 1, 1, 1, 1});
+  runTrials(false, 14006, 1.0, false, twice);
+  runTrials(true, 14007, 1.0, false, thrice);
+  runTrials(false, 14008, 1.0, false, mixed);
+  runTrials(true, 14009, 2.5, false, mixed);
 }
 
 }  // namespace

@@ -264,6 +264,45 @@ TEST(SeamSplit, BicubicSplitInVIsG2AndC2) {
   }
 }
 
+// A seam that crosses a crease or a curvature break of the surface: v has a double or triple interior knot (the
+// surface is only C1 or C0 across the iso-line there; the triple knot's control row is lifted to make a real
+// crease), and the split in u runs across it. Along the seam the edge curve has a corner (or a curvature jump) at
+// the knot, but the two parts are one surface: G2 on each side of the knot, certified, in both orientations. With the
+// neighbour reversed along the edge, the sampled route used to take A's limit from one side of the knot and B's
+// from the other, saw the crease as a kink across the seam, and called the seam G0 (an angle of 10-50 degrees).
+TEST(SeamSplit, AMirroredNeighbourAcrossADoubleOrTripleKnotAlongTheEdgeKeepsItsClass) {
+  Rng rng(3010);
+  for (const std::vector<double>& kv : {std::vector<double>{0, 0, 0, 0, 0.5, 0.5, 1, 1, 1, 1},
+                                        std::vector<double>{0, 0, 0, 0, 0.4, 0.4, 0.4, 1, 1, 1, 1},
+                                        std::vector<double>{0, 0, 0, 0, 0.3, 0.6, 0.6, 0.6, 1, 1, 1, 1}}) {
+    const int nu = 6, nv = static_cast<int>(kv.size()) - 4;
+    Matrix p = graphNet(rng, nu, nv, 0.25);
+    const auto tripleAt = std::adjacent_find(kv.begin(), kv.end(), [&](double x, double y) {
+      return x == y && x > 0.0 && x < 1.0 && std::count(kv.begin(), kv.end(), x) == 3;
+    });
+    if (tripleAt != kv.end()) {  // the row interpolated at the triple knot: lift it, a crease along u
+      const int j = static_cast<int>(std::distance(kv.begin(), tripleAt)) - 1;
+      for (int i = 0; i < nu; ++i) p(i * nv + j, 2) += 0.3;
+    }
+    const BSplineSurface s(3, 3, KnotVector::clampedUniform(3, nu), KnotVector(kv), nu, nv, p, VecX());
+    auto [a, b] = splitU(s, KnotVector::clampedUniform(3, nu)[4]);
+    const SplitPair sp{s, a, b, 0.0};
+    checkSplitReproduces(sp, true);
+    for (const bool mirrored : {false, true}) {
+      SCOPED_TRACE(std::string(mirrored ? "mirrored, " : "") + "knots v " + std::to_string(kv.size()));
+      auto r = analyze(a, Edge::U1, mirrored ? b.reversedV() : b, Edge::U0);
+      ASSERT_TRUE(r);
+      SCOPED_TRACE(describe(*r));
+      EXPECT_EQ(r->reversed, mirrored);
+      EXPECT_EQ(r->geometric, GeometricClass::kG2);
+      EXPECT_TRUE(r->certified);
+      EXPECT_LE(r->g1MaxDeg, kExactAngleDeg);
+      EXPECT_LE(r->g1SampledDeg, kExactAngleDeg);
+      EXPECT_LE(r->g2RelMax, kExactCurvatureRel);
+    }
+  }
+}
+
 // Every way of presenting the same split pair. Seen from their edges (seam.h: A' = A.orientedFrom(ea)) the
 // swapped and cross-reversed copies are the identical oriented surfaces, so everything is unchanged. A copy
 // reversed ALONG the edge is the same surface with its edge parameter run backwards (s = a + b - t):

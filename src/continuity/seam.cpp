@@ -177,8 +177,14 @@ void bernsteinJet(const Matrix& c, double x, int order, std::array<Eigen::Vector
 /// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
 /// of the side (homogeneous; the quotient rule for rational sides). The same values as the surface's own evaluator
 /// to round-off, at a fraction of its cost. Spans are non-empty (decompose drops empty ones).
-void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out) {
-  const size_t k = static_cast<size_t>(spanIndex(s, t));
+void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight = false) {
+  size_t k = static_cast<size_t>(spanIndex(s, t));
+  // At a breakpoint (to kKnotRelTol: a parameter mapped from the other side carries round-off) the span that ends
+  // there gives the limit from the left, the span that starts there the limit from the right. They differ where the
+  // edge is only C0 or C1 (double or triple knots), so the caller chooses.
+  const double snap = kKnotRelTol * s.dom.length();
+  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
+  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
   const Interval span = s.spans[k];
   const double x = (t - span.lo) / span.length(), dx = 1.0 / span.length();
   std::array<Eigen::Vector4d, 3> j0, j1, j2;
@@ -221,8 +227,10 @@ struct PointMeasures {
 // sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise.
 PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
   std::array<Vec3, 6> da, db;  // S, S_u, S_v, S_uu, S_uv, S_vv
+  // The same one-sided limit on both sides at a breakpoint: from the left along A's edge, which is from the right
+  // along B's when B runs the other way (a mirrored neighbour).
   edgeJet(A, t, da);
-  edgeJet(B, s, db);
+  edgeJet(B, s, db, sgn < 0.0);
   PointMeasures m;
   const Vec3 a = da[0], T = da[2], O = -da[1];
   const Vec3 Aoo = da[3], Aot = -da[4], Att = da[5];
