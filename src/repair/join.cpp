@@ -558,6 +558,10 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
                                       worstRel, opt.maxDisplacementRel));
       worse.push_back(fmt::format("the surface would move by {:.3g} x the patch size", worstRel));
     }
+    // Never half-done (issue 13 §1): a join that does not reach the requested class leaves the patch as it was.
+    if (worse.empty() && !meets(a.geometric, opt.continuity))
+      worse.push_back(fmt::format("the seam would be {}, not the requested {}", toString(a.geometric),
+                                  toString(opt.continuity)));
     if (!worse.empty()) {
       std::string why = worse.front();
       for (size_t k = 1; k < worse.size(); ++k) why += "; " + worse[k];
