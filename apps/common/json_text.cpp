@@ -160,25 +160,22 @@ void JsonTextWriter::beginArray() {
 
 void JsonTextWriter::endObject() {
   assert(!stack_.empty() && stack_.back().object && !afterKey_);
-  const bool empty = stack_.back().empty;
-  stack_.pop_back();
-  if (!empty) {
-    out_ += '\n';
-    appendSpaces(out_, indent());
-  }
-  out_ += '}';
-  maybeFlush();
+  close('}');
 }
 
 void JsonTextWriter::endArray() {
   assert(!stack_.empty() && !stack_.back().object);
+  close(']');
+}
+
+void JsonTextWriter::close(char bracket) {
   const bool empty = stack_.back().empty;
   stack_.pop_back();
   if (!empty) {
     out_ += '\n';
     appendSpaces(out_, indent());
   }
-  out_ += ']';
+  out_ += bracket;
   maybeFlush();
 }
 

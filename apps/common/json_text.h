@@ -79,6 +79,8 @@ class JsonTextWriter {
   /// The separator and indentation before a value (an array element) or nothing (after key()).
   void beforeValue();
   void maybeFlush();
+  /// Ends the innermost object or array with `bracket`, on its own line unless it was empty.
+  void close(char bracket);
   int indent() const { return 2 * static_cast<int>(stack_.size()); }
 
   std::ostream* sink_ = nullptr;
