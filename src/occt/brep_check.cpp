@@ -597,11 +597,14 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       if (!sewing.SewedShape().IsNull()) {
         shape = sewing.SewedShape();
         out.sewn = true;
-        // The sewn faces keep the entities of the faces they were made from.
+        // The sewn faces keep the entities of the faces they were made from. The faces are sub-shapes of what was
+        // added (the file's one shape): their history is ModifiedSubShape; Modified knows only the added shape
+        // itself, and missed every face sewing rebuilt (issue 17 §3: all of bearing.iges, the fuselage, ...).
         detail::FaceLabels sewn;
         for (int i = 1; i <= labels.faces.Extent(); ++i) {
           const TopoDS_Shape& original = labels.faces(i);
-          const TopoDS_Shape now = sewing.IsModified(original) ? sewing.Modified(original) : original;
+          const TopoDS_Shape now =
+              sewing.IsModifiedSubShape(original) ? sewing.ModifiedSubShape(original) : original;
           if (!sewn.faces.Contains(now)) {
             sewn.faces.Add(now);
             sewn.labels.push_back(labels.labels[static_cast<size_t>(i - 1)]);
