@@ -10,16 +10,27 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
+#include <BRepBndLib.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
 #include <IFSelect_ReturnStatus.hxx>
+#include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
+#include <BRepAdaptor_Curve.hxx>
 #include <gp_Ax1.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Circ.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Trsf.hxx>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -33,6 +44,7 @@ namespace seam {
 namespace {
 
 namespace fs = std::filesystem;
+const fs::path kData = SEAM_SHARED_DATA_DIR;
 constexpr double kPi = std::numbers::pi;
 constexpr double kHalfSide = 10.0, kRadius = 4.0;  // the square [-L, L]^2 and the hole's radius
 /// Round-off of summing a few thousand triangle areas of size ~1 in a model of size ~10.
@@ -153,6 +165,99 @@ TEST(OcctFaceMesh, CheckBRepFileMeshesTrimmedFaces) {
   EXPECT_GE(r->meshDeflection, occt::kFaceMeshDeflectionRel * diagonal);
   EXPECT_LE(r->meshDeflection, occt::kFaceMeshDeflectionRel * diagonal * 1.01);  // Bnd_Box adds a small gap
   expectAreaWithinDeflectionBound(r->faceMeshes[0], r->meshDeflection);
+}
+
+Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+/// The longest triangle side of a mesh (the grid fallback's resolution).
+double longestSide(const occt::BRepFaceMesh& m) {
+  double h = 0.0;
+  for (size_t t = 0; t + 2 < m.triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      h = std::max(h, (m.points[static_cast<size_t>(m.triangles[t + k])] -
+                       m.points[static_cast<size_t>(m.triangles[t + (k + 1) % 3])])
+                          .norm());
+  return h;
+}
+
+// trj3 (issue 17 §4): eight of its 94 faces are half discs, each trimmed by one edge only, a semicircle whose ends
+// are the ends of the missing diameter (the file's EDGE_LOOP is open); BRepMesh reports an open wire and gives them
+// no triangles. Every face gets triangles now, those eight from the grid fallback, and the fallback keeps the trim:
+// the expected half disc comes from the edge alone (centre = the midpoint of its two vertices, radius = half their
+// distance, the disc's side = where the edge's midpoint lies), not from the mesher. With h the longest triangle side,
+// the mesh's area is pi r^2 / 2 within the half disc's perimeter (pi + 2) r times h (every kept triangle has its
+// centroid inside; the surface is a plane), its points lie within r + h of the centre and on the edge's side of the
+// diameter within h. The whole disc (pi r^2) or the sliver OpenCASCADE's own closure makes (area ~1 % of it) fail.
+TEST(OcctFaceMesh, EveryFaceOfTrj3GetsTrianglesAndTheOpenlyTrimmedHalfDiscsKeepTheirTrim) {
+  const fs::path file = kData / "step" / "trj3_s1-al-214.stp";
+  if (!fs::exists(file)) GTEST_SKIP() << file << " missing";
+  STEPControl_Reader reader;
+  ASSERT_EQ(reader.ReadFile(file.string().c_str()), IFSelect_RetDone);
+  ASSERT_GT(reader.TransferRoots(), 0);
+  const TopoDS_Shape shape = reader.OneShape();
+  TopTools_IndexedMapOfShape map;
+  TopExp::MapShapes(shape, TopAbs_FACE, map);
+  std::vector<TopoDS_Face> faces;
+  for (int i = 1; i <= map.Extent(); ++i) faces.push_back(TopoDS::Face(map(i)));
+  ASSERT_EQ(faces.size(), 94u);
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box);
+  const double deflection = occt::kFaceMeshDeflectionRel * std::sqrt(box.SquareExtent());
+  const std::vector<occt::BRepFaceMesh> meshes = occt::detail::meshFaces(shape, faces, deflection);
+  ASSERT_EQ(meshes.size(), faces.size()) << "every face has a mesh";
+  int halfDiscs = 0;
+  for (size_t k = 0; k < faces.size(); ++k) {
+    const occt::BRepFaceMesh& m = meshes[k];
+    EXPECT_EQ(m.face, "F" + std::to_string(k + 1));
+    EXPECT_FALSE(m.triangles.empty()) << m.face;
+    EXPECT_EQ(m.normals.size(), m.points.size()) << m.face;
+    // A face trimmed by one edge whose two vertices differ: an open trim.
+    std::vector<TopoDS_Edge> edges;
+    for (TopExp_Explorer e(faces[k], TopAbs_EDGE); e.More(); e.Next()) edges.push_back(TopoDS::Edge(e.Current()));
+    TopoDS_Vertex va, vb;
+    if (edges.size() == 1) TopExp::Vertices(edges[0], va, vb);
+    const bool openTrim = edges.size() == 1 && !va.IsSame(vb) &&
+                          BRep_Tool::Pnt(va).Distance(BRep_Tool::Pnt(vb)) >
+                                              10.0 * std::max(BRep_Tool::Tolerance(va), BRep_Tool::Tolerance(vb));
+    EXPECT_EQ(m.gridFallback, openTrim) << m.face << ": BRepMesh meshes every face with a closed trim";
+    if (!openTrim) continue;
+    ++halfDiscs;
+    const Vec3 a = toVec(BRep_Tool::Pnt(va)), b = toVec(BRep_Tool::Pnt(vb));
+    const Vec3 centre = 0.5 * (a + b);
+    const double r = 0.5 * (a - b).norm();
+    const BRepAdaptor_Curve curve(edges[0]);
+    const Vec3 middle = toVec(curve.Value(0.5 * (curve.FirstParameter() + curve.LastParameter())));
+    const Vec3 side = (middle - centre).normalized();
+    const double h = longestSide(m);
+    EXPECT_LT(h, 0.2 * r) << m.face << ": the grid resolves the disc";
+    EXPECT_NEAR(meshArea(m), 0.5 * kPi * r * r, (kPi + 2.0) * r * h) << m.face << " r " << r << " h " << h;
+    for (const Vec3& p : m.points) {
+      EXPECT_LE((p - centre).norm(), r + h) << m.face;
+      EXPECT_GE((p - centre).dot(side), -h) << m.face;
+    }
+    // A flat disc: every point normal is the triangles' common normal (the pole's too, where the surface's vanishes).
+    Vec3 areaVector;
+    meshArea(m, &areaVector);
+    for (const Vec3& n : m.normals) EXPECT_NEAR(n.dot(areaVector.normalized()), 1.0, 1e-6) << m.face;
+  }
+  EXPECT_EQ(halfDiscs, 8);
+}
+
+// The route of `seam report`: checkBRepFile with meshFaces on every face (sewn, as the check does) gives each of
+// trj3's 94 faces triangles.
+TEST(OcctFaceMesh, CheckBRepFileMeshesEveryFaceOfTrj3) {
+  const fs::path file = kData / "step" / "trj3_s1-al-214.stp";
+  if (!fs::exists(file)) GTEST_SKIP() << file << " missing";
+  occt::BRepCheckOptions o;
+  o.meshFaces = true;
+  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_EQ(r->import.faces.size(), 94u);
+  ASSERT_EQ(r->faceMeshes.size(), 94u);
+  for (const occt::BRepFaceMesh& m : r->faceMeshes) EXPECT_FALSE(m.triangles.empty()) << m.face;
+  EXPECT_EQ(std::count_if(r->faceMeshes.begin(), r->faceMeshes.end(),
+                          [](const occt::BRepFaceMesh& m) { return m.gridFallback; }),
+            8);
 }
 
 }  // namespace

@@ -73,11 +73,20 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
                                   std::max(report::kDefaultViewVertexBudget - faceMeshVertices,
                                            report::kDefaultViewVertexBudget / 2));
   for (const occt::BRepFaceMesh& m : r->faceMeshes) d.meshes.push_back({m.face, m.points, m.normals, m.triangles});
-  if (trimmed > 0)
-    d.facts.emplace_back("3-D view", fmt::format("{} of {} trimmed faces shaded from OpenCASCADE's triangulation "
-                                                 "(deflection {})",
-                                                 r->faceMeshes.size(), trimmed,
-                                                 withUnit(formatNumber(r->meshDeflection), r->units)));
+  if (trimmed > 0) {
+    // Faces OpenCASCADE's mesher skips (e.g. an open trim) come from seam's grid fallback (src/occt/face_mesh.cpp).
+    const auto fallback = std::count_if(r->faceMeshes.begin(), r->faceMeshes.end(),
+                                        [](const occt::BRepFaceMesh& m) { return m.gridFallback; });
+    d.facts.emplace_back(
+        "3-D view",
+        fmt::format("{} of {} trimmed faces shaded from OpenCASCADE's triangulation (deflection {}){}",
+                    r->faceMeshes.size() - static_cast<size_t>(fallback), trimmed,
+                    withUnit(formatNumber(r->meshDeflection), r->units),
+                    fallback > 0 ? fmt::format("; {} more, which OpenCASCADE could not mesh, from seam's grid over "
+                                               "their trims",
+                                               fallback)
+                                 : std::string()));
+  }
   BRepReportPage page;
   page.html = report::htmlReport(d, options);
   page.seams = r->seams.size();

@@ -45,6 +45,9 @@ struct BRepFaceMesh {
   std::string face;                   ///< "F<n>", as the seams name it
   std::vector<Vec3> points, normals;  ///< unit normals of the face (the surface's, reversed on a reversed face)
   std::vector<int> triangles;         ///< three 0-based vertex indices per triangle
+  /// True when OpenCASCADE's mesher left the face without triangles and seam's grid fallback made them (the surface
+  /// sampled on a grid, the triangles inside the trims kept: the trims respected to within one grid cell).
+  bool gridFallback = false;
 };
 
 struct BRepCheckOptions {
