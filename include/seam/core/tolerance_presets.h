@@ -20,7 +20,9 @@ struct TolerancePreset {
 inline constexpr TolerancePreset kTolerancePresets[] = {
     {"catia", 0.001, 0.5, 0.0},   // CATIA V5 healing / Connect Checker defaults: 0.001 mm, 0.5 deg
     {"rhino", 0.001, 1.0, 0.05},  // Rhino document defaults (mm template): absolute 0.001, angle 1 deg; 5 % curvature
-    {"nx", 0.0254, 0.5, 0.0},     // Siemens NX modeling preferences: distance 0.0254 mm (0.001 in), angle 0.5 deg
+    // Siemens NX modeling preferences: distance 0.0254 mm (0.001 in), angle 0.5 deg. Unconfirmed: no public
+    // document states NX's defaults (searched 2026-11-26; docs/tolerances.md lists what was found).
+    {"nx", 0.0254, 0.5, 0.0},
 };
 
 /// Applies the preset named `name` ("catia", "rhino", "nx") to `o`: its distance (in mm, converted later), and its
