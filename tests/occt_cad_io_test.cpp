@@ -161,17 +161,19 @@ std::set<std::string> stepFaceIds(const std::string& text) {
   return ids;
 }
 
-std::set<std::string> igesFaceEntries(const std::string& text) {
+std::set<std::string> igesEntriesOfType(const std::string& text, int type) {
   std::set<std::string> ids;
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line)) {
     if (line.size() < 80 || line[72] != 'D') continue;
     const int sequence = std::stoi(line.substr(73, 7));
-    if (sequence % 2 == 1 && std::stoi(line.substr(0, 8)) == 510) ids.insert("D" + std::to_string(sequence));
+    if (sequence % 2 == 1 && std::stoi(line.substr(0, 8)) == type) ids.insert("D" + std::to_string(sequence));
   }
   return ids;
 }
+
+std::set<std::string> igesFaceEntries(const std::string& text) { return igesEntriesOfType(text, 510); }
 
 std::string fileText(const fs::path& file) {
   std::ifstream in(file);
@@ -233,18 +235,6 @@ std::set<std::string> stepIdsOfType(const std::string& text, const std::string& 
   const std::regex instance("(#\\d+)\\s*=\\s*" + type + "\\s*\\(");
   for (auto it = std::sregex_iterator(text.begin(), text.end(), instance); it != std::sregex_iterator(); ++it)
     ids.insert((*it)[1].str());
-  return ids;
-}
-
-std::set<std::string> igesEntriesOfType(const std::string& text, int type) {
-  std::set<std::string> ids;
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (line.size() < 80 || line[72] != 'D') continue;
-    const int sequence = std::stoi(line.substr(73, 7));
-    if (sequence % 2 == 1 && std::stoi(line.substr(0, 8)) == type) ids.insert("D" + std::to_string(sequence));
-  }
   return ids;
 }
 
