@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "core/bernstein_internal.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -252,6 +253,80 @@ TEST(BernsteinPoly, RestrictionToAnyIntervalIncludingReversedAndOutside) {
         for (double s : unitSamples(rng, 10))
           ASSERT_TRUE(closeTo(refBernsteinEval(p.coeffs(), a + s * (b - a)), q(s), bound))
               << "degree " << n << " [" << a << ", " << b << "] s " << s;
+      }
+    }
+}
+
+// De Casteljau on whole coefficient rows, as BernsteinPoly::restricted computed it before it worked on the raw
+// coefficients (issue 16 goal 2): the restriction routes must keep those bits.
+Matrix restrictedByRows(Matrix w, double a, double b) {
+  const Eigen::Index n = w.rows() - 1;
+  auto subdivide = [&](double t, bool keepLeft) {
+    const double s = 1.0 - t;
+    if (keepLeft) {
+      for (Eigen::Index r = 1; r <= n; ++r)
+        for (Eigen::Index i = n; i >= r; --i) w.row(i) = s * w.row(i - 1) + t * w.row(i);
+    } else {
+      for (Eigen::Index r = 1; r <= n; ++r)
+        for (Eigen::Index i = 0; i <= n - r; ++i) w.row(i) = s * w.row(i) + t * w.row(i + 1);
+    }
+  };
+  if (b < 1.0) subdivide(b, true);
+  if (a > 0.0) subdivide(a / b, false);
+  return w;
+}
+
+TEST(BernsteinPoly, RestrictionRoutesGiveTheSameBits) {
+  // restricted() and the allocation-free detail::restrictedCoeffs (the certified bounds' route) against the row-wise
+  // de Casteljau they replace, bit for bit inside [0, 1]; elsewhere (reversed, outside) restrictedCoeffs gives
+  // restricted()'s coefficients. The scratch buffer is reused across sizes (grown, never shrunk).
+  std::mt19937_64 rng(1601);
+  std::vector<double> scratch;
+  for (int dim : {1, 2, 3, 4, 7})
+    for (int n = 0; n <= 14; ++n) {
+      const BernsteinPoly p = randomPoly(rng, n, dim);
+      std::vector<std::pair<double, double>> intervals = {{0.0, 1.0}, {0.0, 0.5}, {0.5, 1.0}, {0.25, 0.75},
+                                                          {1.0, 0.0}, {1.2, 1.9},  {-0.3, 0.4}};
+      for (int k = 0; k < 6; ++k) {
+        const double a = uniformReal(rng, 0.0, 1.0), b = uniformReal(rng, 0.0, 1.0);
+        intervals.emplace_back(std::min(a, b), std::max(a, b));
+        intervals.emplace_back(std::max(a, b), std::min(a, b));
+      }
+      for (auto [a, b] : intervals) {
+        if (a == b) continue;
+        const Matrix viaPoly = p.restricted(a, b).coeffs();
+        const Eigen::Map<const Matrix> viaScratch = detail::restrictedCoeffs(p, a, b, scratch);
+        ASSERT_EQ(viaScratch.rows(), viaPoly.rows());
+        ASSERT_EQ(viaScratch.cols(), viaPoly.cols());
+        for (Eigen::Index i = 0; i < viaPoly.size(); ++i)
+          ASSERT_EQ(viaScratch.data()[i], viaPoly.data()[i]) << "degree " << n << " dim " << dim << " [" << a << ", " << b << "]";
+        if (a >= 0.0 && a < b && b <= 1.0) {
+          const Matrix byRows = restrictedByRows(p.coeffs(), a, b);
+          for (Eigen::Index i = 0; i < byRows.size(); ++i)
+            ASSERT_EQ(viaPoly.data()[i], byRows.data()[i]) << "degree " << n << " dim " << dim << " [" << a << ", " << b << "]";
+          // The bounds' reductions on the view are those of BernsteinPoly on the copy.
+          ASSERT_EQ(viaScratch.col(0).minCoeff(), p.restricted(a, b).coeffs().col(0).minCoeff());
+          ASSERT_EQ(viaScratch.rowwise().norm().maxCoeff(), p.restricted(a, b).maxCoeffNorm());
+          ASSERT_EQ(viaScratch.cwiseAbs().maxCoeff(), p.restricted(a, b).maxAbsCoeff());
+        }
+      }
+    }
+}
+
+TEST(BernsteinPoly, EvaluationKeepsTheRowWiseBits) {
+  // operator() runs de Casteljau on a stack copy of the coefficients (a heap copy above 256 values) instead of
+  // whole-row expressions: the same value bit for bit, below and above that size (degree 80 in 4 components).
+  std::mt19937_64 rng(1604);
+  for (int dim : {1, 3, 4})
+    for (int n : {0, 1, 2, 3, 5, 9, 20, 80}) {
+      const BernsteinPoly p = randomPoly(rng, n, dim);
+      for (double t : {0.0, 1.0, 0.5, uniformReal(rng, 0.0, 1.0), uniformReal(rng, -0.5, 1.5)}) {
+        Matrix w = p.coeffs();
+        for (Eigen::Index r = 1; r <= n; ++r)
+          for (Eigen::Index i = 0; i <= n - r; ++i) w.row(i) = (1.0 - t) * w.row(i) + t * w.row(i + 1);
+        const VecX v = p(t);
+        ASSERT_EQ(v.size(), dim);
+        for (int k = 0; k < dim; ++k) ASSERT_EQ(v[k], w(0, k)) << "degree " << n << " dim " << dim << " t " << t;
       }
     }
 }

@@ -422,6 +422,36 @@ TEST(BSplineCurve, ReparametrizedIsAffineChangeOfParameter) {
   }
 }
 
+TEST(BSplineCurve, DecomposeKeepsAClampedBezierSpanAsItIs) {
+  // decompose returns a single clamped Bezier span at once (its shortcut); the general route gives that very span
+  // for it. Every piece the general route cuts from a random curve (clamped or not, several spans) is such a span:
+  // decomposing it again must give back the same rows, knots and interval, bit for bit.
+  std::mt19937_64 rng(1603);
+  for (int p = 1; p <= 5; ++p)
+    for (bool clamped : {true, false}) {
+      const BSplineCurve c = randomCurve(rng, p, 3, {.rational = p % 2 == 0, .clamped = clamped, .minSpans = 1,
+                                                     .maxSpans = 4});
+      std::vector<double> knots = c.knots().values();
+      Matrix rows = c.homogeneous();
+      const std::vector<Interval> spans = detail::decompose(p, knots, rows);
+      ASSERT_EQ(rows.rows(), static_cast<Eigen::Index>(spans.size()) * p + 1);
+      for (size_t k = 0; k < spans.size(); ++k) {
+        std::vector<double> pieceKnots(static_cast<size_t>(2 * (p + 1)), spans[k].lo);
+        std::fill(pieceKnots.begin() + p + 1, pieceKnots.end(), spans[k].hi);
+        const std::vector<double> knotsBefore = pieceKnots;
+        Matrix piece = rows.middleRows(static_cast<Eigen::Index>(k) * p, p + 1);
+        const Matrix before = piece;
+        const std::vector<Interval> again = detail::decompose(p, pieceKnots, piece);
+        ASSERT_EQ(again.size(), 1u);
+        EXPECT_EQ(again[0].lo, spans[k].lo);
+        EXPECT_EQ(again[0].hi, spans[k].hi);
+        EXPECT_EQ(pieceKnots, knotsBefore);
+        ASSERT_EQ(piece.rows(), before.rows());
+        for (Eigen::Index i = 0; i < piece.size(); ++i) ASSERT_EQ(piece.data()[i], before.data()[i]);
+      }
+    }
+}
+
 // Known kernel bug, reported to the lead (final report of the kernel-test session): two distinct knots closer
 // than kKnotRelTol * length are merged by interiorBreakpoints()/multiplicity() but not by the knot algorithms
 // (detail::insertKnot counts multiplicity exactly), so detail::decompose produces rows that do not match its

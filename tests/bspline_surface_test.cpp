@@ -588,6 +588,47 @@ TEST(BSplineSurface, CrossDerivativeRowsAreTheInwardDerivativesOfTheOrientedSurf
     }
 }
 
+TEST(BSplineSurface, CrossDerivativeRowsOnTheStackAndOffItGiveTheSameBits) {
+  // Up to second order and degree 15 crossDerivativeRows takes the basis from the stack (basisUpTo2), beyond that
+  // from basisFunctionDerivatives: both are algorithm A2.3 with the same arithmetic, so the rows are the same bits
+  // as the sum formed from basisFunctionDerivatives here. Degrees 1-5 and 16 (off the stack), orders 0-3.
+  std::mt19937_64 rng(1602);
+  std::vector<BSplineSurface> cases;
+  for (int pu = 1; pu <= 5; ++pu)
+    for (bool rational : {false, true})
+      cases.push_back(randomSurface(rng, pu, 6 - pu, 3, {.rational = rational, .minSpans = 1, .maxSpans = 3}));
+  cases.push_back(randomSurface(rng, 16, 2, 3, {.rational = true, .minSpans = 1, .maxSpans = 1}));
+  cases.push_back(randomSurface(rng, 2, 16, 4, {.rational = false, .minSpans = 1, .maxSpans = 1}));
+  for (const BSplineSurface& s : cases)
+    for (Edge e : kAllEdges)
+      for (int order = 0; order <= 3; ++order) {
+        const Matrix rows = s.crossDerivativeRows(e, order);
+        const bool uEdge = isUEdge(e), atEnd = e == Edge::U1 || e == Edge::V1;
+        const int p = uEdge ? s.degreeU() : s.degreeV(), nAlong = uEdge ? s.numV() : s.numU();
+        const KnotVector& kc = uEdge ? s.knotsU() : s.knotsV();
+        const double c = atEnd ? kc.domain(p).hi : kc.domain(p).lo;
+        const int d = s.dim(), hd = d + (s.isRational() ? 1 : 0), top = std::min(order, p);
+        const int span = kc.findSpan(p, c);
+        const Matrix N = basisFunctionDerivatives(kc, p, span, c, top);
+        Matrix want = Matrix::Zero(nAlong, static_cast<Eigen::Index>(order + 1) * hd);
+        for (int r = 0; r <= p; ++r)
+          for (int k = 0; k <= top; ++k) {
+            const double coef = (atEnd && k % 2 == 1) ? -N(k, r) : N(k, r);
+            if (coef == 0.0) continue;
+            for (int j = 0; j < nAlong; ++j) {
+              const int flat = uEdge ? (span - p + r) * s.numV() + j : j * s.numV() + (span - p + r);
+              const double cw = coef * (s.isRational() ? s.weights()[flat] : 1.0);
+              want.block(j, static_cast<Eigen::Index>(k) * hd, 1, d) += cw * s.points().row(flat);
+              if (s.isRational()) want(j, static_cast<Eigen::Index>(k) * hd + d) += cw;
+            }
+          }
+        ASSERT_EQ(rows.rows(), want.rows());
+        ASSERT_EQ(rows.cols(), want.cols());
+        for (Eigen::Index i = 0; i < want.size(); ++i)
+          ASSERT_EQ(rows.data()[i], want.data()[i]) << describe(s) << " edge " << edgeName(e) << " order " << order;
+      }
+}
+
 TEST(BSplineSurface, OrientedFromMakesTheEdgeU0) {
   std::mt19937_64 rng(555);
   for (const auto& [s, samples] : geometryCases(rng)) {

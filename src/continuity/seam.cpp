@@ -17,6 +17,7 @@
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
 #include "continuity/sampling.h"
+#include "core/bernstein_internal.h"
 #include "seam/core/bernstein.h"
 
 namespace seam {
@@ -136,42 +137,62 @@ int spanIndex(const Side& s, double t) {
 /// Largest Bezier degree evaluated by edgeJet on the stack (higher degrees use a heap buffer).
 constexpr int kJetStackDegree = 15;
 
+/// kN < 0: the degree n is known at run time only. Four components per point in plain arrays: the same
+/// per-component arithmetic as Vector4d expressions (so the same bits), which the compiler unrolls for a fixed degree.
+template <int kN>
+void bernsteinJetImpl(const double* src, int n, int dim, double x, int order, double* b,
+                      std::array<Eigen::Vector4d, 3>& out) {
+  if constexpr (kN >= 0) n = kN;
+  for (int i = 0; i <= n; ++i, src += dim) {  // row-major: coefficient i is dim consecutive values
+    double* bi = b + 4 * i;
+    for (int k = 0; k < 4; ++k) bi[k] = k < dim ? src[k] : 0.0;
+  }
+  const double y = 1.0 - x;
+  const int keep = std::min(n, 2);  // stop with keep + 1 points: the last de Casteljau levels give the derivatives
+  for (int r = 1; r <= n - keep; ++r)
+    for (int i = 0; i <= n - r; ++i) {
+      double* bi = b + 4 * i;
+      for (int k = 0; k < 4; ++k) bi[k] = y * bi[k] + x * bi[k + 4];
+    }
+  out[1].setZero();
+  out[2].setZero();
+  const double* b0 = b;
+  const double* b1 = b + 4;
+  const double* b2 = b + 8;
+  if (keep == 0) {
+    for (int k = 0; k < 4; ++k) out[0][k] = b0[k];
+  } else if (keep == 1) {
+    for (int k = 0; k < 4; ++k) {
+      out[0][k] = y * b0[k] + x * b1[k];
+      out[1][k] = n * (b1[k] - b0[k]);
+    }
+  } else {
+    const double nn = n, nn1 = n * (n - 1);
+    for (int k = 0; k < 4; ++k) {
+      const double q0 = y * b0[k] + x * b1[k], q1 = y * b1[k] + x * b2[k];
+      out[0][k] = y * q0 + x * q1;
+      if (order >= 1) out[1][k] = nn * (q1 - q0);
+      if (order >= 2) out[2][k] = nn1 * (b2[k] - 2.0 * b1[k] + b0[k]);
+    }
+  }
+}
+
 /// Value and first two derivatives (order <= 2) with respect to x of a Bernstein polynomial with up to 4
 /// components (rows = coefficients), by de Casteljau down to the last three points.
 void bernsteinJet(const Matrix& c, double x, int order, std::array<Eigen::Vector4d, 3>& out) {
   const int n = static_cast<int>(c.rows()) - 1, dim = static_cast<int>(c.cols());
-  std::array<Eigen::Vector4d, kJetStackDegree + 1> stack;
-  std::vector<Eigen::Vector4d> heap;
-  Eigen::Vector4d* b = stack.data();
-  if (n > kJetStackDegree) {
-    heap.resize(static_cast<size_t>(n) + 1);
-    b = heap.data();
+  double stack[4 * (kJetStackDegree + 1)];
+  switch (n) {  // the common degrees unrolled
+    case 1: return bernsteinJetImpl<1>(c.data(), n, dim, x, order, stack, out);
+    case 2: return bernsteinJetImpl<2>(c.data(), n, dim, x, order, stack, out);
+    case 3: return bernsteinJetImpl<3>(c.data(), n, dim, x, order, stack, out);
+    case 4: return bernsteinJetImpl<4>(c.data(), n, dim, x, order, stack, out);
+    case 5: return bernsteinJetImpl<5>(c.data(), n, dim, x, order, stack, out);
+    default: break;
   }
-  const double* src = c.data();  // row-major: coefficient i is dim consecutive values
-  if (dim == 3) {
-    for (int i = 0; i <= n; ++i, src += 3) b[i] = Eigen::Vector4d(src[0], src[1], src[2], 0.0);
-  } else {
-    for (int i = 0; i <= n; ++i, src += dim) {
-      b[i].setZero();
-      for (int k = 0; k < dim; ++k) b[i][k] = src[k];
-    }
-  }
-  const int keep = std::min(n, 2);  // stop with keep + 1 points: the last de Casteljau levels give the derivatives
-  for (int r = 1; r <= n - keep; ++r)
-    for (int i = 0; i <= n - r; ++i) b[i] = (1.0 - x) * b[i] + x * b[i + 1];
-  out[1].setZero();
-  out[2].setZero();
-  if (keep == 0) {
-    out[0] = b[0];
-  } else if (keep == 1) {
-    out[0] = (1.0 - x) * b[0] + x * b[1];
-    out[1] = n * (b[1] - b[0]);
-  } else {
-    const Eigen::Vector4d q0 = (1.0 - x) * b[0] + x * b[1], q1 = (1.0 - x) * b[1] + x * b[2];
-    out[0] = (1.0 - x) * q0 + x * q1;
-    if (order >= 1) out[1] = n * (q1 - q0);
-    if (order >= 2) out[2] = n * (n - 1) * (b[2] - 2.0 * b[1] + b[0]);
-  }
+  if (n <= kJetStackDegree) return bernsteinJetImpl<-1>(c.data(), n, dim, x, order, stack, out);
+  std::vector<double> heap(4 * (static_cast<size_t>(n) + 1));
+  bernsteinJetImpl<-1>(c.data(), n, dim, x, order, heap.data(), out);
 }
 
 /// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
@@ -397,13 +418,36 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
   return pc;
 }
 
-// Bounds of a rational quantity on a sub-interval [x0, x1] of the piece.
+// Bounds of a rational quantity on a sub-interval [x0, x1] of the piece. The restrictions go through a per-thread
+// scratch buffer (detail::restrictedCoeffs: the coefficients BernsteinPoly::restricted gives, without allocating),
+// each reduced to its bound before the next one is formed; the reductions are the expressions of
+// detail::lowerBound / upperBound and BernsteinPoly::maxAbsCoeff / maxCoeffNorm, so the bounds keep their bits.
+using CoeffView = Eigen::Map<const Matrix>;
+std::vector<double>& boundScratch() {
+  thread_local std::vector<double> scratch;
+  return scratch;
+}
+CoeffView restrictedView(const BernsteinPoly& p, double x0, double x1) {
+  return detail::restrictedCoeffs(p, x0, x1, boundScratch());
+}
+double lowerBoundOf(const CoeffView& c) { return c.col(0).minCoeff(); }
+double upperBoundOf(const CoeffView& c) { return c.col(0).maxCoeff(); }
+double maxAbsCoeffOf(const CoeffView& c) { return c.size() ? c.cwiseAbs().maxCoeff() : 0.0; }
+double maxCoeffNormOf(const CoeffView& c) { return c.size() ? c.rowwise().norm().maxCoeff() : 0.0; }
+
 struct SubPiece {
-  const Piece* pc;
-  BernsteinPoly wa, wb;
-  SubPiece(const Piece& p, double x0, double x1) : pc(&p), wa(p.wa.restricted(x0, x1)), wb(p.wb.restricted(x0, x1)) {}
-  [[nodiscard]] double denLower(const RationalPoly& r) const { return detail::denominatorLower(wa, wb, r.ea, r.eb); }
-  [[nodiscard]] double denUpper(const RationalPoly& r) const { return detail::denominatorUpper(wa, wb, r.ea, r.eb); }
+  double waLo, waHi, wbLo, wbHi;  // coefficient bounds of the weights restricted to [x0, x1]
+  SubPiece(const Piece& p, double x0, double x1) {
+    const CoeffView wa = restrictedView(p.wa, x0, x1);
+    waLo = lowerBoundOf(wa);
+    waHi = upperBoundOf(wa);
+    const CoeffView wb = restrictedView(p.wb, x0, x1);
+    wbLo = lowerBoundOf(wb);
+    wbHi = upperBoundOf(wb);
+  }
+  // As detail::denominatorLower / denominatorUpper of the restricted weights.
+  [[nodiscard]] double denLower(const RationalPoly& r) const { return std::pow(waLo, r.ea) * std::pow(wbLo, r.eb); }
+  [[nodiscard]] double denUpper(const RationalPoly& r) const { return std::pow(waHi, r.ea) * std::pow(wbHi, r.eb); }
 };
 
 double evalRational(const RationalPoly& r, const Piece& pc, double x, VecX* vec = nullptr) {
@@ -415,16 +459,16 @@ double evalRational(const RationalPoly& r, const Piece& pc, double x, VecX* vec 
 
 double g0Bound(const Piece& pc, double x0, double x1) {
   const SubPiece sp(pc, x0, x1);
-  return pc.g0.num.restricted(x0, x1).maxCoeffNorm() / sp.denLower(pc.g0);
+  return maxCoeffNormOf(restrictedView(pc.g0.num, x0, x1)) / sp.denLower(pc.g0);
 }
 double g0Value(const Piece& pc, double x) { return evalRational(pc.g0, pc, x); }
 
 double g1Bound(const Piece& pc, double x0, double x1) {
-  const double rLo = detail::lowerBound(pc.R.restricted(x0, x1));
+  const double rLo = lowerBoundOf(restrictedView(pc.R, x0, x1));
   if (!(rLo > 0.0)) return std::numbers::pi;
-  const double pLo = detail::lowerBound(pc.P.restricted(x0, x1));
+  const double pLo = lowerBoundOf(restrictedView(pc.P, x0, x1));
   if (pLo > 0.0) {
-    const double qHi = std::max(0.0, detail::upperBound(pc.Q.restricted(x0, x1)));
+    const double qHi = std::max(0.0, upperBoundOf(restrictedView(pc.Q, x0, x1)));
     return std::asin(std::sqrt(std::min(1.0, qHi / rLo)));
   }
   return std::acos(std::clamp(pLo / std::sqrt(rLo), -1.0, 1.0));
@@ -435,10 +479,10 @@ double g1Value(const Piece& pc, double x) {
 
 double g2Bound(const Piece& pc, double x0, double x1) {
   const SubPiece sp(pc, x0, x1);
-  const double rho = pc.rho.num.restricted(x0, x1).maxAbsCoeff() / sp.denLower(pc.rho);
-  const double t2 = detail::upperBound(pc.T2.num.restricted(x0, x1)) / sp.denLower(pc.T2);
-  const double n2 = detail::lowerBound(pc.nA2.num.restricted(x0, x1)) / sp.denUpper(pc.nA2);
-  const double b2 = detail::lowerBound(pc.BcT2.num.restricted(x0, x1)) / sp.denUpper(pc.BcT2);
+  const double rho = maxAbsCoeffOf(restrictedView(pc.rho.num, x0, x1)) / sp.denLower(pc.rho);
+  const double t2 = upperBoundOf(restrictedView(pc.T2.num, x0, x1)) / sp.denLower(pc.T2);
+  const double n2 = lowerBoundOf(restrictedView(pc.nA2.num, x0, x1)) / sp.denUpper(pc.nA2);
+  const double b2 = lowerBoundOf(restrictedView(pc.BcT2.num, x0, x1)) / sp.denUpper(pc.BcT2);
   if (!(n2 > 0.0) || !(b2 > 0.0)) return std::numeric_limits<double>::infinity();
   return rho * t2 / (std::pow(n2, 2.5) * b2);
 }
@@ -936,9 +980,10 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   };
   const Side A = makeSide(pa, ea), B = makeSide(pb, eb);
   const double scale = std::max(controlDiagonal(pa.surface), controlDiagonal(pb.surface));
-  for (const Side* s : {&A, &B}) {
-    const BoundingBox box = controlBox(s->curve);
-    if (!(box.diagonal() > kRoundoff * scale))
+  // The edges' control box diagonals, also the overlap projections' scale below.
+  const double diagA = controlBox(A.curve).diagonal(), diagB = controlBox(B.curve).diagonal();
+  for (const auto& [s, diag] : {std::pair{&A, diagA}, std::pair{&B, diagB}}) {
+    if (!(diag > kRoundoff * scale))
       return Status(ErrorCode::kDegenerate, fmt::format("{}: edge {} of patch \"{}\" collapses to a point", label(),
                                                         edgeName(s->edge), s->patch->name));
   }
@@ -966,7 +1011,6 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     if (std::min(dLo, dHi) <= slack) return dLo <= dHi ? range.lo : range.hi;
     return cp.t;
   };
-  const double diagA = controlBox(A.curve).diagonal(), diagB = controlBox(B.curve).diagonal();
   const double tb0 = project(A.curve, a0, a1, diagA, b0, da), tb1 = project(A.curve, a0, a1, diagA, b1, da);
   const double sa0 = project(B.curve, b0, b1, diagB, a0, db), sa1 = project(B.curve, b0, b1, diagB, a1, db);
   rep.reversed = tb0 > tb1 || (tb0 == tb1 && sa0 > sa1);

@@ -1,9 +1,12 @@
 #include "seam/core/bernstein.h"
 
+#include "core/bernstein_internal.h"
+
 #include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace seam {
@@ -27,6 +30,14 @@ struct BinomialTable {
 constexpr BinomialTable kBinomials{};
 }  // namespace
 
+namespace {
+// binomial() for this file's loops: the table look-up inlined (binomial() itself is out of line).
+inline double binom(int n, int k) {
+  if (k >= 0 && k <= n && n < kBinomialTableSize) return kBinomials.v[static_cast<size_t>(n * kBinomialTableSize + k)];
+  return binomial(n, k);
+}
+}  // namespace
+
 double binomial(int n, int k) {
   if (k < 0 || k > n) return 0.0;
   if (n < kBinomialTableSize) {
@@ -40,16 +51,41 @@ double binomial(int n, int k) {
 
 namespace {
 
-// Runs de Casteljau on the rows of `c` (copied) at t; returns the final row.
+/// Largest number of coefficient values (rows x columns) de Casteljau evaluates on the stack.
+constexpr Eigen::Index kDeCasteljauStackSize = 256;
+
+// Runs de Casteljau on the rows of `c` (copied) at t; returns the final row. The same s * a + t * b per value as
+// row expressions, on a stack copy for small polynomials (no allocation but the result).
 VecX deCasteljau(const Matrix& c, double t) {
   const auto n = c.rows();
   const auto d = c.cols();
   if (n == 0) return VecX::Zero(d);
-  Matrix w = c;
+  double stack[kDeCasteljauStackSize];
+  std::vector<double> heap;
+  double* w = stack;
+  if (c.size() > kDeCasteljauStackSize) {
+    heap.resize(static_cast<size_t>(c.size()));
+    w = heap.data();
+  }
+  std::copy(c.data(), c.data() + c.size(), w);
   const double s = 1.0 - t;
-  for (Eigen::Index r = 1; r < n; ++r)
-    for (Eigen::Index i = 0; i < n - r; ++i) w.row(i) = s * w.row(i) + t * w.row(i + 1);
-  return w.row(0).transpose();
+  // The common widths with a compile-time inner loop.
+  const auto levels = [&]<int kD>(std::integral_constant<int, kD>) {
+    const Eigen::Index dd = kD > 0 ? kD : d;
+    for (Eigen::Index r = 1; r < n; ++r)
+      for (Eigen::Index i = 0; i < n - r; ++i) {
+        double* x = w + i * dd;
+        const double* y = x + dd;
+        for (Eigen::Index k = 0; k < dd; ++k) x[k] = s * x[k] + t * y[k];
+      }
+  };
+  switch (d) {
+    case 1: levels(std::integral_constant<int, 1>{}); break;
+    case 3: levels(std::integral_constant<int, 3>{}); break;
+    case 4: levels(std::integral_constant<int, 4>{}); break;
+    default: levels(std::integral_constant<int, 0>{}); break;
+  }
+  return Eigen::Map<const VecX>(w, d);
 }
 
 // Blossom of the polynomial with coefficient rows c at the arguments args (size = degree).
@@ -80,8 +116,8 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
     double sa[kScaledProductMaxDegree + 1], sb[kScaledProductMaxDegree + 1], so[kScaledProductMaxDegree + 1];
     for (Eigen::Index c = 0; c < dim; ++c) {
       const Eigen::Index ca = a.cols() == 1 ? 0 : c, cb = b.cols() == 1 ? 0 : c;
-      for (int i = 0; i <= n; ++i) sa[i] = a(i, ca) * binomial(n, i);
-      for (int j = 0; j <= m; ++j) sb[j] = b(j, cb) * binomial(m, j);
+      for (int i = 0; i <= n; ++i) sa[i] = a(i, ca) * binom(n, i);
+      for (int j = 0; j <= m; ++j) sb[j] = b(j, cb) * binom(m, j);
       for (int k = 0; k <= n + m; ++k) so[k] = 0.0;
       for (int i = 0; i <= n; ++i) {
         const double x = sa[i];
@@ -89,15 +125,15 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
       }
       for (int k = 0; k <= n + m; ++k) out(k, c) = so[k];
     }
-    for (int k = 0; k <= n + m; ++k) out.row(k) /= binomial(n + m, k);
+    for (int k = 0; k <= n + m; ++k) out.row(k) /= binom(n + m, k);
     return out;
   }
   // The binomials once per row (above the table they cost O(k) each; per pair they dominated high degrees).
   std::vector<double> bm(static_cast<size_t>(m) + 1), bnm(static_cast<size_t>(n + m) + 1);
-  for (int j = 0; j <= m; ++j) bm[static_cast<size_t>(j)] = binomial(m, j);
-  for (int k = 0; k <= n + m; ++k) bnm[static_cast<size_t>(k)] = binomial(n + m, k);
+  for (int j = 0; j <= m; ++j) bm[static_cast<size_t>(j)] = binom(m, j);
+  for (int k = 0; k <= n + m; ++k) bnm[static_cast<size_t>(k)] = binom(n + m, k);
   for (int i = 0; i <= n; ++i) {
-    const double bi = binomial(n, i);
+    const double bi = binom(n, i);
     for (int j = 0; j <= m; ++j) {
       const double f = bi * bm[static_cast<size_t>(j)] / bnm[static_cast<size_t>(i + j)];
       if (a.cols() == b.cols()) {
@@ -117,9 +153,9 @@ Matrix elevateRows(const Matrix& c, int by) {
   const int n = static_cast<int>(c.rows()) - 1;
   Matrix out = Matrix::Zero(n + by + 1, c.cols());
   for (int i = 0; i <= n + by; ++i) {
-    const double denom = binomial(n + by, i);
+    const double denom = binom(n + by, i);
     for (int j = std::max(0, i - by); j <= std::min(n, i); ++j)
-      out.row(i) += (binomial(n, j) * binomial(by, i - j) / denom) * c.row(j);
+      out.row(i) += (binom(n, j) * binom(by, i - j) / denom) * c.row(j);
   }
   return out;
 }
@@ -136,19 +172,39 @@ Matrix derivativeRows(const Matrix& c, int order) {
   return cur;
 }
 
-// In place: after the call, w holds the coefficients of the piece on [0, t] (keepLeft) or [t, 1].
-void subdivideInPlace(Matrix& w, double t, bool keepLeft) {
-  const auto n = w.rows() - 1;
+// In place, on the row-major coefficients (n + 1 rows of d values) directly: the per-row Eigen expressions on dynamic rows
+// cost more than the arithmetic. After the call, c holds the coefficients of the piece on [0, t] (keepLeft) or
+// [t, 1]; the same s * a + t * b per coefficient as the row expressions it replaces, so the same bits.
+void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
   const double s = 1.0 - t;
+  if (d == 1) {
+    if (keepLeft) {
+      // left_r = first row after r levels; computing from the bottom keeps earlier rows intact.
+      for (Eigen::Index r = 1; r <= n; ++r)
+        for (Eigen::Index i = n; i >= r; --i) c[i] = s * c[i - 1] + t * c[i];
+    } else {
+      for (Eigen::Index r = 1; r <= n; ++r)
+        for (Eigen::Index i = 0; i <= n - r; ++i) c[i] = s * c[i] + t * c[i + 1];
+    }
+    return;
+  }
   if (keepLeft) {
-    // left_r = first row after r levels; computing from the bottom keeps earlier rows intact.
     for (Eigen::Index r = 1; r <= n; ++r)
-      for (Eigen::Index i = n; i >= r; --i) w.row(i) = s * w.row(i - 1) + t * w.row(i);
+      for (Eigen::Index i = n; i >= r; --i) {
+        double* x = c + i * d;
+        const double* y = x - d;
+        for (Eigen::Index k = 0; k < d; ++k) x[k] = s * y[k] + t * x[k];
+      }
   } else {
     for (Eigen::Index r = 1; r <= n; ++r)
-      for (Eigen::Index i = 0; i <= n - r; ++i) w.row(i) = s * w.row(i) + t * w.row(i + 1);
+      for (Eigen::Index i = 0; i <= n - r; ++i) {
+        double* x = c + i * d;
+        const double* y = x + d;
+        for (Eigen::Index k = 0; k < d; ++k) x[k] = s * x[k] + t * y[k];
+      }
   }
 }
+void subdivideInPlace(Matrix& w, double t, bool keepLeft) { subdivideInPlace(w.data(), w.rows() - 1, w.cols(), t, keepLeft); }
 
 Matrix restrictRows(const Matrix& c, double a, double b) {
   const int n = static_cast<int>(c.rows()) - 1;
@@ -170,6 +226,29 @@ Matrix restrictRows(const Matrix& c, double a, double b) {
   }
   return out;
 }
+
+}  // namespace
+
+namespace detail {
+Eigen::Map<const Matrix> restrictedCoeffs(const BernsteinPoly& p, double a, double b, std::vector<double>& scratch) {
+  const Matrix& c = p.coeffs();
+  if (a == 0.0 && b == 1.0) return {c.data(), c.rows(), c.cols()};
+  const size_t size = static_cast<size_t>(c.size());
+  if (scratch.size() < size) scratch.resize(size);
+  if (a >= 0.0 && a < b && b <= 1.0) {
+    // As restrictRows: keep [0, b], then the part [a/b, 1] of it.
+    std::copy(c.data(), c.data() + size, scratch.data());
+    if (b < 1.0) subdivideInPlace(scratch.data(), c.rows() - 1, c.cols(), b, true);
+    if (a > 0.0) subdivideInPlace(scratch.data(), c.rows() - 1, c.cols(), a / b, false);
+  } else {
+    const Matrix r = restrictRows(c, a, b);
+    std::copy(r.data(), r.data() + size, scratch.data());
+  }
+  return {scratch.data(), c.rows(), c.cols()};
+}
+}  // namespace detail
+
+namespace {
 
 // View of a patch as a curve in u whose coefficients are whole v-rows: (n+1) x ((m+1)*dim).
 Matrix uRows(const BernsteinPatch& p) {
@@ -210,7 +289,7 @@ BernsteinPoly BernsteinPoly::fromPowerBasis(const VecX& a) {
   const int n = std::max<int>(0, static_cast<int>(a.size()) - 1);
   Matrix c = Matrix::Zero(n + 1, 1);
   for (int i = 0; i <= n; ++i)
-    for (int k = 0; k <= i && k < a.size(); ++k) c(i, 0) += binomial(i, k) / binomial(n, k) * a[k];
+    for (int k = 0; k <= i && k < a.size(); ++k) c(i, 0) += binom(i, k) / binom(n, k) * a[k];
   return BernsteinPoly(std::move(c));
 }
 
@@ -327,8 +406,8 @@ BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
   }
   // One convolution of the binomially scaled rows (see productRows).
   Matrix as = a.coeffs(), bs = b.coeffs();
-  for (int i = 0; i <= n; ++i) as.row(i) *= binomial(n, i);
-  for (int j = 0; j <= m; ++j) bs.row(j) *= binomial(m, j);
+  for (int i = 0; i <= n; ++i) as.row(i) *= binom(n, i);
+  for (int j = 0; j <= m; ++j) bs.row(j) *= binom(m, j);
   Matrix out = Matrix::Zero(n + m + 1, 3);
   for (int i = 0; i <= n; ++i) {
     const Eigen::Vector3d x = as.row(i).transpose();
@@ -337,7 +416,7 @@ BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
       out.row(i + j) += x.cross(y).transpose();
     }
   }
-  for (int k = 0; k <= n + m; ++k) out.row(k) /= binomial(n + m, k);
+  for (int k = 0; k <= n + m; ++k) out.row(k) /= binom(n + m, k);
   return BernsteinPoly(std::move(out));
 }
 
@@ -450,10 +529,10 @@ BernsteinPatch patchProduct(const BernsteinPatch& a, const BernsteinPatch& b, in
   BernsteinPatch out = BernsteinPatch::zero(n1 + n2, m1 + m2, outDim);
   for (int i1 = 0; i1 <= n1; ++i1)
     for (int i2 = 0; i2 <= n2; ++i2) {
-      const double fu = binomial(n1, i1) * binomial(n2, i2) / binomial(n1 + n2, i1 + i2);
+      const double fu = binom(n1, i1) * binom(n2, i2) / binom(n1 + n2, i1 + i2);
       for (int j1 = 0; j1 <= m1; ++j1)
         for (int j2 = 0; j2 <= m2; ++j2) {
-          const double f = fu * binomial(m1, j1) * binomial(m2, j2) / binomial(m1 + m2, j1 + j2);
+          const double f = fu * binom(m1, j1) * binom(m2, j2) / binom(m1 + m2, j1 + j2);
           combine(out.coeff(i1 + i2, j1 + j2), f, a.coeff(i1, j1), b.coeff(i2, j2));
         }
     }

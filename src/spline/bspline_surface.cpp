@@ -511,18 +511,30 @@ Matrix BSplineSurface::crossDerivativeRows(Edge e, int maxOrder) const {
   Matrix out = Matrix::Zero(nAlong, static_cast<Eigen::Index>(maxOrder + 1) * hd);
   const int top = std::min(maxOrder, p);
   const int span = kc.findSpan(p, c);
-  const Matrix N = basisFunctionDerivatives(kc, p, span, c, top);
+  // Up to second derivatives on the stack (basisUpTo2 is A2.3 with the same arithmetic, so the same values).
+  double fast[3][detail::kMaxFastBasisDegree + 1];
+  Matrix slow;
+  const bool onStack = top <= 2 && p <= detail::kMaxFastBasisDegree;
+  if (onStack)
+    detail::basisUpTo2(kc.values(), p, span, c, fast);
+  else
+    slow = basisFunctionDerivatives(kc, p, span, c, top);
+  const double* pts = points_.data();
+  const Eigen::Index cols = out.cols();
   for (int r = 0; r <= p; ++r) {
     const int across = span - p + r;
     for (int k = 0; k <= top; ++k) {
+      const double nkr = onStack ? fast[k][r] : slow(k, r);
       // Reversed cross direction at the far edge: d/dn = -d/du there.
-      const double coef = (atEnd && k % 2 == 1) ? -N(k, r) : N(k, r);
+      const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
       if (coef == 0.0) continue;
       for (int j = 0; j < nAlong; ++j) {
         const int flat = uEdge ? across * nv_ + j : j * nv_ + across;
         const double cw = coef * (rational ? weights_[flat] : 1.0);
-        out.block(j, static_cast<Eigen::Index>(k) * hd, 1, d) += cw * points_.row(flat);
-        if (rational) out(j, static_cast<Eigen::Index>(k) * hd + d) += cw;
+        double* o = out.data() + j * cols + static_cast<Eigen::Index>(k) * hd;
+        const double* x = pts + static_cast<Eigen::Index>(flat) * d;
+        for (int q = 0; q < d; ++q) o[q] += cw * x[q];
+        if (rational) o[d] += cw;
       }
     }
   }

@@ -82,6 +82,15 @@ void clampEnds(int degree, std::vector<double>& knots, Matrix& rows) {
 }
 
 std::vector<Interval> decompose(int degree, std::vector<double>& knots, Matrix& rows) {
+  // Already one clamped Bezier span (the common case of a patch edge): nothing to insert or trim, and the general
+  // route below would return these very knots, rows and span.
+  const size_t p1 = static_cast<size_t>(degree) + 1;
+  if (degree >= 1 && knots.size() == 2 * p1 && rows.rows() == static_cast<Eigen::Index>(p1) &&
+      knots[p1 - 1] < knots[p1] && std::all_of(knots.begin(), knots.begin() + static_cast<std::ptrdiff_t>(p1),
+                                               [&](double k) { return k == knots.front(); }) &&
+      std::all_of(knots.begin() + static_cast<std::ptrdiff_t>(p1), knots.end(),
+                  [&](double k) { return k == knots.back(); }))
+    return {Interval{knots[p1 - 1], knots[p1]}};
   clampEnds(degree, knots, rows);
   const std::vector<double> interior = exactInteriorBreakpoints(degree, knots);
   for (double b : interior) insertKnot(degree, knots, rows, b, degree);
