@@ -28,7 +28,7 @@ _TIMEOUT_DOC = """
 timeout: seconds the call may take (reading the file included), or None (the default) for no limit. With a number,
 the call runs in a separate Python process that is stopped when the time is up, raising TimeoutError (an OSError):
 OpenCASCADE can spend minutes on a corrupt STEP/IGES file and cannot be interrupted otherwise. It costs the start of
-that process (about 0.2 s). Only for a file path, not for a Model."""
+that process (about 0.3 s). Only for a file path, not for a Model."""
 
 
 def _isolated_path(what: str, target, timeout):
