@@ -1248,6 +1248,24 @@ TEST(SeamSharedRows, KnotInsertionSplitsTakeTheRowRouteWithTheGeneralRoutesClass
       EXPECT_LE(fast->g1MaxDeg, kExactAngleDeg);
       EXPECT_LE(fast->g2RelMax, kExactCurvatureRel);
       expectBoundsCoverReference(*fast, *c.a, c.ea, *c.b, c.eb);
+      // The angle and the curvature jump, zero in exact arithmetic, are not sampled on the row route (0, not their
+      // round-off); the other sampled measures are, and agree with the general route's.
+      EXPECT_EQ(fast->g1SampledDeg, 0.0);
+      EXPECT_EQ(fast->g2Sampled, 0.0);
+      EXPECT_EQ(fast->g2RelSampled, 0.0);
+      EXPECT_TRUE(near(full->lambdaRange.lo, fast->lambdaRange.lo, 1e-9, "lambda lo"));
+      EXPECT_TRUE(near(full->lambdaRange.hi, fast->lambdaRange.hi, 1e-9, "lambda hi"));
+      EXPECT_LE(std::abs(fast->kappaRange.lo), 1e-9);
+      EXPECT_LE(std::abs(fast->kappaRange.hi), 1e-9);
+      // The plots' dense samples (keepSamples) still measure every quantity on both sides.
+      SeamOptions plots;
+      plots.keepSamples = true;
+      auto dense = analyze(*c.a, c.ea, *c.b, c.eb, plots);
+      ASSERT_TRUE(dense);
+      EXPECT_TRUE(dense->sharedRows);
+      EXPECT_EQ(dense->geometric, fast->geometric);
+      EXPECT_FALSE(dense->samples.empty());
+      EXPECT_LE(dense->g1SampledDeg, kExactAngleDeg);
     }
   }
 }

@@ -101,8 +101,21 @@ struct Side {
   Interval dom;                                 // parameter domain along the edge
   BSplineCurve curve;                           // Cartesian boundary curve
   std::vector<Interval> spans;                  // Bezier spans along the edge
-  std::array<std::vector<BernsteinPoly>, 3> h;  // homogeneous k-th cross derivative, per span
+  // Homogeneous k-th cross derivatives (k = 0, 1, 2), all spans in one matrix (no allocation per span): span i,
+  // order k is the block of rows i * degree .. i * degree + degree, columns k * hd .. k * hd + hd - 1.
+  Matrix rows;
+  int hd = 0;  // homogeneous dimension (3, or 4 when rational)
   [[nodiscard]] Interval domain() const { return dom; }
+  /// Coefficient j of span i of the k-th cross derivative: hd values; coefficient j + 1 is rowStride() further.
+  [[nodiscard]] const double* coeff(size_t k, size_t i, int j) const {
+    return rows.data() + (static_cast<Eigen::Index>(i) * degree + j) * rows.cols() + static_cast<Eigen::Index>(k) * hd;
+  }
+  [[nodiscard]] Eigen::Index rowStride() const { return rows.cols(); }
+  /// The k-th cross derivative on span i as a polynomial (a copy; the general route's products and restrictions).
+  [[nodiscard]] BernsteinPoly poly(size_t k, size_t i) const {
+    return BernsteinPoly(Matrix(rows.block(static_cast<Eigen::Index>(i) * degree, static_cast<Eigen::Index>(k) * hd,
+                                           degree + 1, hd)));
+  }
 };
 
 Side makeSide(const Patch& p, Edge e) {
@@ -116,15 +129,11 @@ Side makeSide(const Patch& p, Edge e) {
   const KnotVector& along = uEdge ? surf.knotsV() : surf.knotsU();
   s.dom = along.domain(s.degree);
   // All three cross-derivative rows at once, decomposed into Bezier pieces in one pass.
-  Matrix rows = surf.crossDerivativeRows(e, 2);
-  const Eigen::Index hd = rows.cols() / 3;
-  s.curve = BSplineCurve::fromHomogeneous(s.degree, along, rows.leftCols(hd), s.rational);
+  s.rows = surf.crossDerivativeRows(e, 2);
+  s.hd = static_cast<int>(s.rows.cols() / 3);
+  s.curve = BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), s.rational);
   std::vector<double> knots = along.values();
-  s.spans = detail::decompose(s.degree, knots, rows);
-  for (size_t k = 0; k < 3; ++k)
-    for (size_t i = 0; i < s.spans.size(); ++i)
-      s.h[k].emplace_back(Matrix(rows.block(static_cast<Eigen::Index>(i) * s.degree, static_cast<Eigen::Index>(k) * hd,
-                                            s.degree + 1, hd)));
+  s.spans = detail::decompose(s.degree, knots, s.rows);
   return s;
 }
 
@@ -140,10 +149,10 @@ constexpr int kJetStackDegree = 15;
 /// kN < 0: the degree n is known at run time only. Four components per point in plain arrays: the same
 /// per-component arithmetic as Vector4d expressions (so the same bits), which the compiler unrolls for a fixed degree.
 template <int kN>
-void bernsteinJetImpl(const double* src, int n, int dim, double x, int order, double* b,
+void bernsteinJetImpl(const double* src, int n, int dim, Eigen::Index stride, double x, int order, double* b,
                       std::array<Eigen::Vector4d, 3>& out) {
   if constexpr (kN >= 0) n = kN;
-  for (int i = 0; i <= n; ++i, src += dim) {  // row-major: coefficient i is dim consecutive values
+  for (int i = 0; i <= n; ++i, src += stride) {  // coefficient i: dim consecutive values, the next stride further
     double* bi = b + 4 * i;
     for (int k = 0; k < 4; ++k) bi[k] = k < dim ? src[k] : 0.0;
   }
@@ -177,22 +186,22 @@ void bernsteinJetImpl(const double* src, int n, int dim, double x, int order, do
   }
 }
 
-/// Value and first two derivatives (order <= 2) with respect to x of a Bernstein polynomial with up to 4
-/// components (rows = coefficients), by de Casteljau down to the last three points.
-void bernsteinJet(const Matrix& c, double x, int order, std::array<Eigen::Vector4d, 3>& out) {
-  const int n = static_cast<int>(c.rows()) - 1, dim = static_cast<int>(c.cols());
+/// Value and first two derivatives (order <= 2) with respect to x of a Bernstein polynomial of degree n with up to
+/// 4 components (coefficient i at src + i * stride), by de Casteljau down to the last three points.
+void bernsteinJet(const double* src, int n, int dim, Eigen::Index stride, double x, int order,
+                  std::array<Eigen::Vector4d, 3>& out) {
   double stack[4 * (kJetStackDegree + 1)];
   switch (n) {  // the common degrees unrolled
-    case 1: return bernsteinJetImpl<1>(c.data(), n, dim, x, order, stack, out);
-    case 2: return bernsteinJetImpl<2>(c.data(), n, dim, x, order, stack, out);
-    case 3: return bernsteinJetImpl<3>(c.data(), n, dim, x, order, stack, out);
-    case 4: return bernsteinJetImpl<4>(c.data(), n, dim, x, order, stack, out);
-    case 5: return bernsteinJetImpl<5>(c.data(), n, dim, x, order, stack, out);
+    case 1: return bernsteinJetImpl<1>(src, n, dim, stride, x, order, stack, out);
+    case 2: return bernsteinJetImpl<2>(src, n, dim, stride, x, order, stack, out);
+    case 3: return bernsteinJetImpl<3>(src, n, dim, stride, x, order, stack, out);
+    case 4: return bernsteinJetImpl<4>(src, n, dim, stride, x, order, stack, out);
+    case 5: return bernsteinJetImpl<5>(src, n, dim, stride, x, order, stack, out);
     default: break;
   }
-  if (n <= kJetStackDegree) return bernsteinJetImpl<-1>(c.data(), n, dim, x, order, stack, out);
+  if (n <= kJetStackDegree) return bernsteinJetImpl<-1>(src, n, dim, stride, x, order, stack, out);
   std::vector<double> heap(4 * (static_cast<size_t>(n) + 1));
-  bernsteinJetImpl<-1>(c.data(), n, dim, x, order, heap.data(), out);
+  bernsteinJetImpl<-1>(src, n, dim, stride, x, order, heap.data(), out);
 }
 
 /// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
@@ -209,9 +218,9 @@ void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight =
   const Interval span = s.spans[k];
   const double x = (t - span.lo) / span.length(), dx = 1.0 / span.length();
   std::array<Eigen::Vector4d, 3> j0, j1, j2;
-  bernsteinJet(s.h[0][k].coeffs(), x, 2, j0);
-  bernsteinJet(s.h[1][k].coeffs(), x, 1, j1);
-  bernsteinJet(s.h[2][k].coeffs(), x, 0, j2);
+  bernsteinJet(s.coeff(0, k, 0), s.degree, s.hd, s.rowStride(), x, 2, j0);
+  bernsteinJet(s.coeff(1, k, 0), s.degree, s.hd, s.rowStride(), x, 1, j1);
+  bernsteinJet(s.coeff(2, k, 0), s.degree, s.hd, s.rowStride(), x, 0, j2);
   // Homogeneous (x, w): value, d/du, d/dv, d2/du2, d2/dudv, d2/dv2.
   const std::array<Eigen::Vector4d, 6> H{j0[0], j1[0], dx * j0[1], j2[0], dx * j1[1], dx * dx * j0[2]};
   if (!s.rational) {
@@ -245,8 +254,11 @@ struct PointMeasures {
   bool curvatureOk = true;  // the chart is well conditioned: curvatures, lambda, kappa were measured
 };
 
-// sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise.
-PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
+// sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise. shared: the seam shares its control rows
+// (sharedRowBounds certified B_0 = A_0, B_1 = lambda A_out, B_2 = lambda^2 A_oo up to rounding, with G1 and G2 bounds
+// at round-off level): the angle and the curvature jump, zero in exact arithmetic, are not sampled (0 instead of
+// their round-off) and the curvature is A's (B's equals it up to rounding); every other measure as for any seam.
+PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn, bool shared = false) {
   std::array<Vec3, 6> da, db;  // S, S_u, S_v, S_uu, S_uv, S_vv
   // The same one-sided limit on both sides at a breakpoint: from the left along A's edge, which is from the right
   // along B's when B runs the other way (a mirrored neighbour).
@@ -274,7 +286,7 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
     m.normalsOk = m.curvatureOk = false;
     return m;
   }
-  m.g1 = std::atan2(uA->cross(*uB).norm(), uA->dot(*uB));
+  if (!shared) m.g1 = std::atan2(uA->cross(*uB).norm(), uA->dot(*uB));
   if (!(la > 0.0) || !(lb > 0.0) || chartConditioning(T, O) < kCurvatureChartRel ||
       chartConditioning(Bt, Bc) < kCurvatureChartRel) {
     m.curvatureOk = false;  // next to a pole: the direction is its limit, curvatures are not measured here
@@ -291,6 +303,10 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
   // Shape operators in A's frame (e1 along the seam, e2 = n x e1), each side with its consistently oriented normal.
   const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
   const Eigen::Matrix2d SA = shapeInFrame(da[1], da[2], da[3], da[4], da[5], nhA, e1, e2);
+  if (shared) {
+    m.curvature = spectralNorm(SA);
+    return m;
+  }
   const Eigen::Matrix2d SB = shapeInFrame(db[1], db[2], db[3], db[4], db[5], nhB, e1, e2);
   m.g2 = spectralNorm(SB - SA);
   m.curvature = std::max(spectralNorm(SA), spectralNorm(SB));
@@ -685,7 +701,7 @@ std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool maste
       if (!(sb - sa > sliver)) continue;
       // Master data restricted to [sa, sb] of its span.
       std::array<BernsteinPoly, 3> XM, XS;
-      for (size_t k = 0; k < 3; ++k) XM[k] = master.h[k][static_cast<size_t>(ms.span)].restricted(sa, sb);
+      for (size_t k = 0; k < 3; ++k) XM[k] = master.poly(k, static_cast<size_t>(ms.span)).restricted(sa, sb);
       // Slave: the span containing the middle, and the map in its local coordinates.
       const BernsteinPoly mr = ms.m.restricted(sa, sb);
       const int sspan = spanIndex(slave, mr.scalar(0.5));
@@ -694,7 +710,7 @@ std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool maste
       local.coeffs().array() -= ssp.lo;
       local *= 1.0 / ssp.length();
       for (size_t k = 0; k < 3; ++k) {
-        const BernsteinPoly& hs = slave.h[k][static_cast<size_t>(sspan)];
+        const BernsteinPoly hs = slave.poly(k, static_cast<size_t>(sspan));
         XS[k] = local.degree() <= 1 ? hs.restricted(local.coeffs()(0, 0), local.coeffs()(local.degree(), 0))
                                     : hs.composed(local);
       }
@@ -809,8 +825,6 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
     return std::nullopt;
   const int n = A.degree;
   const size_t m = A.spans.size();
-  for (size_t k = 0; k < 3; ++k)
-    if (A.h[k].size() != m || B.h[k].size() != m) return std::nullopt;
   // The spans correspond one to one: same normalised breakpoints (B's mirrored when reversed).
   for (size_t k = 0; k < m; ++k) {
     const size_t kb = reversed ? m - 1 - k : k;
@@ -819,17 +833,18 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
                                : (B.spans[kb].lo - B.dom.lo) / B.dom.length();
     if (!(std::abs(na - nb) <= kKnotRelTol)) return std::nullopt;
   }
-  auto row = [](const BernsteinPoly& p, int j) -> Vec3 { return p.coeffs().row(j).head<3>().transpose(); };
+  // Coefficient j of span i of the k-th cross derivative of a side (polynomial: three coordinates).
+  auto row = [](const Side& s, size_t k, size_t i, int j) { return Vec3(Eigen::Map<const Vec3>(s.coeff(k, i, j))); };
   // lambda by least squares over all coefficients of the first rows: B_1 = lambda A_out = -lambda A_1.
   double num = 0.0, den = 0.0, mag0 = 0.0;
   for (size_t k = 0; k < m; ++k) {
     const size_t kb = reversed ? m - 1 - k : k;
     for (int j = 0; j <= n; ++j) {
       const int jb = reversed ? n - j : j;
-      const Vec3 o = -row(A.h[1][k], j), b1 = row(B.h[1][kb], jb);
+      const Vec3 o = -row(A, 1, k, j), b1 = row(B, 1, kb, jb);
       num += b1.dot(o);
       den += o.squaredNorm();
-      mag0 = std::max({mag0, row(A.h[0][k], j).cwiseAbs().maxCoeff(), row(B.h[0][kb], jb).cwiseAbs().maxCoeff()});
+      mag0 = std::max({mag0, row(A, 0, k, j).cwiseAbs().maxCoeff(), row(B, 0, kb, jb).cwiseAbs().maxCoeff()});
     }
   }
   if (!(den > 0.0)) return std::nullopt;
@@ -851,17 +866,11 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
   std::array<Vec3, 2 * kMaxDegree> NA;         // n_A = A_t x A_out, degree 2n - 1
   for (size_t k = 0; k < m; ++k) {
     const size_t kb = reversed ? m - 1 - k : k;
-    const Matrix& a0 = A.h[0][k].coeffs();
-    const Matrix& a1 = A.h[1][k].coeffs();
-    const Matrix& a2 = A.h[2][k].coeffs();
-    const Matrix& b0 = B.h[0][kb].coeffs();
-    const Matrix& b1 = B.h[1][kb].coeffs();
-    const Matrix& b2 = B.h[2][kb].coeffs();
     for (int j = 0; j <= n; ++j) {
       const int jb = reversed ? n - j : j;
-      const Vec3 pa = a0.row(j).head<3>().transpose(), pb = b0.row(jb).head<3>().transpose();
-      const Vec3 ra1 = a1.row(j).head<3>().transpose(), rb1 = b1.row(jb).head<3>().transpose();
-      const Vec3 ra2 = a2.row(j).head<3>().transpose(), rb2 = b2.row(jb).head<3>().transpose();
+      const Vec3 pa = row(A, 0, k, j), pb = row(B, 0, kb, jb);
+      const Vec3 ra1 = row(A, 1, k, j), rb1 = row(B, 1, kb, jb);
+      const Vec3 ra2 = row(A, 2, k, j), rb2 = row(B, 2, kb, jb);
       diff[static_cast<size_t>(j)] = pb - pa;
       d0 = std::max(d0, (pb - pa).norm());
       d1 = std::max(d1, (rb1 + lambda * ra1).norm());
@@ -871,16 +880,15 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
       oMax = std::max(oMax, ra1.norm());
       aooMax = std::max(aooMax, ra2.norm());
       if (j >= 2) {
-        const Vec3 att = n * (n - 1) * (pa - 2.0 * Vec3(a0.row(j - 1).head<3>().transpose()) +
-                                        Vec3(a0.row(j - 2).head<3>().transpose()));
+        const Vec3 att = n * (n - 1) * (pa - 2.0 * row(A, 0, k, j - 1) + row(A, 0, k, j - 2));
         attMax = std::max(attMax, att.norm());
       }
     }
     if (!(d0 <= eps0) || !(d1 <= eps1) || !(d2 <= eps2)) return std::nullopt;
     for (int j = 0; j < n; ++j) {
       const size_t u = static_cast<size_t>(j);
-      T[u] = n * (Vec3(a0.row(j + 1).head<3>().transpose()) - Vec3(a0.row(j).head<3>().transpose()));
-      O1[u] = n * (Vec3(a1.row(j + 1).head<3>().transpose()) - Vec3(a1.row(j).head<3>().transpose()));
+      T[u] = n * (row(A, 0, k, j + 1) - row(A, 0, k, j));
+      O1[u] = n * (row(A, 1, k, j + 1) - row(A, 1, k, j));
       tMax = std::max(tMax, T[u].norm());
       aotMax = std::max(aotMax, O1[u].norm());
       dT = std::max(dT, (n * (diff[u + 1] - diff[u])).norm());
@@ -890,7 +898,7 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
     for (int l = 0; l <= dn; ++l) NA[static_cast<size_t>(l)].setZero();
     for (int i = 0; i < n; ++i)
       for (int j = 0; j <= n; ++j) {
-        const Vec3 o = -Vec3(a1.row(j).head<3>().transpose());
+        const Vec3 o = -row(A, 1, k, j);
         NA[static_cast<size_t>(i + j)] +=
             (binomial(n - 1, i) * binomial(n, j) / binomial(dn, i + j)) * T[static_cast<size_t>(i)].cross(o);
       }
@@ -1095,13 +1103,15 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
         certified = true;
       } else {
         // A gap: keep the affine map when it is as good as closest-point matching (offset seams), else project.
+        // haus only grows, so the loop stops as soon as it decides the test (the same decision as the whole loop).
         double haus = 0.0;
+        const auto affineAsGood = [&] { return bound <= (1.0 + opt.boundRelGap) * haus + exactFloor; };
         const int n = std::max(opt.samplesPerSpan, 8) * static_cast<int>(A.spans.size());
-        for (int i = 0; i <= n; ++i) {
+        for (int i = 0; i <= n && !affineAsGood(); ++i) {
           const double t = rep.overlapA.lo + rep.overlapA.length() * i / n;
           haus = std::max(haus, detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB).distance);
         }
-        if (bound <= (1.0 + opt.boundRelGap) * haus + exactFloor) {
+        if (affineAsGood()) {
           pieces = std::move(pcs);
           rep.correspondence = Correspondence::kAffine;
           certified = true;
@@ -1175,7 +1185,9 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     S = std::move(sorted);
   }
   S.m.reserve(S.t.size());
-  for (size_t i = 0; i < S.t.size(); ++i) S.m.push_back(measureAt(A, S.t[i], B, S.s[i], sgn));
+  // Shared rows: the angle and the curvature jump are not sampled, but the plots (keepSamples) get every measure.
+  const bool sharedSamples = shared && !opt.keepSamples;
+  for (size_t i = 0; i < S.t.size(); ++i) S.m.push_back(measureAt(A, S.t[i], B, S.s[i], sgn, sharedSamples));
 
   // Curvature reference for relative G2 values: the largest curvature on the seam, floored at "flat".
   const double flat = kFlatCurvatureRatio / std::max(scale, std::numeric_limits<double>::min());

@@ -11,14 +11,18 @@
 namespace seam {
 
 namespace detail {
-// Values, first and second derivatives of the p+1 non-zero basis functions (NURBS Book A2.3 on the stack).
-void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastBasisDegree + 1]) {
+namespace {
+// kP > 0: the degree is known at compile time (the loops unroll; the same operations in the same order, so the same
+// bits as kP = 0, where p is read at run time).
+template <int kP>
+void basisUpTo2Impl(const double* U, int p, int span, double t, double (*ders)[kMaxFastBasisDegree + 1]) {
+  if constexpr (kP > 0) p = kP;
   double ndu[kMaxFastBasisDegree + 1][kMaxFastBasisDegree + 1], a[2][kMaxFastBasisDegree + 1];
   double left[kMaxFastBasisDegree + 1], right[kMaxFastBasisDegree + 1];
   ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
-    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
-    right[j] = U[static_cast<size_t>(span + j)] - t;
+    left[j] = t - U[span + 1 - j];
+    right[j] = U[span + j] - t;
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
       ndu[j][r] = right[r + 1] + left[j - r];
@@ -61,6 +65,19 @@ void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double 
   for (int k = 1; k <= n; ++k) {
     for (int j = 0; j <= p; ++j) ders[k][j] *= f;
     f *= (p - k);
+  }
+}
+}  // namespace
+
+// Values, first and second derivatives of the p+1 non-zero basis functions (NURBS Book A2.3 on the stack).
+void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastBasisDegree + 1]) {
+  switch (p) {  // the common degrees unrolled
+    case 1: return basisUpTo2Impl<1>(U.data(), p, span, t, ders);
+    case 2: return basisUpTo2Impl<2>(U.data(), p, span, t, ders);
+    case 3: return basisUpTo2Impl<3>(U.data(), p, span, t, ders);
+    case 4: return basisUpTo2Impl<4>(U.data(), p, span, t, ders);
+    case 5: return basisUpTo2Impl<5>(U.data(), p, span, t, ders);
+    default: return basisUpTo2Impl<0>(U.data(), p, span, t, ders);
   }
 }
 }  // namespace detail
@@ -122,12 +139,15 @@ namespace {
 constexpr int kMaxFastEvalDegree = detail::kMaxFastBasisDegree;
 
 // The p + 1 non-zero basis functions at t in `span` (triangular Cox-de Boor scheme, NURBS Book A2.2, on the stack).
-void basisValues(const std::vector<double>& U, int p, int span, double t, double* N) {
+// kP > 0: the degree known at compile time, as basisUpTo2Impl (the same operations, so the same bits).
+template <int kP>
+void basisValuesImpl(const double* U, int p, int span, double t, double* N) {
+  if constexpr (kP > 0) p = kP;
   double left[kMaxFastEvalDegree + 1], right[kMaxFastEvalDegree + 1];
   N[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
-    left[j] = t - U[static_cast<size_t>(span + 1 - j)];
-    right[j] = U[static_cast<size_t>(span + j)] - t;
+    left[j] = t - U[span + 1 - j];
+    right[j] = U[span + j] - t;
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
       const double tmp = N[r] / (right[r + 1] + left[j - r]);
@@ -135,6 +155,17 @@ void basisValues(const std::vector<double>& U, int p, int span, double t, double
       saved = left[j - r] * tmp;
     }
     N[j] = saved;
+  }
+}
+
+void basisValues(const std::vector<double>& U, int p, int span, double t, double* N) {
+  switch (p) {  // the common degrees unrolled
+    case 1: return basisValuesImpl<1>(U.data(), p, span, t, N);
+    case 2: return basisValuesImpl<2>(U.data(), p, span, t, N);
+    case 3: return basisValuesImpl<3>(U.data(), p, span, t, N);
+    case 4: return basisValuesImpl<4>(U.data(), p, span, t, N);
+    case 5: return basisValuesImpl<5>(U.data(), p, span, t, N);
+    default: return basisValuesImpl<0>(U.data(), p, span, t, N);
   }
 }
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cctype>
 #include <cmath>
+#include <type_traits>
 
 #include "seam/core/bernstein.h"
 #include "spline/spline_internal.h"
@@ -519,25 +520,33 @@ Matrix BSplineSurface::crossDerivativeRows(Edge e, int maxOrder) const {
     detail::basisUpTo2(kc.values(), p, span, c, fast);
   else
     slow = basisFunctionDerivatives(kc, p, span, c, top);
-  const double* pts = points_.data();
-  const Eigen::Index cols = out.cols();
-  for (int r = 0; r <= p; ++r) {
-    const int across = span - p + r;
-    for (int k = 0; k <= top; ++k) {
-      const double nkr = onStack ? fast[k][r] : slow(k, r);
-      // Reversed cross direction at the far edge: d/dn = -d/du there.
-      const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
-      if (coef == 0.0) continue;
-      for (int j = 0; j < nAlong; ++j) {
-        const int flat = uEdge ? across * nv_ + j : j * nv_ + across;
-        const double cw = coef * (rational ? weights_[flat] : 1.0);
-        double* o = out.data() + j * cols + static_cast<Eigen::Index>(k) * hd;
-        const double* x = pts + static_cast<Eigen::Index>(flat) * d;
-        for (int q = 0; q < d; ++q) o[q] += cw * x[q];
-        if (rational) o[d] += cw;
+  // kD > 0: three coordinates known at compile time (the common case; the same operations as kD = 0, which reads d).
+  const auto accumulate = [&]<int kD>(std::integral_constant<int, kD>) {
+    const int dd = kD > 0 ? kD : d;
+    const double* pts = points_.data();
+    const Eigen::Index cols = out.cols();
+    for (int r = 0; r <= p; ++r) {
+      const int across = span - p + r;
+      for (int k = 0; k <= top; ++k) {
+        const double nkr = onStack ? fast[k][r] : slow(k, r);
+        // Reversed cross direction at the far edge: d/dn = -d/du there.
+        const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
+        if (coef == 0.0) continue;
+        for (int j = 0; j < nAlong; ++j) {
+          const int flat = uEdge ? across * nv_ + j : j * nv_ + across;
+          const double cw = coef * (rational ? weights_[flat] : 1.0);
+          double* o = out.data() + j * cols + static_cast<Eigen::Index>(k) * hd;
+          const double* x = pts + static_cast<Eigen::Index>(flat) * dd;
+          for (int q = 0; q < dd; ++q) o[q] += cw * x[q];
+          if (rational) o[dd] += cw;
+        }
       }
     }
-  }
+  };
+  if (d == 3)
+    accumulate(std::integral_constant<int, 3>{});
+  else
+    accumulate(std::integral_constant<int, 0>{});
   return out;
 }
 
