@@ -1,0 +1,86 @@
+#pragma once
+// Curvature continuity (G2) across a whole quad network (docs/algorithms/thesis-abstract.md, "G2 across
+// networks"): every interior seam of a G0 (or G1) network of polynomial quad patches becomes G2, while free edges
+// stay where they are.
+//
+// Every chosen patch is written exactly as a biquintic B-spline with the knot 1/2 (of its domain) of multiplicity 3
+// in both directions (two C2-joined quintic pieces each way: the patch stays curvature continuous inside). Along
+// every seam, with the common edge parameter t and each side's cross-boundary parameter pointing into its patch,
+// the two sides B (the pair's first patch) and C must satisfy, span by span of the edge,
+//     C_s  = -lambda B_s + kappa B_t                                                   (G1, lambda > 0)
+//     C_ss = lambda^2 B_ss - 2 lambda kappa B_st + kappa^2 B_tt + mu B_s + nu B_t      (G2)
+// (the chain rule of C(s, t) = B(u(s, t), v(s, t)), u_s = -lambda, v_s = kappa, u_ss = mu, v_ss = nu: the thesis'
+// blending functions alpha, beta, gamma, delta, eta after division by beta). lambda is linear and kappa, mu, nu are
+// quadratic per span; every identity is a polynomial of degree <= 7 per span, so it holds exactly when it holds at
+// 8 distinct parameters of the span. The control points of all chosen patches and the blending coefficients are
+// the unknowns of one system: the identities (and G0: equal boundary rows) at those parameters, solved by
+// Gauss-Newton steps of least change of the control points (a constrained least-squares step per iteration,
+// sparse). At a vertex of valence 3 this solves the thesis' three "intertwining" systems (curvature points, then the
+// F and G points) together, and at a 4-valent vertex it meets Johansson's Theorem 2 compatibility, because both are
+// consequences of the identities above at the vertex. The result is not certified here: heal certifies every seam
+// before and after (analyzeSeam) and keeps the input where anything is worse.
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "seam/continuity/seam.h"
+#include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/model/model.h"
+
+namespace seam {
+
+struct G2NetworkOptions {
+  /// Patches to work on (indices into Model::patches); empty: every patch. Seams between a chosen patch and one
+  /// that is not chosen are free edges (they stay where they are, G0 or better as in the input).
+  std::vector<int> patches;
+  /// Edges (model patch index, edge) kept as free edges (design creases, as LocalSchemeOptions::keepEdges).
+  std::vector<std::pair<int, Edge>> keepEdges;
+  /// Two edges closer than this pair (default kDefaultMaxGapRel x the model's bounding-box diagonal).
+  std::optional<double> maxGap;
+  /// Classification tolerances (default Tolerances::forModelSize(diagonal)).
+  std::optional<Tolerances> tolerances;
+  /// Gauss-Newton iterations at most (each one sparse constrained least-squares step).
+  int maxIterations = 30;
+  /// The solve stops when every identity's residual (a length: derivatives per unit of the normalised edge
+  /// parameter) is below this fraction of the model's bounding-box diagonal, or when four steps gain less than a
+  /// factor 2 (the last digits converge linearly: see the .cpp).
+  double residualRel = 1e-12;
+  /// The result is returned only when the residual is at or below this fraction of the diagonal (far below what
+  /// the default tolerances can see: 0.01 degrees, 1 % curvature jump); whether every seam is G2 is then decided
+  /// by the certified check, whose bounds are what heal reports.
+  double acceptRel = 1e-7;
+};
+
+struct G2NetworkReport {
+  int interiorSeams = 0;  ///< seams between chosen patches (both sides chosen, not kept)
+  /// Of those, seams made G1 only: they end at a boundary vertex where the free boundary runs straight with
+  /// different normal curvatures on its two sides, so G2 there would move the free edges (a note names the vertex).
+  int g1OnlySeams = 0;
+  int iterations = 0;     ///< Gauss-Newton steps taken
+  /// Largest residual of the identities after the solve, relative to the bounding-box diagonal (the achieved value).
+  double residualRel = 0.0;
+  /// Smallest lambda over every seam (lambda is linear per span: its end values): > 0 means no fold.
+  double minLambda = 0.0;
+  /// Largest control-point displacement against the input written in the output's degrees and knots: for
+  /// polynomial patches an upper bound on the displacement of the surface (partition of unity).
+  double maxDisplacement = 0.0;
+  double maxDisplacementRel = 0.0;  ///< divided by the bounding-box diagonal of the patch where it occurs
+  std::vector<int> valences;        ///< distinct interior valences met, ascending
+  std::vector<std::string> patchesChanged;
+  std::vector<std::string> notes;
+};
+
+struct G2NetworkResult {
+  Model model;  ///< every chosen patch replaced by its biquintic form; every other patch bit-identical
+  G2NetworkReport report;
+};
+
+/// Runs the solve. Errors (nothing is changed): kInvalidInput (no patches, non-3-D patches, bad indices),
+/// kUnsupported (rational patches, a degree above 5, interior knots other than the middle, T-junctions, an edge
+/// shared by three patches, a collapsed edge among the chosen patches), kNoSolution (the iteration did not reach
+/// the residual, or a seam would fold: lambda <= 0 somewhere).
+Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& options = {});
+
+}  // namespace seam

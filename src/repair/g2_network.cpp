@@ -1,0 +1,629 @@
+// G2 across whole quad networks (seam/repair/g2_network.h; derivation in docs/algorithms/thesis-abstract.md,
+// "G2 across networks").
+//
+// Unknowns: the control points of every chosen patch (held as biquintic B-splines on [0, 1]^2 with the knot 1/2 of
+// multiplicity 3 both ways, a 9 x 9 grid; the boundary points of the two sides of a seam are one unknown, so G0
+// holds by construction; the boundary rows of free edges are fixed), and per seam and per span of the edge the
+// coefficients of lambda (linear) and kappa (quadratic) in the span's local parameter tau in [0, 1].
+// Equations per seam and span: the G1 identity C_s + lambda B_s - kappa B_t = 0 at kColloc1 parameters (degree <= 6:
+// exact when it holds there), and G2's normal component n . (C_ss - lambda^2 B_ss + 2 lambda kappa B_st -
+// kappa^2 B_tt) = 0 at kColloc2 parameters (n the unit normal; N . (...) has degree <= 16). The tangential part of
+// the G2 identity is taken by mu B_s + nu B_t with any mu, nu, so it is not an equation.
+// Solve: Gauss-Newton steps of least weighted change (step = -W^-1 J^T (J W^-1 J^T)^-1 r, rows scaled to unit
+// norm, sparse LDL^T of the m x m matrix), with backtracking. Near the solution the n tangent-plane rows at a vertex
+// of valence n express a condition of codimension n - 2 (coplanarity), so the last digits converge linearly; the
+// iteration stops at options.residualRel or when four steps gain less than a factor 2.
+#include "seam/repair/g2_network.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "seam/continuity/model_check.h"
+#include "seam/repair/join.h"
+
+namespace seam {
+
+namespace {
+
+constexpr int kDeg = 5;
+constexpr int kMidMult = 3;   // C2 at the middle knot: each patch stays curvature continuous inside
+constexpr int kGrid = 9;      // control points per direction: knots {0^6, 1/2^3, 1^6}
+constexpr int kSpans = 2;     // spans along every edge
+constexpr int kDegLambda = 1; // degrees of the blending functions per span
+constexpr int kDegKappa = 2;
+constexpr int kBlendPerSpan = (kDegLambda + 1) + (kDegKappa + 1);
+/// Parameters per span: the G1 identity has degree <= 6 per span; the G2 condition's normal component
+/// (B_s x B_t) . (...) degree <= 9 + 7 = 16.
+constexpr int kColloc1 = 7;
+constexpr int kColloc2 = 17;
+/// Weight of a blending coefficient against a control-point coordinate in the least-change step (the blending
+/// functions are free: a small weight lets them take the change).
+constexpr double kBlendWeight = 1.0;
+/// Relative regularisation of the m x m normal matrix (redundant equations at the vertices make it singular).
+constexpr double kRegularisationRel = 1e-14;
+/// Step halvings of the backtracking line search before the iteration stops.
+constexpr int kMaxHalvings = 12;
+
+Status unsupported(std::string m) { return {ErrorCode::kUnsupported, std::move(m)}; }
+
+/// The patch as a biquintic B-spline on [0, 1]^2 with the knot 1/2 of multiplicity 3 both ways (exact), or why not.
+Result<BSplineSurface> toForm(const BSplineSurface& s0, const std::string& name) {
+  if (s0.isRational()) return unsupported(fmt::format("patch \"{}\" is rational", name));
+  if (s0.degreeU() > kDeg || s0.degreeV() > kDeg)
+    return unsupported(fmt::format("patch \"{}\" has degree ({}, {}) above {}", name, s0.degreeU(), s0.degreeV(), kDeg));
+  BSplineSurface s = s0.degreeElevated(kDeg - s0.degreeU(), kDeg - s0.degreeV()).reparametrized({0.0, 1.0}, {0.0, 1.0});
+  for (int dir = 0; dir < 2; ++dir) {
+    const KnotVector& kv = dir == 0 ? s.knotsU() : s.knotsV();
+    if (kv.multiplicity(0.0) != kDeg + 1 || kv.multiplicity(1.0) != kDeg + 1)
+      return unsupported(fmt::format("patch \"{}\": its knots are not clamped", name));
+    int have = 0;
+    for (double t : kv.interiorBreakpoints(kDeg)) {
+      if (std::abs(t - 0.5) > kKnotRelTol)
+        return unsupported(fmt::format(
+            "patch \"{}\": interior knot {} in {}; the G2 network solve takes Bezier patches or B-splines whose only "
+            "interior knot is the middle of the domain",
+            name, t, dir == 0 ? "u" : "v"));
+      have = kv.multiplicity(t);
+    }
+    if (have > kMidMult)
+      return unsupported(fmt::format("patch \"{}\": the middle knot in {} has multiplicity {} (the patch is not C2 there)",
+                                     name, dir == 0 ? "u" : "v", have));
+    if (have < kMidMult) {
+      std::vector<double> ins(static_cast<size_t>(kMidMult - have), 0.5);
+      s = dir == 0 ? s.refinedU(ins) : s.refinedV(ins);
+    }
+  }
+  if (s.numU() != kGrid || s.numV() != kGrid) return unsupported(fmt::format("patch \"{}\": unexpected knots", name));
+  return s;
+}
+
+const KnotVector& formKnots() {
+  static const KnotVector k({0, 0, 0, 0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1, 1, 1, 1});
+  return k;
+}
+
+/// Control-point index (i, j) of point k (0..8, increasing edge parameter) of row r (0: the edge) of edge e.
+std::pair<int, int> rowIndex(Edge e, int r, int k) {
+  switch (e) {
+    case Edge::U0: return {r, k};
+    case Edge::U1: return {kGrid - 1 - r, k};
+    case Edge::V0: return {k, r};
+    case Edge::V1: return {k, kGrid - 1 - r};
+  }
+  return {0, 0};
+}
+
+/// One side of a seam seen at the common edge parameter t: for every derivative d^{i+j}/ds^i dt^j (s into the
+/// patch, t along the common parameter), i + j <= 2, the 36 weights of the patch's control points that carry it.
+struct SideJet {
+  // order index: 0 S_s, 1 S_t, 2 S_ss, 3 S_st, 4 S_tt
+  std::array<std::array<double, 36>, 5> w{};
+  std::array<int, 36> point{};  // index i * kGrid + j of the control point
+  std::array<Vec3, 5> value{};
+};
+
+SideJet sideJet(const Matrix& q, Edge e, bool reversed, double t) {
+  const double te = reversed ? 1.0 - t : t;
+  const double st = reversed ? -1.0 : 1.0;
+  const bool uEdge = isUEdge(e);
+  const double n0 = (e == Edge::U0 || e == Edge::V0) ? 0.0 : 1.0;
+  const double sn = (e == Edge::U0 || e == Edge::V0) ? 1.0 : -1.0;
+  const double a = uEdge ? n0 : te, b = uEdge ? te : n0;
+  const KnotVector& kv = formKnots();
+  const int spa = kv.findSpan(kDeg, a), spb = kv.findSpan(kDeg, b);
+  const Matrix Na = basisFunctionDerivatives(kv, kDeg, spa, a, 2);
+  const Matrix Nb = basisFunctionDerivatives(kv, kDeg, spb, b, 2);
+  // (i, j) = derivative orders in (s, t); in the patch's own parameters: normal order i, along order j.
+  static constexpr std::array<std::array<int, 2>, 5> orders{{{1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}}};
+  SideJet jet;
+  for (int o = 0; o < 5; ++o) {
+    const int i = orders[static_cast<size_t>(o)][0], j = orders[static_cast<size_t>(o)][1];
+    const double sign = std::pow(sn, i) * std::pow(st, j);
+    const int du = uEdge ? i : j, dv = uEdge ? j : i;
+    Vec3 v = Vec3::Zero();
+    int c = 0;
+    for (int ra = 0; ra <= kDeg; ++ra)
+      for (int rb = 0; rb <= kDeg; ++rb, ++c) {
+        const int pi = spa - kDeg + ra, pj = spb - kDeg + rb;
+        const double wgt = sign * Na(du, ra) * Nb(dv, rb);
+        jet.w[static_cast<size_t>(o)][static_cast<size_t>(c)] = wgt;
+        jet.point[static_cast<size_t>(c)] = pi * kGrid + pj;
+        v += wgt * q.row(pi * kGrid + pj).transpose();
+      }
+    jet.value[static_cast<size_t>(o)] = v;
+  }
+  return jet;
+}
+
+struct NetSeam {
+  int pa = -1, pb = -1;  // region patch indices (B = pa, C = pb)
+  Edge ea = Edge::U0, eb = Edge::U0;
+  bool reversed = false;
+  int blend = 0;  // offset of the seam's blending coefficients in the unknown vector
+  bool g1Only = false;  // G2 is impossible at one of its ends with the free edges kept (see straightBoundary...)
+};
+
+/// Sine of the angle below which the two free edges at a boundary vertex count as one straight boundary line.
+constexpr double kStraightBoundarySin = 0.17;  // ~10 degrees
+/// Relative difference of the two free edges' normal curvatures at a straight boundary vertex above which G2 at
+/// that vertex is impossible (the second fundamental form takes one value per direction).
+constexpr double kCurvatureMismatchRel = 1e-9;
+
+/// Corner id (patch * 4 + cu * 2 + cv) at an end of an edge.
+int cornerId(int patch, Edge e, int end) {
+  const int cu = isUEdge(e) ? (e == Edge::U0 ? 0 : 1) : end, cv = isUEdge(e) ? end : (e == Edge::V0 ? 0 : 1);
+  return patch * 4 + cu * 2 + cv;
+}
+
+double powi(double x, int k) {
+  double r = 1.0;
+  for (int i = 0; i < k; ++i) r *= x;
+  return r;
+}
+
+/// Collocation parameters inside span sp of [0, 1] (Chebyshev points of the span).
+template <int K>
+std::array<double, K> collocation(int sp) {
+  std::array<double, K> t{};
+  for (int k = 0; k < K; ++k) {
+    const double tau = 0.5 - 0.5 * std::cos(std::numbers::pi * (k + 0.5) / K);
+    t[static_cast<size_t>(k)] = (sp + tau) / kSpans;
+  }
+  return t;
+}
+
+}  // namespace
+
+Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& opt) {
+  if (model.patches.empty()) return invalidInput("the model has no patches");
+  std::vector<int> chosen = opt.patches;
+  if (chosen.empty()) {
+    chosen.resize(model.patches.size());
+    std::iota(chosen.begin(), chosen.end(), 0);
+  }
+  std::sort(chosen.begin(), chosen.end());
+  chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+  for (int p : chosen)
+    if (p < 0 || p >= static_cast<int>(model.patches.size()))
+      return invalidInput(fmt::format("patch index {} out of range", p));
+  for (const Patch& p : model.patches)
+    if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
+  double diag = model.boundingBox().diagonal();
+  if (!(diag > 0.0)) diag = 1.0;
+  const Tolerances tol = opt.tolerances ? *opt.tolerances : Tolerances::forModelSize(diag);
+  const double maxGap = opt.maxGap ? *opt.maxGap : kDefaultMaxGapRel * diag;
+
+  G2NetworkResult res;
+  res.model = model;
+  G2NetworkReport& rep = res.report;
+
+  const int np = static_cast<int>(chosen.size());
+  std::map<int, int> local;
+  for (int r = 0; r < np; ++r) local[chosen[static_cast<size_t>(r)]] = r;
+  std::vector<BSplineSurface> form(static_cast<size_t>(np));
+  bool raised = false, refined = false;
+  for (int r = 0; r < np; ++r) {
+    const Patch& p = model.patches[static_cast<size_t>(chosen[static_cast<size_t>(r)])];
+    auto f = toForm(p.surface, p.name);
+    if (!f) return f.status();
+    raised = raised || p.surface.degreeU() < kDeg || p.surface.degreeV() < kDeg;
+    refined = refined || p.surface.numU() + p.surface.degreeU() + 1 < 15 || p.surface.numV() + p.surface.degreeV() + 1 < 15;
+    form[static_cast<size_t>(r)] = *f;
+  }
+
+  // ---- topology.
+  auto pairing = pairEdgesWithin(model, tol, maxGap, diag);
+  if (!pairing) return pairing.status();
+  for (const DegenerateEdge& d : pairing->degenerateEdges)
+    if (local.count(d.edge.patch))
+      return unsupported(fmt::format("patch \"{}\" has a collapsed edge {} (a pole)",
+                                     model.patches[static_cast<size_t>(d.edge.patch)].name, edgeName(d.edge.edge)));
+  std::vector<NetSeam> seams;
+  std::set<std::pair<int, int>> paired;  // (region patch, edge) of interior seams
+  const auto kept = [&](int patch, Edge e) {
+    return std::find(opt.keepEdges.begin(), opt.keepEdges.end(), std::make_pair(patch, e)) != opt.keepEdges.end();
+  };
+  for (const EdgePair& pr : pairing->pairs) {
+    if (!local.count(pr.a.patch) || !local.count(pr.b.patch)) continue;
+    if (kept(pr.a.patch, pr.a.edge) || kept(pr.b.patch, pr.b.edge)) continue;
+    const std::string& na = model.patches[static_cast<size_t>(pr.a.patch)].name;
+    const std::string& nb = model.patches[static_cast<size_t>(pr.b.patch)].name;
+    if (!pr.fullA || !pr.fullB)
+      return unsupported(fmt::format("the seam {}:{} / {}:{} covers only part of an edge (a T-junction)", na,
+                                     edgeName(pr.a.edge), nb, edgeName(pr.b.edge)));
+    NetSeam s;
+    s.pa = local[pr.a.patch];
+    s.pb = local[pr.b.patch];
+    s.ea = pr.a.edge;
+    s.eb = pr.b.edge;
+    s.reversed = pr.reversed;
+    for (const auto& key : {std::make_pair(s.pa, static_cast<int>(s.ea)), std::make_pair(s.pb, static_cast<int>(s.eb))})
+      if (!paired.insert(key).second)
+        return unsupported(fmt::format("edge {}:{} or {}:{} is shared by more than two patches", na,
+                                       edgeName(pr.a.edge), nb, edgeName(pr.b.edge)));
+    seams.push_back(s);
+  }
+  rep.interiorSeams = static_cast<int>(seams.size());
+
+  // ---- vertices: corners linked through seams (union-find). At a boundary vertex whose two free edges form one
+  // straight line, the second fundamental form would have to take both free edges' normal curvatures in the same
+  // direction: where they differ, G2 is impossible with the free edges kept, and the seams ending there are made
+  // G1 only (and reported).
+  std::vector<int> cparent(static_cast<size_t>(np) * 4);
+  std::iota(cparent.begin(), cparent.end(), 0);
+  auto croot = [&](int x) {
+    while (cparent[static_cast<size_t>(x)] != x)
+      x = cparent[static_cast<size_t>(x)] = cparent[static_cast<size_t>(cparent[static_cast<size_t>(x)])];
+    return x;
+  };
+  for (const NetSeam& s : seams)
+    for (int end = 0; end < 2; ++end)
+      cparent[static_cast<size_t>(croot(cornerId(s.pa, s.ea, end)))] =
+          croot(cornerId(s.pb, s.eb, s.reversed ? 1 - end : end));
+  struct VertexGroup {
+    int corners = 0;
+    bool boundary = false;
+    std::vector<std::pair<int, std::pair<Edge, int>>> freeEnds;  // (patch, (edge, end))
+  };
+  std::map<int, VertexGroup> vertexGroups;
+  for (int c = 0; c < np * 4; ++c) ++vertexGroups[croot(c)].corners;
+  for (int ri = 0; ri < np; ++ri)
+    for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1})
+      if (!paired.count({ri, static_cast<int>(e)}))
+        for (int end = 0; end < 2; ++end) {
+          VertexGroup& g = vertexGroups[croot(cornerId(ri, e, end))];
+          g.boundary = true;
+          g.freeEnds.push_back({ri, {e, end}});
+        }
+  std::set<int> straightMismatch;
+  for (const auto& [vr, g] : vertexGroups) {
+    if (g.freeEnds.size() != 2) continue;
+    std::array<Vec3, 2> d1, d2, nrm;
+    for (int k = 0; k < 2; ++k) {
+      const auto& [ri, ee] = g.freeEnds[static_cast<size_t>(k)];
+      const auto [e, end] = ee;
+      const BSplineSurface& f = form[static_cast<size_t>(ri)];
+      const double a = isUEdge(e) ? (e == Edge::U0 ? 0.0 : 1.0) : end, b = isUEdge(e) ? end : (e == Edge::V0 ? 0.0 : 1.0);
+      const auto der = f.derivatives(a, b, 2);
+      const Vec3 su = der[1][0].head<3>(), sv = der[0][1].head<3>();
+      const double sgn = end == 0 ? 1.0 : -1.0;  // away from the vertex
+      d1[static_cast<size_t>(k)] = sgn * (isUEdge(e) ? sv : su);
+      d2[static_cast<size_t>(k)] = isUEdge(e) ? Vec3(der[0][2].head<3>()) : Vec3(der[2][0].head<3>());
+      nrm[static_cast<size_t>(k)] = su.cross(sv).normalized();
+    }
+    const double sine = d1[0].cross(d1[1]).norm() / (d1[0].norm() * d1[1].norm());
+    if (!(sine < kStraightBoundarySin) || d1[0].dot(d1[1]) > 0.0) continue;
+    const double k0 = nrm[0].dot(d2[0]) / d1[0].squaredNorm(), k1 = nrm[0].dot(d2[1]) / d1[1].squaredNorm();
+    if (std::abs(k0 - k1) > kCurvatureMismatchRel * std::max({std::abs(k0), std::abs(k1), 1.0 / diag})) {
+      straightMismatch.insert(vr);
+      const Vec3 pt = form[static_cast<size_t>(g.freeEnds[0].first)].evaluate(
+                                 isUEdge(g.freeEnds[0].second.first) ? (g.freeEnds[0].second.first == Edge::U0 ? 0.0 : 1.0) : g.freeEnds[0].second.second,
+                                 isUEdge(g.freeEnds[0].second.first) ? g.freeEnds[0].second.second : (g.freeEnds[0].second.first == Edge::V0 ? 0.0 : 1.0))
+                             .head<3>();
+      rep.notes.push_back(fmt::format(
+          "boundary vertex ({:.6g}, {:.6g}, {:.6g}): the free boundary runs straight through it with normal curvature "
+          "{:.4g} on one side and {:.4g} on the other; curvature continuity there would move the free edges, so the "
+          "seams ending there are made G1 only",
+          pt.x(), pt.y(), pt.z(), k0, k1));
+    }
+  }
+  for (NetSeam& s : seams)
+    for (int end = 0; end < 2; ++end)
+      if (straightMismatch.count(croot(cornerId(s.pa, s.ea, end)))) s.g1Only = true;
+  rep.g1OnlySeams = static_cast<int>(std::count_if(seams.begin(), seams.end(), [](const NetSeam& s) { return s.g1Only; }));
+  if (seams.empty()) {
+    rep.notes.push_back("no interior seam between the chosen patches: nothing to do");
+    return res;
+  }
+
+  // ---- unknowns: control points (3 per point, minus the fixed ones), then blending coefficients.
+  const int perPatch = kGrid * kGrid;
+  std::vector<char> fixedPoint(static_cast<size_t>(np * perPatch), 0);
+  for (int r = 0; r < np; ++r)
+    for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
+      if (paired.count({r, static_cast<int>(e)})) continue;
+      for (int k = 0; k < kGrid; ++k) {
+        const auto [i, j] = rowIndex(e, 0, k);
+        fixedPoint[static_cast<size_t>(r * perPatch + i * kGrid + j)] = 1;
+      }
+    }
+  // G0 by construction: the boundary points of the two sides of every seam are one unknown (union-find); a class
+  // with a fixed member is fixed.
+  std::vector<int> cls(static_cast<size_t>(np * perPatch));
+  std::iota(cls.begin(), cls.end(), 0);
+  auto root = [&](int x) {
+    while (cls[static_cast<size_t>(x)] != x) x = cls[static_cast<size_t>(x)] = cls[static_cast<size_t>(cls[static_cast<size_t>(x)])];
+    return x;
+  };
+  for (const NetSeam& s : seams)
+    for (int k = 0; k < kGrid; ++k) {
+      const auto [ia, ja] = rowIndex(s.ea, 0, k);
+      const auto [ib, jb] = rowIndex(s.eb, 0, s.reversed ? kGrid - 1 - k : k);
+      const int ra = root(s.pa * perPatch + ia * kGrid + ja), rb = root(s.pb * perPatch + ib * kGrid + jb);
+      if (ra != rb) cls[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+    }
+  const std::vector<char> fixedInInput = fixedPoint;
+  for (int g = 0; g < np * perPatch; ++g)
+    if (fixedInInput[static_cast<size_t>(g)]) fixedPoint[static_cast<size_t>(root(g))] = 1;
+  std::vector<int> varOf(static_cast<size_t>(np * perPatch), -1);  // first of the 3 unknowns of a point
+  int nv = 0;
+  for (int g = 0; g < np * perPatch; ++g)
+    if (root(g) == g && !fixedPoint[static_cast<size_t>(g)]) {
+      varOf[static_cast<size_t>(g)] = nv;
+      nv += 3;
+    }
+  for (int g = 0; g < np * perPatch; ++g) varOf[static_cast<size_t>(g)] = varOf[static_cast<size_t>(root(g))];
+  const int nPointVars = nv;
+  for (NetSeam& s : seams) {
+    s.blend = nv;
+    nv += kSpans * kBlendPerSpan;
+  }
+
+  // Current control points (all patches, fixed ones included) and blending coefficients.
+  Matrix q(np * perPatch, 3);
+  for (int r = 0; r < np; ++r) q.middleRows(r * perPatch, perPatch) = form[static_cast<size_t>(r)].points();
+  VecX blend = VecX::Zero(nv - nPointVars);
+
+  // G0 first: every class of shared boundary points to its fixed member or to its mean.
+  {
+    std::vector<Vec3> sum(static_cast<size_t>(np * perPatch), Vec3::Zero());
+    std::vector<int> count(static_cast<size_t>(np * perPatch), 0);
+    std::vector<int> fixedMember(static_cast<size_t>(np * perPatch), -1);
+    for (int g = 0; g < np * perPatch; ++g) {
+      const auto c = static_cast<size_t>(root(g));
+      sum[c] += q.row(g).transpose();
+      ++count[c];
+      if (fixedInInput[static_cast<size_t>(g)] && fixedMember[c] < 0) fixedMember[c] = g;
+    }
+    for (int g = 0; g < np * perPatch; ++g) {
+      const auto c = static_cast<size_t>(root(g));
+      if (count[c] < 2) continue;
+      q.row(g) = (fixedMember[c] >= 0 ? Vec3(q.row(fixedMember[c]).transpose()) : Vec3(sum[c] / count[c])).transpose();
+    }
+  }
+
+  // Blending offsets within a span block.
+  const int offL = 0, offK = kDegLambda + 1;
+  auto evalPoly = [&](const NetSeam& s, int sp, int off, int deg, double tau) {
+    double v = 0.0;
+    for (int k = deg; k >= 0; --k) v = v * tau + blend[s.blend - nPointVars + sp * kBlendPerSpan + off + k];
+    return v;
+  };
+  auto sides = [&](const NetSeam& s, double t) {
+    return std::make_pair(sideJet(q.middleRows(s.pa * perPatch, perPatch), s.ea, false, t),
+                          sideJet(q.middleRows(s.pb * perPatch, perPatch), s.eb, s.reversed, t));
+  };
+
+  // Initial blending functions: per seam and span, lambda and kappa by least squares on the G1 identity.
+  for (const NetSeam& s : seams)
+    for (int sp = 0; sp < kSpans; ++sp) {
+      const auto ts = collocation<kColloc1>(sp);
+      Matrix a1(3 * kColloc1, kBlendPerSpan);
+      VecX b1(3 * kColloc1);
+      for (int c = 0; c < kColloc1; ++c) {
+        const double t = ts[static_cast<size_t>(c)], tau = t * kSpans - sp;
+        const auto [jb, jc] = sides(s, t);
+        for (int d = 0; d < 3; ++d) {
+          const int row = 3 * c + d;
+          for (int k = 0; k <= kDegLambda; ++k) a1(row, offL + k) = -jb.value[0][d] * powi(tau, k);
+          for (int k = 0; k <= kDegKappa; ++k) a1(row, offK + k) = jb.value[1][d] * powi(tau, k);
+          b1[row] = jc.value[0][d];
+        }
+      }
+      const VecX x1 = a1.colPivHouseholderQr().solve(b1);
+      for (int k = 0; k < kBlendPerSpan; ++k) blend[s.blend - nPointVars + sp * kBlendPerSpan + k] = x1[k];
+    }
+
+  // ---- Gauss-Newton. Rows per seam: G0 (3 per boundary point), G1 (3 per G1 parameter), G2 (1 per G2 parameter).
+  const int eqPerSeam = kSpans * (3 * kColloc1 + kColloc2);
+  const int m = eqPerSeam * static_cast<int>(seams.size());
+  double residual = 0.0;
+  auto assemble = [&](std::vector<Eigen::Triplet<double>>* trip, VecX& r) {
+    r.setZero(m);
+    int row = 0;
+    auto addPoint = [&](int rowIdx, int patch, int point, const Vec3& g) {
+      const int v = varOf[static_cast<size_t>(patch * perPatch + point)];
+      if (v < 0) return;
+      for (int d = 0; d < 3; ++d)
+        if (g[d] != 0.0) trip->emplace_back(rowIdx, v + d, g[d]);
+    };
+    for (const NetSeam& s : seams) {
+      for (int sp = 0; sp < kSpans; ++sp) {
+        const int bo = s.blend + sp * kBlendPerSpan;
+        // G1: C_s + lambda B_s - kappa B_t = 0 (vector).
+        const auto t1 = collocation<kColloc1>(sp);
+        for (int c = 0; c < kColloc1; ++c, row += 3) {
+          const double t = t1[static_cast<size_t>(c)], tau = t * kSpans - sp;
+          const auto [jb, jc] = sides(s, t);
+          const double l = evalPoly(s, sp, offL, kDegLambda, tau), kk = evalPoly(s, sp, offK, kDegKappa, tau);
+          const Vec3 r1 = jc.value[0] + l * jb.value[0] - kk * jb.value[1];
+          for (int d = 0; d < 3; ++d) r[row + d] = r1[d];
+          if (!trip) continue;
+          for (size_t c2 = 0; c2 < 36; ++c2) {
+            const int vc = varOf[static_cast<size_t>(s.pb * perPatch + jc.point[c2])];
+            if (vc >= 0 && jc.w[0][c2] != 0.0)
+              for (int d = 0; d < 3; ++d) trip->emplace_back(row + d, vc + d, jc.w[0][c2]);
+            const int vb = varOf[static_cast<size_t>(s.pa * perPatch + jb.point[c2])];
+            const double w1 = l * jb.w[0][c2] - kk * jb.w[1][c2];
+            if (vb >= 0 && w1 != 0.0)
+              for (int d = 0; d < 3; ++d) trip->emplace_back(row + d, vb + d, w1);
+          }
+          for (int d = 0; d < 3; ++d) {
+            for (int k = 0; k <= kDegLambda; ++k) trip->emplace_back(row + d, bo + offL + k, jb.value[0][d] * powi(tau, k));
+            for (int k = 0; k <= kDegKappa; ++k) trip->emplace_back(row + d, bo + offK + k, -jb.value[1][d] * powi(tau, k));
+          }
+        }
+        // G2, normal component: n . (C_ss - lambda^2 B_ss + 2 lambda kappa B_st - kappa^2 B_tt) = 0 with the unit
+        // normal n = N / |N|, N = B_s x B_t (the unit normal, not N: N . D also vanishes where the patch degenerates,
+        // N = 0, which would attract the iteration to singular patches). Zero at kColloc2 parameters makes the
+        // polynomial N . D (degree <= 16 per span) vanish identically.
+        const auto t2 = collocation<kColloc2>(sp);
+        if (s.g1Only) {
+          row += kColloc2;  // zero rows: the seam is G1 only
+          continue;
+        }
+        for (int c = 0; c < kColloc2; ++c, ++row) {
+          const double t = t2[static_cast<size_t>(c)], tau = t * kSpans - sp;
+          const auto [jb, jc] = sides(s, t);
+          const double l = evalPoly(s, sp, offL, kDegLambda, tau), kk = evalPoly(s, sp, offK, kDegKappa, tau);
+          const Vec3 N = jb.value[0].cross(jb.value[1]);
+          const double nn = std::max(N.norm(), std::numeric_limits<double>::min());
+          const Vec3 D = jc.value[2] - l * l * jb.value[2] + 2 * l * kk * jb.value[3] - kk * kk * jb.value[4];
+          const double e = N.dot(D);
+          r[row] = e / nn;
+          if (!trip) continue;
+          const Vec3 gs = jb.value[1].cross(D), gt = D.cross(jb.value[0]);
+          const Vec3 hs = jb.value[1].cross(N), ht = N.cross(jb.value[0]);  // d|N|^2 / 2 per unit of B_s, B_t
+          const double inv = 1.0 / nn, inv3 = e / (nn * nn * nn);
+          for (size_t c2 = 0; c2 < 36; ++c2) {
+            addPoint(row, s.pb, jc.point[c2], (jc.w[2][c2] * inv) * N);
+            const double wd = -l * l * jb.w[2][c2] + 2 * l * kk * jb.w[3][c2] - kk * kk * jb.w[4][c2];
+            addPoint(row, s.pa, jb.point[c2],
+                     inv * (jb.w[0][c2] * gs + jb.w[1][c2] * gt + wd * N) - inv3 * (jb.w[0][c2] * hs + jb.w[1][c2] * ht));
+          }
+          const double dl = N.dot(-2 * l * jb.value[2] + 2 * kk * jb.value[3]) * inv;
+          const double dk = N.dot(2 * l * jb.value[3] - 2 * kk * jb.value[4]) * inv;
+          for (int k = 0; k <= kDegLambda; ++k) trip->emplace_back(row, bo + offL + k, dl * powi(tau, k));
+          for (int k = 0; k <= kDegKappa; ++k) trip->emplace_back(row, bo + offK + k, dk * powi(tau, k));
+        }
+      }
+    }
+  };
+
+  // Weights: control-point coordinates 1, blending coefficients kBlendWeight.
+  VecX winv(nv);
+  winv.head(nPointVars).setOnes();
+  winv.tail(nv - nPointVars).setConstant(1.0 / kBlendWeight);
+  const double target = opt.residualRel * diag;
+  VecX r;
+  int it = 0;
+  std::vector<double> history;
+  // The sparsity pattern of J W^-1 J^T rarely changes between iterations: the symbolic analysis is redone only
+  // when it does.
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<int> patternOuter, patternInner;
+  for (;; ++it) {
+    std::vector<Eigen::Triplet<double>> trip;
+    assemble(&trip, r);
+    residual = r.cwiseAbs().maxCoeff();
+    if (residual <= target || it >= opt.maxIterations) break;
+    // Stagnation: the vertex conditions make the system degenerate there (n tangent-plane equations for a
+    // condition of codimension n - 2), so the last digits come linearly; stop when 4 steps gain less than 2x.
+    history.push_back(residual);
+    if (history.size() > 4 && residual > 0.5 * history[history.size() - 5]) break;
+    Eigen::SparseMatrix<double> J(m, nv);
+    J.setFromTriplets(trip.begin(), trip.end());
+    // Rows scaled to unit norm (the G2 rows carry second derivatives, ~25 x the first): the same solutions, a
+    // better-conditioned normal matrix.
+    VecX rowScale = VecX::Zero(m);
+    for (int k = 0; k < J.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator itr(J, k); itr; ++itr)
+        rowScale[itr.row()] += itr.value() * itr.value() * winv[itr.col()];
+    for (int i = 0; i < m; ++i) rowScale[i] = rowScale[i] > 0.0 ? 1.0 / std::sqrt(rowScale[i]) : 1.0;
+    J = rowScale.asDiagonal() * J;
+    r = rowScale.asDiagonal() * r;
+    const double r2 = r.squaredNorm();
+    const Eigen::SparseMatrix<double> JW = J * winv.asDiagonal();
+    Eigen::SparseMatrix<double> A = JW * J.transpose();
+    // A small relative regularisation: near a solution the tangent-plane rows at every vertex are nearly dependent
+    // (and a G1-only seam's G2 rows are zero), so J W^-1 J^T is singular up to round-off.
+    for (int i = 0; i < m; ++i) A.coeffRef(i, i) = A.coeff(i, i) * (1.0 + kRegularisationRel) + kRegularisationRel;
+    A.makeCompressed();
+    const std::vector<int> outer(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+    const std::vector<int> inner(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    if (outer != patternOuter || inner != patternInner) {  // a weight that was exactly zero changes the pattern
+      ldlt.analyzePattern(A);
+      patternOuter = outer;
+      patternInner = inner;
+    }
+    ldlt.factorize(A);
+    if (ldlt.info() != Eigen::Success) return Status(ErrorCode::kNoSolution, "the G2 network system could not be factorised");
+    // The least (weighted) change that zeroes the linearised residual: step = -W^-1 J^T (J W^-1 J^T)^-1 r.
+    VecX y = ldlt.solve(r);
+    y += ldlt.solve(r - A * y);  // one step of iterative refinement
+    const VecX step = -(winv.asDiagonal() * (J.transpose() * y));
+    // Backtracking on the residual's 2-norm (the identities are bilinear in points and blending coefficients).
+    const Matrix qPrev = q;
+    const VecX blendPrev = blend;
+    double alpha = 1.0;
+    bool decreased = false;
+    for (int bt = 0; bt < kMaxHalvings; ++bt, alpha *= 0.5) {
+      q = qPrev;
+      blend = blendPrev;
+      for (int g = 0; g < np * perPatch; ++g) {
+        const int v = varOf[static_cast<size_t>(g)];
+        if (v >= 0) q.row(g) += alpha * step.segment<3>(v).transpose();
+      }
+      blend += alpha * step.tail(nv - nPointVars);
+      VecX rTry;
+      assemble(nullptr, rTry);
+      if ((rowScale.asDiagonal() * rTry).squaredNorm() < r2) {
+        decreased = true;
+        break;
+      }
+    }
+    if (!decreased) {  // no descent along the step: keep the last iterate and stop
+      q = qPrev;
+      blend = blendPrev;
+      break;
+    }
+  }
+  rep.iterations = it;
+  rep.residualRel = residual / diag;
+  // ---- lambda > 0 everywhere (linear per span: its end values), and the result.
+  double minLambda = std::numeric_limits<double>::infinity();
+  for (const NetSeam& s : seams)
+    for (int sp = 0; sp < kSpans; ++sp)
+      for (double tau : {0.0, 1.0}) minLambda = std::min(minLambda, evalPoly(s, sp, offL, kDegLambda, tau));
+  rep.minLambda = minLambda;
+  if (residual > opt.acceptRel * diag)
+    return Status(ErrorCode::kNoSolution,
+                  fmt::format("the G2 network solve stopped after {} iterations with a residual of {:.3g} x the model "
+                              "size (wanted {:.1g})",
+                              it, rep.residualRel, opt.acceptRel));
+  if (!(minLambda > 0.0))
+    return Status(ErrorCode::kNoSolution,
+                  fmt::format("the G2 network solution folds a seam (lambda down to {:.3g})", minLambda));
+
+  for (int ri = 0; ri < np; ++ri) {
+    const int mi = chosen[static_cast<size_t>(ri)];
+    Patch& p = res.model.patches[static_cast<size_t>(mi)];
+    const BSplineSurface& orig = p.surface;
+    BSplineSurface out(kDeg, kDeg, formKnots(), formKnots(), kGrid, kGrid, q.middleRows(ri * perPatch, perPatch));
+    out = out.reparametrized(orig.domainU(), orig.domainV());
+    const BSplineSurface& f = form[static_cast<size_t>(ri)];
+    double size = 0.0;
+    {
+      const Matrix& pts = f.points();
+      size = (pts.colwise().maxCoeff() - pts.colwise().minCoeff()).norm();
+    }
+    const double disp = (q.middleRows(ri * perPatch, perPatch) - f.points()).rowwise().norm().maxCoeff();
+    if (disp > rep.maxDisplacement) {
+      rep.maxDisplacement = disp;
+      rep.maxDisplacementRel = size > 0.0 ? disp / size : 0.0;
+    }
+    p.surface = std::move(out);
+    rep.patchesChanged.push_back(p.name);
+  }
+  std::set<int> val;
+  for (const auto& [vr, g] : vertexGroups)
+    if (!g.boundary && g.corners > 1) val.insert(g.corners);
+  rep.valences.assign(val.begin(), val.end());
+  if (raised) rep.notes.push_back("degree raised to 5 x 5 (exact) for the G2 solve");
+  if (refined) rep.notes.push_back("knot 1/2 inserted (exact) up to multiplicity 3 in both directions");
+  rep.notes.push_back(fmt::format("output patches are biquintic B-splines, C2 at the middle knot; {} Gauss-Newton "
+                                  "steps, identity residual {:.2g} x the model size",
+                                  rep.iterations, rep.residualRel));
+  return res;
+}
+
+}  // namespace seam
