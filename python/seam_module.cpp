@@ -384,7 +384,8 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
   HealOptions ho;
   if (continuity == "G0") ho.continuity = GeometricClass::kG0;
   else if (continuity == "G1") ho.continuity = GeometricClass::kG1;
-  else throw py::value_error(fmt::format("continuity: \"{}\" is not G0 or G1 (G2: join seam by seam)", continuity));
+  else if (continuity == "G2") ho.continuity = GeometricClass::kG2;
+  else throw py::value_error(fmt::format("continuity: \"{}\" is not G0, G1 or G2", continuity));
   const Result<HealMethod> hm = parseHealMethod(method);
   if (!hm) throw py::value_error("method: " + hm.status().message());
   ho.method = *hm;
@@ -809,7 +810,8 @@ PYBIND11_MODULE(_seam, mod) {
   mod.def("heal", &heal, py::arg("model"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
           py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(), py::arg("units") = py::none(),
           py::arg("preset") = py::none(),
-          "Makes every seam G1 (or G0) where it can, never worse: (healed Model, the dict of `seam heal --json`); "
+          "Makes every seam G1 (or G0, or G2 by the network solve) where it can, never worse: (healed Model, the dict "
+          "of `seam heal --json`); "
           "units= and preset= as --units and --preset");
   mod.def("report", &writeReport, py::arg("model"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
           "Writes the self-contained HTML report of `seam report` (patch models) atomically; returns the path");

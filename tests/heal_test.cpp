@@ -919,3 +919,120 @@ TEST(HealCrease, NinetyDegreeCreaseIsLeftBitIdentical) {
 
 }  // namespace
 }  // namespace seam
+
+namespace {
+
+using namespace seam;
+
+// G2 across a real network (issue 14 §2): the teacup's body and handle regions come out G2 on every seam (certified),
+// the design creases stay, nothing is worse; the seams that were G1 only before (curvature jumps of 50-150 %, by
+// the certified check on the input) are G2 after.
+TEST(HealG2, TeacupEverySeamG2AndNothingWorse) {
+  const Model cup = teaModel("teacup.bpt");
+  ASSERT_FALSE(cup.patches.empty());
+  HealOptions o;
+  o.continuity = GeometricClass::kG2;
+  auto r = healModel(cup, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  expectReportMatchesOutput(cup, *r, "teacup, G2");
+  const HealReport& rep = r->report;
+  EXPECT_TRUE(rep.achieved);
+  EXPECT_EQ(rep.seamsWorse, 0);
+  int wereG1 = 0;
+  for (const HealSeam& s : rep.seams) {
+    if (s.action == "crease kept") continue;
+    ASSERT_TRUE(s.after.has_value()) << s.a << "/" << s.b;
+    EXPECT_EQ(s.after->geometric, GeometricClass::kG2) << s.a << "/" << s.b;
+    EXPECT_TRUE(s.after->certified) << s.a << "/" << s.b;
+    if (s.before.geometric == GeometricClass::kG1 && s.before.g2RelMax > 0.1) ++wereG1;
+  }
+  EXPECT_GE(wereG1, 8);
+  // Independently of the report: the whole output checked again.
+  auto check = checkModel(r->model);
+  ASSERT_TRUE(check.isOk());
+  int creases = 0, g2 = 0;
+  for (const ModelSeam& s : check->seams) {
+    ASSERT_TRUE(s.report.has_value());
+    if (s.report->g1MaxDeg > 100.0) ++creases;
+    else g2 += s.report->geometric == GeometricClass::kG2;
+  }
+  EXPECT_EQ(creases, 4);
+  EXPECT_EQ(g2, static_cast<int>(check->seams.size()) - 4);
+}
+
+// Regions with poles (the teapot's lid and bottom) are left exactly as they were, with the reason; the others are
+// healed to G2; the exit state is "not achieved".
+TEST(HealG2, TeapotPolesAreLeftAsTheyWereAndTheRestIsG2) {
+  const Model pot = teaModel("teapot.bpt");
+  ASSERT_FALSE(pot.patches.empty());
+  HealOptions o;
+  o.continuity = GeometricClass::kG2;
+  auto r = healModel(pot, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const HealReport& rep = r->report;
+  EXPECT_FALSE(rep.achieved);
+  EXPECT_EQ(rep.seamsWorse, 0);
+  int poleRegions = 0, g2Regions = 0;
+  for (const HealRegion& g : rep.regions) {
+    if (g.note.find("pole") != std::string::npos) {
+      ++poleRegions;
+      EXPECT_EQ(g.method, "none");
+      for (const std::string& name : g.patches)
+        for (size_t i = 0; i < pot.patches.size(); ++i)
+          if (pot.patches[i].name == name) EXPECT_TRUE(samePatch(pot.patches[i].surface, r->model.patches[i].surface));
+    } else if (g.method == "local") {
+      ++g2Regions;
+      EXPECT_TRUE(g.achieved);
+    }
+  }
+  EXPECT_EQ(poleRegions, 2);
+  EXPECT_EQ(g2Regions, 2);
+}
+
+TEST(HealG2, SuccessiveIsRefusedForG2) {
+  HealOptions o;
+  o.continuity = GeometricClass::kG2;
+  o.method = HealMethod::kSuccessive;
+  auto r = healModel(teaModel("teacup.bpt"), o);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_NE(r.status().message().find("network solve"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+// The CLI's G2 heal: exit 0, the curvature-jump columns in the table, the input unchanged, the output G2 by a
+// separate `seam check --json` process.
+TEST(HealCli, G2OnAFanOfFiveReportsCurvatureJumpsAndTheCheckAgrees) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("seam_heal_g2_cli_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string in = std::string(SEAM_EXAMPLES_DIR) + "/models/network_fan5.json";
+  std::ifstream before(in);
+  const std::string inputText((std::istreambuf_iterator<char>(before)), std::istreambuf_iterator<char>());
+  const std::filesystem::path out = dir / "g2.json", log = dir / "stdout.txt";
+  std::string text;
+  EXPECT_EQ(runCli("heal " + in + " -o " + out.string() + " --continuity G2", log, &text), 0) << text;
+  EXPECT_NE(text.find("curvature jump before (%)"), std::string::npos) << text;
+  EXPECT_NE(text.find("curvature jump after (%)"), std::string::npos) << text;
+  EXPECT_NE(text.find("G2 achieved on every seam"), std::string::npos) << text;
+  std::ifstream after(in);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after)), std::istreambuf_iterator<char>()), inputText);
+  std::string checked;
+  EXPECT_EQ(runCli("check " + out.string() + " --json", log, &checked), 0) << checked;
+  const nlohmann::json j = nlohmann::json::parse(checked);
+  int g2 = 0, seams = 0;
+  for (const auto& s : j["seams"]) {
+    ++seams;
+    g2 += s["geometric"] == "G2";
+  }
+  EXPECT_EQ(seams, 25);
+  EXPECT_EQ(g2, 25);
+  EXPECT_EQ(runCli("heal " + in + " -o " + out.string() + " --continuity G2 --method successive", log, &text), 2)
+      << text;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace

@@ -1,4 +1,4 @@
-// seam heal FILE -o OUT.json [--continuity G0|G1] [--method auto|successive|local] [--max-gap D] [--crease-angle DEG]
+// seam heal FILE -o OUT.json [--continuity G0|G1|G2] [--method auto|successive|local] [--max-gap D] [--crease-angle DEG]
 //           [--json]
 // Finds every seam whose gap is below --max-gap and joins the open ones region by region (repair/heal.h: successive
 // joins, each step kept only if it makes no seam worse; the local G1 scheme; auto = the better of the two, the
@@ -38,7 +38,7 @@ void addHeal(CLI::App& app, int& exit) {
   CLI::App* cmd = app.add_subcommand("heal", "Close the gaps and kinks of every seam of a model (G0/G1)");
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
-  cmd->add_option("--continuity", o->continuity, "G0 or G1 (default G1)");
+  cmd->add_option("--continuity", o->continuity, "G0, G1 or G2 (default G1; G2 by the network solve: biquintic output)");
   cmd->add_option("--method", o->method,
                   "auto (default: successive, then the local scheme where it falls short), successive or local");
   cmd->add_option("--max-gap", o->maxGap,
@@ -103,6 +103,13 @@ void addHeal(CLI::App& app, int& exit) {
                         fmt::format("{}/{}", s.before.certified ? "yes" : "no",
                                     s.after && s.after->certified ? "yes" : "no"),
                         s.worse ? "WORSE" : ""});
+        if (r.requested == GeometricClass::kG2) {  // curvature jumps (relative, %), before and after
+          auto jump = [](const SeamReport& x) {
+            return meets(x.geometric, GeometricClass::kG1) ? formatNumber(100.0 * x.g2RelMax) : std::string("-");
+          };
+          rows.back().insert(rows.back().begin() + 7, jump(s.before));
+          rows.back().insert(rows.back().begin() + 11, s.after ? jump(*s.after) : "?");
+        }
       }
       std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {}, creases above {} deg "
                                      "left as designed)\n",
@@ -110,9 +117,17 @@ void addHeal(CLI::App& app, int& exit) {
                                      withUnit(formatNumber(r.maxGap), units), formatNumber(r.maxAngleDeg));
       text += unitLine(units, resolved, r.maxAngleDeg) + "\n";
       const std::string gapUnit = units.length ? " (" + units.name() + ")" : "";
-      text += formatTable({"seam", "region", "action", "moved", "gap before" + gapUnit, "kink before (deg)", "before",
-                           "gap after" + gapUnit, "kink after (deg)", "after", "certified before/after", ""},
-                          rows, {false, true, false, false, true, true, false, true, true, false, false, false});
+      std::vector<std::string> head = {"seam", "region", "action", "moved", "gap before" + gapUnit,
+                                       "kink before (deg)", "before", "gap after" + gapUnit, "kink after (deg)",
+                                       "after", "certified before/after", ""};
+      std::vector<bool> right = {false, true, false, false, true, true, false, true, true, false, false, false};
+      if (r.requested == GeometricClass::kG2) {
+        head.insert(head.begin() + 7, "curvature jump before (%)");
+        right.insert(right.begin() + 7, true);
+        head.insert(head.begin() + 11, "curvature jump after (%)");
+        right.insert(right.begin() + 11, true);
+      }
+      text += formatTable(head, rows, right);
       std::vector<std::vector<std::string>> regions;
       for (size_t g = 0; g < r.regions.size(); ++g) {
         const HealRegion& x = r.regions[g];

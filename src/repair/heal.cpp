@@ -13,6 +13,7 @@
 
 #include "repair/frame_internal.h"
 #include "repair/join_internal.h"
+#include "seam/repair/g2_network.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
 #include "seam/repair/local_scheme.h"
@@ -628,10 +629,12 @@ bool Healer::freeEdgesKept(const Model& m, int region, std::string* why) const {
 Result<HealResult> Healer::run() {
   const Model& model = in_;
   if (model.patches.empty()) return invalidInput("the model has no patches");
-  if (opt_.continuity != GeometricClass::kG0 && opt_.continuity != GeometricClass::kG1)
-    return invalidInput("heal joins G0 or G1 (use `seam join` for G2, seam by seam)");
-  if (opt_.method == HealMethod::kLocal && opt_.continuity != GeometricClass::kG1)
-    return invalidInput("the local scheme makes G1 joins of a G0 network: use --method successive or auto for G0");
+  if (opt_.continuity == GeometricClass::kNone) return invalidInput("heal joins G0, G1 or G2");
+  if (opt_.method == HealMethod::kLocal && opt_.continuity == GeometricClass::kG0)
+    return invalidInput("the local scheme makes G1 or G2 joins of a G0 network: use --method successive or auto for G0");
+  if (opt_.method == HealMethod::kSuccessive && opt_.continuity == GeometricClass::kG2)
+    return invalidInput("G2 across a network is made by the network solve, not by successive joins: use --method "
+                        "auto or local (or `seam join --continuity G2` seam by seam)");
   for (const Patch& p : model.patches)
     if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
   const double maxAngle = opt_.maxAngleDeg ? *opt_.maxAngleDeg : kDefaultMaxHealAngleDeg;
@@ -643,8 +646,9 @@ Result<HealResult> Healer::run() {
   maxGap_ = opt_.maxGap ? *opt_.maxGap : kDefaultMaxGapRel * diag_;
   so_ = opt_.seam;
   so_.tol = tol_;
-  // Heal decides on G0/G1 only: the G2 subdivision of every seam (most of the cost on biquintic seams) is skipped.
-  so_.certifyG2 = false;
+  // Below G2, heal decides on G0/G1 only: the G2 subdivision of every seam (most of the cost on biquintic seams) is
+  // skipped.
+  so_.certifyG2 = opt_.continuity == GeometricClass::kG2;
 
   auto pairing = pairEdgesWithin(model, tol_, maxGap_, diag_);
   if (!pairing) return pairing.status();
@@ -754,24 +758,48 @@ Result<HealResult> Healer::run() {
   // The local scheme per region (G1; method local or auto), before the successive runs: auto leaves the successive
   // joins out of a region where the local scheme reached G1 and some vertex has a valence other than 4 (successive
   // joins cannot close such vertices; on large networks they would only cost time).
-  const bool tryLocal = opt_.continuity == GeometricClass::kG1 &&
+  // G2: the network solve (g2_network.h) in the place of the local scheme, and no successive joins.
+  const bool g2 = opt_.continuity == GeometricClass::kG2;
+  const bool tryLocal = (opt_.continuity == GeometricClass::kG1 || g2) &&
                         (opt_.method == HealMethod::kLocal || opt_.method == HealMethod::kAuto);
   std::vector<std::optional<Candidate>> localCand(static_cast<size_t>(nr));
   std::vector<std::string> localNote(static_cast<size_t>(nr));
+  std::vector<std::vector<std::string>> regionG2Notes(static_cast<size_t>(nr));
   skipSuccessive_.assign(static_cast<size_t>(nr), 0);
   for (int g = 0; g < nr && tryLocal; ++g) {
     if (regionAchieved(g, best[static_cast<size_t>(g)])) continue;
-    LocalSchemeOptions lo;
-    lo.patches = regionPatches_[static_cast<size_t>(g)];
-    lo.maxGap = maxGap_;
-    lo.tolerances = tol_;
+    std::vector<std::pair<int, Edge>> keepEdges;
     // Seams left alone (design creases, gaps above maxGap) stay free edges: both sides keep their boundary curves.
     for (int k : regionFrozen_[static_cast<size_t>(g)]) {
       const Work& w = work_[static_cast<size_t>(k)];
-      lo.keepEdges.emplace_back(w.pair.a.patch, w.pair.a.edge);
-      lo.keepEdges.emplace_back(w.pair.b.patch, w.pair.b.edge);
+      keepEdges.emplace_back(w.pair.a.patch, w.pair.a.edge);
+      keepEdges.emplace_back(w.pair.b.patch, w.pair.b.edge);
     }
-    auto l = localG1Scheme(model, lo);
+    Result<LocalSchemeResult> l = Status(ErrorCode::kUnsupported, "");
+    if (g2) {
+      G2NetworkOptions go;
+      go.patches = regionPatches_[static_cast<size_t>(g)];
+      go.maxGap = maxGap_;
+      go.tolerances = tol_;
+      go.keepEdges = keepEdges;
+      auto n = g2NetworkScheme(model, go);
+      if (!n) {
+        localNote[static_cast<size_t>(g)] = "G2 network solve not applicable: " + n.status().message();
+        continue;
+      }
+      LocalSchemeResult lr;
+      lr.model = std::move(n->model);
+      lr.report.valences = n->report.valences;
+      lr.report.notes = n->report.notes;
+      l = std::move(lr);
+    } else {
+      LocalSchemeOptions lo;
+      lo.patches = regionPatches_[static_cast<size_t>(g)];
+      lo.maxGap = maxGap_;
+      lo.tolerances = tol_;
+      lo.keepEdges = keepEdges;
+      l = localG1Scheme(model, lo);
+    }
     if (!l) {
       localNote[static_cast<size_t>(g)] = "local scheme not applicable: " + l.status().message();
       continue;
@@ -780,10 +808,14 @@ Result<HealResult> Healer::run() {
     auto keep = std::make_shared<Model>(std::move(l->model));
     Candidate c = judge(*keep, "local", g);
     std::string why;
-    if (c.acceptable && !regionAchieved(g, c)) {
+    // G1: all or nothing. G2: a partial result that makes nothing worse is kept (seams ending where a straight free
+    // boundary has a curvature jump cannot be G2 with the free edges kept; the solve's notes say where).
+    if (c.acceptable && !regionAchieved(g, c) && !g2) {
       c.acceptable = false;
       c.note = fmt::format("{} of {} seams reach G1", c.achieved, regionSeams_[static_cast<size_t>(g)].size());
     }
+    if (g2)
+      for (const std::string& n : l->report.notes) regionG2Notes[static_cast<size_t>(g)].push_back(n);
     if (c.acceptable) {
       for (const auto& a : c.after)
         if (a && !a->certified) {
@@ -799,11 +831,12 @@ Result<HealResult> Healer::run() {
     localModels_.push_back(keep);
     const bool irregular = std::any_of(valences.begin(), valences.end(), [](int n) { return n != 4; });
     if (opt_.method == HealMethod::kAuto && c.acceptable && irregular) skipSuccessive_[static_cast<size_t>(g)] = 1;
+    if (g2) skipSuccessive_[static_cast<size_t>(g)] = 1;
     localCand[static_cast<size_t>(g)] = std::move(c);
   }
   bool anySuccessive = false;
   for (int g = 0; g < nr; ++g) anySuccessive = anySuccessive || !skipSuccessive_[static_cast<size_t>(g)];
-  const bool trySuccessive = opt_.method != HealMethod::kLocal && !order_.empty() && anySuccessive;
+  const bool trySuccessive = opt_.method != HealMethod::kLocal && !order_.empty() && anySuccessive && !g2;
   std::optional<SuccessiveRun> relaxed, strict;
   if (trySuccessive) relaxed = successive(false);
   std::vector<std::vector<std::string>> regionNotes(static_cast<size_t>(nr));
@@ -869,7 +902,8 @@ Result<HealResult> Healer::run() {
     } else if (tryLocal && !localNote[static_cast<size_t>(g)].empty()) {
       regionNotes[static_cast<size_t>(g)].push_back(localNote[static_cast<size_t>(g)]);
     }
-    if (skipSuccessive_[static_cast<size_t>(g)])
+    for (const std::string& n : regionG2Notes[static_cast<size_t>(g)]) regionNotes[static_cast<size_t>(g)].push_back(n);
+    if (skipSuccessive_[static_cast<size_t>(g)] && !g2)
       regionNotes[static_cast<size_t>(g)].push_back(
           "successive joins not tried: the local scheme reached G1 and the region has vertices where other than 4 "
           "patches meet, which successive joins cannot close");

@@ -182,7 +182,9 @@ def test_heal_matches_cli(examples, run_cli, tmp_path):
     seam.save(healed, py_out)
     assert py_out.read_bytes() == cli_out.read_bytes()  # the same healed model, written by the same writer
     with pytest.raises(ValueError, match="continuity"):
-        seam.heal(healed, continuity="G2")
+        seam.heal(healed, continuity="G3")
+    g2, info_g2 = seam.heal(seam.load(path), continuity="G2")  # the G2 network solve (issue 14)
+    assert info_g2["achieved"] and info_g2["requested"] == "G2"
 
 
 @pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")

@@ -29,6 +29,10 @@
 //    then the smaller largest surface displacement relative to the patch's size (HealPatch::maxSurfaceDisplacementRel;
 //    then fewer moved points). The region's note gives both candidates' displacements ("successive moved 34 % of a
 //    patch, local 6.9 %: local kept").
+//  * G2 requests (auto or local; successive is refused): the G2 network solve (repair/g2_network.h) on the region's
+//    patches, accepted when every seam is certified and none is worse than in the input and the free edges stay;
+//    a partial result is kept on those terms (seams ending where a straight free boundary has a curvature jump
+//    cannot be G2 with the free edges kept: the region's notes name each such vertex).
 // A region that is not fully achieved keeps its partial improvements only when no seam in it is worse than in the
 // input; otherwise it is reset to the input. Patches that need not move are bit-identical in the output. Every seam
 // is reported before and after, every region with its method and verdict, every patch with its displacement.
@@ -60,7 +64,7 @@ inline constexpr double kFoldAngleDeg = 90.0;
 inline constexpr double kDefaultMaxHealAngleDeg = kDefaultCreaseAngleDeg;
 
 struct HealOptions {
-  GeometricClass continuity = GeometricClass::kG1;  ///< G0 or G1 (G2: use `seam join` seam by seam)
+  GeometricClass continuity = GeometricClass::kG1;  ///< G0, G1 or G2 (G2: the network solve, method auto or local)
   HealMethod method = HealMethod::kAuto;            ///< local needs a G1 request
   /// Seams with a larger gap are left alone (default kDefaultMaxGapRel x the model's bounding-box diagonal).
   std::optional<double> maxGap;
