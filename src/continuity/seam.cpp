@@ -489,8 +489,16 @@ double g1Bound(const Piece& pc, double x0, double x1) {
   }
   return std::acos(std::clamp(pLo / std::sqrt(rLo), -1.0, 1.0));
 }
+double scalarAt(const BernsteinPoly& p, double x);
+// A sample, never a bound: above degree 63 (the pcurve route's composed P and Q, degree ~100-500) in O(n) by
+// scalarAt instead of de Casteljau's O(n^2), which differs in the last bits only (issue 16 goal 6).
+double sampleAt(const BernsteinPoly& p, double x) {
+  if (p.degree() < 64 || p.degree() > 512) return p.scalar(x);
+  const double v = scalarAt(p, x);
+  return std::isfinite(v) ? v : p.scalar(x);
+}
 double g1Value(const Piece& pc, double x) {
-  return std::atan2(std::sqrt(std::max(0.0, pc.Q.scalar(x))), pc.P.scalar(x));
+  return std::atan2(std::sqrt(std::max(0.0, sampleAt(pc.Q, x))), sampleAt(pc.P, x));
 }
 
 double g2Bound(const Piece& pc, double x0, double x1) {

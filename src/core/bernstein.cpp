@@ -31,9 +31,25 @@ constexpr BinomialTable kBinomials{};
 }  // namespace
 
 namespace {
-// binomial() for this file's loops: the table look-up inlined (binomial() itself is out of line).
+/// Rows n >= kBinomialTableSize up to this are kept per thread once computed (binomial() costs O(k) there, and the
+/// products of the pcurve route's degree-200..500 polynomials ask for every C(n, k) of a row, product after product).
+constexpr int kBinomialRowCacheMax = 2048;
+const double* cachedBinomialRow(int n) {
+  thread_local std::vector<std::vector<double>> rows;
+  const size_t i = static_cast<size_t>(n - kBinomialTableSize);
+  if (rows.size() <= i) rows.resize(i + 1);
+  std::vector<double>& row = rows[i];
+  if (row.empty()) {
+    row.resize(static_cast<size_t>(n) + 1);
+    for (int k = 0; k <= n; ++k) row[static_cast<size_t>(k)] = binomial(n, k);  // the same values, once
+  }
+  return row.data();
+}
+// binomial() for this file's loops: the table look-up inlined (binomial() itself is out of line); rows above the
+// table from the per-thread cache (the values of binomial(), bit for bit).
 inline double binom(int n, int k) {
   if (k >= 0 && k <= n && n < kBinomialTableSize) return kBinomials.v[static_cast<size_t>(n * kBinomialTableSize + k)];
+  if (k >= 0 && k <= n && n <= kBinomialRowCacheMax) return cachedBinomialRow(n)[k];
   return binomial(n, k);
 }
 }  // namespace
@@ -54,20 +70,23 @@ namespace {
 /// Largest number of coefficient values (rows x columns) de Casteljau evaluates on the stack.
 constexpr Eigen::Index kDeCasteljauStackSize = 256;
 
-// Runs de Casteljau on the rows of `c` (copied) at t; returns the final row. The same s * a + t * b per value as
-// row expressions, on a stack copy for small polynomials (no allocation but the result).
-VecX deCasteljau(const Matrix& c, double t) {
-  const auto n = c.rows();
-  const auto d = c.cols();
-  if (n == 0) return VecX::Zero(d);
-  double stack[kDeCasteljauStackSize];
-  std::vector<double> heap;
-  double* w = stack;
-  if (c.size() > kDeCasteljauStackSize) {
-    heap.resize(static_cast<size_t>(c.size()));
-    w = heap.data();
-  }
-  std::copy(c.data(), c.data() + c.size(), w);
+// x86-64: the de Casteljau and product loops are also compiled for AVX2 and chosen at run time (4 lanes instead of
+// SSE2's 2). The same IEEE operations on every value in the same order (no FMA: -ffp-contract=off, and the AVX2
+// target does not include FMA), so the results are bit for bit those of the SSE2 code.
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#define SEAM_BERNSTEIN_AVX2 1
+#define SEAM_AVX2_TARGET [[gnu::target("avx2")]]
+bool hasAvx2() {
+  static const bool v = __builtin_cpu_supports("avx2");
+  return v;
+}
+#else
+constexpr bool hasAvx2() { return false; }
+#endif
+#define SEAM_KERNEL [[gnu::always_inline]] inline
+
+// The de Casteljau levels on w (n rows of d values), leaving the value in the first row.
+SEAM_KERNEL void deCasteljauLevelsKernel(double* w, Eigen::Index n, Eigen::Index d, double t) {
   const double s = 1.0 - t;
   // The common widths with a compile-time inner loop.
   const auto levels = [&]<int kD>(std::integral_constant<int, kD>) {
@@ -85,6 +104,35 @@ VecX deCasteljau(const Matrix& c, double t) {
     case 4: levels(std::integral_constant<int, 4>{}); break;
     default: levels(std::integral_constant<int, 0>{}); break;
   }
+}
+void deCasteljauLevelsDefault(double* w, Eigen::Index n, Eigen::Index d, double t) { deCasteljauLevelsKernel(w, n, d, t); }
+#ifdef SEAM_BERNSTEIN_AVX2
+SEAM_AVX2_TARGET void deCasteljauLevelsAvx2(double* w, Eigen::Index n, Eigen::Index d, double t) {
+  deCasteljauLevelsKernel(w, n, d, t);
+}
+#endif
+void deCasteljauLevels(double* w, Eigen::Index n, Eigen::Index d, double t) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (n > 8 && hasAvx2()) return deCasteljauLevelsAvx2(w, n, d, t);
+#endif
+  deCasteljauLevelsDefault(w, n, d, t);
+}
+
+// Runs de Casteljau on the rows of `c` (copied) at t; returns the final row. The same s * a + t * b per value as
+// row expressions, on a stack copy for small polynomials (no allocation but the result).
+VecX deCasteljau(const Matrix& c, double t) {
+  const auto n = c.rows();
+  const auto d = c.cols();
+  if (n == 0) return VecX::Zero(d);
+  double stack[kDeCasteljauStackSize];
+  std::vector<double> heap;
+  double* w = stack;
+  if (c.size() > kDeCasteljauStackSize) {
+    heap.resize(static_cast<size_t>(c.size()));
+    w = heap.data();
+  }
+  std::copy(c.data(), c.data() + c.size(), w);
+  deCasteljauLevels(w, n, d, t);
   return Eigen::Map<const VecX>(w, d);
 }
 
@@ -106,6 +154,28 @@ Eigen::RowVectorXd blossom(const Matrix& c, const std::vector<double>& args) {
 // coefficients stay far inside the double range while saving the per-term divisions.
 constexpr int kScaledProductMaxDegree = 500;
 
+// so[i + j] += sa[i] * sb[j], i outer (each so[k] sums its terms in the order of i).
+SEAM_KERNEL void convolveAddKernel(const double* sa, int n, const double* sb, int m, double* so) {
+  for (int i = 0; i <= n; ++i) {
+    const double x = sa[i];
+    for (int j = 0; j <= m; ++j) so[i + j] += x * sb[j];
+  }
+}
+void convolveAddDefault(const double* sa, int n, const double* sb, int m, double* so) {
+  convolveAddKernel(sa, n, sb, m, so);
+}
+#ifdef SEAM_BERNSTEIN_AVX2
+SEAM_AVX2_TARGET void convolveAddAvx2(const double* sa, int n, const double* sb, int m, double* so) {
+  convolveAddKernel(sa, n, sb, m, so);
+}
+#endif
+void convolveAdd(const double* sa, int n, const double* sb, int m, double* so) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (m > 8 && hasAvx2()) return convolveAddAvx2(sa, n, sb, m, so);
+#endif
+  convolveAddDefault(sa, n, sb, m, so);
+}
+
 Matrix productRows(const Matrix& a, const Matrix& b) {
   const int n = static_cast<int>(a.rows()) - 1;
   const int m = static_cast<int>(b.rows()) - 1;
@@ -114,18 +184,16 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
   if (n + m <= kScaledProductMaxDegree) {
     // Column by column through contiguous scaled copies (Matrix is row-major: a column is strided).
     double sa[kScaledProductMaxDegree + 1], sb[kScaledProductMaxDegree + 1], so[kScaledProductMaxDegree + 1];
+    double sd[kScaledProductMaxDegree + 1];
+    for (int k = 0; k <= n + m; ++k) sd[k] = binom(n + m, k);
     for (Eigen::Index c = 0; c < dim; ++c) {
       const Eigen::Index ca = a.cols() == 1 ? 0 : c, cb = b.cols() == 1 ? 0 : c;
       for (int i = 0; i <= n; ++i) sa[i] = a(i, ca) * binom(n, i);
       for (int j = 0; j <= m; ++j) sb[j] = b(j, cb) * binom(m, j);
       for (int k = 0; k <= n + m; ++k) so[k] = 0.0;
-      for (int i = 0; i <= n; ++i) {
-        const double x = sa[i];
-        for (int j = 0; j <= m; ++j) so[i + j] += x * sb[j];
-      }
-      for (int k = 0; k <= n + m; ++k) out(k, c) = so[k];
+      convolveAdd(sa, n, sb, m, so);
+      for (int k = 0; k <= n + m; ++k) out(k, c) = so[k] / sd[k];  // what row(k) /= C(n + m, k) gave
     }
-    for (int k = 0; k <= n + m; ++k) out.row(k) /= binom(n + m, k);
     return out;
   }
   // The binomials once per row (above the table they cost O(k) each; per pair they dominated high degrees).
@@ -175,7 +243,7 @@ Matrix derivativeRows(const Matrix& c, int order) {
 // In place, on the row-major coefficients (n + 1 rows of d values) directly: the per-row Eigen expressions on dynamic rows
 // cost more than the arithmetic. After the call, c holds the coefficients of the piece on [0, t] (keepLeft) or
 // [t, 1]; the same s * a + t * b per coefficient as the row expressions it replaces, so the same bits.
-void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
+SEAM_KERNEL void subdivideKernel(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
   const double s = 1.0 - t;
   if (d == 1) {
     if (keepLeft) {
@@ -203,6 +271,20 @@ void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool 
         for (Eigen::Index k = 0; k < d; ++k) x[k] = s * x[k] + t * y[k];
       }
   }
+}
+void subdivideDefault(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
+  subdivideKernel(c, n, d, t, keepLeft);
+}
+#ifdef SEAM_BERNSTEIN_AVX2
+SEAM_AVX2_TARGET void subdivideAvx2(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
+  subdivideKernel(c, n, d, t, keepLeft);
+}
+#endif
+void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (n > 8 && hasAvx2()) return subdivideAvx2(c, n, d, t, keepLeft);
+#endif
+  subdivideDefault(c, n, d, t, keepLeft);
 }
 void subdivideInPlace(Matrix& w, double t, bool keepLeft) { subdivideInPlace(w.data(), w.rows() - 1, w.cols(), t, keepLeft); }
 
