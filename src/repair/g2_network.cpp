@@ -1,8 +1,8 @@
 // G2 across whole quad networks (seam/repair/g2_network.h; derivation in docs/algorithms/thesis-abstract.md,
 // "G2 across networks").
 //
-// Unknowns: the control points of every chosen patch (held as biquintic B-splines on [0, 1]^2 with the knot 1/2 of
-// multiplicity 3 both ways, a 9 x 9 grid; the boundary points of the two sides of a seam are one unknown, so G0
+// Unknowns: the control points of every chosen patch (held as biquintic B-splines on [0, 1]^2 with the region's
+// common knots both ways, see commonForm; the boundary points of the two sides of a seam are one unknown, so G0
 // holds by construction; the boundary rows of free edges are fixed), and per seam and per span of the edge the
 // coefficients of lambda (linear) and kappa (quadratic) in the span's local parameter tau in [0, 1].
 // Equations per seam and span: the G1 identity C_s + lambda B_s - kappa B_t = 0 at kColloc1 parameters (degree <= 6:
@@ -35,9 +35,10 @@ namespace seam {
 namespace {
 
 constexpr int kDeg = 5;
-constexpr int kMidMult = 3;   // C2 at the middle knot: each patch stays curvature continuous inside
-constexpr int kGrid = 9;      // control points per direction: knots {0^6, 1/2^3, 1^6}
-constexpr int kSpans = 2;     // spans along every edge
+/// Least multiplicity of every interior knot of the output (C2: each patch stays curvature continuous there).
+constexpr int kMinMult = 3;
+/// Largest multiplicity accepted (C1 at the knot): a C0 knot inside a patch (a triple knot of a cubic) is refused.
+constexpr int kMaxMult = 4;
 constexpr int kDegLambda = 1; // degrees of the blending functions per span
 constexpr int kDegKappa = 2;
 constexpr int kBlendPerSpan = (kDegLambda + 1) + (kDegKappa + 1);
@@ -55,8 +56,17 @@ constexpr int kMaxHalvings = 12;
 
 Status unsupported(std::string m) { return {ErrorCode::kUnsupported, std::move(m)}; }
 
-/// The patch as a biquintic B-spline on [0, 1]^2 with the knot 1/2 of multiplicity 3 both ways (exact), or why not.
-Result<BSplineSurface> toForm(const BSplineSurface& s0, const std::string& name) {
+/// The region's common form: every patch holds the same clamped quintic knot vector in both directions (so that the
+/// boundary rows of the two sides of every seam are the same control points, also for reversed or swapped
+/// neighbours: the interior knots are closed under t -> 1 - t).
+struct Form {
+  KnotVector knots;
+  int grid = 0;                 // control points per direction
+  std::vector<double> breaks;   // 0, the interior knots, 1: the spans along every edge
+};
+
+/// The patch raised to degree 5 and reparametrised onto [0, 1]^2 (exact), or why not.
+Result<BSplineSurface> raised(const BSplineSurface& s0, const std::string& name) {
   if (s0.isRational()) return unsupported(fmt::format("patch \"{}\" is rational", name));
   if (s0.degreeU() > kDeg || s0.degreeV() > kDeg)
     return unsupported(fmt::format("patch \"{}\" has degree ({}, {}) above {}", name, s0.degreeU(), s0.degreeV(), kDeg));
@@ -65,39 +75,70 @@ Result<BSplineSurface> toForm(const BSplineSurface& s0, const std::string& name)
     const KnotVector& kv = dir == 0 ? s.knotsU() : s.knotsV();
     if (kv.multiplicity(0.0) != kDeg + 1 || kv.multiplicity(1.0) != kDeg + 1)
       return unsupported(fmt::format("patch \"{}\": its knots are not clamped", name));
-    int have = 0;
-    for (double t : kv.interiorBreakpoints(kDeg)) {
-      if (std::abs(t - 0.5) > kKnotRelTol)
-        return unsupported(fmt::format(
-            "patch \"{}\": interior knot {} in {}; the G2 network solve takes Bezier patches or B-splines whose only "
-            "interior knot is the middle of the domain",
-            name, t, dir == 0 ? "u" : "v"));
-      have = kv.multiplicity(t);
-    }
-    if (have > kMidMult)
-      return unsupported(fmt::format("patch \"{}\": the middle knot in {} has multiplicity {} (the patch is not C2 there)",
-                                     name, dir == 0 ? "u" : "v", have));
-    if (have < kMidMult) {
-      std::vector<double> ins(static_cast<size_t>(kMidMult - have), 0.5);
-      s = dir == 0 ? s.refinedU(ins) : s.refinedV(ins);
-    }
+    for (double t : kv.interiorBreakpoints(kDeg))
+      if (kv.multiplicity(t) > kMaxMult)
+        return unsupported(fmt::format("patch \"{}\": the interior knot {} in {} has multiplicity {} at degree 5 (the "
+                                       "patch is only C0 there)",
+                                       name, t, dir == 0 ? "u" : "v", kv.multiplicity(t)));
   }
-  if (s.numU() != kGrid || s.numV() != kGrid) return unsupported(fmt::format("patch \"{}\": unexpected knots", name));
   return s;
 }
 
-const KnotVector& formKnots() {
-  static const KnotVector k({0, 0, 0, 0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1, 1, 1, 1});
-  return k;
+/// The common form of the raised patches: the union of their interior knots (both directions, and mirrored), each
+/// with the largest multiplicity any patch has there and at least kMinMult; the middle when there is none.
+Form commonForm(const std::vector<BSplineSurface>& patches) {
+  std::vector<std::pair<double, int>> knots;  // (value, multiplicity)
+  auto add = [&](double t, int m) {
+    for (auto& [v, mult] : knots)
+      if (std::abs(v - t) <= kKnotRelTol) {
+        mult = std::max(mult, m);
+        return;
+      }
+    knots.emplace_back(t, m);
+  };
+  for (const BSplineSurface& s : patches)
+    for (const KnotVector* kv : {&s.knotsU(), &s.knotsV()})
+      for (double t : kv->interiorBreakpoints(kDeg)) {
+        add(t, kv->multiplicity(t));
+        add(1.0 - t, kv->multiplicity(t));
+      }
+  if (knots.empty()) knots.emplace_back(0.5, kMinMult);
+  std::sort(knots.begin(), knots.end());
+  Form f;
+  std::vector<double> k(kDeg + 1, 0.0);
+  f.breaks.push_back(0.0);
+  for (const auto& [v, m] : knots) {
+    for (int i = 0; i < std::max(m, kMinMult); ++i) k.push_back(v);
+    f.breaks.push_back(v);
+  }
+  f.breaks.push_back(1.0);
+  for (int i = 0; i <= kDeg; ++i) k.push_back(1.0);
+  f.grid = static_cast<int>(k.size()) - kDeg - 1;
+  f.knots = KnotVector(std::move(k));
+  return f;
+}
+
+/// The raised patch refined to the common form (exact knot insertion).
+BSplineSurface toForm(BSplineSurface s, const Form& f) {
+  for (int dir = 0; dir < 2; ++dir) {
+    const KnotVector& kv = dir == 0 ? s.knotsU() : s.knotsV();
+    std::vector<double> ins;
+    for (size_t b = 1; b + 1 < f.breaks.size(); ++b) {
+      const double t = f.breaks[b];
+      for (int i = kv.multiplicity(t); i < f.knots.multiplicity(t); ++i) ins.push_back(t);
+    }
+    if (!ins.empty()) s = dir == 0 ? s.refinedU(ins) : s.refinedV(ins);
+  }
+  return s;
 }
 
 /// Control-point index (i, j) of point k (0..8, increasing edge parameter) of row r (0: the edge) of edge e.
-std::pair<int, int> rowIndex(Edge e, int r, int k) {
+std::pair<int, int> rowIndex(int grid, Edge e, int r, int k) {
   switch (e) {
     case Edge::U0: return {r, k};
-    case Edge::U1: return {kGrid - 1 - r, k};
+    case Edge::U1: return {grid - 1 - r, k};
     case Edge::V0: return {k, r};
-    case Edge::V1: return {k, kGrid - 1 - r};
+    case Edge::V1: return {k, grid - 1 - r};
   }
   return {0, 0};
 }
@@ -107,18 +148,18 @@ std::pair<int, int> rowIndex(Edge e, int r, int k) {
 struct SideJet {
   // order index: 0 S_s, 1 S_t, 2 S_ss, 3 S_st, 4 S_tt
   std::array<std::array<double, 36>, 5> w{};
-  std::array<int, 36> point{};  // index i * kGrid + j of the control point
+  std::array<int, 36> point{};  // index i * grid + j of the control point
   std::array<Vec3, 5> value{};
 };
 
-SideJet sideJet(const Matrix& q, Edge e, bool reversed, double t) {
+SideJet sideJet(const Form& form, const Matrix& q, Edge e, bool reversed, double t) {
   const double te = reversed ? 1.0 - t : t;
   const double st = reversed ? -1.0 : 1.0;
   const bool uEdge = isUEdge(e);
   const double n0 = (e == Edge::U0 || e == Edge::V0) ? 0.0 : 1.0;
   const double sn = (e == Edge::U0 || e == Edge::V0) ? 1.0 : -1.0;
   const double a = uEdge ? n0 : te, b = uEdge ? te : n0;
-  const KnotVector& kv = formKnots();
+  const KnotVector& kv = form.knots;
   const int spa = kv.findSpan(kDeg, a), spb = kv.findSpan(kDeg, b);
   const Matrix Na = basisFunctionDerivatives(kv, kDeg, spa, a, 2);
   const Matrix Nb = basisFunctionDerivatives(kv, kDeg, spb, b, 2);
@@ -136,8 +177,8 @@ SideJet sideJet(const Matrix& q, Edge e, bool reversed, double t) {
         const int pi = spa - kDeg + ra, pj = spb - kDeg + rb;
         const double wgt = sign * Na(du, ra) * Nb(dv, rb);
         jet.w[static_cast<size_t>(o)][static_cast<size_t>(c)] = wgt;
-        jet.point[static_cast<size_t>(c)] = pi * kGrid + pj;
-        v += wgt * q.row(pi * kGrid + pj).transpose();
+        jet.point[static_cast<size_t>(c)] = pi * form.grid + pj;
+        v += wgt * q.row(pi * form.grid + pj).transpose();
       }
     jet.value[static_cast<size_t>(o)] = v;
   }
@@ -172,11 +213,12 @@ double powi(double x, int k) {
 
 /// Collocation parameters inside span sp of [0, 1] (Chebyshev points of the span).
 template <int K>
-std::array<double, K> collocation(int sp) {
+std::array<double, K> collocation(const Form& f, int sp) {
   std::array<double, K> t{};
+  const double a = f.breaks[static_cast<size_t>(sp)], b = f.breaks[static_cast<size_t>(sp) + 1];
   for (int k = 0; k < K; ++k) {
     const double tau = 0.5 - 0.5 * std::cos(std::numbers::pi * (k + 0.5) / K);
-    t[static_cast<size_t>(k)] = (sp + tau) / kSpans;
+    t[static_cast<size_t>(k)] = a + tau * (b - a);
   }
   return t;
 }
@@ -210,15 +252,27 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   std::map<int, int> local;
   for (int r = 0; r < np; ++r) local[chosen[static_cast<size_t>(r)]] = r;
   std::vector<BSplineSurface> form(static_cast<size_t>(np));
-  bool raised = false, refined = false;
+  bool raisedAny = false, refined = false;
   for (int r = 0; r < np; ++r) {
     const Patch& p = model.patches[static_cast<size_t>(chosen[static_cast<size_t>(r)])];
-    auto f = toForm(p.surface, p.name);
+    auto f = raised(p.surface, p.name);
     if (!f) return f.status();
-    raised = raised || p.surface.degreeU() < kDeg || p.surface.degreeV() < kDeg;
-    refined = refined || p.surface.numU() + p.surface.degreeU() + 1 < 15 || p.surface.numV() + p.surface.degreeV() + 1 < 15;
+    raisedAny = raisedAny || p.surface.degreeU() < kDeg || p.surface.degreeV() < kDeg;
     form[static_cast<size_t>(r)] = *f;
   }
+  const Form shape = commonForm(form);
+  for (BSplineSurface& f : form) {
+    const int before = f.numU() * f.numV();
+    f = toForm(f, shape);
+    refined = refined || f.numU() * f.numV() != before;
+    if (f.numU() != shape.grid || f.numV() != shape.grid) return unsupported("internal: a patch did not reach the common knots");
+  }
+  const int grid = shape.grid;
+  const int spans = static_cast<int>(shape.breaks.size()) - 1;
+  auto localTau = [&](int sp, double t) {
+    const double a = shape.breaks[static_cast<size_t>(sp)], b = shape.breaks[static_cast<size_t>(sp) + 1];
+    return (t - a) / (b - a);
+  };
 
   // ---- topology.
   auto pairing = pairEdgesWithin(model, tol, maxGap, diag);
@@ -326,14 +380,14 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   }
 
   // ---- unknowns: control points (3 per point, minus the fixed ones), then blending coefficients.
-  const int perPatch = kGrid * kGrid;
+  const int perPatch = grid * grid;
   std::vector<char> fixedPoint(static_cast<size_t>(np * perPatch), 0);
   for (int r = 0; r < np; ++r)
     for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
       if (paired.count({r, static_cast<int>(e)})) continue;
-      for (int k = 0; k < kGrid; ++k) {
-        const auto [i, j] = rowIndex(e, 0, k);
-        fixedPoint[static_cast<size_t>(r * perPatch + i * kGrid + j)] = 1;
+      for (int k = 0; k < grid; ++k) {
+        const auto [i, j] = rowIndex(grid, e, 0, k);
+        fixedPoint[static_cast<size_t>(r * perPatch + i * grid + j)] = 1;
       }
     }
   // G0 by construction: the boundary points of the two sides of every seam are one unknown (union-find); a class
@@ -345,10 +399,10 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     return x;
   };
   for (const NetSeam& s : seams)
-    for (int k = 0; k < kGrid; ++k) {
-      const auto [ia, ja] = rowIndex(s.ea, 0, k);
-      const auto [ib, jb] = rowIndex(s.eb, 0, s.reversed ? kGrid - 1 - k : k);
-      const int ra = root(s.pa * perPatch + ia * kGrid + ja), rb = root(s.pb * perPatch + ib * kGrid + jb);
+    for (int k = 0; k < grid; ++k) {
+      const auto [ia, ja] = rowIndex(grid, s.ea, 0, k);
+      const auto [ib, jb] = rowIndex(grid, s.eb, 0, s.reversed ? grid - 1 - k : k);
+      const int ra = root(s.pa * perPatch + ia * grid + ja), rb = root(s.pb * perPatch + ib * grid + jb);
       if (ra != rb) cls[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
     }
   const std::vector<char> fixedInInput = fixedPoint;
@@ -365,7 +419,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   const int nPointVars = nv;
   for (NetSeam& s : seams) {
     s.blend = nv;
-    nv += kSpans * kBlendPerSpan;
+    nv += spans * kBlendPerSpan;
   }
 
   // Current control points (all patches, fixed ones included) and blending coefficients.
@@ -399,18 +453,18 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     return v;
   };
   auto sides = [&](const NetSeam& s, double t) {
-    return std::make_pair(sideJet(q.middleRows(s.pa * perPatch, perPatch), s.ea, false, t),
-                          sideJet(q.middleRows(s.pb * perPatch, perPatch), s.eb, s.reversed, t));
+    return std::make_pair(sideJet(shape, q.middleRows(s.pa * perPatch, perPatch), s.ea, false, t),
+                          sideJet(shape, q.middleRows(s.pb * perPatch, perPatch), s.eb, s.reversed, t));
   };
 
   // Initial blending functions: per seam and span, lambda and kappa by least squares on the G1 identity.
   for (const NetSeam& s : seams)
-    for (int sp = 0; sp < kSpans; ++sp) {
-      const auto ts = collocation<kColloc1>(sp);
+    for (int sp = 0; sp < spans; ++sp) {
+      const auto ts = collocation<kColloc1>(shape, sp);
       Matrix a1(3 * kColloc1, kBlendPerSpan);
       VecX b1(3 * kColloc1);
       for (int c = 0; c < kColloc1; ++c) {
-        const double t = ts[static_cast<size_t>(c)], tau = t * kSpans - sp;
+        const double t = ts[static_cast<size_t>(c)], tau = localTau(sp, t);
         const auto [jb, jc] = sides(s, t);
         for (int d = 0; d < 3; ++d) {
           const int row = 3 * c + d;
@@ -424,7 +478,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     }
 
   // ---- Gauss-Newton. Rows per seam: G0 (3 per boundary point), G1 (3 per G1 parameter), G2 (1 per G2 parameter).
-  const int eqPerSeam = kSpans * (3 * kColloc1 + kColloc2);
+  const int eqPerSeam = spans * (3 * kColloc1 + kColloc2);
   const int m = eqPerSeam * static_cast<int>(seams.size());
   double residual = 0.0;
   auto assemble = [&](std::vector<Eigen::Triplet<double>>* trip, VecX& r) {
@@ -437,12 +491,12 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         if (g[d] != 0.0) trip->emplace_back(rowIdx, v + d, g[d]);
     };
     for (const NetSeam& s : seams) {
-      for (int sp = 0; sp < kSpans; ++sp) {
+      for (int sp = 0; sp < spans; ++sp) {
         const int bo = s.blend + sp * kBlendPerSpan;
         // G1: C_s + lambda B_s - kappa B_t = 0 (vector).
-        const auto t1 = collocation<kColloc1>(sp);
+        const auto t1 = collocation<kColloc1>(shape, sp);
         for (int c = 0; c < kColloc1; ++c, row += 3) {
-          const double t = t1[static_cast<size_t>(c)], tau = t * kSpans - sp;
+          const double t = t1[static_cast<size_t>(c)], tau = localTau(sp, t);
           const auto [jb, jc] = sides(s, t);
           const double l = evalPoly(s, sp, offL, kDegLambda, tau), kk = evalPoly(s, sp, offK, kDegKappa, tau);
           const Vec3 r1 = jc.value[0] + l * jb.value[0] - kk * jb.value[1];
@@ -466,13 +520,13 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         // normal n = N / |N|, N = B_s x B_t (the unit normal, not N: N . D also vanishes where the patch degenerates,
         // N = 0, which would attract the iteration to singular patches). Zero at kColloc2 parameters makes the
         // polynomial N . D (degree <= 16 per span) vanish identically.
-        const auto t2 = collocation<kColloc2>(sp);
+        const auto t2 = collocation<kColloc2>(shape, sp);
         if (s.g1Only) {
           row += kColloc2;  // zero rows: the seam is G1 only
           continue;
         }
         for (int c = 0; c < kColloc2; ++c, ++row) {
-          const double t = t2[static_cast<size_t>(c)], tau = t * kSpans - sp;
+          const double t = t2[static_cast<size_t>(c)], tau = localTau(sp, t);
           const auto [jb, jc] = sides(s, t);
           const double l = evalPoly(s, sp, offL, kDegLambda, tau), kk = evalPoly(s, sp, offK, kDegKappa, tau);
           const Vec3 N = jb.value[0].cross(jb.value[1]);
@@ -582,7 +636,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   // ---- lambda > 0 everywhere (linear per span: its end values), and the result.
   double minLambda = std::numeric_limits<double>::infinity();
   for (const NetSeam& s : seams)
-    for (int sp = 0; sp < kSpans; ++sp)
+    for (int sp = 0; sp < spans; ++sp)
       for (double tau : {0.0, 1.0}) minLambda = std::min(minLambda, evalPoly(s, sp, offL, kDegLambda, tau));
   rep.minLambda = minLambda;
   if (residual > opt.acceptRel * diag)
@@ -598,7 +652,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     const int mi = chosen[static_cast<size_t>(ri)];
     Patch& p = res.model.patches[static_cast<size_t>(mi)];
     const BSplineSurface& orig = p.surface;
-    BSplineSurface out(kDeg, kDeg, formKnots(), formKnots(), kGrid, kGrid, q.middleRows(ri * perPatch, perPatch));
+    BSplineSurface out(kDeg, kDeg, shape.knots, shape.knots, grid, grid, q.middleRows(ri * perPatch, perPatch));
     out = out.reparametrized(orig.domainU(), orig.domainV());
     const BSplineSurface& f = form[static_cast<size_t>(ri)];
     double size = 0.0;
@@ -618,9 +672,14 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   for (const auto& [vr, g] : vertexGroups)
     if (!g.boundary && g.corners > 1) val.insert(g.corners);
   rep.valences.assign(val.begin(), val.end());
-  if (raised) rep.notes.push_back("degree raised to 5 x 5 (exact) for the G2 solve");
-  if (refined) rep.notes.push_back("knot 1/2 inserted (exact) up to multiplicity 3 in both directions");
-  rep.notes.push_back(fmt::format("output patches are biquintic B-splines, C2 at the middle knot; {} Gauss-Newton "
+  if (raisedAny) rep.notes.push_back("degree raised to 5 x 5 (exact) for the G2 solve");
+  if (refined) {
+    std::string ks;
+    for (size_t b = 1; b + 1 < shape.breaks.size(); ++b)
+      ks += fmt::format("{}{} (x{})", ks.empty() ? "" : ", ", shape.breaks[b], shape.knots.multiplicity(shape.breaks[b]));
+    rep.notes.push_back("knots inserted (exact) so that every patch has the interior knots " + ks + " both ways");
+  }
+  rep.notes.push_back(fmt::format("output patches are biquintic B-splines, C2 (C1 at quadruple knots) inside; {} Gauss-Newton "
                                   "steps, identity residual {:.2g} x the model size",
                                   rep.iterations, rep.residualRel));
   return res;

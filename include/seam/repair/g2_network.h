@@ -3,8 +3,11 @@
 // networks"): every interior seam of a G0 (or G1) network of polynomial quad patches becomes G2, while free edges
 // stay where they are.
 //
-// Every chosen patch is written exactly as a biquintic B-spline with the knot 1/2 (of its domain) of multiplicity 3
-// in both directions (two C2-joined quintic pieces each way: the patch stays curvature continuous inside). Along
+// Every chosen patch is written exactly as a biquintic B-spline with the region's common interior knots in both
+// directions: the union of all chosen patches' interior knots (normalised to [0, 1], mirrored t -> 1 - t so that
+// reversed neighbours share their rows), each of multiplicity 3 (C2: the patch stays curvature continuous inside) or
+// 4 where an input patch is only C1 there (a double knot of a cubic: the thesis' Theorems 9-10); the middle 1/2 when
+// no patch has an interior knot. Along
 // every seam, with the common edge parameter t and each side's cross-boundary parameter pointing into its patch,
 // the two sides B (the pair's first patch) and C must satisfy, span by span of the edge,
 //     C_s  = -lambda B_s + kappa B_t                                                   (G1, lambda > 0)
@@ -78,7 +81,7 @@ struct G2NetworkResult {
 };
 
 /// Runs the solve. Errors (nothing is changed): kInvalidInput (no patches, non-3-D patches, bad indices),
-/// kUnsupported (rational patches, a degree above 5, interior knots other than the middle, T-junctions, an edge
+/// kUnsupported (rational patches, a degree above 5, an interior knot where a patch is only C0, T-junctions, an edge
 /// shared by three patches, a collapsed edge among the chosen patches), kNoSolution (the iteration did not reach
 /// the residual, or a seam would fold: lambda <= 0 somewhere).
 Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& options = {});
