@@ -27,6 +27,7 @@
 #include <numeric>
 #include <set>
 
+#include "repair/network_internal.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
 
@@ -226,23 +227,12 @@ std::array<double, K> collocation(const Form& f, int sp) {
 }  // namespace
 
 Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& opt) {
-  if (model.patches.empty()) return invalidInput("the model has no patches");
-  std::vector<int> chosen = opt.patches;
-  if (chosen.empty()) {
-    chosen.resize(model.patches.size());
-    std::iota(chosen.begin(), chosen.end(), 0);
-  }
-  std::sort(chosen.begin(), chosen.end());
-  chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
-  for (int p : chosen)
-    if (p < 0 || p >= static_cast<int>(model.patches.size()))
-      return invalidInput(fmt::format("patch index {} out of range", p));
-  for (const Patch& p : model.patches)
-    if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
-  double diag = model.boundingBox().diagonal();
-  if (!(diag > 0.0)) diag = 1.0;
-  const Tolerances tol = opt.tolerances ? *opt.tolerances : Tolerances::forModelSize(diag);
-  const double maxGap = opt.maxGap ? *opt.maxGap : kDefaultMaxGapRel * diag;
+  auto setup = networkSetup(model, opt.patches, opt.tolerances, opt.maxGap);
+  if (!setup) return setup.status();
+  const std::vector<int>& chosen = setup->chosen;
+  const double diag = setup->diagonal;
+  const Tolerances& tol = setup->tol;
+  const double maxGap = setup->maxGap;
 
   G2NetworkResult res;
   res.model = model;

@@ -1,0 +1,50 @@
+#pragma once
+// Shared set-up of the network repairs (the local G1 scheme, the G2 network solve): the chosen patches checked, the
+// model's size, classification tolerances and pairing distance resolved from the options.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <numeric>
+#include <optional>
+#include <vector>
+
+#include "seam/core/result.h"
+#include "seam/core/tolerances.h"
+#include "seam/model/model.h"
+#include "seam/repair/join.h"
+
+namespace seam {
+
+struct NetworkSetup {
+  std::vector<int> chosen;  ///< sorted, unique model patch indices (every patch when the request was empty)
+  double diagonal = 1.0;    ///< the model's bounding-box diagonal (1 for an empty box)
+  Tolerances tol;
+  double maxGap = 0.0;
+};
+
+/// Errors: kInvalidInput for a model without patches, a non-3-D patch or an index out of range.
+inline Result<NetworkSetup> networkSetup(const Model& model, const std::vector<int>& patches,
+                                         const std::optional<Tolerances>& tolerances,
+                                         const std::optional<double>& maxGap) {
+  if (model.patches.empty()) return invalidInput("the model has no patches");
+  NetworkSetup s;
+  s.chosen = patches;
+  if (s.chosen.empty()) {
+    s.chosen.resize(model.patches.size());
+    std::iota(s.chosen.begin(), s.chosen.end(), 0);
+  }
+  std::sort(s.chosen.begin(), s.chosen.end());
+  s.chosen.erase(std::unique(s.chosen.begin(), s.chosen.end()), s.chosen.end());
+  for (int p : s.chosen)
+    if (p < 0 || p >= static_cast<int>(model.patches.size()))
+      return invalidInput(fmt::format("patch index {} out of range", p));
+  for (const Patch& p : model.patches)
+    if (p.surface.dim() != 3) return invalidInput(fmt::format("patch \"{}\" is not 3-D", p.name));
+  s.diagonal = model.boundingBox().diagonal();
+  if (!(s.diagonal > 0.0)) s.diagonal = 1.0;
+  s.tol = tolerances ? *tolerances : Tolerances::forModelSize(s.diagonal);
+  s.maxGap = maxGap ? *maxGap : kDefaultMaxGapRel * s.diagonal;
+  return s;
+}
+
+}  // namespace seam
