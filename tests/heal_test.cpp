@@ -978,8 +978,11 @@ TEST(HealG2, TeapotPolesAreLeftAsTheyWereAndTheRestIsG2) {
       ++poleRegions;
       EXPECT_EQ(g.method, "none");
       for (const std::string& name : g.patches)
-        for (size_t i = 0; i < pot.patches.size(); ++i)
-          if (pot.patches[i].name == name) EXPECT_TRUE(samePatch(pot.patches[i].surface, r->model.patches[i].surface));
+        for (size_t i = 0; i < pot.patches.size(); ++i) {
+          if (pot.patches[i].name == name) {
+            EXPECT_TRUE(samePatch(pot.patches[i].surface, r->model.patches[i].surface)) << name;
+          }
+        }
     } else if (g.method == "local") {
       ++g2Regions;
       EXPECT_TRUE(g.achieved);
