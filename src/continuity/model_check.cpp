@@ -16,6 +16,7 @@
 #include <tuple>
 #include <utility>
 
+#include "core/union_find.h"
 #include "continuity/model_check_internal.h"
 
 namespace seam {
@@ -993,23 +994,6 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
 
 // ---------------------------------------------------------------------------------------------------------------
 // Corners
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[static_cast<size_t>(x)] != x) {
-      parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
-      x = parent[static_cast<size_t>(x)];
-    }
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 /// Corner id: 4 * patch + 2 * uMax + vMax.
 int cornerId(int patch, bool uMax, bool vMax) { return 4 * patch + 2 * (uMax ? 1 : 0) + (vMax ? 1 : 0); }

@@ -27,6 +27,7 @@
 #include <numeric>
 #include <set>
 
+#include "core/union_find.h"
 #include "repair/network_internal.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
@@ -191,7 +192,7 @@ struct NetSeam {
   Edge ea = Edge::U0, eb = Edge::U0;
   bool reversed = false;
   int blend = 0;  // offset of the seam's blending coefficients in the unknown vector
-  bool g1Only = false;  // G2 is impossible at one of its ends with the free edges kept (see straightBoundary...)
+  bool g1Only = false;  // G2 is impossible at one of its ends with the free edges kept (straight free boundary)
 };
 
 /// Sine of the angle below which the two free edges at a boundary vertex count as one straight boundary line.
@@ -202,7 +203,7 @@ constexpr double kCurvatureMismatchRel = 1e-9;
 
 /// Corner id (patch * 4 + cu * 2 + cv) at an end of an edge.
 int cornerId(int patch, Edge e, int end) {
-  const int cu = isUEdge(e) ? (e == Edge::U0 ? 0 : 1) : end, cv = isUEdge(e) ? end : (e == Edge::V0 ? 0 : 1);
+  const auto [cu, cv] = cornerOf(e, end);
   return patch * 4 + cu * 2 + cv;
 }
 
@@ -302,29 +303,22 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   // straight line, the second fundamental form would have to take both free edges' normal curvatures in the same
   // direction: where they differ, G2 is impossible with the free edges kept, and the seams ending there are made
   // G1 only (and reported).
-  std::vector<int> cparent(static_cast<size_t>(np) * 4);
-  std::iota(cparent.begin(), cparent.end(), 0);
-  auto croot = [&](int x) {
-    while (cparent[static_cast<size_t>(x)] != x)
-      x = cparent[static_cast<size_t>(x)] = cparent[static_cast<size_t>(cparent[static_cast<size_t>(x)])];
-    return x;
-  };
+  UnionFind vertexOf(np * 4);
   for (const NetSeam& s : seams)
     for (int end = 0; end < 2; ++end)
-      cparent[static_cast<size_t>(croot(cornerId(s.pa, s.ea, end)))] =
-          croot(cornerId(s.pb, s.eb, s.reversed ? 1 - end : end));
+      vertexOf.unite(cornerId(s.pa, s.ea, end), cornerId(s.pb, s.eb, s.reversed ? 1 - end : end));
   struct VertexGroup {
     int corners = 0;
     bool boundary = false;
     std::vector<std::pair<int, std::pair<Edge, int>>> freeEnds;  // (patch, (edge, end))
   };
   std::map<int, VertexGroup> vertexGroups;
-  for (int c = 0; c < np * 4; ++c) ++vertexGroups[croot(c)].corners;
+  for (int c = 0; c < np * 4; ++c) ++vertexGroups[vertexOf.find(c)].corners;
   for (int ri = 0; ri < np; ++ri)
     for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1})
       if (!paired.count({ri, static_cast<int>(e)}))
         for (int end = 0; end < 2; ++end) {
-          VertexGroup& g = vertexGroups[croot(cornerId(ri, e, end))];
+          VertexGroup& g = vertexGroups[vertexOf.find(cornerId(ri, e, end))];
           g.boundary = true;
           g.freeEnds.push_back({ri, {e, end}});
         }
@@ -336,7 +330,8 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
       const auto& [ri, ee] = g.freeEnds[static_cast<size_t>(k)];
       const auto [e, end] = ee;
       const BSplineSurface& f = form[static_cast<size_t>(ri)];
-      const double a = isUEdge(e) ? (e == Edge::U0 ? 0.0 : 1.0) : end, b = isUEdge(e) ? end : (e == Edge::V0 ? 0.0 : 1.0);
+      const auto [cu, cv] = cornerOf(e, end);
+      const double a = cu, b = cv;
       const auto der = f.derivatives(a, b, 2);
       const Vec3 su = der[1][0].head<3>(), sv = der[0][1].head<3>();
       const double sgn = end == 0 ? 1.0 : -1.0;  // away from the vertex
@@ -349,10 +344,9 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     const double k0 = nrm[0].dot(d2[0]) / d1[0].squaredNorm(), k1 = nrm[0].dot(d2[1]) / d1[1].squaredNorm();
     if (std::abs(k0 - k1) > kCurvatureMismatchRel * std::max({std::abs(k0), std::abs(k1), 1.0 / diag})) {
       straightMismatch.insert(vr);
-      const Vec3 pt = form[static_cast<size_t>(g.freeEnds[0].first)].evaluate(
-                                 isUEdge(g.freeEnds[0].second.first) ? (g.freeEnds[0].second.first == Edge::U0 ? 0.0 : 1.0) : g.freeEnds[0].second.second,
-                                 isUEdge(g.freeEnds[0].second.first) ? g.freeEnds[0].second.second : (g.freeEnds[0].second.first == Edge::V0 ? 0.0 : 1.0))
-                             .head<3>();
+      const auto [fp, fe] = g.freeEnds[0];
+      const auto [cu, cv] = cornerOf(fe.first, fe.second);
+      const Vec3 pt = form[static_cast<size_t>(fp)].evaluate(cu, cv).head<3>();
       rep.notes.push_back(fmt::format(
           "boundary vertex ({:.6g}, {:.6g}, {:.6g}): the free boundary runs straight through it with normal curvature "
           "{:.4g} on one side and {:.4g} on the other; curvature continuity there would move the free edges, so the "
@@ -362,7 +356,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   }
   for (NetSeam& s : seams)
     for (int end = 0; end < 2; ++end)
-      if (straightMismatch.count(croot(cornerId(s.pa, s.ea, end)))) s.g1Only = true;
+      if (straightMismatch.count(vertexOf.find(cornerId(s.pa, s.ea, end)))) s.g1Only = true;
   rep.g1OnlySeams = static_cast<int>(std::count_if(seams.begin(), seams.end(), [](const NetSeam& s) { return s.g1Only; }));
   if (seams.empty()) {
     rep.notes.push_back("no interior seam between the chosen patches: nothing to do");
@@ -382,18 +376,13 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     }
   // G0 by construction: the boundary points of the two sides of every seam are one unknown (union-find); a class
   // with a fixed member is fixed.
-  std::vector<int> cls(static_cast<size_t>(np * perPatch));
-  std::iota(cls.begin(), cls.end(), 0);
-  auto root = [&](int x) {
-    while (cls[static_cast<size_t>(x)] != x) x = cls[static_cast<size_t>(x)] = cls[static_cast<size_t>(cls[static_cast<size_t>(x)])];
-    return x;
-  };
+  UnionFind shared(np * perPatch);
+  auto root = [&](int x) { return shared.find(x); };
   for (const NetSeam& s : seams)
     for (int k = 0; k < grid; ++k) {
       const auto [ia, ja] = rowIndex(grid, s.ea, 0, k);
       const auto [ib, jb] = rowIndex(grid, s.eb, 0, s.reversed ? grid - 1 - k : k);
-      const int ra = root(s.pa * perPatch + ia * grid + ja), rb = root(s.pb * perPatch + ib * grid + jb);
-      if (ra != rb) cls[static_cast<size_t>(std::max(ra, rb))] = std::min(ra, rb);
+      shared.unite(s.pa * perPatch + ia * grid + ja, s.pb * perPatch + ib * grid + jb);
     }
   const std::vector<char> fixedInInput = fixedPoint;
   for (int g = 0; g < np * perPatch; ++g)

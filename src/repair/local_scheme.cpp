@@ -66,17 +66,6 @@ std::pair<int, int> slotIndex(const Slot& s, int k, int x) {
   return {0, 0};
 }
 
-/// The corner (cu, cv) at an end of an edge.
-std::pair<int, int> cornerOf(Edge e, int end) {
-  switch (e) {
-    case Edge::U0: return {0, end};
-    case Edge::U1: return {1, end};
-    case Edge::V0: return {end, 0};
-    case Edge::V1: return {end, 1};
-  }
-  return {0, 0};
-}
-
 /// The two slots at a corner.
 std::array<Slot, 2> slotsAt(int patch, int cu, int cv) {
   return {Slot{patch, cv == 0 ? Edge::V0 : Edge::V1, cu}, Slot{patch, cu == 0 ? Edge::U0 : Edge::U1, cv}};

@@ -6,14 +6,27 @@
 #include <algorithm>
 #include <numeric>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
 #include "seam/repair/join.h"
+#include "seam/spline/bspline_surface.h"
 
 namespace seam {
+
+/// The corner (cu, cv) (0: low, 1: high parameter) at an end of an edge (end 0: the low parameter end).
+inline std::pair<int, int> cornerOf(Edge e, int end) {
+  switch (e) {
+    case Edge::U0: return {0, end};
+    case Edge::U1: return {1, end};
+    case Edge::V0: return {end, 0};
+    case Edge::V1: return {end, 1};
+  }
+  return {0, 0};
+}
 
 struct NetworkSetup {
   std::vector<int> chosen;  ///< sorted, unique model patch indices (every patch when the request was empty)
