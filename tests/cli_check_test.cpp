@@ -109,6 +109,7 @@ TEST_F(CliCheck, JsonLayoutOfIssue3) {
     EXPECT_EQ(c["patches"], nlohmann::json::array({"A", "B"}));
     EXPECT_EQ(c["point"].size(), 3u);
     EXPECT_NEAR(c["normal_spread_deg"].get<double>(), 0.0, 1e-9);
+    EXPECT_TRUE(c["curvature_spread_rel"].is_number());  // the two corners' curvatures compared (corner_test)
     EXPECT_TRUE(c["g1_residual"].is_null());  // only 4-valent vertices have Theorem 1 residuals
     EXPECT_TRUE(c["g2_residual"].is_null());
   }
@@ -117,6 +118,7 @@ TEST_F(CliCheck, JsonLayoutOfIssue3) {
   EXPECT_TRUE(j["free_edges"][0].contains("edge"));
   EXPECT_EQ(j["summary"]["seams"], 1);
   EXPECT_EQ(j["summary"]["worst_geometric"], "G1");
+  EXPECT_TRUE(j["summary"]["corner_curvature_spread_rel_max"].is_number());
 }
 
 TEST_F(CliCheck, ExitCodesOfRequire) {

@@ -155,6 +155,9 @@ void expectAllRelationsVanish(const CornerReport& r) {
   }
   ASSERT_TRUE(r.normalSpreadDeg.has_value());
   EXPECT_NEAR(*r.normalSpreadDeg, 0.0, 1e-6);
+  // One smooth surface: one second fundamental form at V.
+  ASSERT_TRUE(r.curvatureSpreadRel.has_value());
+  EXPECT_NEAR(*r.curvatureSpreadRel, 0.0, 1e-7);
 }
 
 const Vec3 kV = smoothSurface(0.3, -0.2);
@@ -505,6 +508,12 @@ TEST(Corner, CurvatureJumpAcrossOneSeamLineIsG1NotG2) {
   const double jump = 2 * bump * std::abs(nrm.z()) / ry.squaredNorm();
   EXPECT_NEAR(std::abs(fp.seams[1].g2Jump), jump, 1e-6 * jump);
   EXPECT_NEAR(std::abs(fp.seams[3].g2Jump), jump, 1e-6 * jump);
+  // The curvature spread: the bump adds 2 bump n_z (dy)^2 to the second fundamental form of sectors 0 and 1, a
+  // rank-one form whose largest value over unit tangent vectors is 2 bump |n_z| |grad y|^2, where y restricted to
+  // the tangent plane has gradient (n x r_x) / |r_x x r_y| (norm |r_x| / |r_x x r_y|).
+  const double spread = 2 * bump * std::abs(nrm.z()) * rx.squaredNorm() / rx.cross(ry).squaredNorm();
+  ASSERT_TRUE(r.curvatureSpread.has_value());
+  EXPECT_NEAR(*r.curvatureSpread, spread, 1e-6 * spread);
 }
 
 TEST(Corner, ValenceThreeCubeCornerAndOpenFan) {
@@ -528,6 +537,7 @@ TEST(Corner, ValenceThreeCubeCornerAndOpenFan) {
   EXPECT_TRUE(r.closed);
   EXPECT_FALSE(r.fourPatch.has_value());
   EXPECT_NEAR(*r.normalSpreadDeg, 90.0, 1e-9);
+  EXPECT_FALSE(r.curvatureSpread.has_value());  // a crease at the vertex: no common tangent plane to compare in
 
   // Two coplanar squares sharing one edge: an open fan of valence 2 with normal spread 0, even though the
   // second is stored upside down.
@@ -537,6 +547,7 @@ TEST(Corner, ValenceThreeCubeCornerAndOpenFan) {
   EXPECT_EQ(r.valence, 2);
   EXPECT_FALSE(r.closed);
   EXPECT_NEAR(*r.normalSpreadDeg, 0.0, 1e-9);
+  EXPECT_NEAR(r.curvatureSpread.value_or(-1.0), 0.0, 1e-12);  // flat and coplanar, one stored upside down
   // The same with a real 30-degree crease.
   const Vec3 tilted(-std::cos(std::numbers::pi / 6), 0.0, std::sin(std::numbers::pi / 6));
   two[1].surface = quad(o, tilted, y);

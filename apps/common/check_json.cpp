@@ -206,6 +206,8 @@ void cornerFields(Out& o, const Model& m, const CornerReport& c) {
   o.field("patches", patches);
   o.field("valence", c.valence);
   o.field("normal_spread_deg", c.normalSpreadDeg);
+  o.field("curvature_spread", c.curvatureSpread);
+  o.field("curvature_spread_rel", c.curvatureSpreadRel);
   if (c.fourPatch) {
     o.field("g1_residual", c.fourPatch->g1Residual);
     o.field("g2_residual", c.fourPatch->g2Residual);
@@ -280,6 +282,7 @@ OrderedJson summaryJson(const ModelCheckReport& r, const std::optional<Geometric
                 {"normal_spread_max_deg", s.normalSpreadMaxDeg},
                 {"corner_g1_residual_max", s.cornerG1ResidualMax},
                 {"corner_g2_residual_max", optionalNumber(s.cornerG2ResidualMax)},
+                {"corner_curvature_spread_rel_max", optionalNumber(s.cornerCurvatureSpreadRelMax)},
                 {"free_edges", s.freeEdges},
                 {"degenerate_edges", s.degenerateEdges},
                 {"coincident_edge_groups", s.coincidentEdgeGroups}};

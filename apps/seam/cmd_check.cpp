@@ -225,13 +225,15 @@ std::string cornerTable(const Model& m, const ModelCheckReport& r) {
     for (const PatchCorner& k : x.corners) names += (names.empty() ? "" : " ") + patchName(m, k.patch);
     rows.push_back({formatVector(x.point.data(), 3), std::to_string(x.valence) + (x.closed ? "" : " (boundary)"),
                     names, x.normalSpreadDeg ? formatAngle(*x.normalSpreadDeg) : (x.degenerate ? "degenerate" : "-"),
+                    x.curvatureSpreadRel ? num(100.0 * *x.curvatureSpreadRel) : "-",
                     x.fourPatch ? num(x.fourPatch->g1Residual) : "-",
                     x.fourPatch && x.fourPatch->g2Residual ? num(*x.fourPatch->g2Residual) : "-"});
   }
   std::string out = fmt::format("\ncorners ({})\n", r.corners.size());
   if (!rows.empty())
-    out += formatTable({"point", "valence", "patches", "normal spread (deg)", "G1 residual", "G2 residual"}, rows,
-                       {false, false, false, true, true, true});
+    out += formatTable({"point", "valence", "patches", "normal spread (deg)", "curvature spread (%)", "G1 residual",
+                        "G2 residual"},
+                       rows, {false, false, false, true, true, true, true});
   return out;
 }
 

@@ -30,6 +30,16 @@ double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
 /// Angle between two unit vectors in radians, accurate near 0 and pi.
 double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
+/// A fan whose corner normals deviate more than this (radians, 10 degrees) from their mean has no common tangent plane
+/// to compare curvatures in: no curvature spread is reported there.
+constexpr double kCurvatureSpreadMaxTilt = 10.0 * std::numbers::pi / 180.0;
+
+/// Spectral norm of a symmetric 2 x 2 matrix (its largest eigenvalue in absolute value).
+double spectralNormSym(const Eigen::Matrix2d& m) {
+  const double mid = 0.5 * (m(0, 0) + m(1, 1)), half = 0.5 * (m(0, 0) - m(1, 1));
+  return std::abs(mid) + std::hypot(half, m(0, 1));
+}
+
 /// Value and partial derivatives up to order 2 at one point.
 struct Jet {
   Vec3 p = Vec3::Zero(), u = Vec3::Zero(), v = Vec3::Zero(), uu = Vec3::Zero(), uv = Vec3::Zero(),
@@ -399,6 +409,47 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
     for (size_t x = 0; x < oriented.size(); ++x)
       for (size_t y = x + 1; y < oriented.size(); ++y) spread = std::max(spread, angleBetween(oriented[x], oriented[y]));
     report.normalSpreadDeg = std::max(report.normalSpreadDeg.value_or(0.0), degrees(spread));
+  }
+
+  // Curvature spread within each fan: every corner's second fundamental form written as a symmetric 2 x 2 matrix
+  // W_i in one orthonormal basis (e1, e2) of the fan's mean tangent plane (johansson.md, "The curvature spread at a
+  // vertex"): W_i = P^-T H P^-1 with P = [e . S_u, e . S_v] and H = [S_uu, S_uv; S_uv, S_vv] . N_i. All seams at
+  // the vertex G2 => all W_i equal; the spread is the largest normal-curvature difference between two corners over
+  // every direction, max_ij ||W_i - W_j||_2.
+  for (const Fan& fan : fans) {
+    Vec3 mean = Vec3::Zero();
+    for (int i : fan.order)
+      if (!degenerate[static_cast<size_t>(i)]) mean += report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)];
+    if (!(mean.norm() > 0.0)) continue;
+    mean.normalize();
+    // No common tangent plane (a crease at the vertex): curvatures are not compared.
+    bool creased = false;
+    for (int i : fan.order)
+      if (!degenerate[static_cast<size_t>(i)])
+        creased = creased || angleBetween(mean, report.orientation[static_cast<size_t>(i)] *
+                                                    normals[static_cast<size_t>(i)]) > kCurvatureSpreadMaxTilt;
+    if (creased) continue;
+    const Vec3 e1 = mean.unitOrthogonal(), e2 = mean.cross(e1);
+    std::vector<Eigen::Matrix2d> shape;
+    double largest = 0.0;
+    for (int i : fan.order) {
+      if (degenerate[static_cast<size_t>(i)]) continue;
+      const Jet& j = jets[static_cast<size_t>(i)];
+      const Vec3 nrm = report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)];
+      Eigen::Matrix2d P, H;
+      P << e1.dot(j.u), e1.dot(j.v), e2.dot(j.u), e2.dot(j.v);
+      H << j.uu.dot(nrm), j.uv.dot(nrm), j.uv.dot(nrm), j.vv.dot(nrm);
+      const Eigen::Matrix2d Pinv = P.inverse();
+      shape.push_back(Pinv.transpose() * H * Pinv);
+      largest = std::max(largest, spectralNormSym(shape.back()));
+    }
+    if (shape.size() < 2) continue;
+    double spread = 0.0;
+    for (size_t x = 0; x < shape.size(); ++x)
+      for (size_t y = x + 1; y < shape.size(); ++y) spread = std::max(spread, spectralNormSym(shape[x] - shape[y]));
+    report.curvatureSpread = std::max(report.curvatureSpread.value_or(0.0), spread);
+    report.curvatureSpreadRel =
+        std::max(report.curvatureSpreadRel.value_or(0.0), spread / std::max(largest, 1.0 / lengthScale));
   }
 
   // Four-patch analysis (Theorems 1 and 2).

@@ -1324,6 +1324,8 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
     const CornerReport& r = c.report;
     if (r.degenerate) ++S.degenerateCorners;
     if (r.normalSpreadDeg) S.normalSpreadMaxDeg = std::max(S.normalSpreadMaxDeg, *r.normalSpreadDeg);
+    if (r.curvatureSpreadRel)
+      S.cornerCurvatureSpreadRelMax = std::max(S.cornerCurvatureSpreadRelMax.value_or(0.0), *r.curvatureSpreadRel);
     if (r.fourPatch) {
       ++S.fourValentCorners;
       S.cornerG1ResidualMax = std::max(S.cornerG1ResidualMax, r.fourPatch->g1Residual);

@@ -29,6 +29,7 @@
 
 #include "core/union_find.h"
 #include "repair/network_internal.h"
+#include "seam/continuity/corner.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
 
@@ -223,6 +224,55 @@ std::array<double, K> collocation(const Form& f, int sp) {
     t[static_cast<size_t>(k)] = a + tau * (b - a);
   }
   return t;
+}
+
+/// The curvature spread (analyzeCorner) of every interior vertex in the input and in the output, with a note for
+/// each vertex of valence 5 or more (the issue: report the remaining mismatch there).
+template <class Groups>
+void reportVertices(const Model& before, const Model& after, const std::vector<int>& chosen,
+                    const std::vector<NetSeam>& seams, UnionFind& vertexOf, const Groups& groups,
+                    G2NetworkReport& rep) {
+  std::map<int, std::vector<int>> cornersOf;  // vertex -> corner ids
+  for (int c = 0; c < static_cast<int>(chosen.size()) * 4; ++c) cornersOf[vertexOf.find(c)].push_back(c);
+  std::map<int, std::vector<std::pair<int, int>>> seamEndsOf;  // vertex -> (seam, end)
+  for (int k = 0; k < static_cast<int>(seams.size()); ++k)
+    for (int end = 0; end < 2; ++end)
+      seamEndsOf[vertexOf.find(cornerId(seams[static_cast<size_t>(k)].pa, seams[static_cast<size_t>(k)].ea, end))]
+          .emplace_back(k, end);
+  for (const auto& [vr, g] : groups) {
+    if (g.boundary || g.corners < 3) continue;
+    std::vector<PatchCorner> corners;
+    std::map<int, int> indexOf;  // corner id -> index in `corners`
+    for (int c : cornersOf[vr]) {
+      indexOf[c] = static_cast<int>(corners.size());
+      corners.push_back({chosen[static_cast<size_t>(c / 4)], (c / 2) % 2 == 1, c % 2 == 1});
+    }
+    std::vector<CornerLink> links;
+    for (const auto& [k, end] : seamEndsOf[vr]) {
+      const NetSeam& s = seams[static_cast<size_t>(k)];
+      const int ca = cornerId(s.pa, s.ea, end), cb = cornerId(s.pb, s.eb, s.reversed ? 1 - end : end);
+      links.push_back({indexOf.at(ca), s.ea, indexOf.at(cb), s.eb});
+    }
+    G2NetworkVertex v;
+    v.valence = g.corners;
+    for (int pass = 0; pass < 2; ++pass) {
+      const Model& m = pass == 0 ? before : after;
+      auto r = analyzeCorner(m.patches, corners, links);
+      if (!r) continue;
+      (pass == 0 ? v.spreadBefore : v.spreadAfter) = r->curvatureSpreadRel;
+      if (pass == 1) {
+        v.point = r->point;
+        if (r->fourPatch) v.theorem2After = r->fourPatch->g2Residual;
+      }
+    }
+    if (v.spreadAfter) rep.maxSpreadAfter = std::max(rep.maxSpreadAfter.value_or(0.0), *v.spreadAfter);
+    if (v.valence >= 5 && v.spreadAfter)
+      rep.notes.push_back(fmt::format(
+          "vertex ({:.6g}, {:.6g}, {:.6g}) where {} patches meet: curvature mismatch {:.3g} % before, {:.3g} % after",
+          v.point.x(), v.point.y(), v.point.z(), v.valence, 100.0 * v.spreadBefore.value_or(0.0),
+          100.0 * *v.spreadAfter));
+    rep.vertices.push_back(v);
+  }
 }
 
 }  // namespace
@@ -651,6 +701,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   for (const auto& [vr, g] : vertexGroups)
     if (!g.boundary && g.corners > 1) val.insert(g.corners);
   rep.valences.assign(val.begin(), val.end());
+  reportVertices(model, res.model, chosen, seams, vertexOf, vertexGroups, rep);
   if (raisedAny) rep.notes.push_back("degree raised to 5 x 5 (exact) for the G2 solve");
   if (refined) {
     std::string ks;

@@ -607,14 +607,16 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   // ---- corners, free and degenerate edges
   h += fmt::format("<h2 id=\"corners\">Corners ({})</h2>\n", data.corners.size());
   h += "<table class=\"sortable\"><thead><tr><th class=\"l\">point</th><th>valence</th><th class=\"l\">patches</th>"
-       "<th>normal spread (&deg;)</th><th>G1 residual</th><th>G2 residual</th></tr></thead><tbody>\n";
+       "<th>normal spread (&deg;)</th><th>curvature spread (%)</th><th>G1 residual</th><th>G2 residual</th></tr>"
+       "</thead><tbody>\n";
   for (size_t k = 0; k < data.corners.size(); ++k) {
     const CornerReport& r = *data.corners[k];
     h += fmt::format("<tr><td class=\"l\">[{}, {}, {}]</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
-                     "<td>{}</td></tr>\n",
+                     "<td>{}</td><td>{}</td></tr>\n",
                      num(r.point.x()), num(r.point.y()), num(r.point.z()), r.valence,
                      escape(k < data.cornerPatchNames.size() ? data.cornerPatchNames[k] : ""),
                      r.normalSpreadDeg ? num(*r.normalSpreadDeg) : (r.degenerate ? "degenerate" : "-"),
+                     r.curvatureSpreadRel ? num(100.0 * *r.curvatureSpreadRel) : "-",
                      r.fourPatch ? num(r.fourPatch->g1Residual) : "-",
                      r.fourPatch && r.fourPatch->g2Residual ? num(*r.fourPatch->g2Residual) : "-");
   }

@@ -118,6 +118,15 @@ struct CornerReport {
   /// Largest angle (degrees) between the consistently oriented unit normals of the non-degenerate corners of one fan
   /// (maximum over the fans); empty when no fan has two corners with a normal.
   std::optional<double> normalSpreadDeg;
+  /// Largest difference of normal curvature (1/length), over every tangent direction, between two non-degenerate
+  /// corners of one fan (their second fundamental forms compared in the fan's mean tangent plane; johansson.md, "The
+  /// curvature spread at a vertex"). 0 when every seam at the vertex is G2 there; for a vertex of valence n it is
+  /// the residual of the thesis' curvature-point system (one common form from 3n corner values). Only for fans whose
+  /// normals lie within 10 degrees of their mean (else there is no common tangent plane to compare in); empty when no
+  /// fan has two such corners.
+  std::optional<double> curvatureSpread;
+  /// curvatureSpread relative to max(largest |normal curvature| at the vertex, 1 / lengthScale).
+  std::optional<double> curvatureSpreadRel;
   std::optional<FourPatchVertex> fourPatch;  ///< closed, valence 4, no degenerate corner, every seam linked
   std::vector<std::string> notes;            ///< why a part was not computed, orientation conflicts, ...
 };

@@ -94,6 +94,8 @@ struct ModelCheckSummary {
   double normalSpreadMaxDeg = 0.0;         ///< over the corners
   double cornerG1ResidualMax = 0.0;        ///< over the 4-valent corners
   std::optional<double> cornerG2ResidualMax;
+  /// Largest CornerReport::curvatureSpreadRel over the corners (empty when no corner has one).
+  std::optional<double> cornerCurvatureSpreadRelMax;
   /// With ModelCheckOptions::require: the number of seams below it (failed seams count as below).
   int belowRequired = 0;
 };

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "seam/continuity/seam.h"
+#include "seam/core/types.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
@@ -56,6 +57,21 @@ struct G2NetworkOptions {
   double acceptRel = 1e-7;
 };
 
+/// One interior vertex of the network (all its corners among the chosen patches, the seams around it closed) with
+/// its curvature spread (CornerReport::curvatureSpreadRel: the largest normal-curvature difference between two of
+/// its patches, relative) before and after the solve. 0 after means the vertex's curvature-point system is met:
+/// one second fundamental form at the vertex (the thesis' first intertwining system at valence 3, the curvature
+/// part of Johansson's Theorem 2 at valence 4; at valence 5 and more the literature's G2 constructions need more
+/// pieces or higher degree, and this is the remaining mismatch the issue asks to report).
+struct G2NetworkVertex {
+  Vec3 point = Vec3::Zero();
+  int valence = 0;
+  std::optional<double> spreadBefore, spreadAfter;  ///< relative (empty where a corner is degenerate)
+  /// Valence 4: the largest scaled residual of Johansson's Theorem 2 relations (eq. 3.17) after the solve
+  /// (FourPatchVertex::g2Residual; empty where a seam is not G2 at the vertex).
+  std::optional<double> theorem2After;
+};
+
 struct G2NetworkReport {
   int interiorSeams = 0;  ///< seams between chosen patches (both sides chosen, not kept)
   /// Of those, seams made G1 only: they end at a boundary vertex where the free boundary runs straight with
@@ -71,6 +87,8 @@ struct G2NetworkReport {
   double maxDisplacement = 0.0;
   double maxDisplacementRel = 0.0;  ///< divided by the bounding-box diagonal of the patch where it occurs
   std::vector<int> valences;        ///< distinct interior valences met, ascending
+  std::vector<G2NetworkVertex> vertices;  ///< every interior vertex, in the order of the patches' corners
+  std::optional<double> maxSpreadAfter;   ///< largest G2NetworkVertex::spreadAfter
   std::vector<std::string> patchesChanged;
   std::vector<std::string> notes;
 };
