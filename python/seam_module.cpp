@@ -380,8 +380,10 @@ py::object repairDict(const std::string& json, const RepairUnits& ru) {
 /// heal: the healed model and the dict of `seam heal --json` (without its "output").
 py::tuple heal(const PyModel& m, const std::string& continuity, const std::string& method,
                std::optional<double> maxGap, std::optional<double> creaseAngle, const std::optional<std::string>& units,
-               const std::optional<std::string>& preset) {
+               const std::optional<std::string>& preset, double fairness) {
   HealOptions ho;
+  if (!(fairness >= 0.0 && std::isfinite(fairness))) throw py::value_error("fairness must be a finite number >= 0");
+  ho.g2Fairness = fairness;
   if (continuity == "G0") ho.continuity = GeometricClass::kG0;
   else if (continuity == "G1") ho.continuity = GeometricClass::kG1;
   else if (continuity == "G2") ho.continuity = GeometricClass::kG2;
@@ -809,10 +811,10 @@ PYBIND11_MODULE(_seam, mod) {
           py::arg("ell") = regularity::RegularityOptions{}.maxEll, "`seam regularity FILE --json` of a model file");
   mod.def("heal", &heal, py::arg("model"), py::kw_only(), py::arg("continuity") = "G1", py::arg("method") = "auto",
           py::arg("max_gap") = py::none(), py::arg("crease_angle") = py::none(), py::arg("units") = py::none(),
-          py::arg("preset") = py::none(),
+          py::arg("preset") = py::none(), py::arg("fairness") = kDefaultG2Fairness,
           "Makes every seam G1 (or G0, or G2 by the network solve) where it can, never worse: (healed Model, the dict "
           "of `seam heal --json`); "
-          "units= and preset= as --units and --preset");
+          "units= and preset= as --units and --preset; fairness= as --fairness (G2)");
   mod.def("report", &writeReport, py::arg("model"), py::arg("path"), py::kw_only(), py::arg("title") = py::none(),
           "Writes the self-contained HTML report of `seam report` (patch models) atomically; returns the path");
   mod.def("report",

@@ -420,6 +420,72 @@ TEST(G2Network, DoubleKnotsAndKnotsOffTheMiddleAreHandled) {
   EXPECT_LE(freeEdgeMove(net, res->model), kFreeEdgeTolRel * net.size);
 }
 
+/// Largest jump of the d-th u-derivative (d = 1, 2) across u = knot, over v, from one-sided finite differences of the
+/// evaluator, relative to the derivative's size.
+double derivativeJumpU(const BSplineSurface& s, double knot, int d) {
+  double worst = 0.0;
+  for (int k = 1; k < 10; ++k) {
+    const double v = k / 10.0;
+    auto f = [&](double u) { return nt::pointAt(s, u, v); };
+    auto side = [&](double sgn) {  // one-sided derivatives of order d at the knot, second order
+      constexpr double h = 1e-3;
+      const Vec3 f0 = f(knot), f1 = f(knot + sgn * h), f2 = f(knot + 2 * sgn * h), f3 = f(knot + 3 * sgn * h);
+      return d == 1 ? Vec3(sgn * (-3.0 * f0 + 4.0 * f1 - f2) / (2.0 * h))
+                    : Vec3((2.0 * f0 - 5.0 * f1 + 4.0 * f2 - f3) / (h * h));
+    };
+    const Vec3 a = side(-1.0), b = side(1.0);
+    worst = std::max(worst, (a - b).norm() / std::max({a.norm(), b.norm(), 1e-300}));
+  }
+  return worst;
+}
+
+// A triple knot of a cubic (C0) inside one patch with a real crease along it (the thesis' Theorem 10 case for the
+// input's degree): handled, not refused. The patch keeps its crease line as a C0 knot; every other patch gets the
+// knot in the common form but keeps its C2 smoothness there (smoothness rows); every seam comes out G2.
+TEST(G2Network, ATripleKnotWithACreaseInsideAPatchIsKeptAndTheOthersStaySmooth) {
+  const nt::Network net = nt::buildNetwork(nt::fanMesh(3), nt::heightFieldShape());
+  Model knots = net.model;
+  BSplineSurface s = knots.patches[1].surface.withKnotInsertedU(0.3, 3);
+  ASSERT_EQ(s.degreeU(), 3);
+  Matrix pts = s.points();
+  int row = -1;  // the control-point row at the knot (interpolated by the surface)
+  for (int i = 0; i < s.numU(); ++i)
+    if (std::abs(s.knotsU()[i + 1] - 0.3 * s.domainU().length() - s.domainU().lo) < 1e-12 &&
+        std::abs(s.knotsU()[i + 3] - s.knotsU()[i + 1]) < 1e-12)
+      row = i;
+  ASSERT_GE(row, 0);
+  for (int j = 1; j + 1 < s.numV(); ++j) pts(row * s.numV() + j, 2) += 0.005 * net.size;  // interior points only
+  s = BSplineSurface(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(), pts);
+  knots.patches[1].surface = s;
+  ASSERT_GT(derivativeJumpU(s, 0.3, 1), 0.05) << "the input must have a crease along the knot";
+  const CurvatureCheck before = compareCurvatures(knots, net);
+  auto res = g2NetworkScheme(knots);
+  ASSERT_TRUE(static_cast<bool>(res)) << res.status().message();
+  const CertifiedCounts c = certify(res->model);
+  EXPECT_EQ(c.certified, c.seams);
+  EXPECT_EQ(c.g2, c.seams);
+  const CurvatureCheck after = compareCurvatures(res->model, net);
+  EXPECT_LE(after.maxJumpRel, kMaxCurvatureJumpRel);
+  EXPECT_LE(after.maxAbsCurvature, kMaxCurvatureGrowth * before.maxAbsCurvature);
+  std::cout << "triple knot: " << res->report.iterations << " steps, largest |normal curvature| on the seams "
+            << before.maxAbsCurvature << " before, " << after.maxAbsCurvature << " after, displacement "
+            << res->report.maxDisplacementRel << "\n";
+  EXPECT_LE(freeEdgeMove(net, res->model), kFreeEdgeTolRel * net.size);
+  const BSplineSurface& p1 = res->model.patches[1].surface;
+  EXPECT_EQ(p1.knotsU().multiplicity(0.3 * p1.domainU().length() + p1.domainU().lo), 5);  // C0 at degree 5
+  EXPECT_GT(derivativeJumpU(p1, 0.3, 1), 0.01) << "the crease inside the patch is the patch's design";
+  // The other patches: C2 across every knot of the common form, also where it has multiplicity 5.
+  for (int i : {0, 2, 3, 4}) {
+    const BSplineSurface& o = res->model.patches[static_cast<size_t>(i)].surface;
+    for (double t : {0.3, 0.7}) {
+      const double knot = o.domainU().lo + t * o.domainU().length();
+      EXPECT_EQ(o.knotsU().multiplicity(knot), 5) << "patch " << i;
+      EXPECT_LT(derivativeJumpU(o, t, 1), 1e-5) << "patch " << i << " at " << t;
+      EXPECT_LT(derivativeJumpU(o, t, 2), 1e-2) << "patch " << i << " at " << t;
+    }
+  }
+}
+
 TEST(G2Network, PatchesOutsideTheSubsetAreBitIdentical) {
   const nt::Network net = nt::buildNetwork(nt::fanMesh(4), nt::heightFieldShape());
   G2NetworkOptions o;
@@ -444,7 +510,7 @@ TEST(G2Network, PatchesOutsideTheSubsetAreBitIdentical) {
   EXPECT_GE(c.g2, res->report.interiorSeams);
 }
 
-TEST(G2Network, RefusesRationalPatchesAndC0KnotsInside) {
+TEST(G2Network, RefusesRationalPatchesAndBadIndices) {
   nt::Network net = nt::buildNetwork(nt::fanMesh(3), nt::heightFieldShape());
   Model rational = net.model;
   const BSplineSurface& s = rational.patches[0].surface;
@@ -456,13 +522,6 @@ TEST(G2Network, RefusesRationalPatchesAndC0KnotsInside) {
   ASSERT_FALSE(static_cast<bool>(r));
   EXPECT_EQ(r.status().code(), ErrorCode::kUnsupported);
   EXPECT_NE(r.status().message().find("rational"), std::string::npos);
-
-  Model knots = net.model;  // a triple knot of a cubic: C0 inside the patch
-  knots.patches[1].surface = knots.patches[1].surface.withKnotInsertedU(0.3, 3);
-  r = g2NetworkScheme(knots);
-  ASSERT_FALSE(static_cast<bool>(r));
-  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupported);
-  EXPECT_NE(r.status().message().find("only C0 there"), std::string::npos);
 
   G2NetworkOptions bad;
   bad.patches = {99};

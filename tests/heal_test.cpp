@@ -1018,6 +1018,7 @@ TEST(HealCli, G2OnAFanOfFiveReportsCurvatureJumpsAndTheCheckAgrees) {
   const std::filesystem::path out = dir / "g2.json", log = dir / "stdout.txt";
   std::string text;
   EXPECT_EQ(runCli("heal " + in + " -o " + out.string() + " --continuity G2", log, &text), 0) << text;
+  EXPECT_NE(text.find("5 patches meet: curvature mismatch"), std::string::npos) << text;
   EXPECT_NE(text.find("curvature jump before (%)"), std::string::npos) << text;
   EXPECT_NE(text.find("curvature jump after (%)"), std::string::npos) << text;
   EXPECT_NE(text.find("G2 achieved on every seam"), std::string::npos) << text;
@@ -1035,6 +1036,9 @@ TEST(HealCli, G2OnAFanOfFiveReportsCurvatureJumpsAndTheCheckAgrees) {
   EXPECT_EQ(g2, 25);
   EXPECT_EQ(runCli("heal " + in + " -o " + out.string() + " --continuity G2 --method successive", log, &text), 2)
       << text;
+  for (const char* bad : {"-1", "nan", "inf"})
+    EXPECT_EQ(runCli("heal " + in + " -o " + out.string() + " --continuity G2 --fairness " + bad, log, &text), 2)
+        << bad << ": " << text;
   std::filesystem::remove_all(dir);
 }
 

@@ -9,6 +9,7 @@
 // holds everything achieved), 2 bad input.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,7 @@ void addHeal(CLI::App& app, int& exit) {
   struct Options {
     std::string file, out, continuity = "G1", method = "auto";
     std::optional<double> maxGap, maxAngle;
+    double fairness = kDefaultG2Fairness;
     ToleranceOverrides tol;  // --tol-* / --preset / --units, as `seam check`
     bool json = false;
   };
@@ -46,6 +48,9 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("--crease-angle,--max-angle", o->maxAngle,
                   "Seams whose angle is above this (degrees, in (0, 180]) are design creases, left as designed "
                   "(default 20; 180 heals every seam)");
+  cmd->add_option("--fairness", o->fairness,
+                  "G2: weight of the fairness term of the network solve (default 10; 0: least control-point change "
+                  "only, faster, but curvature may grow sharply)");
   addToleranceOptions(*cmd, o->tol);
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
@@ -63,6 +68,9 @@ void addHeal(CLI::App& app, int& exit) {
     if (o->maxAngle && !(*o->maxAngle > 0.0 && *o->maxAngle <= 180.0))
       return printError("--crease-angle must be an angle in degrees in (0, 180]");
     ho.maxAngleDeg = o->maxAngle;
+    if (!(o->fairness >= 0.0 && std::isfinite(o->fairness)))
+      return printError("--fairness must be a finite number >= 0");
+    ho.g2Fairness = o->fairness;
     if (!checkOutputPath(o->file, o->out)) return;
     ModelUnits units;
     const std::optional<Model> model = loadModel(o->file, o->tol, &units);

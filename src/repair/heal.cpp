@@ -640,6 +640,8 @@ Result<HealResult> Healer::run() {
   const double maxAngle = opt_.maxAngleDeg ? *opt_.maxAngleDeg : kDefaultMaxHealAngleDeg;
   if (!(maxAngle > 0.0 && maxAngle <= 180.0))
     return invalidInput(fmt::format("the crease angle must be in (0, 180] degrees (got {})", maxAngle));
+  if (!(opt_.g2Fairness >= 0.0 && std::isfinite(opt_.g2Fairness)))
+    return invalidInput(fmt::format("the G2 fairness weight must be finite and >= 0 (got {})", opt_.g2Fairness));
   diag_ = model.boundingBox().diagonal();
   if (!(diag_ > 0.0)) diag_ = 1.0;
   tol_ = opt_.tolerances ? *opt_.tolerances : Tolerances::forModelSize(diag_);
@@ -782,6 +784,7 @@ Result<HealResult> Healer::run() {
       go.maxGap = maxGap_;
       go.tolerances = tol_;
       go.keepEdges = keepEdges;
+      go.fairness = opt_.g2Fairness;
       auto n = g2NetworkScheme(model, go);
       if (!n) {
         localNote[static_cast<size_t>(g)] = "G2 network solve not applicable: " + n.status().message();

@@ -185,6 +185,8 @@ def test_heal_matches_cli(examples, run_cli, tmp_path):
         seam.heal(healed, continuity="G3")
     g2, info_g2 = seam.heal(seam.load(path), continuity="G2")  # the G2 network solve (issue 14)
     assert info_g2["achieved"] and info_g2["requested"] == "G2"
+    with pytest.raises(ValueError, match="fairness"):
+        seam.heal(seam.load(path), continuity="G2", fairness=-1.0)
 
 
 @pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")

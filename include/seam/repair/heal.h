@@ -46,6 +46,7 @@
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
+#include "seam/repair/g2_network.h"
 
 namespace seam {
 
@@ -75,6 +76,8 @@ struct HealOptions {
   /// Classification tolerances (default Tolerances::forModelSize(diagonal)); also the acceptance margins.
   std::optional<Tolerances> tolerances;
   SeamOptions seam;  ///< analysis settings (its `tol` is replaced by the tolerances above)
+  /// G2: G2NetworkOptions::fairness of the network solve (must be finite and >= 0).
+  double g2Fairness = kDefaultG2Fairness;
 };
 
 struct HealSeam {
