@@ -251,11 +251,12 @@ struct CornerJet {
 };
 CornerJet cornerJetFd(const BSplineSurface& s, const PatchCorner& c) {
   constexpr double h = 1e-3;
-  auto g = [&](double x, double y) {
+  auto g = [&](double x, double y) -> Vec3 {
     return nt::pointAt(s, c.uMax ? 1.0 - x : x, c.vMax ? 1.0 - y : y);
   };
-  auto d1 = [&](auto f) { return (-3.0 * f(0.0) + 4.0 * f(h) - f(2 * h)) / (2.0 * h); };
-  auto d2 = [&](auto f) { return (2.0 * f(0.0) - 5.0 * f(h) + 4.0 * f(2 * h) - f(3 * h)) / (h * h); };
+  // Explicit Vec3 results: an Eigen expression returned by a lambda would refer to its dead temporaries.
+  auto d1 = [&](auto f) -> Vec3 { return (-3.0 * f(0.0) + 4.0 * f(h) - f(2 * h)) / (2.0 * h); };
+  auto d2 = [&](auto f) -> Vec3 { return (2.0 * f(0.0) - 5.0 * f(h) + 4.0 * f(2 * h) - f(3 * h)) / (h * h); };
   CornerJet j;
   j.x = d1([&](double x) { return g(x, 0.0); });
   j.y = d1([&](double y) { return g(0.0, y); });
