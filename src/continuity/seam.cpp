@@ -397,7 +397,9 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
   pc.P = dot(NA, NB);
   pc.cross = seam::cross(NA, NB);
   pc.Q = dot(pc.cross, pc.cross);
-  pc.R = product(dot(NA, NA), dot(NB, NB));
+  // |n_A|^2 once: where no end root was stripped NA is n_A's numerator itself (the same product, the same bits).
+  const RationalPoly nA2 = WeightContext::dot(nA, nA);
+  pc.R = product(NA.degree() == nA.num.degree() ? nA2.num : dot(NA, NA), dot(NB, NB));
   pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
   pc.c1 = ctx.add(Bc, O, -1.0);
   pc.c2 = ctx.add(Bcc, Aoo, -1.0);
@@ -409,7 +411,6 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
   pc.L = L;
   pc.K = K;
   // D = (O x T) . nA = -|nA|^2 since nA = T x O.
-  const RationalPoly nA2 = WeightContext::dot(nA, nA);
   const RationalPoly D = WeightContext::scaled(nA2, -1.0);
   pc.D = D;
   const int estimate = lemma2Degree(A, B, pc.wa.degree(), pc.wb.degree());
@@ -559,6 +560,17 @@ struct Lemma1Piece {
     if (!(std::abs(d) > 0.0) || !std::isfinite(d)) return std::nullopt;
     return std::pair{val(pc->L) / d, val(pc->K) / d * scalarAt(dt, x)};
   }
+  /// lambda (kappa = false) or kappa alone at x, the same values as at(x) (the refinement needs one of them).
+  [[nodiscard]] std::optional<double> one(double x, bool kappa) const {
+    const double wa = scalarAt(pc->wa, x), wb = scalarAt(pc->wb, x);
+    auto val = [&](const RationalPoly& r) {
+      const double v = scalarAt(r.num, x);
+      return r.ea == 0 && r.eb == 0 ? v : v / (std::pow(wa, r.ea) * std::pow(wb, r.eb));
+    };
+    const double d = val(pc->D);
+    if (!(std::abs(d) > 0.0) || !std::isfinite(d)) return std::nullopt;
+    return kappa ? val(pc->K) / d * scalarAt(dt, x) : val(pc->L) / d;
+  }
 };
 
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
@@ -571,9 +583,9 @@ void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& 
     std::array<double, 4> best{-lmin, -lmin, -lmin, -lmin};  // -lambda, lambda, -kappa, kappa
     std::array<double, 4> where{0, 0, 0, 0};
     auto value = [&](int k, double x) {
-      const auto v = lp.at(x);
+      const auto v = lp.one(x, k >= 2);
       if (!v) return -std::numeric_limits<double>::infinity();
-      const double f = k < 2 ? v->first : v->second;
+      const double f = *v;
       return k % 2 == 0 ? -f : f;
     };
     for (int i = 0; i <= kLemma1Samples; ++i) {
@@ -723,10 +735,14 @@ std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool maste
                                     : hs.composed(local);
       }
       const BernsteinPoly masterParam = BernsteinPoly::linear(msp.lo + msp.length() * sa, msp.lo + msp.length() * sb);
+      // Without the G2 certificate (SeamOptions::certifyG2 = false) the Lemma 2 polynomials are not formed: nothing
+      // reads them then (g2Available only gates the G2 subdivision), and on biquintic seams they are most of the
+      // piece's products.
+      const int g2Degree = opt.certifyG2 ? opt.maxCertifiedDegree : -1;
       if (masterIsA)
-        out.push_back(buildPiece(XM, XS, master.rational, slave.rational, masterParam, mr, opt.maxCertifiedDegree));
+        out.push_back(buildPiece(XM, XS, master.rational, slave.rational, masterParam, mr, g2Degree));
       else
-        out.push_back(buildPiece(XS, XM, slave.rational, master.rational, mr, masterParam, opt.maxCertifiedDegree));
+        out.push_back(buildPiece(XS, XM, slave.rational, master.rational, mr, masterParam, g2Degree));
     }
   }
   return out;

@@ -116,17 +116,50 @@ HealPatch displacementOf(const Patch& before, const Patch& after, double thresho
                           std::abs(a.domainV().lo - b.domainV().lo) <= kt &&
                           std::abs(a.domainV().hi - b.domainV().hi) <= kt;
   bool bound = false;
+  constexpr int kGrid = 21;
+  bool sampled = false;
   if (sameDomain && a.degreeU() >= b.degreeU() && a.degreeV() >= b.degreeV()) {
-    const Displacement d = controlPointDisplacement(b, a, threshold);
-    hp.maxDisplacement = d.max;
-    hp.movedPoints = d.moved;
-    bound = std::isfinite(d.max) && !a.isRational() && !b.isRational();
+    if (!a.isRational() && !b.isRational()) {
+      // controlPointDisplacement's measures from one expression of `before` in `after`'s basis, which also gives the
+      // difference surface after - before: sampled once on the grid instead of sampling both surfaces.
+      const BSplineSurface ref = detail::expressedLike(b, a);
+      if (ref.numU() == a.numU() && ref.numV() == a.numV() && !ref.isRational()) {
+        const Matrix diff = a.points() - ref.points();
+        hp.maxDisplacement = 0.0;
+        hp.movedPoints = 0;
+        for (Eigen::Index r = 0; r < diff.rows(); ++r) {
+          const double dist = diff.row(r).norm();
+          hp.maxDisplacement = std::max(hp.maxDisplacement, dist);
+          if (dist > threshold) ++hp.movedPoints;  // polynomial: every weight is 1 on both sides
+        }
+        bound = std::isfinite(hp.maxDisplacement);
+        if (a.domainU() == b.domainU() && a.domainV() == b.domainV()) {
+          auto lattice = [](Interval iv) {
+            std::vector<double> t(static_cast<size_t>(kGrid));
+            for (int i = 0; i < kGrid; ++i) t[static_cast<size_t>(i)] = iv.lo + iv.length() * i / (kGrid - 1);
+            t.back() = iv.hi;
+            return t;
+          };
+          const BSplineSurface D(a.degreeU(), a.degreeV(), a.knotsU(), a.knotsV(), a.numU(), a.numV(), diff);
+          Matrix pd;
+          GridEvaluator(D, lattice(a.domainU()), lattice(a.domainV())).evaluate(&pd, nullptr, nullptr);
+          hp.maxSurfaceDisplacementSampled = pd.leftCols(3).rowwise().norm().maxCoeff();
+          sampled = true;
+        }
+      } else {
+        hp.maxDisplacement = std::numeric_limits<double>::infinity();
+        hp.movedPoints = static_cast<int>(a.points().rows());
+      }
+    } else {
+      const Displacement d = controlPointDisplacement(b, a, threshold);
+      hp.maxDisplacement = d.max;
+      hp.movedPoints = d.moved;
+    }
   } else {
     hp.maxDisplacement = std::numeric_limits<double>::infinity();
     hp.movedPoints = static_cast<int>(a.points().rows());
   }
-  constexpr int kGrid = 21;
-  hp.maxSurfaceDisplacementSampled = sampledSurfaceDistance(b, a, kGrid);
+  if (!sampled) hp.maxSurfaceDisplacementSampled = sampledSurfaceDistance(b, a, kGrid);
   hp.surfaceDisplacementCertified = bound;
   hp.maxSurfaceDisplacement = bound ? hp.maxDisplacement : hp.maxSurfaceDisplacementSampled;
   hp.maxSurfaceDisplacementRel = hp.maxSurfaceDisplacement / hp.size;
@@ -143,6 +176,9 @@ struct Candidate {
   double displacement = 0.0;     // largest surface displacement
   double displacementRel = 0.0;  // largest surface displacement relative to its patch's size
   std::vector<std::optional<SeamReport>> after;  // per seam of the region
+  /// The displacement of every patch of the region that differs from the input (model patch index, as
+  /// displacementOf gives it): the report's displacements of the chosen candidate, not computed a second time.
+  std::vector<std::pair<int, HealPatch>> displaced;
   std::string note;                              // why it is not acceptable, or the region's shortfall
 };
 
@@ -561,11 +597,12 @@ Candidate Healer::judge(const Model& m, std::string method, int region) const {
     if (a.surface.points() == b.surface.points() && a.surface.knotsU().values() == b.surface.knotsU().values() &&
         a.surface.knotsV().values() == b.surface.knotsV().values())
       continue;
-    const HealPatch d = displacementOf(b, a, kRoundoff * diag_);
+    HealPatch d = displacementOf(b, a, kRoundoff * diag_);
     c.changed = true;
     c.moved += d.movedPoints;
     c.displacement = std::max(c.displacement, d.maxSurfaceDisplacement);
     c.displacementRel = std::max(c.displacementRel, d.maxSurfaceDisplacementRel);
+    c.displaced.emplace_back(i, std::move(d));
   }
   // Seams left alone (design creases, wide gaps) with a side in the region: that side must not have moved.
   if (c.changed)
@@ -801,6 +838,7 @@ Result<HealResult> Healer::run() {
       lo.maxGap = maxGap_;
       lo.tolerances = tol_;
       lo.keepEdges = keepEdges;
+      lo.pairing = &pairing_;  // the same tolerances, gap limit and diagonal: not paired a second time
       l = localG1Scheme(model, lo);
     }
     if (!l) {
@@ -891,7 +929,7 @@ Result<HealResult> Healer::run() {
     const double successiveRel = compare ? b.displacementRel : -1.0;
     const int successiveAchieved = b.achieved;
     if (tryLocal && localCand[static_cast<size_t>(g)]) {
-      Candidate c = *localCand[static_cast<size_t>(g)];
+      Candidate c = std::move(*localCand[static_cast<size_t>(g)]);  // read once: no copy of every seam's report
       if (c.acceptable) localRel[static_cast<size_t>(g)] = c.displacementRel;
       if (compare && c.acceptable) {
         const bool localWins = better(c, b);
@@ -1031,14 +1069,23 @@ Result<HealResult> Healer::run() {
   }
   for (HealSeam& s : seams) rep.seams.push_back(std::move(s));
 
-  // Displacements.
+  // Displacements: a patch of the output is its region's chosen candidate's patch, whose displacement judge()
+  // measured already (the same two surfaces); computed here only where no candidate has it.
+  std::vector<HealPatch*> measured(static_cast<size_t>(np_), nullptr);
+  for (int g = 0; g < nr; ++g) {
+    Candidate& c = best[static_cast<size_t>(g)];
+    if (c.method == "none") continue;
+    for (auto& [i, hp] : c.displaced)
+      if (patchRegion_[static_cast<size_t>(i)] == g) measured[static_cast<size_t>(i)] = &hp;
+  }
   for (int i = 0; i < np_; ++i) {
     const Patch& b = model.patches[static_cast<size_t>(i)];
     const Patch& a = res.model.patches[static_cast<size_t>(i)];
     if (a.surface.points() == b.surface.points() && a.surface.knotsU().values() == b.surface.knotsU().values() &&
         a.surface.knotsV().values() == b.surface.knotsV().values())
       continue;
-    HealPatch hp = displacementOf(b, a, kRoundoff * diag_);
+    HealPatch hp = measured[static_cast<size_t>(i)] ? std::move(*measured[static_cast<size_t>(i)])
+                                                    : displacementOf(b, a, kRoundoff * diag_);
     hp.region = patchRegion_[static_cast<size_t>(i)];
     rep.patchesChanged.push_back(a.name);
     rep.maxDisplacement = std::max(rep.maxDisplacement, hp.maxDisplacement);

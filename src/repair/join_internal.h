@@ -49,6 +49,12 @@ CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDept
 /// joins and by the local scheme's corner and edge systems.
 Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
                                         const Eigen::VectorXd& w, double* residual = nullptr);
+/// The same problem from one decomposition: the particular solution (minimum norm, least squares on the rows when
+/// C is rank deficient) from the rank-revealing QR of C^T that gives the nullspace, and only the nullspace columns
+/// of Q formed, instead of a second decomposition of C and the whole of Q. Used by the local scheme's small corner
+/// and edge systems (issue 13 §2: they were most of the scheme's time); systems up to 48 x 48 without heap allocation.
+Eigen::VectorXd constrainedLeastSquaresQR(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
+                                          const Eigen::VectorXd& w, double* residual = nullptr);
 
 /// The fixed side of a seam as seen from the moving patch: polynomial pieces over intervals of the moving patch's
 /// own edge parameter u (homogeneous coordinates when `rational`). Cross derivatives are taken INTO the target with

@@ -118,6 +118,63 @@ Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::V
 
 namespace {
 
+/// constrainedLeastSquaresQR on matrices of type Mat (dynamic, or with a fixed largest size: no heap allocation).
+template <class Mat>
+Eigen::VectorXd nullspaceLeastSquares(const Eigen::MatrixXd& Cin, const Eigen::VectorXd& din,
+                                      const Eigen::VectorXd& x0in, const Eigen::VectorXd& weight, double* residual) {
+  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, Mat::MaxRowsAtCompileTime, 1>;
+  const Eigen::Index n = Cin.cols(), m = Cin.rows();
+  // C^T Pi = Q R (n x m), rank r at kIdentityRelTol: Pi^T C = R^T Q^T. The minimum-norm solution lies in the span of
+  // Q's first r columns, x = Q [y; 0], where R(0:r, :)^T y = Pi^T d (in the least-squares sense when r < m); the
+  // nullspace of C is spanned by Q's last n - r columns.
+  const Mat Ct = Cin.transpose();
+  Eigen::ColPivHouseholderQR<Mat> qr(Ct);
+  qr.setThreshold(kIdentityRelTol);
+  const Eigen::Index rank = qr.rank();
+  const Vec pd = qr.colsPermutation().transpose() * Vec(din);
+  Vec y = Vec::Zero(n);
+  if (rank == m) {
+    y.head(rank) = qr.matrixR().topLeftCorner(rank, rank).template triangularView<Eigen::Upper>().transpose().solve(pd);
+  } else if (rank > 0) {
+    const Mat Rt = qr.matrixR().topRows(rank).template triangularView<Eigen::Upper>().toDenseMatrix().transpose();
+    y.head(rank) = Eigen::HouseholderQR<Mat>(Rt).solve(pd);
+  }
+  Vec x = qr.householderQ() * y;
+  if (n - rank > 0) {
+    Mat Z = Mat::Zero(n, n - rank);
+    Z.bottomRows(n - rank).setIdentity();
+    Z.applyOnTheLeft(qr.householderQ());
+    const Vec w = weight;
+    const Mat A = w.asDiagonal() * Z;
+    const Vec b = w.asDiagonal() * (Vec(x0in) - x);
+    Eigen::CompleteOrthogonalDecomposition<Mat> cod(A);
+    cod.setThreshold(kIdentityRelTol);
+    x += Z * cod.solve(b);
+  }
+  Eigen::VectorXd out = x;
+  if (residual) *residual = (Cin * out - din).cwiseAbs().maxCoeff();
+  return out;
+}
+
+/// Systems up to this many unknowns and equations are solved without heap allocation.
+constexpr int kSmallSystem = 48;
+
+}  // namespace
+
+Eigen::VectorXd constrainedLeastSquaresQR(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
+                                          const Eigen::VectorXd& weight, double* residual) {
+  if (C.rows() == 0) {
+    if (residual) *residual = 0.0;
+    return x0;
+  }
+  if (C.rows() <= kSmallSystem && C.cols() <= kSmallSystem)
+    return nullspaceLeastSquares<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmallSystem, kSmallSystem>>(
+        C, d, x0, weight, residual);
+  return nullspaceLeastSquares<Eigen::MatrixXd>(C, d, x0, weight, residual);
+}
+
+namespace {
+
 /// The Bezier pieces of a polynomial B-spline curve (homogeneous coefficients stay as they are).
 std::vector<std::pair<Interval, BernsteinPoly>> piecesOf(const BSplineCurve& c) {
   std::vector<double> k = c.knots().values();

@@ -206,8 +206,13 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
   }
 
   // ---- 2. topology: seams between chosen patches, vertices with their cyclic order.
-  auto pairing = pairEdgesWithin(model, tol, maxGap, diag);
-  if (!pairing) return pairing.status();
+  std::optional<EdgePairing> own;
+  if (!opt.pairing) {
+    auto paired = pairEdgesWithin(model, tol, maxGap, diag);
+    if (!paired) return paired.status();
+    own = std::move(*paired);
+  }
+  const EdgePairing* pairing = opt.pairing ? opt.pairing : &*own;
   for (const DegenerateEdge& d : pairing->degenerateEdges)
     if (local.count(d.edge.patch))
       return unsupported(fmt::format("patch \"{}\" has a collapsed edge {} (a pole)",
@@ -560,7 +565,7 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
       if (evenCorrection) w[3 * nc + ni + r] = opt.curvatureWeight;
     }
     double resid = 0.0;
-    const Eigen::VectorXd x = detail::constrainedLeastSquares(C, d, x0, w, &resid);
+    const Eigen::VectorXd x = detail::constrainedLeastSquaresQR(C, d, x0, w, &resid);
     double scale = d.cwiseAbs().maxCoeff();
     for (const VertexEdge& ve : v.edges) scale = std::max(scale, ve.t.norm());
     const double rel = resid / std::max(scale, std::numeric_limits<double>::min());
@@ -634,9 +639,14 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
         Grid& g = grid[static_cast<size_t>(s.patch)];
         for (int x = 0; x <= 4; ++x) g.set(s, 0, x, row0[static_cast<size_t>(end)].row(x).transpose());
       }
-    // Unknowns: row-1 points x = 2, 3, 4 for side s, end e: index ((s * 2 + e) * 3 + (x - 2)) * 3 + c; then g.
-    const int nUnk = 12 * 3 + 1;
-    auto col = [](int s, int e, int x, int c) { return ((s * 2 + e) * 3 + (x - 2)) * 3 + c; };
+    // Unknowns: row-1 points x = 2, 3, 4 of side s at end e, b(s, e, x), and g, with the smallest change
+    // sum |b(s, e, x) - t(s, e, x)|^2 of the cross-boundary vectors (targets t). Every equation reads the two sides
+    // through their sum sigma(e, x) = b(0, e, x) + b(1, e, x) only, and for a given sum that change is smallest at
+    // b(s) = t(s) + (sigma - t(0) - t(1)) / 2 (it is then |sigma - t(0) - t(1)|^2 / 2): the system is solved for
+    // sigma (index (e * 3 + (x - 2)) * 3 + c) and g, half the unknowns.
+    const int nUnk = 6 * 3 + 1;
+    auto col = [](int e, int x, int c) { return (e * 3 + (x - 2)) * 3 + c; };
+    std::array<std::array<std::array<Vec3, 3>, 2>, 2> target;  // [s][e][x - 2]
     Eigen::MatrixXd Cm = Eigen::MatrixXd::Zero(2 * 4 * 3, nUnk);
     Eigen::VectorXd d = Eigen::VectorXd::Zero(2 * 4 * 3), x0 = Eigen::VectorXd::Zero(nUnk), w = Eigen::VectorXd::Zero(nUnk);
     for (int s = 0; s < 2; ++s)
@@ -647,10 +657,11 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
         const Matrix oldRow0 = halfRow(go, sl, 0);
         for (int x = 2; x <= 4; ++x) {
           // Keep the cross-boundary vector: target = new row 0 + (old row 1 - old row 0).
-          const Vec3 target = row0[static_cast<size_t>(e)].row(x).transpose() + go.at(sl, 1, x) - oldRow0.row(x).transpose();
+          const Vec3 t = row0[static_cast<size_t>(e)].row(x).transpose() + go.at(sl, 1, x) - oldRow0.row(x).transpose();
+          target[static_cast<size_t>(s)][static_cast<size_t>(e)][static_cast<size_t>(x - 2)] = t;
           for (int c = 0; c < 3; ++c) {
-            x0[col(s, e, x, c)] = target[c];
-            w[col(s, e, x, c)] = 1.0;
+            x0[col(e, x, c)] += t[c];
+            w[col(e, x, c)] = 1.0;
           }
         }
       }
@@ -661,19 +672,38 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
         for (int c = 0; c < 3; ++c) {
           double rhs = gk[static_cast<size_t>(e)](k, c);
           Cm(row + c, nUnk - 1) = -gg[static_cast<size_t>(e)](k, c);
-          for (int s = 0; s < 2; ++s) {
-            if (k <= 4) {
-              Cm(row + c, col(s, e, k, c)) += kDeg;
-            } else {
-              Cm(row + c, col(s, e, 4, c)) += 0.5 * kDeg;
-              Cm(row + c, col(s, 1 - e, 4, c)) += 0.5 * kDeg;
-            }
-            rhs += kDeg * row0[static_cast<size_t>(e)](k, c);
+          if (k <= 4) {
+            Cm(row + c, col(e, k, c)) += kDeg;
+          } else {
+            Cm(row + c, col(e, 4, c)) += 0.5 * kDeg;
+            Cm(row + c, col(1 - e, 4, c)) += 0.5 * kDeg;
           }
+          for (int s = 0; s < 2; ++s) rhs += kDeg * row0[static_cast<size_t>(e)](k, c);
           d[row + c] = rhs;
         }
+    const Eigen::VectorXd x = detail::constrainedLeastSquaresQR(Cm, d, x0, w);
+    std::array<std::array<std::array<Vec3, 3>, 2>, 2> b;  // [s][e][x - 2]
+    for (int e = 0; e < 2; ++e)
+      for (int xx = 2; xx <= 4; ++xx) {
+        const size_t ue = static_cast<size_t>(e), ux = static_cast<size_t>(xx - 2);
+        const Vec3 sigma(x[col(e, xx, 0)], x[col(e, xx, 1)], x[col(e, xx, 2)]);
+        const Vec3 half = 0.5 * (sigma - target[0][ue][ux] - target[1][ue][ux]);
+        for (size_t s = 0; s < 2; ++s) b[s][ue][ux] = target[s][ue][ux] + half;
+      }
+    // The residual of the equations in the points themselves (as written to the grids).
     double resid = 0.0;
-    const Eigen::VectorXd x = detail::constrainedLeastSquares(Cm, d, x0, w, &resid);
+    row = 0;
+    for (int e = 0; e < 2; ++e)
+      for (int k = 2; k <= 5; ++k, row += 3)
+        for (int c = 0; c < 3; ++c) {
+          const size_t ue = static_cast<size_t>(e), uo = static_cast<size_t>(1 - e);
+          double lhs = Cm(row + c, nUnk - 1) * x[nUnk - 1];
+          for (size_t s = 0; s < 2; ++s) {
+            if (k <= 4) lhs += kDeg * b[s][ue][static_cast<size_t>(k - 2)][c];
+            else lhs += 0.5 * kDeg * b[s][ue][2][c] + 0.5 * kDeg * b[s][uo][2][c];
+          }
+          resid = std::max(resid, std::abs(lhs - d[row + c]));
+        }
     double scale = d.cwiseAbs().maxCoeff();
     scale = std::max(scale, (P[1] - P[0]).norm());
     edgeResidualMax = std::max(edgeResidualMax, resid / std::max(scale, std::numeric_limits<double>::min()));
@@ -683,7 +713,7 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
         if (e == 1) sl.end = 1 - sl.end;
         Grid& g = grid[static_cast<size_t>(sl.patch)];
         for (int xx = 2; xx <= 4; ++xx)
-          g.set(sl, 1, xx, Vec3(x[col(s, e, xx, 0)], x[col(s, e, xx, 1)], x[col(s, e, xx, 2)]));
+          g.set(sl, 1, xx, b[static_cast<size_t>(s)][static_cast<size_t>(e)][static_cast<size_t>(xx - 2)]);
       }
   }
   if (!(edgeResidualMax <= detail::kConstraintRelTol))

@@ -31,6 +31,8 @@
 
 namespace seam {
 
+struct EdgePairing;  // seam/continuity/model_check.h
+
 struct LocalSchemeOptions {
   /// Patches to work on (indices into Model::patches); empty: every patch. Seams between a chosen patch and one
   /// that is not chosen are treated as free edges (they stay where they are).
@@ -48,6 +50,9 @@ struct LocalSchemeOptions {
   std::optional<Tolerances> tolerances;
   /// Weight of the curvature points against the twist points in the even-valence correction (1: equal).
   double curvatureWeight = 1.0;
+  /// The model's edge pairing, when the caller has it already (heal): it must be pairEdgesWithin(model, tol, maxGap,
+  /// diagonal) with the tolerances, gap limit and bounding-box diagonal the scheme uses. nullptr: paired here.
+  const EdgePairing* pairing = nullptr;
 };
 
 /// One vertex of the network as the scheme saw it.
