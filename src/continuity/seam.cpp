@@ -536,8 +536,27 @@ double scalarAt(const BernsteinPoly& p, double x) {
   if (x >= 1.0) return c[n];
   const bool mirror = x > 0.5;
   const double y = mirror ? 1.0 - x : x, s = y / (1.0 - y);
-  // sum_i c_i C(n, i) s^i from the top: C(n, i - 1) = C(n, i) i / (n - i + 1).
+  // sum_i c_i C(n, i) s^i from the top: C(n, i - 1) = C(n, i) i / (n - i + 1). Up to kScalarAtTableDegree the
+  // factors come from a table filled by the same recurrence (the same bits), which takes the chain of divisions
+  // out of the loop (most of its time: the Lemma 1 refinement evaluates degree-18 numerators thousands of times).
+  constexpr int kScalarAtTableDegree = 64;
+  static const std::vector<double> table = [] {
+    std::vector<double> t(static_cast<size_t>((kScalarAtTableDegree + 1) * (kScalarAtTableDegree + 1)), 0.0);
+    for (int m = 1; m <= kScalarAtTableDegree; ++m) {
+      double b = 1.0;
+      for (int i = m; i >= 1; --i) {
+        b = b * i / (m - i + 1);
+        t[static_cast<size_t>(m * (kScalarAtTableDegree + 1) + i)] = b;
+      }
+    }
+    return t;
+  }();
   double acc = mirror ? c[0] : c[n], binom = 1.0;
+  if (n <= kScalarAtTableDegree) {
+    const double* row = table.data() + static_cast<size_t>(n) * (kScalarAtTableDegree + 1);
+    for (int i = n; i >= 1; --i) acc = acc * s + row[i] * (mirror ? c[n - i + 1] : c[i - 1]);
+    return acc * std::pow(1.0 - y, n);
+  }
   for (int i = n; i >= 1; --i) {
     binom = binom * i / (n - i + 1);
     acc = acc * s + binom * (mirror ? c[n - i + 1] : c[i - 1]);

@@ -401,6 +401,10 @@ BernsteinPoly BernsteinPoly::fromPowerBasis(const VecX& a) {
 
 VecX BernsteinPoly::operator()(double t) const { return deCasteljau(c_, t); }
 
+// Unvectorised, as subdivideScalar (each level reads the previous level's stores one coefficient over): the same bits.
+#if defined(__GNUC__) && !defined(__clang__)
+[[gnu::optimize("no-tree-vectorize")]]
+#endif
 double BernsteinPoly::scalar(double t) const {
   assert(dim() == 1);
   const int n = degree();

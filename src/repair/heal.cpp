@@ -103,6 +103,60 @@ double edgeMovement(const BSplineSurface& before, const BSplineSurface& after, E
   return d;
 }
 
+/// Basis values of one direction of a polynomial B-spline at the lattice of `grid` equally spaced parameters of its
+/// domain (sampledSurfaceDistance's lattice): per lattice line the first non-zero function and the p + 1 values.
+struct LatticeBasis {
+  std::vector<double> knots;
+  int degree = -1;
+  std::vector<int> first;
+  Matrix values;
+};
+
+/// The lattice basis of (knots, degree), computed once per distinct knot vector and degree (a heal's patches share a
+/// few: the scheme's output all have {0^6, 1/2^4, 1^6}); a small per-thread cache of the last ones.
+const LatticeBasis& latticeBasis(const KnotVector& kv, int p, int grid) {
+  thread_local std::vector<LatticeBasis> cache;
+  for (const LatticeBasis& b : cache)
+    if (b.degree == p && static_cast<Eigen::Index>(b.first.size()) == grid && b.knots == kv.values()) return b;
+  if (cache.size() >= 8) cache.erase(cache.begin());
+  LatticeBasis b;
+  b.knots = kv.values();
+  b.degree = p;
+  b.first.resize(static_cast<size_t>(grid));
+  b.values.resize(grid, p + 1);
+  const Interval iv = kv.domain(p);
+  for (int a = 0; a < grid; ++a) {
+    const double t = a + 1 == grid ? iv.hi : iv.lo + iv.length() * a / (grid - 1);
+    const int span = kv.findSpan(p, t);
+    b.values.row(a) = basisFunctionDerivatives(kv, p, span, t, 0).row(0);
+    b.first[static_cast<size_t>(a)] = span - p;
+  }
+  cache.push_back(std::move(b));
+  return cache.back();
+}
+
+/// Largest |D(u, v)| over the grid x grid lattice of D's domain, D the polynomial B-spline (degrees p, q, knots ku,
+/// kv, nv control points per u-row, row i * nv + j of `points`): per lattice u-line the blend of the p + 1 control
+/// rows, then per lattice point the q + 1 values of it.
+double latticeMaxNorm(const KnotVector& ku, const KnotVector& kv, int p, int q, int nv, const Matrix& points,
+                      int grid) {
+  const LatticeBasis bu = latticeBasis(ku, p, grid);  // copies: the second look-up may grow the cache
+  const LatticeBasis bv = latticeBasis(kv, q, grid);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> row(nv, 3);
+  double best = 0.0;
+  for (int a = 0; a < grid; ++a) {
+    row.setZero();
+    for (int r = 0; r <= p; ++r)
+      row += bu.values(a, r) * points.middleRows((bu.first[static_cast<size_t>(a)] + r) * nv, nv);
+    for (int b = 0; b < grid; ++b) {
+      Vec3 v = Vec3::Zero();
+      for (int c = 0; c <= q; ++c) v += bv.values(b, c) * row.row(bv.first[static_cast<size_t>(b)] + c).transpose();
+      best = std::max(best, v.norm());
+    }
+  }
+  return best;
+}
+
 /// How far `after` moved from `before` (see HealPatch).
 HealPatch displacementOf(const Patch& before, const Patch& after, double threshold) {
   HealPatch hp;
@@ -133,17 +187,9 @@ HealPatch displacementOf(const Patch& before, const Patch& after, double thresho
           if (dist > threshold) ++hp.movedPoints;  // polynomial: every weight is 1 on both sides
         }
         bound = std::isfinite(hp.maxDisplacement);
-        if (a.domainU() == b.domainU() && a.domainV() == b.domainV()) {
-          auto lattice = [](Interval iv) {
-            std::vector<double> t(static_cast<size_t>(kGrid));
-            for (int i = 0; i < kGrid; ++i) t[static_cast<size_t>(i)] = iv.lo + iv.length() * i / (kGrid - 1);
-            t.back() = iv.hi;
-            return t;
-          };
-          const BSplineSurface D(a.degreeU(), a.degreeV(), a.knotsU(), a.knotsV(), a.numU(), a.numV(), diff);
-          Matrix pd;
-          GridEvaluator(D, lattice(a.domainU()), lattice(a.domainV())).evaluate(&pd, nullptr, nullptr);
-          hp.maxSurfaceDisplacementSampled = pd.leftCols(3).rowwise().norm().maxCoeff();
+        if (a.domainU() == b.domainU() && a.domainV() == b.domainV() && diff.cols() == 3) {
+          hp.maxSurfaceDisplacementSampled =
+              latticeMaxNorm(a.knotsU(), a.knotsV(), a.degreeU(), a.degreeV(), a.numV(), diff, kGrid);
           sampled = true;
         }
       } else {
