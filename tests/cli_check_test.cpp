@@ -166,6 +166,30 @@ TEST_F(CliCheck, BadInputExitsWith2) {
   EXPECT_EQ(runSeam("check").exitCode, 2);
 }
 
+// --threads (issue 16 goal 3): the JSON report is byte for byte the same on one thread and on two (the hinge model's
+// seven seams, creases, a gap and a kink, and the G1-only pair); a negative, huge or non-numeric count exits 2.
+TEST_F(CliCheck, ThreadsOptionGivesTheSameReportAndRefusesBadCounts) {
+  const std::string hinges = (dir_ / "hinges.json").string();
+  ASSERT_TRUE(io::writeModelJson(test::hingeModel({10.0, 45.0, 90.0, 150.0, 0.0, 0.0, 3.0},
+                                                  {0.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0}),
+                                 hinges)
+                  .isOk());
+  for (const std::string& file : {model_, hinges}) {
+    const CliRun one = runSeam("check \"" + file + "\" --json --threads 1");
+    const CliRun two = runSeam("check \"" + file + "\" --json --threads 2");
+    const CliRun all = runSeam("check \"" + file + "\" --json --threads 0");
+    ASSERT_EQ(one.exitCode, 0) << file;
+    EXPECT_GT(one.out.size(), 100u);
+    EXPECT_EQ(one.out, two.out) << file;
+    EXPECT_EQ(one.out, all.out) << file;
+  }
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --threads -1").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --threads 100000").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --threads two").exitCode, 2);
+  const CliRun msg = runSeam("check \"" + model_ + "\" --threads -1", true);
+  EXPECT_NE(msg.out.find("--threads"), std::string::npos) << msg.out;
+}
+
 // Issue 17 §1: hinges at 10, 45, 90 and 150 degrees, a flat seam with a gap of 0.01, a G2 seam and a 3-degree kink.
 // With the default crease angle (20 deg) the 45/90/150-degree seams are design creases, listed apart; the problems
 // are the two kinks and the gap.

@@ -227,6 +227,77 @@ TEST(Corner, SplitBSplineSurfaceIsC2AtTheVertex) {
   EXPECT_NE(fp.seams[0].lambda, 1.0);
 }
 
+// The corner jets of polynomial patches clamped at the corner are read from their 3 x 3 corner control points
+// (issue 16 goal 2); every other patch is evaluated (basis functions, NURBS Book A2.3 / A4.4). The same four
+// B-spline patches once polynomial and once as rational patches with unit weights (the evaluator's route) must give
+// the same report: random control points on a 2 x 2 layout whose patches share their boundary rows (a G0 vertex
+// where no relation vanishes), non-uniform clamped knots with interior knots, the vertex at the low end of some
+// patches' parameters and at the high end of others', degrees 2 to 4, domains away from [0, 1].
+TEST(Corner, CornerJetsFromTheControlNetAgreeWithTheEvaluator) {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2), cut(0.2, 0.8);
+  for (const int p : {2, 3, 4}) {
+    const int m = p + 2;  // control points per patch and direction: m + 1 (two interior knots)
+    std::vector<std::vector<Vec3>> grid(static_cast<size_t>(2 * m + 1), std::vector<Vec3>(static_cast<size_t>(2 * m + 1)));
+    for (int i = 0; i <= 2 * m; ++i)
+      for (int j = 0; j <= 2 * m; ++j)
+        grid[static_cast<size_t>(i)][static_cast<size_t>(j)] =
+            Vec3(i + jitter(rng), j + jitter(rng), 0.3 * std::sin(0.7 * i + 0.4 * j) + jitter(rng));
+    auto knots = [&](double lo, double hi) {  // clamped, two interior knots, non-uniform
+      double a = cut(rng), b = cut(rng);
+      if (a > b) std::swap(a, b);
+      if (b - a < 0.1) b = std::min(0.95, a + 0.1);
+      std::vector<double> k(static_cast<size_t>(p + 1), lo);
+      k.push_back(lo + a * (hi - lo));
+      k.push_back(lo + b * (hi - lo));
+      for (int i = 0; i <= p; ++i) k.push_back(hi);
+      return k;
+    };
+    const std::array<std::vector<double>, 2> ku = {knots(-1.0, 2.5), knots(0.3, 0.9)};
+    const std::array<std::vector<double>, 2> kv = {knots(5.0, 7.0), knots(-3.0, -2.0)};
+    std::vector<Patch> poly, rational;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        Matrix pts((m + 1) * (m + 1), 3);
+        for (int i = 0; i <= m; ++i)
+          for (int j = 0; j <= m; ++j)
+            pts.row(i * (m + 1) + j) = grid[static_cast<size_t>(a * m + i)][static_cast<size_t>(b * m + j)].transpose();
+        const auto make = [&](VecX w) {
+          return BSplineSurface::create(p, p, ku[static_cast<size_t>(a)], kv[static_cast<size_t>(b)], m + 1, m + 1,
+                                        pts, std::move(w))
+              .value();
+        };
+        poly.push_back({"P", PatchKind::kBSpline, make({})});
+        rational.push_back({"R", PatchKind::kBSpline, make(VecX::Ones((m + 1) * (m + 1)))});
+      }
+    const Vec3 V = grid[static_cast<size_t>(m)][static_cast<size_t>(m)];
+    const CornerReport rp = analyze(poly, V), rr = analyze(rational, V);
+    ASSERT_EQ(rp.valence, 4) << "degree " << p;
+    ASSERT_TRUE(rp.fourPatch.has_value() && rr.fourPatch.has_value());
+    EXPECT_GT(*rp.normalSpreadDeg, 1.0) << "a G0 vertex, not a smooth one";
+    constexpr double kTol = 1e-9;
+    auto near = [&](double x, double y, const char* what) {
+      EXPECT_NEAR(x, y, kTol * std::max(1.0, std::abs(y))) << what << ", degree " << p;
+    };
+    near(*rp.normalSpreadDeg, *rr.normalSpreadDeg, "normal spread");
+    ASSERT_EQ(rp.curvatureSpread.has_value(), rr.curvatureSpread.has_value());
+    if (rp.curvatureSpread) near(*rp.curvatureSpread, *rr.curvatureSpread, "curvature spread");
+    near(rp.cornerGap, rr.cornerGap, "corner gap");
+    for (size_t k = 0; k < 4; ++k)
+      near(rp.fourPatch->g1Relations[k], rr.fourPatch->g1Relations[k], "Theorem 1 relation");
+    for (size_t k = 0; k < 4; ++k) {
+      const VertexSeam& x = rp.fourPatch->seams[k];
+      const VertexSeam& y = rr.fourPatch->seams[k];
+      near(x.lambda, y.lambda, "lambda");
+      near(x.kappa, y.kappa, "kappa");
+      near(x.dLambda, y.dLambda, "lambda'");
+      near(x.dKappa, y.dKappa, "kappa'");
+      near(x.g1Residual, y.g1Residual, "G1 residual");
+      near(x.g2Jump, y.g2Jump, "G2 jump");
+    }
+  }
+}
+
 TEST(Corner, ShearedParallelogramsHaveKnownLambdaKappa) {
   // Affine sectors: every seam is G-infinity, lambda and kappa are constants that solve 2-D linear systems in
   // the parameter plane (derived in johansson.md, "a worked example"):

@@ -43,7 +43,11 @@ struct CheckOptions {
   std::string sort = "file";
   std::optional<size_t> top;
   std::string only;  // "" (all) or "problems"
+  std::optional<int> threads;  // --threads: 0 = all hardware threads; unset = each check's own default
 };
+
+/// Largest --threads accepted (more than any machine seam runs on; a typo such as 1e9 is refused, not obeyed).
+constexpr int kMaxCliThreads = 1024;
 
 /// The listing choices (--crease-angle, --sort, --top, --only); nullopt (with the message on stderr) when one is
 /// wrong.
@@ -308,6 +312,7 @@ std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, co
 int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require, const SeamSelection& sel) {
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
+  if (o.threads) bo.threads = *o.threads;
   bo.progress = brepProgressPrinter(o.file);
   const Result<occt::BRepCheckReport> r = [&] {
     const CadTimeLimit limit(o.file, "reading and checking");
@@ -397,6 +402,10 @@ int runCheck(const CheckOptions& o) {
     }
   }
   if (!validToleranceOptions(o.tol)) return kExitBadInput;
+  if (o.threads && (*o.threads < 0 || *o.threads > kMaxCliThreads)) {
+    printError(fmt::format("--threads must be 0 (all hardware threads) or a count from 1 to {}", kMaxCliThreads));
+    return kExitBadInput;
+  }
   const std::optional<SeamSelection> sel = parseSelection(o);
   if (!sel) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
@@ -455,6 +464,7 @@ int runCheck(const CheckOptions& o) {
   } else {
     ModelCheckOptions mo;
     mo.tolerances = tol;
+    if (o.threads) mo.threads = *o.threads;
     mo.require = require;
     if (model->patches.size() > kProgressPatches)
       std::cerr << fmt::format("seam: checking {} patches (pairing, seams in parallel, corners)...\n",
@@ -500,6 +510,10 @@ void addCheck(CLI::App& app, int& exit) {
   cmd->add_option("--only", options->only, "problems: list only gaps and kinks (and failed analyses)");
   cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
   cmd->add_flag("--json", options->json, "Print JSON instead of tables");
+  cmd->add_option("--threads", options->threads,
+                  "Threads for the check: 0 = all hardware threads (the default for patch models), 1 = one core "
+                  "(the default for STEP/IGES B-rep edges); the report is the same for every value")
+      ->type_name("N");
   cmd->add_flag("--patches", options->patches,
                 "STEP/IGES: check the faces as patches (natural boundaries, certified) instead of the B-rep edges");
   cmd->footer("Exit codes: 0 ok, 1 some seam is below --require, 2 bad usage or input.");

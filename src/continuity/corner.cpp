@@ -51,7 +51,67 @@ Vec2 cornerUV(const BSplineSurface& s, const PatchCorner& c) {
   return {c.uMax ? du.hi : du.lo, c.vMax ? dv.hi : dv.lo};
 }
 
+/// Weights of the first three control points (counted from the corner's end of the knot vector) in the value and the
+/// first two derivatives at that end of a B-spline of degree p whose knots are clamped there: w[k][i] is the weight
+/// of point i in the k-th derivative (i = 0, 1, 2; derivative control points, The NURBS Book eq. 3.8, at a clamped
+/// end). false when the end is not clamped (the caller evaluates instead).
+bool clampedEndWeights(const KnotVector& kv, int p, bool atEnd, std::array<std::array<double, 3>, 3>& w) {
+  const std::vector<double>& U = kv.values();
+  const int m = static_cast<int>(U.size()) - 1;
+  // Knot t_i counted from the corner's end, reflected at the far end (t -> -t) so that one formula serves both.
+  auto t = [&](int i) { return atEnd ? -U[static_cast<size_t>(m - i)] : U[static_cast<size_t>(i)]; };
+  for (int i = 1; i <= p; ++i)
+    if (t(i) != t(0)) return false;
+  if (p < 1 || m < 2 * p + 1) return false;
+  w = {};
+  w[0][0] = 1.0;
+  const double a1 = p / (t(p + 1) - t(1));
+  w[1][0] = -a1;
+  w[1][1] = a1;
+  if (p >= 2) {
+    const double b1 = p / (t(p + 2) - t(2));  // Q_1 = b1 (P_2 - P_1), Q_0 = a1 (P_1 - P_0)
+    const double c = (p - 1) / (t(p + 1) - t(2));  // R_0 = c (Q_1 - Q_0)
+    w[2][0] = c * a1;
+    w[2][1] = -c * (a1 + b1);
+    w[2][2] = c * b1;
+  }
+  if (atEnd) {  // d/dt of the reflected parameter is -d/dt: the odd derivative changes sign
+    for (double& x : w[1]) x = -x;
+  }
+  return true;
+}
+
 Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
+  // A polynomial patch clamped at the corner (every Bezier patch, almost every B-spline patch): the jet straight
+  // from the 3 x 3 control points at the corner, without span search and basis functions.
+  std::array<std::array<double, 3>, 3> wu{}, wv{};
+  if (!s.isRational() && clampedEndWeights(s.knotsU(), s.degreeU(), c.uMax, wu) &&
+      clampedEndWeights(s.knotsV(), s.degreeV(), c.vMax, wv)) {
+    const int nu = s.numU(), nv = s.numV();
+    const int ku = std::min(3, nu), kv = std::min(3, nv);
+    Vec3 P[3][3];
+    for (int a = 0; a < ku; ++a)
+      for (int b = 0; b < kv; ++b)
+        P[a][b] = s.point(c.uMax ? nu - 1 - a : a, c.vMax ? nv - 1 - b : b).transpose().head<3>();
+    auto mix = [&](int du, int dv) -> Vec3 {
+      Vec3 r = Vec3::Zero();
+      for (int a = 0; a < ku; ++a)
+        for (int b = 0; b < kv; ++b) {
+          const double f = wu[static_cast<size_t>(du)][static_cast<size_t>(a)] *
+                           wv[static_cast<size_t>(dv)][static_cast<size_t>(b)];
+          if (f != 0.0) r += f * P[a][b];
+        }
+      return r;
+    };
+    Jet j;
+    j.p = P[0][0];
+    j.u = mix(1, 0);
+    j.v = mix(0, 1);
+    j.uu = mix(2, 0);
+    j.uv = mix(1, 1);
+    j.vv = mix(0, 2);
+    return j;
+  }
   const Vec2 uv = cornerUV(s, c);
   std::array<Vec3, 6> d;
   s.secondOrderDerivatives(uv.x(), uv.y(), d);  // allocation-free (3-D surfaces are checked before)

@@ -254,11 +254,9 @@ struct PointMeasures {
   bool curvatureOk = true;  // the chart is well conditioned: curvatures, lambda, kappa were measured
 };
 
-// sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise. shared: the seam shares its control rows
-// (sharedRowBounds certified B_0 = A_0, B_1 = lambda A_out, B_2 = lambda^2 A_oo up to rounding, with G1 and G2 bounds
-// at round-off level): the angle and the curvature jump, zero in exact arithmetic, are not sampled (0 instead of
-// their round-off) and the curvature is A's (B's equals it up to rounding); every other measure as for any seam.
-PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn, bool shared = false) {
+// sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise. (Seams that share their control rows take
+// measureSharedAt instead, except for the plots' dense samples.)
+PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
   std::array<Vec3, 6> da, db;  // S, S_u, S_v, S_uu, S_uv, S_vv
   // The same one-sided limit on both sides at a breakpoint: from the left along A's edge, which is from the right
   // along B's when B runs the other way (a mirrored neighbour).
@@ -286,7 +284,7 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
     m.normalsOk = m.curvatureOk = false;
     return m;
   }
-  if (!shared) m.g1 = std::atan2(uA->cross(*uB).norm(), uA->dot(*uB));
+  m.g1 = std::atan2(uA->cross(*uB).norm(), uA->dot(*uB));
   if (!(la > 0.0) || !(lb > 0.0) || chartConditioning(T, O) < kCurvatureChartRel ||
       chartConditioning(Bt, Bc) < kCurvatureChartRel) {
     m.curvatureOk = false;  // next to a pole: the direction is its limit, curvatures are not measured here
@@ -303,13 +301,63 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
   // Shape operators in A's frame (e1 along the seam, e2 = n x e1), each side with its consistently oriented normal.
   const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
   const Eigen::Matrix2d SA = shapeInFrame(da[1], da[2], da[3], da[4], da[5], nhA, e1, e2);
-  if (shared) {
-    m.curvature = spectralNorm(SA);
-    return m;
-  }
   const Eigen::Matrix2d SB = shapeInFrame(db[1], db[2], db[3], db[4], db[5], nhB, e1, e2);
   m.g2 = spectralNorm(SB - SA);
   m.curvature = std::max(spectralNorm(SA), spectralNorm(SB));
+  return m;
+}
+
+/// The boundary point of a side at t (row 0 only), with the span chosen as edgeJet chooses it: the same bits as
+/// edgeJet's value.
+Vec3 edgePoint(const Side& s, double t, bool fromRight) {
+  size_t k = static_cast<size_t>(spanIndex(s, t));
+  const double snap = kKnotRelTol * s.dom.length();
+  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
+  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
+  const Interval span = s.spans[k];
+  const double x = (t - span.lo) / span.length();
+  std::array<Eigen::Vector4d, 3> j0;
+  bernsteinJet(s.coeff(0, k, 0), s.degree, s.hd, s.rowStride(), x, 0, j0);
+  if (!s.rational) return j0[0].head<3>();
+  return Vec3(j0[0].head<3>() / j0[0][3]);
+}
+
+/// measureAt on a seam whose rows sharedRowBounds certified (B_0 = A_0, B_1 = lambda A_out, B_2 = lambda^2 A_oo up
+/// to rounding, one constant lambda): B's derivatives are not evaluated. The gap is measured (B's boundary point
+/// from its own row); lambda, kappa = 0, the Lemma 2 residual = 0 and the C1/C2 mismatches |lambda - 1| |A_out|,
+/// |lambda^2 - 1| |A_oo| are the identities' exact values (docs/algorithms/seam-measures.md, "Seams that share their
+/// control rows"); the angle and the curvature jump, zero in exact arithmetic, are 0 (not their round-off) and the
+/// curvature is A's (B's equals it up to rounding).
+PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, double sgn, double lambda) {
+  std::array<Vec3, 6> da;
+  edgeJet(A, t, da);
+  PointMeasures m;
+  const Vec3 a = da[0], T = da[2], O = -da[1];
+  const Vec3 Aoo = da[3], Aot = -da[4], Att = da[5];
+  m.point = a;
+  m.g0 = (a - edgePoint(B, s, sgn < 0.0)).norm();
+  const double oNorm = O.norm(), aooNorm = Aoo.norm();
+  m.c1 = std::abs(lambda - 1.0) * oNorm;
+  m.c2 = std::abs(lambda * lambda - 1.0) * aooNorm;
+  m.c1Scale = std::max(1.0, lambda) * oNorm;
+  m.c2Scale = std::max(1.0, lambda * lambda) * aooNorm;
+  auto sideOf = [](const Interval& d, double x) { return x - d.lo <= d.hi - x ? 1.0 : -1.0; };
+  const std::optional<Vec3> uA = limitNormal(T, O, Att, Aot, sideOf(A.dom, t));
+  const Vec3 nA = T.cross(O);
+  const double la = nA.norm();
+  if (!uA || !(T.norm() > 0.0)) {
+    m.normalsOk = m.curvatureOk = false;
+    return m;
+  }
+  if (!(la > 0.0) || chartConditioning(T, O) < kCurvatureChartRel) {
+    m.curvatureOk = false;
+    return m;
+  }
+  m.lambda = lambda;
+  m.kappa = 0.0;
+  const Vec3 nhA = nA / la;
+  const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
+  m.curvature = spectralNorm(shapeInFrame(da[1], da[2], da[3], da[4], da[5], nhA, e1, e2));
   return m;
 }
 
@@ -856,6 +904,7 @@ struct SharedRowBounds {
   double g1 = 0.0;  // certified angle bound, radians
   double g2 = 0.0;  // certified bound of the G2 quotient (as g2Bound)
   double c1 = 0.0, c2 = 0.0;  // largest coefficient of B'_u - A_out and B'_uu - A'_uu (parametric identities)
+  double lambda = 1.0;        // the constant of B_1 = lambda A_out (least squares over the first rows)
 };
 
 /// Bounds of a seam whose two sides are polynomial, share their Bezier spans along the edge (same degree, same
@@ -956,6 +1005,7 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
   }
   if (!(nMin > 0.0)) return std::nullopt;
   SharedRowBounds r;
+  r.lambda = lambda;
   r.g0 = d0 * kSharedRowSafety;
   r.c1 = c1;
   r.c2 = c2;
@@ -1230,7 +1280,9 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   S.m.reserve(S.t.size());
   // Shared rows: the angle and the curvature jump are not sampled, but the plots (keepSamples) get every measure.
   const bool sharedSamples = shared && !opt.keepSamples;
-  for (size_t i = 0; i < S.t.size(); ++i) S.m.push_back(measureAt(A, S.t[i], B, S.s[i], sgn, sharedSamples));
+  for (size_t i = 0; i < S.t.size(); ++i)
+    S.m.push_back(sharedSamples ? measureSharedAt(A, S.t[i], B, S.s[i], sgn, shared->lambda)
+                                : measureAt(A, S.t[i], B, S.s[i], sgn));
 
   // Curvature reference for relative G2 values: the largest curvature on the seam, floored at "flat".
   const double flat = kFlatCurvatureRatio / std::max(scale, std::numeric_limits<double>::min());
