@@ -396,6 +396,7 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   std::vector<Fan> fans;
   auto walk = [&](int start, int startOrientation) {
     Fan fan;
+    fan.order.reserve(static_cast<size_t>(n));
     int cur = start;
     report.orientation[static_cast<size_t>(cur)] = startOrientation;
     fan.order.push_back(cur);
@@ -438,8 +439,10 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   if (fans.size() > 1) report.notes.push_back(fmt::format("{} separate fans meet at the vertex", fans.size()));
 
   // Sectors: consecutive corners of a fan joined by a collapsed edge are one sector.
+  report.sectors.reserve(static_cast<size_t>(n));
   for (const Fan& fan : fans) {
     std::vector<std::vector<int>> sectors;
+    sectors.reserve(fan.order.size());
     for (int c : fan.order) {
       if (!sectors.empty() && collapsed.count({std::min(sectors.back().back(), c), std::max(sectors.back().back(), c)}))
         sectors.back().push_back(c);
@@ -461,6 +464,7 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   // handle touching a body at a vertex, are unrelated, so their normals are not compared).
   for (const Fan& fan : fans) {
     std::vector<Vec3> oriented;
+    oriented.reserve(fan.order.size());
     for (int i : fan.order)
       if (!degenerate[static_cast<size_t>(i)])
         oriented.push_back(report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)]);
@@ -491,6 +495,7 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
     if (creased) continue;
     const Vec3 e1 = mean.unitOrthogonal(), e2 = mean.cross(e1);
     std::vector<Eigen::Matrix2d> shape;
+    shape.reserve(fan.order.size());
     double largest = 0.0;
     for (int i : fan.order) {
       if (degenerate[static_cast<size_t>(i)]) continue;

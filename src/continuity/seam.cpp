@@ -1236,6 +1236,9 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     const int start = corrBound <= exactFloor ? opt.certifiedSamplesPerPiece : 2 * opt.certifiedSamplesPerPiece;
     const int perPiece = std::max(opt.keepSamples ? opt.samplesPerSpan : start, 2);
     const size_t m = A.spans.size();
+    const size_t count = ((shared ? m : 0) + pieces.size()) * static_cast<size_t>(perPiece + 1);
+    S.t.reserve(count);
+    S.s.reserve(count);
     if (shared)  // the spans correspond one to one, each by the identity of its local parameter
       for (size_t k = 0; k < m; ++k) {
         const Interval sa = A.spans[k], sb = B.spans[rep.reversed ? m - 1 - k : k];
