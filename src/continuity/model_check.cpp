@@ -264,8 +264,16 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
   const Matrix& P = info.curve.points();
   for (Eigen::Index i = 1; i < P.rows(); ++i) info.length += safeNorm((P.row(i) - P.row(i - 1)).head<3>().transpose());
   info.collapsed = detail::controlExtent(info.curve) <= collapseTol;
-  info.start = info.curve.point3(info.domain.lo);
-  info.end = info.curve.point3(info.domain.hi);
+  // The end points: at a clamped end the end control point itself (exactly the curve's value there), else evaluated.
+  const std::vector<double>& kn = info.curve.knots().values();
+  const int p = info.curve.degree();
+  bool clampedLo = true, clampedHi = true;
+  for (int i = 1; i <= p; ++i) {
+    clampedLo = clampedLo && kn[static_cast<size_t>(i)] == kn.front();
+    clampedHi = clampedHi && kn[kn.size() - 1 - static_cast<size_t>(i)] == kn.back();
+  }
+  info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : info.curve.point3(info.domain.lo);
+  info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : info.curve.point3(info.domain.hi);
   const double step = info.domain.length() / kDepartureDivisor;
   info.startDir = (info.curve.point3(info.domain.lo + step) - info.start).normalized();
   info.endDir = (info.curve.point3(info.domain.hi - step) - info.end).normalized();

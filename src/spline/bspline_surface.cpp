@@ -598,7 +598,25 @@ BSplineCurve BSplineSurface::crossDerivativeCurve(Edge e, int order) const {
 }
 
 BSplineCurve BSplineSurface::boundaryCurve(Edge e) const {
-  const bool uEdge = isUEdge(e);
+  const bool uEdge = isUEdge(e), atEnd = e == Edge::U1 || e == Edge::V1;
+  // Clamped across the edge (every Bezier patch, almost every B-spline patch): the boundary curve's control points
+  // and weights are the surface's first or last row, copied (no basis functions, and exactly the stored values).
+  const KnotVector& kc = uEdge ? ku_ : kv_;
+  const int p = uEdge ? pu_ : pv_, n = uEdge ? nu_ : nv_;
+  bool clamped = true;
+  for (int i = 1; i <= p && clamped; ++i)
+    clamped = atEnd ? kc[kc.size() - 1 - i] == kc[kc.size() - 1] : kc[i] == kc[0];
+  if (clamped) {
+    const int across = atEnd ? n - 1 : 0, nAlong = uEdge ? nv_ : nu_;
+    Matrix pts(nAlong, points_.cols());
+    VecX w(isRational() ? nAlong : 0);
+    for (int j = 0; j < nAlong; ++j) {
+      const int flat = uEdge ? across * nv_ + j : j * nv_ + across;
+      pts.row(j) = points_.row(flat);
+      if (isRational()) w[j] = weights_[flat];
+    }
+    return BSplineCurve(uEdge ? pv_ : pu_, uEdge ? kv_ : ku_, std::move(pts), std::move(w));
+  }
   return BSplineCurve::fromHomogeneous(uEdge ? pv_ : pu_, uEdge ? kv_ : ku_, crossDerivativeRows(e, 0), isRational());
 }
 
