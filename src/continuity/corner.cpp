@@ -460,14 +460,18 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   report.valence = static_cast<int>(report.sectors.size());
   report.closed = fans.size() == 1 && fans[0].closed;
 
+  // The consistently oriented unit normals (zero at degenerate corners), once for the spreads below.
+  std::vector<Vec3> orientedNormal(static_cast<size_t>(n));
+  for (size_t i = 0; i < orientedNormal.size(); ++i)
+    orientedNormal[i] = static_cast<double>(report.orientation[i]) * normals[i];
+
   // Normal spread over the consistently oriented normals, within each fan (the orientations of separate fans, e.g. a
   // handle touching a body at a vertex, are unrelated, so their normals are not compared).
   for (const Fan& fan : fans) {
     std::vector<Vec3> oriented;
     oriented.reserve(fan.order.size());
     for (int i : fan.order)
-      if (!degenerate[static_cast<size_t>(i)])
-        oriented.push_back(report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)]);
+      if (!degenerate[static_cast<size_t>(i)]) oriented.push_back(orientedNormal[static_cast<size_t>(i)]);
     if (oriented.size() < 2) continue;
     double spread = 0.0;
     for (size_t x = 0; x < oriented.size(); ++x)
@@ -483,15 +487,14 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   for (const Fan& fan : fans) {
     Vec3 mean = Vec3::Zero();
     for (int i : fan.order)
-      if (!degenerate[static_cast<size_t>(i)]) mean += report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)];
+      if (!degenerate[static_cast<size_t>(i)]) mean += orientedNormal[static_cast<size_t>(i)];
     if (!(mean.norm() > 0.0)) continue;
     mean.normalize();
     // No common tangent plane (a crease at the vertex): curvatures are not compared.
     bool creased = false;
     for (int i : fan.order)
       if (!degenerate[static_cast<size_t>(i)])
-        creased = creased || angleBetween(mean, report.orientation[static_cast<size_t>(i)] *
-                                                    normals[static_cast<size_t>(i)]) > kCurvatureSpreadMaxTilt;
+        creased = creased || angleBetween(mean, orientedNormal[static_cast<size_t>(i)]) > kCurvatureSpreadMaxTilt;
     if (creased) continue;
     const Vec3 e1 = mean.unitOrthogonal(), e2 = mean.cross(e1);
     std::vector<Eigen::Matrix2d> shape;
@@ -500,7 +503,7 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
     for (int i : fan.order) {
       if (degenerate[static_cast<size_t>(i)]) continue;
       const Jet& j = jets[static_cast<size_t>(i)];
-      const Vec3 nrm = report.orientation[static_cast<size_t>(i)] * normals[static_cast<size_t>(i)];
+      const Vec3& nrm = orientedNormal[static_cast<size_t>(i)];
       Eigen::Matrix2d P, H;
       P << e1.dot(j.u), e1.dot(j.v), e2.dot(j.u), e2.dot(j.v);
       H << j.uu.dot(nrm), j.uv.dot(nrm), j.uv.dot(nrm), j.vv.dot(nrm);
