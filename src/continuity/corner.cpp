@@ -89,17 +89,19 @@ Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
       clampedEndWeights(s.knotsV(), s.degreeV(), c.vMax, wv)) {
     const int nu = s.numU(), nv = s.numV();
     const int ku = std::min(3, nu), kv = std::min(3, nv);
-    Vec3 P[3][3];
+    std::array<std::array<Vec3, 3>, 3> P;
+    for (auto& row : P) row.fill(Vec3::Zero());
     for (int a = 0; a < ku; ++a)
       for (int b = 0; b < kv; ++b)
-        P[a][b] = s.point(c.uMax ? nu - 1 - a : a, c.vMax ? nv - 1 - b : b).transpose().head<3>();
+        P[static_cast<size_t>(a)][static_cast<size_t>(b)] =
+            s.point(c.uMax ? nu - 1 - a : a, c.vMax ? nv - 1 - b : b).transpose().head<3>();
     auto mix = [&](int du, int dv) -> Vec3 {
       Vec3 r = Vec3::Zero();
       for (int a = 0; a < ku; ++a)
         for (int b = 0; b < kv; ++b) {
           const double f = wu[static_cast<size_t>(du)][static_cast<size_t>(a)] *
                            wv[static_cast<size_t>(dv)][static_cast<size_t>(b)];
-          if (f != 0.0) r += f * P[a][b];
+          if (f != 0.0) r += f * P[static_cast<size_t>(a)][static_cast<size_t>(b)];
         }
       return r;
     };
