@@ -511,8 +511,8 @@ void addCheck(CLI::App& app, int& exit) {
   cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
   cmd->add_flag("--json", options->json, "Print JSON instead of tables");
   cmd->add_option("--threads", options->threads,
-                  "Threads for the check: 0 = all hardware threads (the default for patch models), 1 = one core "
-                  "(the default for STEP/IGES B-rep edges); the report is the same for every value")
+                  "Threads for the check: 0 = all hardware threads (the default), 1 = one core; the report is the "
+                  "same for every value")
       ->type_name("N");
   cmd->add_flag("--patches", options->patches,
                 "STEP/IGES: check the faces as patches (natural boundaries, certified) instead of the B-rep edges");

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -762,9 +763,20 @@ class ModelReader {
 // ---------------------------------------------------------------------------------------------------------------
 // Writing.
 
-/// JSON number text that reads back bit-identical (nlohmann's shortest round-trip form: "1.0", "-0.0",
-/// "1e+300").
-std::string jsonNumber(double x) { return Json(x).dump(); }
+/// Appends the JSON number text that reads back bit-identical: nlohmann's shortest round-trip form ("1.0", "-0.0",
+/// "1e+300"), the bytes of Json(x).dump(), written in place (no JSON value and no string per number: the model
+/// writer formats millions of them). Non-finite values cannot occur in a valid model; they are written as nlohmann
+/// writes them ("null").
+void appendNumber(std::string& out, double x) {
+  if (!std::isfinite(x)) {
+    out += "null";
+    return;
+  }
+  constexpr size_t kNumberBuffer = 64;  // nlohmann's serializer buffer
+  std::array<char, kNumberBuffer> buffer{};
+  char* end = nlohmann::detail::to_chars(buffer.data(), buffer.data() + buffer.size(), x);
+  out.append(buffer.data(), end);
+}
 
 /// True when the knots are exactly degree+1 zeros followed by degree+1 ones (the implied knots of a
 /// "bezier").
@@ -781,7 +793,7 @@ void appendNumbers(std::string& out, const double* values, Eigen::Index count) {
   out += '[';
   for (Eigen::Index k = 0; k < count; ++k) {
     if (k > 0) out += ", ";
-    out += jsonNumber(values[k]);
+    appendNumber(out, values[k]);
   }
   out += ']';
 }
@@ -794,7 +806,7 @@ void appendPoint(std::string& out, const Matrix& points, Eigen::Index row) {
   out += '[';
   for (Eigen::Index k = 0; k < points.cols(); ++k) {
     if (k > 0) out += ", ";
-    out += jsonNumber(points(row, k));
+    appendNumber(out, points(row, k));
   }
   out += ']';
 }
