@@ -13,6 +13,7 @@
 
 #include "repair/frame_internal.h"
 #include "repair/join_internal.h"
+#include "repair/network_internal.h"
 #include "seam/repair/g2_network.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
@@ -157,8 +158,11 @@ double latticeMaxNorm(const KnotVector& ku, const KnotVector& kv, int p, int q, 
   return best;
 }
 
-/// How far `after` moved from `before` (see HealPatch).
-HealPatch displacementOf(const Patch& before, const Patch& after, double threshold) {
+/// How far `after` moved from `before` (see HealPatch). `beforeLikeAfter`: `before` already expressed in `after`'s
+/// knots and degrees (detail::expressedLike(before, after), e.g. the local scheme's exact form of its input), or
+/// nullptr.
+HealPatch displacementOf(const Patch& before, const Patch& after, double threshold,
+                         const BSplineSurface* beforeLikeAfter = nullptr) {
   HealPatch hp;
   hp.name = after.name;
   hp.size = sizeOf(before.surface);
@@ -176,7 +180,12 @@ HealPatch displacementOf(const Patch& before, const Patch& after, double thresho
     if (!a.isRational() && !b.isRational()) {
       // controlPointDisplacement's measures from one expression of `before` in `after`'s basis, which also gives the
       // difference surface after - before: sampled once on the grid instead of sampling both surfaces.
-      const BSplineSurface ref = detail::expressedLike(b, a);
+      const bool given = beforeLikeAfter != nullptr && beforeLikeAfter->degreeU() == a.degreeU() &&
+                         beforeLikeAfter->degreeV() == a.degreeV() &&
+                         beforeLikeAfter->knotsU().values() == a.knotsU().values() &&
+                         beforeLikeAfter->knotsV().values() == a.knotsV().values();
+      const BSplineSurface computed = given ? BSplineSurface() : detail::expressedLike(b, a);
+      const BSplineSurface& ref = given ? *beforeLikeAfter : computed;
       if (ref.numU() == a.numU() && ref.numV() == a.numV() && !ref.isRational()) {
         const Matrix diff = a.points() - ref.points();
         hp.maxDisplacement = 0.0;
@@ -252,7 +261,10 @@ class Healer {
   }
   void buildOrder();
   SuccessiveRun successive(bool strict) const;
-  Candidate judge(const Model& m, std::string method, int region) const;
+  /// `inputForms`: per model patch index the input patch in the candidate's knots and degrees where known
+  /// (nullptr entries, or no vector at all: computed by displacementOf).
+  Candidate judge(const Model& m, std::string method, int region,
+                  const std::vector<const BSplineSurface*>* inputForms = nullptr) const;
   bool freeEdgesKept(const Model& m, int region, std::string* why) const;
   std::string leftAloneBroken(const Model& m, int k, const SeamReport& now, int region) const;
 
@@ -615,7 +627,8 @@ SuccessiveRun Healer::successive(bool strict) const {
 }
 
 // Every seam of the region analysed in `m`, compared with the input.
-Candidate Healer::judge(const Model& m, std::string method, int region) const {
+Candidate Healer::judge(const Model& m, std::string method, int region,
+                        const std::vector<const BSplineSurface*>* inputForms) const {
   Candidate c;
   c.method = std::move(method);
   c.model = &m;
@@ -643,7 +656,7 @@ Candidate Healer::judge(const Model& m, std::string method, int region) const {
     if (a.surface.points() == b.surface.points() && a.surface.knotsU().values() == b.surface.knotsU().values() &&
         a.surface.knotsV().values() == b.surface.knotsV().values())
       continue;
-    HealPatch d = displacementOf(b, a, kRoundoff * diag_);
+    HealPatch d = displacementOf(b, a, kRoundoff * diag_, inputForms ? (*inputForms)[static_cast<size_t>(i)] : nullptr);
     c.changed = true;
     c.moved += d.movedPoints;
     c.displacement = std::max(c.displacement, d.maxSurfaceDisplacement);
@@ -861,6 +874,7 @@ Result<HealResult> Healer::run() {
       keepEdges.emplace_back(w.pair.b.patch, w.pair.b.edge);
     }
     Result<LocalSchemeResult> l = Status(ErrorCode::kUnsupported, "");
+    std::vector<std::pair<int, BSplineSurface>> inputForms;  // the scheme's exact forms of its input patches
     if (g2) {
       G2NetworkOptions go;
       go.patches = regionPatches_[static_cast<size_t>(g)];
@@ -885,7 +899,7 @@ Result<HealResult> Healer::run() {
       lo.tolerances = tol_;
       lo.keepEdges = keepEdges;
       lo.pairing = &pairing_;  // the same tolerances, gap limit and diagonal: not paired a second time
-      l = localG1Scheme(model, lo);
+      l = detail::localG1Scheme(model, lo, &inputForms);
     }
     if (!l) {
       localNote[static_cast<size_t>(g)] = "local scheme not applicable: " + l.status().message();
@@ -893,7 +907,12 @@ Result<HealResult> Healer::run() {
     }
     const std::vector<int> valences = l->report.valences;
     auto keep = std::make_shared<Model>(std::move(l->model));
-    Candidate c = judge(*keep, "local", g);
+    std::vector<const BSplineSurface*> formOf;
+    if (!inputForms.empty()) {
+      formOf.assign(static_cast<size_t>(np_), nullptr);
+      for (const auto& [i, f] : inputForms) formOf[static_cast<size_t>(i)] = &f;
+    }
+    Candidate c = judge(*keep, "local", g, formOf.empty() ? nullptr : &formOf);
     std::string why;
     // G1: all or nothing. G2: a partial result that makes nothing worse is kept (seams ending where a straight free
     // boundary has a curvature jump cannot be G2 with the free edges kept; the solve's notes say where).

@@ -177,6 +177,12 @@ Matrix elevatedCubic(const Vec3& P, const Vec3& A, const Vec3& C, const Vec3& M)
 }  // namespace
 
 Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOptions& opt) {
+  return detail::localG1Scheme(model, opt, nullptr);
+}
+
+Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalSchemeOptions& opt,
+                                                std::vector<std::pair<int, BSplineSurface>>* inputForms) {
+  if (inputForms) inputForms->clear();
   auto setup = networkSetup(model, opt.patches, opt.tolerances, opt.maxGap);
   if (!setup) return setup.status();
   const std::vector<int>& chosen = setup->chosen;
@@ -644,68 +650,73 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
     // through their sum sigma(e, x) = b(0, e, x) + b(1, e, x) only, and for a given sum that change is smallest at
     // b(s) = t(s) + (sigma - t(0) - t(1)) / 2 (it is then |sigma - t(0) - t(1)|^2 / 2): the system is solved for
     // sigma (index (e * 3 + (x - 2)) * 3 + c) and g, half the unknowns.
-    const int nUnk = 6 * 3 + 1;
-    auto col = [](int e, int x, int c) { return (e * 3 + (x - 2)) * 3 + c; };
+    //
+    // The system, row (e, k, c): k = 2..4: 5 sigma(e, k) - gg_e(k) g = d(e, k); k = 5: 5/2 (sigma(0, 4) + sigma(1, 4)) =
+    // d(e, 5), with gg_e(k) the coefficients of g in gamma Phi' (gg_e(5) = 0: gamma's part in g, (0, 0, -1/3, 0) times
+    // Phi''s (3 (A - P), 3 (C - A), 3 (M - C)), has no degree-5 term). The k = 5 rows do not involve g, and the sum of
+    // the k = 4 rows, 5 (sigma(0, 4) + sigma(1, 4)) + (3/5) (2 M - C_P - C_Q) g, is g-free too (M = (C_P + C_Q) / 2):
+    // they hold by construction (M, the common middle point, makes d(0, 5) = d(1, 5) = 10 M and
+    // sigma(0, 4) + sigma(1, 4) = 4 M), and the residual below checks them. So sigma(e, k) = (d(e, k) + gg_e(k) g) / 5
+    // with one free parameter g, chosen for the smallest change sum |sigma(e, k) - t(0, e, k) - t(1, e, k)|^2: with
+    // u = gg / 5, v = d / 5 - (t(0) + t(1)), g = -sum u v / sum u^2 (0 where every u vanishes). This is the solution
+    // of detail::constrainedLeastSquaresQR on the same rows (rank 18 of 19 unknowns, the nullspace direction
+    // (gg / 5, 1), weight 1 on sigma and 0 on g), in closed form: the same up to round-off.
     std::array<std::array<std::array<Vec3, 3>, 2>, 2> target;  // [s][e][x - 2]
-    Eigen::MatrixXd Cm = Eigen::MatrixXd::Zero(2 * 4 * 3, nUnk);
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(2 * 4 * 3), x0 = Eigen::VectorXd::Zero(nUnk), w = Eigen::VectorXd::Zero(nUnk);
+    std::array<std::array<Vec3, 3>, 2> sum0;                   // [e][x - 2]: t(0) + t(1)
     for (int s = 0; s < 2; ++s)
       for (int e = 0; e < 2; ++e) {
         Slot sl = ne.side[static_cast<size_t>(s)];
         if (e == 1) sl.end = 1 - sl.end;
         const Grid& go = old[static_cast<size_t>(sl.patch)];
-        const Matrix oldRow0 = halfRow(go, sl, 0);
         for (int x = 2; x <= 4; ++x) {
           // Keep the cross-boundary vector: target = new row 0 + (old row 1 - old row 0).
-          const Vec3 t = row0[static_cast<size_t>(e)].row(x).transpose() + go.at(sl, 1, x) - oldRow0.row(x).transpose();
+          const Vec3 t = row0[static_cast<size_t>(e)].row(x).transpose() + go.at(sl, 1, x) - go.at(sl, 0, x);
           target[static_cast<size_t>(s)][static_cast<size_t>(e)][static_cast<size_t>(x - 2)] = t;
-          for (int c = 0; c < 3; ++c) {
-            x0[col(e, x, c)] += t[c];
-            w[col(e, x, c)] = 1.0;
-          }
+          Vec3& sm = sum0[static_cast<size_t>(e)][static_cast<size_t>(x - 2)];
+          sm = s == 0 ? t : Vec3(sm + t);
         }
       }
-    // Equations: half e, coefficient k = 2..5: 5 (b_k - q_k) + 5 (c_k - q_k) = gk_k + g gg_k.
-    int row = 0;
+    // Right-hand sides d(e, k, c) (k = 2..5) and the coefficients of g, -gg_e(k, c), as the rows of the system.
+    std::array<std::array<Vec3, 4>, 2> d, cg;  // [e][k - 2]
     for (int e = 0; e < 2; ++e)
-      for (int k = 2; k <= 5; ++k, row += 3)
+      for (int k = 2; k <= 5; ++k)
         for (int c = 0; c < 3; ++c) {
           double rhs = gk[static_cast<size_t>(e)](k, c);
-          Cm(row + c, nUnk - 1) = -gg[static_cast<size_t>(e)](k, c);
-          if (k <= 4) {
-            Cm(row + c, col(e, k, c)) += kDeg;
-          } else {
-            Cm(row + c, col(e, 4, c)) += 0.5 * kDeg;
-            Cm(row + c, col(1 - e, 4, c)) += 0.5 * kDeg;
-          }
           for (int s = 0; s < 2; ++s) rhs += kDeg * row0[static_cast<size_t>(e)](k, c);
-          d[row + c] = rhs;
+          d[static_cast<size_t>(e)][static_cast<size_t>(k - 2)][c] = rhs;
+          cg[static_cast<size_t>(e)][static_cast<size_t>(k - 2)][c] = -gg[static_cast<size_t>(e)](k, c);
         }
-    const Eigen::VectorXd x = detail::constrainedLeastSquaresQR(Cm, d, x0, w);
+    double uv = 0.0, uu = 0.0;
+    for (size_t e = 0; e < 2; ++e)
+      for (size_t k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const double u = -cg[e][k][c] / kDeg, v = d[e][k][c] / kDeg - sum0[e][k][c];
+          uv += u * v;
+          uu += u * u;
+        }
+    const double gFree = uu > 0.0 ? -uv / uu : 0.0;
     std::array<std::array<std::array<Vec3, 3>, 2>, 2> b;  // [s][e][x - 2]
-    for (int e = 0; e < 2; ++e)
-      for (int xx = 2; xx <= 4; ++xx) {
-        const size_t ue = static_cast<size_t>(e), ux = static_cast<size_t>(xx - 2);
-        const Vec3 sigma(x[col(e, xx, 0)], x[col(e, xx, 1)], x[col(e, xx, 2)]);
-        const Vec3 half = 0.5 * (sigma - target[0][ue][ux] - target[1][ue][ux]);
-        for (size_t s = 0; s < 2; ++s) b[s][ue][ux] = target[s][ue][ux] + half;
+    for (size_t e = 0; e < 2; ++e)
+      for (size_t ux = 0; ux < 3; ++ux) {
+        const Vec3 sigma = (d[e][ux] - cg[e][ux] * gFree) / kDeg;
+        const Vec3 half = 0.5 * (sigma - target[0][e][ux] - target[1][e][ux]);
+        for (size_t s = 0; s < 2; ++s) b[s][e][ux] = target[s][e][ux] + half;
       }
     // The residual of the equations in the points themselves (as written to the grids).
-    double resid = 0.0;
-    row = 0;
+    double resid = 0.0, dMax = 0.0;
     for (int e = 0; e < 2; ++e)
-      for (int k = 2; k <= 5; ++k, row += 3)
+      for (int k = 2; k <= 5; ++k)
         for (int c = 0; c < 3; ++c) {
-          const size_t ue = static_cast<size_t>(e), uo = static_cast<size_t>(1 - e);
-          double lhs = Cm(row + c, nUnk - 1) * x[nUnk - 1];
+          const size_t ue = static_cast<size_t>(e), uo = static_cast<size_t>(1 - e), uk = static_cast<size_t>(k - 2);
+          double lhs = cg[ue][uk][c] * gFree;
           for (size_t s = 0; s < 2; ++s) {
-            if (k <= 4) lhs += kDeg * b[s][ue][static_cast<size_t>(k - 2)][c];
+            if (k <= 4) lhs += kDeg * b[s][ue][uk][c];
             else lhs += 0.5 * kDeg * b[s][ue][2][c] + 0.5 * kDeg * b[s][uo][2][c];
           }
-          resid = std::max(resid, std::abs(lhs - d[row + c]));
+          resid = std::max(resid, std::abs(lhs - d[ue][uk][c]));
+          dMax = std::max(dMax, std::abs(d[ue][uk][c]));
         }
-    double scale = d.cwiseAbs().maxCoeff();
-    scale = std::max(scale, (P[1] - P[0]).norm());
+    const double scale = std::max(dMax, (P[1] - P[0]).norm());
     edgeResidualMax = std::max(edgeResidualMax, resid / std::max(scale, std::numeric_limits<double>::min()));
     for (int s = 0; s < 2; ++s)
       for (int e = 0; e < 2; ++e) {
@@ -756,13 +767,15 @@ Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOpt
     BSplineSurface ns(kDeg, kDeg, f.knotsU(), f.knotsV(), kGrid, kGrid, grid[static_cast<size_t>(r)].q);
     Patch& out = res.model.patches[static_cast<size_t>(mi)];
     const Patch& in = model.patches[static_cast<size_t>(mi)];
-    const BSplineSurface before = detail::expressedLike(in.surface, ns);
-    const double disp = (before.points() - ns.points()).rowwise().norm().maxCoeff();
+    // The input in the output's knots and degrees is its scheme form (toSchemeForm raises and refines exactly as
+    // detail::expressedLike(in.surface, ns) does: the same bits).
+    const double disp = (f.points() - ns.points()).rowwise().norm().maxCoeff();
     const double size = std::max(controlBox(in.surface).diagonal(), std::numeric_limits<double>::min());
     if (disp > rep.maxDisplacement) rep.maxDisplacement = disp;
     rep.maxDisplacementRel = std::max(rep.maxDisplacementRel, disp / size);
     out = detail::replacedSurface(in, std::move(ns));
     rep.patchesChanged.push_back(in.name);
+    if (inputForms) inputForms->emplace_back(mi, std::move(form[static_cast<size_t>(r)]));
   }
   std::set<int> val;
   for (const Vertex& v : vertices)

@@ -13,6 +13,7 @@
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
 #include "seam/repair/join.h"
+#include "seam/repair/local_scheme.h"
 #include "seam/spline/bspline_surface.h"
 
 namespace seam {
@@ -59,5 +60,15 @@ inline Result<NetworkSetup> networkSetup(const Model& model, const std::vector<i
   s.maxGap = maxGap ? *maxGap : kDefaultMaxGapRel * s.diagonal;
   return s;
 }
+
+namespace detail {
+
+/// localG1Scheme, and per patch it wrote (model index) the input patch in the output's knots and degrees (its exact
+/// biquintic form, what detail::expressedLike(input, output) gives, bit for bit): heal measures the displacement
+/// against it instead of raising and refining the input a second time. `inputForms` may be nullptr.
+Result<LocalSchemeResult> localG1Scheme(const Model& model, const LocalSchemeOptions& options,
+                                        std::vector<std::pair<int, BSplineSurface>>* inputForms);
+
+}  // namespace detail
 
 }  // namespace seam
