@@ -141,17 +141,57 @@ const LatticeBasis& latticeBasis(const KnotVector& kv, int p, int grid) {
 /// rows, then per lattice point the q + 1 values of it.
 double latticeMaxNorm(const KnotVector& ku, const KnotVector& kv, int p, int q, int nv, const Matrix& points,
                       int grid) {
-  const LatticeBasis bu = latticeBasis(ku, p, grid);  // copies: the second look-up may grow the cache
-  const LatticeBasis bv = latticeBasis(kv, q, grid);
-  Eigen::Matrix<double, Eigen::Dynamic, 3> row(nv, 3);
+  // The basis values are copied into fixed arrays (the second look-up may grow the cache); the sums are formed in
+  // the order of the Eigen expressions they replace (row += N * rows; v += N * row), so the values keep their bits.
+  constexpr int kMaxGrid = 64, kMaxOrder = 16, kMaxRow = 64;
+  if (grid > kMaxGrid || p + 1 > kMaxOrder || q + 1 > kMaxOrder || nv > kMaxRow || points.cols() != 3) {
+    const LatticeBasis bu = latticeBasis(ku, p, grid);
+    const LatticeBasis bv = latticeBasis(kv, q, grid);
+    Eigen::Matrix<double, Eigen::Dynamic, 3> row(nv, 3);
+    double best = 0.0;
+    for (int a = 0; a < grid; ++a) {
+      row.setZero();
+      for (int r = 0; r <= p; ++r)
+        row += bu.values(a, r) * points.middleRows((bu.first[static_cast<size_t>(a)] + r) * nv, nv);
+      for (int b = 0; b < grid; ++b) {
+        Vec3 v = Vec3::Zero();
+        for (int c = 0; c <= q; ++c) v += bv.values(b, c) * row.row(bv.first[static_cast<size_t>(b)] + c).transpose();
+        best = std::max(best, v.norm());
+      }
+    }
+    return best;
+  }
+  double uVal[kMaxGrid][kMaxOrder], vVal[kMaxGrid][kMaxOrder];
+  int uFirst[kMaxGrid], vFirst[kMaxGrid];
+  {
+    const LatticeBasis& bu = latticeBasis(ku, p, grid);
+    for (int a = 0; a < grid; ++a) {
+      uFirst[a] = bu.first[static_cast<size_t>(a)];
+      for (int r = 0; r <= p; ++r) uVal[a][r] = bu.values(a, r);
+    }
+    const LatticeBasis& bv = latticeBasis(kv, q, grid);
+    for (int b = 0; b < grid; ++b) {
+      vFirst[b] = bv.first[static_cast<size_t>(b)];
+      for (int c = 0; c <= q; ++c) vVal[b][c] = bv.values(b, c);
+    }
+  }
+  double row[kMaxRow][3];
   double best = 0.0;
   for (int a = 0; a < grid; ++a) {
-    row.setZero();
-    for (int r = 0; r <= p; ++r)
-      row += bu.values(a, r) * points.middleRows((bu.first[static_cast<size_t>(a)] + r) * nv, nv);
+    for (int j = 0; j < nv; ++j) row[j][0] = row[j][1] = row[j][2] = 0.0;
+    for (int r = 0; r <= p; ++r) {
+      const double n = uVal[a][r];
+      const Eigen::Index base = static_cast<Eigen::Index>(uFirst[a] + r) * nv;
+      for (int j = 0; j < nv; ++j)
+        for (int k = 0; k < 3; ++k) row[j][k] = row[j][k] + n * points(base + j, k);
+    }
     for (int b = 0; b < grid; ++b) {
       Vec3 v = Vec3::Zero();
-      for (int c = 0; c <= q; ++c) v += bv.values(b, c) * row.row(bv.first[static_cast<size_t>(b)] + c).transpose();
+      for (int c = 0; c <= q; ++c) {
+        const double n = vVal[b][c];
+        const double* rr = row[vFirst[b] + c];
+        v = Vec3(v[0] + n * rr[0], v[1] + n * rr[1], v[2] + n * rr[2]);
+      }
       best = std::max(best, v.norm());
     }
   }
@@ -821,15 +861,6 @@ Result<HealResult> Healer::run() {
   }
   const int nr = static_cast<int>(regionPatches_.size());
 
-  // Vertices: the corner points of every patch, clustered within the gap limit; a seam end at a vertex where three
-  // or more patches have a corner is "interior" (a later patch may have to close it).
-  for (int i = 0; i < np_; ++i) {
-    const BSplineSurface& s = model.patches[static_cast<size_t>(i)].surface;
-    const Interval du = s.domainU(), dv = s.domainV();
-    for (double u : {du.lo, du.hi})
-      for (double v : {dv.lo, dv.hi}) corners_.push_back({s.evaluate(u, v).head<3>(), i});
-  }
-  std::sort(corners_.begin(), corners_.end(), [](const CornerAt& a, const CornerAt& b) { return a.p.x() < b.p.x(); });
   buildOrder();
 
   auto regionAchieved = [&](int g, const Candidate& c) {
@@ -944,7 +975,19 @@ Result<HealResult> Healer::run() {
   for (int g = 0; g < nr; ++g) anySuccessive = anySuccessive || !skipSuccessive_[static_cast<size_t>(g)];
   const bool trySuccessive = opt_.method != HealMethod::kLocal && !order_.empty() && anySuccessive && !g2;
   std::optional<SuccessiveRun> relaxed, strict;
-  if (trySuccessive) relaxed = successive(false);
+  if (trySuccessive) {
+    // Vertices (the successive runs only need them): the corner points of every patch, clustered within the gap
+    // limit; a seam end at a vertex where three or more patches have a corner is "interior" (a later patch may have
+    // to close it).
+    for (int i = 0; i < np_; ++i) {
+      const BSplineSurface& s = model.patches[static_cast<size_t>(i)].surface;
+      const Interval du = s.domainU(), dv = s.domainV();
+      for (double u : {du.lo, du.hi})
+        for (double v : {dv.lo, dv.hi}) corners_.push_back({s.evaluate(u, v).head<3>(), i});
+    }
+    std::sort(corners_.begin(), corners_.end(), [](const CornerAt& a, const CornerAt& b) { return a.p.x() < b.p.x(); });
+    relaxed = successive(false);
+  }
   std::vector<std::vector<std::string>> regionNotes(static_cast<size_t>(nr));
   std::vector<const SuccessiveRun*> stepsFrom(static_cast<size_t>(nr), nullptr);
   std::vector<std::string> comparison(static_cast<size_t>(nr));        // auto: successive against local

@@ -86,10 +86,12 @@ struct Grid {
 };
 
 /// Composite points 0..5 of row k of a half-edge and of the opposite half (sharing the middle point).
-Matrix halfRow(const Grid& g, const Slot& s, int k) {
+using HalfRow = Eigen::Matrix<double, kDeg + 1, 3, Eigen::RowMajor>;  // six points, no heap
+
+HalfRow halfRow(const Grid& g, const Slot& s, int k) {
   Slot other = s;
   other.end = 1 - s.end;
-  Matrix r(6, 3);
+  HalfRow r;
   for (int x = 0; x <= 4; ++x) r.row(x) = g.at(s, k, x).transpose();
   r.row(5) = 0.5 * (g.at(s, k, 4) + g.at(other, k, 4)).transpose();
   return r;
@@ -122,11 +124,87 @@ struct NetEdge {
 
 Status unsupported(std::string m) { return {ErrorCode::kUnsupported, std::move(m)}; }
 
+/// A clamped Bezier knot vector of `degree` (one span: degree + 1 equal knots at each end).
+bool isBezierKnots(const KnotVector& kv, int degree) {
+  const std::vector<double>& t = kv.values();
+  if (static_cast<int>(t.size()) != 2 * (degree + 1)) return false;
+  for (int i = 1; i <= degree; ++i)
+    if (t[static_cast<size_t>(i)] != t[0] || t[static_cast<size_t>(degree + 1 + i)] != t[static_cast<size_t>(degree + 1)])
+      return false;
+  return t[0] < t[static_cast<size_t>(degree + 1)];
+}
+
+/// One direction of the scheme form of a Bezier row: `in` (degree + 1 values, `stride` apart) raised to degree 5,
+/// then split at 1/2 by de Casteljau; the knot 1/2 of multiplicity 4 keeps both halves' points but the junction
+/// (out: the left half's points 0..4, the right half's 1..5).
+void bezierRowToSchemeForm(const double* in, int degree, Eigen::Index stride, double* out) {
+  // Degree elevation factors C(p, i) C(5 - p, j - i) / C(5, j), per p = 0..5 (zero outside the valid i).
+  static const auto factors = [] {
+    std::array<std::array<std::array<double, kDeg + 1>, kDeg + 1>, kDeg + 1> f{};
+    for (int p = 0; p <= kDeg; ++p)
+      for (int j = 0; j <= kDeg; ++j)
+        for (int i = std::max(0, j - (kDeg - p)); i <= std::min(p, j); ++i)
+          f[static_cast<size_t>(p)][static_cast<size_t>(j)][static_cast<size_t>(i)] =
+              binomial(p, i) * binomial(kDeg - p, j - i) / binomial(kDeg, j);
+    return f;
+  }();
+  const auto& fp = factors[static_cast<size_t>(degree)];
+  double e[kDeg + 1];
+  for (int j = 0; j <= kDeg; ++j) {
+    double v = 0.0;
+    for (int i = std::max(0, j - (kDeg - degree)); i <= std::min(degree, j); ++i)
+      v += fp[static_cast<size_t>(j)][static_cast<size_t>(i)] * in[i * stride];
+    e[j] = v;
+  }
+  double right[kDeg + 1];
+  out[0] = e[0];
+  right[kDeg] = e[kDeg];
+  for (int r = 1; r <= kDeg; ++r) {
+    for (int i = 0; i + r <= kDeg; ++i) e[i] = 0.5 * (e[i] + e[i + 1]);
+    if (r < kDeg) out[r] = e[0];
+    right[kDeg - r] = e[kDeg - r];
+  }
+  for (int i = 1; i <= kDeg; ++i) out[kDeg - 1 + i] = right[i];
+}
+
+/// The scheme form of a polynomial Bezier patch (one span each way, degrees <= 5) directly: the same surface,
+/// knots and control-point layout as the general route (degreeElevated, then the knot 1/2 inserted 4 times), with
+/// the control points formed by Bezier degree elevation and de Casteljau subdivision (round-off differs).
+BSplineSurface bezierToSchemeForm(const BSplineSurface& s0) {
+  const int p = s0.degreeU(), q = s0.degreeV(), nv = s0.numV();
+  const Matrix& P = s0.points();
+  // u first: (p + 1) x nv x 3 -> kGrid x nv x 3, then v: kGrid x kGrid x 3 (row i * kGrid + j).
+  Matrix mid(kGrid * nv, 3);
+  double col[kGrid];
+  for (int j = 0; j < nv; ++j)
+    for (int c = 0; c < 3; ++c) {
+      bezierRowToSchemeForm(&P(j, c), p, nv * 3, col);
+      for (int i = 0; i < kGrid; ++i) mid(i * nv + j, c) = col[i];
+    }
+  Matrix out(kGrid * kGrid, 3);
+  for (int i = 0; i < kGrid; ++i)
+    for (int c = 0; c < 3; ++c) {
+      bezierRowToSchemeForm(&mid(i * nv, c), q, 3, col);
+      for (int j = 0; j < kGrid; ++j) out(i * kGrid + j, c) = col[j];
+    }
+  auto knots = [](const KnotVector& kv, int degree) {
+    const double lo = kv[0], hi = kv[degree + 1], m = 0.5 * (lo + hi);
+    std::vector<double> t(static_cast<size_t>(kDeg + 1), lo);
+    t.insert(t.end(), static_cast<size_t>(kMidMult), m);
+    t.insert(t.end(), static_cast<size_t>(kDeg + 1), hi);
+    return KnotVector(std::move(t));
+  };
+  return BSplineSurface(kDeg, kDeg, knots(s0.knotsU(), p), knots(s0.knotsV(), q), kGrid, kGrid, std::move(out));
+}
+
 /// The patch written as a biquintic B-spline with the knot 1/2 of multiplicity 4 (exact), or why not.
 Result<BSplineSurface> toSchemeForm(const BSplineSurface& s0, const std::string& name) {
   if (s0.isRational()) return unsupported(fmt::format("patch \"{}\" is rational", name));
   if (s0.degreeU() > kDeg || s0.degreeV() > kDeg)
     return unsupported(fmt::format("patch \"{}\" has degree ({}, {}) above {}", name, s0.degreeU(), s0.degreeV(), kDeg));
+  if (s0.dim() == 3 && s0.numU() == s0.degreeU() + 1 && s0.numV() == s0.degreeV() + 1 &&
+      isBezierKnots(s0.knotsU(), s0.degreeU()) && isBezierKnots(s0.knotsV(), s0.degreeV()))
+    return bezierToSchemeForm(s0);
   BSplineSurface s = s0.degreeElevated(kDeg - s0.degreeU(), kDeg - s0.degreeV());
   for (int dir = 0; dir < 2; ++dir) {
     const KnotVector& kv = dir == 0 ? s.knotsU() : s.knotsV();
@@ -160,14 +238,22 @@ BernsteinPoly cubicHalf(const Vec3& P, const Vec3& A, const Vec3& C, const Vec3&
 }
 
 /// Degree-5 coefficients of gamma * Phi' on a half: gamma cubic with gamma(0) = g0, gamma'(0) = g1, gamma(1) = 0,
-/// gamma'(1) = g; Phi the cubic (P, A, C, M). Returns (known part, coefficient of g).
-std::pair<Matrix, Matrix> gammaPhiPrime(double g0, double g1, const Vec3& P, const Vec3& A, const Vec3& C,
-                                        const Vec3& M) {
-  const BernsteinPoly dphi = cubicHalf(P, A, C, M).derivative();
-  Matrix gk(4, 1), gg(4, 1);
-  gk << g0, g0 + g1 / 3.0, 0.0, 0.0;
-  gg << 0.0, 0.0, -1.0 / 3.0, 0.0;
-  return {product(BernsteinPoly(gk), dphi).coeffs(), product(BernsteinPoly(gg), dphi).coeffs()};
+/// gamma'(1) = g; Phi the cubic (P, A, C, M). Returns (known part, coefficient of g). The Bernstein product written
+/// out: gamma's coefficients are (g0, g0 + g1 / 3, 0, 0) + g (0, 0, -1/3, 0), Phi''s d = 3 (A - P, C - A, M - C), and
+/// coefficient k of the product is sum_{i + j = k} C(3, i) C(2, j) / C(5, k) gamma_i d_j.
+std::pair<HalfRow, HalfRow> gammaPhiPrime(double g0, double g1, const Vec3& P, const Vec3& A, const Vec3& C,
+                                          const Vec3& M) {
+  const Vec3 d0 = 3.0 * (A - P), d1 = 3.0 * (C - A), d2 = 3.0 * (M - C);
+  const double c0 = g0, c1 = g0 + g1 / 3.0;
+  HalfRow gk = HalfRow::Zero(), gg = HalfRow::Zero();
+  gk.row(0) = (c0 * d0).transpose();
+  gk.row(1) = (0.6 * c1 * d0 + 0.4 * c0 * d1).transpose();
+  gk.row(2) = (0.6 * c1 * d1 + 0.1 * c0 * d2).transpose();
+  gk.row(3) = (0.3 * c1 * d2).transpose();
+  gg.row(2) = (-0.1 * d0).transpose();
+  gg.row(3) = (-0.2 * d1).transpose();
+  gg.row(4) = (-0.2 * d2).transpose();
+  return {gk, gg};
 }
 
 Matrix elevatedCubic(const Vec3& P, const Vec3& A, const Vec3& C, const Vec3& M) {
@@ -489,13 +575,13 @@ Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalS
   // ---- 4. edge curves: two cubic halves (P, A, C, M), C1 at M = (C_P + C_Q) / 2, fitted to the old edge.
   for (NetEdge& ne : edges) {
     std::array<Vec3, 2> P, A;
-    std::array<Matrix, 2> oldHalf;
+    std::array<HalfRow, 2> oldHalf;
     for (int end = 0; end < 2; ++end) {
       const Vertex& v = vertices[static_cast<size_t>(ne.vtx[static_cast<size_t>(end)])];
       const VertexEdge& ve = v.edges[static_cast<size_t>(ne.vtxEdge[static_cast<size_t>(end)])];
       P[static_cast<size_t>(end)] = v.p;
       A[static_cast<size_t>(end)] = v.p + ve.t / 3.0;
-      Matrix h = Matrix::Zero(6, 3);
+      HalfRow h = HalfRow::Zero();
       for (const Slot& s0 : ne.side) {
         Slot s = s0;
         if (end == 1) s.end = 1 - s.end;
@@ -631,7 +717,8 @@ Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalS
       g1[static_cast<size_t>(end)] = ve.gamma1;
     }
     const Vec3 M = 0.5 * (Cc[0] + Cc[1]);
-    std::array<Matrix, 2> row0, gk, gg;
+    std::array<Matrix, 2> row0;
+    std::array<HalfRow, 2> gk, gg;
     for (int end = 0; end < 2; ++end) {
       const size_t e = static_cast<size_t>(end);
       row0[e] = elevatedCubic(P[e], A[e], Cc[e], M);
@@ -737,7 +824,7 @@ Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalS
     for (int end = 0; end < 2; ++end) {
       const Vertex& v = vertices[static_cast<size_t>(ne.vtx[static_cast<size_t>(end)])];
       const VertexEdge& ve = v.edges[static_cast<size_t>(ne.vtxEdge[static_cast<size_t>(end)])];
-      std::array<Matrix, 2> r0, r1;
+      std::array<HalfRow, 2> r0, r1;
       for (int s = 0; s < 2; ++s) {
         Slot sl = ne.side[static_cast<size_t>(s)];
         if (end == 1) sl.end = 1 - sl.end;
@@ -747,7 +834,7 @@ Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalS
       const Vertex& vq = vertices[static_cast<size_t>(ne.vtx[static_cast<size_t>(1 - end)])];
       const VertexEdge& vqe = vq.edges[static_cast<size_t>(ne.vtxEdge[static_cast<size_t>(1 - end)])];
       const Vec3 M = 0.5 * (ve.curvature + vqe.curvature);
-      const Matrix gk = gammaPhiPrime(ve.gamma0, ve.gamma1, v.p, v.p + ve.t / 3.0, ve.curvature, M).first;
+      const HalfRow gk = gammaPhiPrime(ve.gamma0, ve.gamma1, v.p, v.p + ve.t / 3.0, ve.curvature, M).first;
       // Coefficients 0, 1 (the vertex's tangent and twist conditions) and 5 (the middle) do not depend on
       // g = gamma'(1); coefficients 2..4 were checked by the edge solve's residual.
       const Matrix lhs = kDeg * (r1[0] - r0[0]) + kDeg * (r1[1] - r0[1]);
