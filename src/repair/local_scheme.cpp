@@ -129,7 +129,8 @@ bool isBezierKnots(const KnotVector& kv, int degree) {
   const std::vector<double>& t = kv.values();
   if (static_cast<int>(t.size()) != 2 * (degree + 1)) return false;
   for (int i = 1; i <= degree; ++i)
-    if (t[static_cast<size_t>(i)] != t[0] || t[static_cast<size_t>(degree + 1 + i)] != t[static_cast<size_t>(degree + 1)])
+    if (t[static_cast<size_t>(i)] != t[0] ||
+        t[static_cast<size_t>(degree + 1 + i)] != t[static_cast<size_t>(degree + 1)])
       return false;
   return t[0] < t[static_cast<size_t>(degree + 1)];
 }
@@ -738,16 +739,17 @@ Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalS
     // b(s) = t(s) + (sigma - t(0) - t(1)) / 2 (it is then |sigma - t(0) - t(1)|^2 / 2): the system is solved for
     // sigma (index (e * 3 + (x - 2)) * 3 + c) and g, half the unknowns.
     //
-    // The system, row (e, k, c): k = 2..4: 5 sigma(e, k) - gg_e(k) g = d(e, k); k = 5: 5/2 (sigma(0, 4) + sigma(1, 4)) =
-    // d(e, 5), with gg_e(k) the coefficients of g in gamma Phi' (gg_e(5) = 0: gamma's part in g, (0, 0, -1/3, 0) times
-    // Phi''s (3 (A - P), 3 (C - A), 3 (M - C)), has no degree-5 term). The k = 5 rows do not involve g, and the sum of
-    // the k = 4 rows, 5 (sigma(0, 4) + sigma(1, 4)) + (3/5) (2 M - C_P - C_Q) g, is g-free too (M = (C_P + C_Q) / 2):
-    // they hold by construction (M, the common middle point, makes d(0, 5) = d(1, 5) = 10 M and
-    // sigma(0, 4) + sigma(1, 4) = 4 M), and the residual below checks them. So sigma(e, k) = (d(e, k) + gg_e(k) g) / 5
-    // with one free parameter g, chosen for the smallest change sum |sigma(e, k) - t(0, e, k) - t(1, e, k)|^2: with
-    // u = gg / 5, v = d / 5 - (t(0) + t(1)), g = -sum u v / sum u^2 (0 where every u vanishes). This is the solution
-    // of detail::constrainedLeastSquaresQR on the same rows (rank 18 of 19 unknowns, the nullspace direction
-    // (gg / 5, 1), weight 1 on sigma and 0 on g), in closed form: the same up to round-off.
+    // The system, row (e, k, c): k = 2..4: 5 sigma(e, k) - gg_e(k) g = d(e, k); k = 5:
+    // 5/2 (sigma(0, 4) + sigma(1, 4)) = d(e, 5), with gg_e(k) the coefficients of g in gamma Phi' (gg_e(5) = 0:
+    // gamma's part in g, (0, 0, -1/3, 0), times Phi''s (3 (A - P), 3 (C - A), 3 (M - C)) has no degree-5 term).
+    // The k = 5 rows do not involve g, and the sum of the k = 4 rows, 5 (sigma(0, 4) + sigma(1, 4)) +
+    // (3/5) (2 M - C_P - C_Q) g, is g-free too (M = (C_P + C_Q) / 2). They hold by construction (the common middle
+    // point M makes d(0, 5) = d(1, 5) = 10 M and sigma(0, 4) + sigma(1, 4) = 4 M), and the residual below checks
+    // them. So sigma(e, k) = (d(e, k) + gg_e(k) g) / 5 with one free parameter g, chosen for the smallest change
+    // sum |sigma(e, k) - t(0, e, k) - t(1, e, k)|^2: with u = gg / 5 and v = d / 5 - (t(0) + t(1)),
+    // g = -sum u v / sum u^2 (0 where every u vanishes). This is the solution of detail::constrainedLeastSquaresQR on
+    // the same rows (rank 18 of 19 unknowns, nullspace direction (gg / 5, 1), weight 1 on sigma and 0 on g) in
+    // closed form: the same up to round-off.
     std::array<std::array<std::array<Vec3, 3>, 2>, 2> target;  // [s][e][x - 2]
     std::array<std::array<Vec3, 3>, 2> sum0;                   // [e][x - 2]: t(0) + t(1)
     for (int s = 0; s < 2; ++s)
