@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "core/bernstein_internal.h"
@@ -282,35 +283,39 @@ TEST(BernsteinPoly, RestrictionRoutesGiveTheSameBits) {
   // restricted()'s coefficients. The scratch buffer is reused across sizes (grown, never shrunk).
   std::mt19937_64 rng(1601);
   std::vector<double> scratch;
+  // Degrees 63..480 in one component: the four-lane scalar subdivision (the pcurve route's P, Q, R).
+  std::vector<std::pair<int, int>> cases;
   for (int dim : {1, 2, 3, 4, 7})
-    for (int n = 0; n <= 14; ++n) {
-      const BernsteinPoly p = randomPoly(rng, n, dim);
-      std::vector<std::pair<double, double>> intervals = {{0.0, 1.0}, {0.0, 0.5}, {0.5, 1.0}, {0.25, 0.75},
-                                                          {1.0, 0.0}, {1.2, 1.9},  {-0.3, 0.4}};
-      for (int k = 0; k < 6; ++k) {
-        const double a = uniformReal(rng, 0.0, 1.0), b = uniformReal(rng, 0.0, 1.0);
-        intervals.emplace_back(std::min(a, b), std::max(a, b));
-        intervals.emplace_back(std::max(a, b), std::min(a, b));
-      }
-      for (auto [a, b] : intervals) {
-        if (a == b) continue;
-        const Matrix viaPoly = p.restricted(a, b).coeffs();
-        const Eigen::Map<const Matrix> viaScratch = detail::restrictedCoeffs(p, a, b, scratch);
-        ASSERT_EQ(viaScratch.rows(), viaPoly.rows());
-        ASSERT_EQ(viaScratch.cols(), viaPoly.cols());
-        for (Eigen::Index i = 0; i < viaPoly.size(); ++i)
-          ASSERT_EQ(viaScratch.data()[i], viaPoly.data()[i]) << "degree " << n << " dim " << dim << " [" << a << ", " << b << "]";
-        if (a >= 0.0 && a < b && b <= 1.0) {
-          const Matrix byRows = restrictedByRows(p.coeffs(), a, b);
-          for (Eigen::Index i = 0; i < byRows.size(); ++i)
-            ASSERT_EQ(viaPoly.data()[i], byRows.data()[i]) << "degree " << n << " dim " << dim << " [" << a << ", " << b << "]";
-          // The bounds' reductions on the view are those of BernsteinPoly on the copy.
-          ASSERT_EQ(viaScratch.col(0).minCoeff(), p.restricted(a, b).coeffs().col(0).minCoeff());
-          ASSERT_EQ(viaScratch.rowwise().norm().maxCoeff(), p.restricted(a, b).maxCoeffNorm());
-          ASSERT_EQ(viaScratch.cwiseAbs().maxCoeff(), p.restricted(a, b).maxAbsCoeff());
-        }
+    for (int n = 0; n <= 14; ++n) cases.emplace_back(dim, n);
+  for (int n : {63, 64, 65, 66, 67, 100, 257, 480}) cases.emplace_back(1, n);
+  for (auto [dim, n] : cases) {
+    const BernsteinPoly p = randomPoly(rng, n, dim);
+    std::vector<std::pair<double, double>> intervals = {{0.0, 1.0}, {0.0, 0.5}, {0.5, 1.0}, {0.25, 0.75},
+                                                        {1.0, 0.0}, {1.2, 1.9},  {-0.3, 0.4}};
+    for (int k = 0; k < 6; ++k) {
+      const double a = uniformReal(rng, 0.0, 1.0), b = uniformReal(rng, 0.0, 1.0);
+      intervals.emplace_back(std::min(a, b), std::max(a, b));
+      intervals.emplace_back(std::max(a, b), std::min(a, b));
+    }
+    for (auto [a, b] : intervals) {
+      if (a == b) continue;
+      const Matrix viaPoly = p.restricted(a, b).coeffs();
+      const Eigen::Map<const Matrix> viaScratch = detail::restrictedCoeffs(p, a, b, scratch);
+      ASSERT_EQ(viaScratch.rows(), viaPoly.rows());
+      ASSERT_EQ(viaScratch.cols(), viaPoly.cols());
+      for (Eigen::Index i = 0; i < viaPoly.size(); ++i)
+        ASSERT_EQ(viaScratch.data()[i], viaPoly.data()[i]) << "degree " << n << " dim " << dim << " [" << a << ", " << b << "]";
+      if (a >= 0.0 && a < b && b <= 1.0) {
+        const Matrix byRows = restrictedByRows(p.coeffs(), a, b);
+        for (Eigen::Index i = 0; i < byRows.size(); ++i)
+          ASSERT_EQ(viaPoly.data()[i], byRows.data()[i]) << "degree " << n << " dim " << dim << " [" << a << ", " << b << "]";
+        // The bounds' reductions on the view are those of BernsteinPoly on the copy.
+        ASSERT_EQ(viaScratch.col(0).minCoeff(), p.restricted(a, b).coeffs().col(0).minCoeff());
+        ASSERT_EQ(viaScratch.rowwise().norm().maxCoeff(), p.restricted(a, b).maxCoeffNorm());
+        ASSERT_EQ(viaScratch.cwiseAbs().maxCoeff(), p.restricted(a, b).maxAbsCoeff());
       }
     }
+  }
 }
 
 TEST(BernsteinPoly, EvaluationKeepsTheRowWiseBits) {
@@ -318,7 +323,7 @@ TEST(BernsteinPoly, EvaluationKeepsTheRowWiseBits) {
   // whole-row expressions: the same value bit for bit, below and above that size (degree 80 in 4 components).
   std::mt19937_64 rng(1604);
   for (int dim : {1, 3, 4})
-    for (int n : {0, 1, 2, 3, 5, 9, 20, 80}) {
+    for (int n : {0, 1, 2, 3, 5, 9, 20, 64, 65, 80, 200, 480}) {
       const BernsteinPoly p = randomPoly(rng, n, dim);
       for (double t : {0.0, 1.0, 0.5, uniformReal(rng, 0.0, 1.0), uniformReal(rng, -0.5, 1.5)}) {
         Matrix w = p.coeffs();
@@ -329,6 +334,82 @@ TEST(BernsteinPoly, EvaluationKeepsTheRowWiseBits) {
         for (int k = 0; k < dim; ++k) ASSERT_EQ(v[k], w(0, k)) << "degree " << n << " dim " << dim << " t " << t;
       }
     }
+}
+
+// Products column by column through binomially scaled copies, as productRows computed them before it worked on
+// whole rows (issue 16 goal 6): products, compositions and their bounds must keep those bits.
+Matrix productByColumns(const Matrix& a, const Matrix& b) {
+  const int n = static_cast<int>(a.rows()) - 1, m = static_cast<int>(b.rows()) - 1;
+  const Eigen::Index dim = std::max(a.cols(), b.cols());
+  Matrix out = Matrix::Zero(n + m + 1, dim);
+  std::vector<double> sa(static_cast<size_t>(n) + 1), sb(static_cast<size_t>(m) + 1), so(static_cast<size_t>(n + m) + 1);
+  for (Eigen::Index c = 0; c < dim; ++c) {
+    const Eigen::Index ca = a.cols() == 1 ? 0 : c, cb = b.cols() == 1 ? 0 : c;
+    for (int i = 0; i <= n; ++i) sa[static_cast<size_t>(i)] = a(i, ca) * binomial(n, i);
+    for (int j = 0; j <= m; ++j) sb[static_cast<size_t>(j)] = b(j, cb) * binomial(m, j);
+    std::fill(so.begin(), so.end(), 0.0);
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= m; ++j) so[static_cast<size_t>(i + j)] += sa[static_cast<size_t>(i)] * sb[static_cast<size_t>(j)];
+    for (int k = 0; k <= n + m; ++k) out(k, c) = so[static_cast<size_t>(k)] / binomial(n + m, k);
+  }
+  return out;
+}
+
+// p(w) by de Casteljau with polynomial arithmetic through product() and operator+ (b_i <- (1 - w) b_i + w b_{i+1}).
+BernsteinPoly composedByProducts(const Matrix& rows, int n, int m0, const BernsteinPoly& a, const BernsteinPoly& w) {
+  std::vector<BernsteinPoly> b;
+  for (int i = 0; i <= n; ++i) b.emplace_back(Matrix(rows.middleRows(static_cast<Eigen::Index>(i) * (m0 + 1), m0 + 1)));
+  for (int r = 1; r <= n; ++r)
+    for (int i = 0; i <= n - r; ++i)
+      b[static_cast<size_t>(i)] = product(a, b[static_cast<size_t>(i)]) + product(w, b[static_cast<size_t>(i + 1)]);
+  return b.front();
+}
+
+void expectSameBits(const Matrix& x, const Matrix& y, const std::string& what) {
+  ASSERT_EQ(x.rows(), y.rows()) << what;
+  ASSERT_EQ(x.cols(), y.cols()) << what;
+  for (Eigen::Index i = 0; i < x.size(); ++i) ASSERT_EQ(x.data()[i], y.data()[i]) << what << " value " << i;
+}
+
+TEST(BernsteinPoly, ProductsAndCompositionsKeepTheColumnWiseBits) {
+  std::mt19937_64 rng(1606);
+  const std::pair<int, int> dims[] = {{1, 1}, {1, 3}, {3, 1}, {3, 3}, {1, 4}, {4, 1}, {4, 4}, {2, 2}, {1, 7}};
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = trial % 3 == 0 ? uniformInt(rng, 0, 12) : uniformInt(rng, 0, 250);
+    const int m = trial % 3 == 0 ? uniformInt(rng, 0, 40) : uniformInt(rng, 0, 250);
+    for (auto [da, db] : dims) {
+      const BernsteinPoly a = randomPoly(rng, n, da), b = randomPoly(rng, m, db);
+      expectSameBits(product(a, b).coeffs(), productByColumns(a.coeffs(), b.coeffs()),
+                     "product " + std::to_string(n) + " x " + std::to_string(m));
+    }
+  }
+  for (int trial = 0; trial < 120; ++trial) {
+    const int k = trial % 5, kv = (trial / 5) % 4, dim = 1 + trial % 4;
+    const int n = uniformInt(rng, 0, 10), du = uniformInt(rng, 0, 7), dv = uniformInt(rng, 0, 7);
+    const BernsteinPoly p = randomPoly(rng, n, dim), w = randomPoly(rng, k, 1);
+    const BernsteinPoly oneMinus = BernsteinPoly::constant(1.0, k) - w;
+    expectSameBits(p.composed(w).coeffs(), composedByProducts(p.coeffs(), n, 0, oneMinus, w).coeffs(), "composed");
+    const BernsteinPatch P(du, dv, test::randomMatrix(rng, (du + 1) * (dv + 1), dim));
+    const BernsteinPoly u = randomPoly(rng, k, 1), v = randomPoly(rng, kv, 1);
+    const BernsteinPoly oneMinusV = BernsteinPoly::constant(1.0, kv) - v, oneMinusU = BernsteinPoly::constant(1.0, k) - u;
+    Matrix rows(static_cast<Eigen::Index>(du + 1) * (dv * kv + 1), dim);
+    for (int i = 0; i <= du; ++i)
+      rows.middleRows(static_cast<Eigen::Index>(i) * (dv * kv + 1), dv * kv + 1) =
+          composedByProducts(P.coeffs().middleRows(static_cast<Eigen::Index>(i) * (dv + 1), dv + 1), dv, 0, oneMinusV, v)
+              .coeffs();
+    expectSameBits(P.composed(u, v).coeffs(), composedByProducts(rows, du, dv * kv, oneMinusU, u).coeffs(),
+                   "patch composed");
+    // Rational: w^(du + dv) P(u / w, v / w) by the homogeneous de Casteljau ((w - x) b_i + x b_{i+1}).
+    const BernsteinPoly hu = randomPoly(rng, k, 1), hv = randomPoly(rng, k, 1), hw = randomPoly(rng, k, 1);
+    const BernsteinPoly wMinusV = hw - hv, wMinusU = hw - hu;
+    Matrix hrows(static_cast<Eigen::Index>(du + 1) * (dv * k + 1), dim);
+    for (int i = 0; i <= du; ++i)
+      hrows.middleRows(static_cast<Eigen::Index>(i) * (dv * k + 1), dv * k + 1) =
+          composedByProducts(P.coeffs().middleRows(static_cast<Eigen::Index>(i) * (dv + 1), dv + 1), dv, 0, wMinusV, hv)
+              .coeffs();
+    expectSameBits(P.composed(hu, hv, hw).coeffs(), composedByProducts(hrows, du, dv * k, wMinusU, hu).coeffs(),
+                   "rational patch composed");
+  }
 }
 
 TEST(BernsteinPoly, ReversedIsPOfOneMinusS) {

@@ -6,8 +6,13 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <optional>
 #include <type_traits>
 #include <vector>
+
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 namespace seam {
 
@@ -111,8 +116,15 @@ SEAM_AVX2_TARGET void deCasteljauLevelsAvx2(double* w, Eigen::Index n, Eigen::In
   deCasteljauLevelsKernel(w, n, d, t);
 }
 #endif
+#ifdef SEAM_BERNSTEIN_AVX2
+constexpr Eigen::Index kSubdivideScalarAvx2MinDegree = 64;
+void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft);
+#endif
 void deCasteljauLevels(double* w, Eigen::Index n, Eigen::Index d, double t) {
 #ifdef SEAM_BERNSTEIN_AVX2
+  // One column: the levels are those of the subdivision keeping [t, 1] (w[i] = s w[i] + t w[i + 1]); at high degree
+  // its explicit four-lane loop (the same operations per value).
+  if (d == 1 && n - 1 >= kSubdivideScalarAvx2MinDegree && hasAvx2()) return subdivideScalarAvx2(w, n - 1, t, false);
   if (n > 8 && hasAvx2()) return deCasteljauLevelsAvx2(w, n, d, t);
 #endif
   deCasteljauLevelsDefault(w, n, d, t);
@@ -176,24 +188,105 @@ void convolveAdd(const double* sa, int n, const double* sb, int m, double* so) {
   convolveAddDefault(sa, n, sb, m, so);
 }
 
+// The binomial row C(n, 0..n) for n <= kBinomialRowCacheMax: the table's row or the per-thread cached one.
+inline const double* binomialRow(int n) {
+  if (n < kBinomialTableSize) return &kBinomials.v[static_cast<size_t>(n * kBinomialTableSize)];
+  return cachedBinomialRow(n);
+}
+
+// out[(i + j) * d + c] += sa(i, c) * sb(j, c) over i (outer), j, c on row-major rows of d values; an operand with
+// one column (aScalar / bScalar) is broadcast: sa(i, c) = sa[i], sb(j, c) = sb[j]. Each output value sums its terms in
+// the order of i, as convolveAdd does column by column, and the products commute exactly: the same bits.
+template <int kD>
+SEAM_KERNEL void convolveRowsKernel(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m,
+                                    Eigen::Index d, double* so) {
+  const Eigen::Index dd = kD > 0 ? kD : d;
+  for (int i = 0; i <= n; ++i) {
+    double* o = so + static_cast<Eigen::Index>(i) * dd;
+    if (aScalar) {
+      const double x = sa[i];
+      for (Eigen::Index q = 0; q < static_cast<Eigen::Index>(m + 1) * dd; ++q) o[q] += x * sb[q];
+    } else if (bScalar) {
+      const double* x = sa + static_cast<Eigen::Index>(i) * dd;
+      for (int j = 0; j <= m; ++j) {
+        const double y = sb[j];
+        for (Eigen::Index c = 0; c < dd; ++c) o[j * dd + c] += x[c] * y;
+      }
+    } else {
+      const double* x = sa + static_cast<Eigen::Index>(i) * dd;
+      for (int j = 0; j <= m; ++j)
+        for (Eigen::Index c = 0; c < dd; ++c) o[j * dd + c] += x[c] * sb[j * dd + c];
+    }
+  }
+}
+SEAM_KERNEL void convolveRowsDispatch(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m,
+                                      Eigen::Index d, double* so) {
+  switch (d) {
+    case 3: return convolveRowsKernel<3>(sa, aScalar, n, sb, bScalar, m, d, so);
+    case 4: return convolveRowsKernel<4>(sa, aScalar, n, sb, bScalar, m, d, so);
+    default: return convolveRowsKernel<0>(sa, aScalar, n, sb, bScalar, m, d, so);
+  }
+}
+void convolveRowsDefault(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m, Eigen::Index d,
+                         double* so) {
+  convolveRowsDispatch(sa, aScalar, n, sb, bScalar, m, d, so);
+}
+#ifdef SEAM_BERNSTEIN_AVX2
+SEAM_AVX2_TARGET void convolveRowsAvx2(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m,
+                                       Eigen::Index d, double* so) {
+  convolveRowsDispatch(sa, aScalar, n, sb, bScalar, m, d, so);
+}
+#endif
+void convolveRows(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m, Eigen::Index d,
+                  double* so) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (hasAvx2()) return convolveRowsAvx2(sa, aScalar, n, sb, bScalar, m, d, so);
+#endif
+  convolveRowsDefault(sa, aScalar, n, sb, bScalar, m, d, so);
+}
+
 Matrix productRows(const Matrix& a, const Matrix& b) {
   const int n = static_cast<int>(a.rows()) - 1;
   const int m = static_cast<int>(b.rows()) - 1;
   const auto dim = std::max(a.cols(), b.cols());
   Matrix out = Matrix::Zero(n + m + 1, dim);
+  if (n + m <= kScaledProductMaxDegree && dim == 1) {
+    // One column: a contiguous scaled copy of each row set, convolved, divided by C(n + m, k).
+    double sa[kScaledProductMaxDegree + 1], sb[kScaledProductMaxDegree + 1];
+    const double *bn = binomialRow(n), *bmr = binomialRow(m), *bnm = binomialRow(n + m);
+    for (int i = 0; i <= n; ++i) sa[i] = a(i, 0) * bn[i];
+    for (int j = 0; j <= m; ++j) sb[j] = b(j, 0) * bmr[j];
+    double* so = out.data();
+    convolveAdd(sa, n, sb, m, so);
+    for (int k = 0; k <= n + m; ++k) so[k] = so[k] / bnm[k];
+    return out;
+  }
   if (n + m <= kScaledProductMaxDegree) {
-    // Column by column through contiguous scaled copies (Matrix is row-major: a column is strided).
-    double sa[kScaledProductMaxDegree + 1], sb[kScaledProductMaxDegree + 1], so[kScaledProductMaxDegree + 1];
-    double sd[kScaledProductMaxDegree + 1];
-    for (int k = 0; k <= n + m; ++k) sd[k] = binom(n + m, k);
-    for (Eigen::Index c = 0; c < dim; ++c) {
-      const Eigen::Index ca = a.cols() == 1 ? 0 : c, cb = b.cols() == 1 ? 0 : c;
-      for (int i = 0; i <= n; ++i) sa[i] = a(i, ca) * binom(n, i);
-      for (int j = 0; j <= m; ++j) sb[j] = b(j, cb) * binom(m, j);
-      for (int k = 0; k <= n + m; ++k) so[k] = 0.0;
-      convolveAdd(sa, n, sb, m, so);
-      for (int k = 0; k <= n + m; ++k) out(k, c) = so[k] / sd[k];  // what row(k) /= C(n + m, k) gave
+    // All columns at once on the row-major rows (a one-column operand scaled once and broadcast): per value the
+    // same products, sums in the same order and the same division as column by column.
+    const double *bn = binomialRow(n), *bmr = binomialRow(m), *bnm = binomialRow(n + m);
+    constexpr size_t kStack = 2048;
+    double stackA[kStack], stackB[kStack];
+    std::vector<double> heapA, heapB;
+    double* sa = stackA;
+    double* sb = stackB;
+    if (static_cast<size_t>(a.size()) > kStack) {
+      heapA.resize(static_cast<size_t>(a.size()));
+      sa = heapA.data();
     }
+    if (static_cast<size_t>(b.size()) > kStack) {
+      heapB.resize(static_cast<size_t>(b.size()));
+      sb = heapB.data();
+    }
+    const Eigen::Index ca = a.cols(), cb = b.cols();
+    for (int i = 0; i <= n; ++i)
+      for (Eigen::Index c = 0; c < ca; ++c) sa[i * ca + c] = a(i, c) * bn[i];
+    for (int j = 0; j <= m; ++j)
+      for (Eigen::Index c = 0; c < cb; ++c) sb[j * cb + c] = b(j, c) * bmr[j];
+    double* so = out.data();
+    convolveRows(sa, ca == 1, n, sb, cb == 1, m, dim, so);
+    for (int k = 0; k <= n + m; ++k)
+      for (Eigen::Index c = 0; c < dim; ++c) so[k * dim + c] = so[k * dim + c] / bnm[k];
     return out;
   }
   // The binomials once per row (above the table they cost O(k) each; per pair they dominated high degrees).
@@ -214,6 +307,57 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
     }
   }
   return out;
+}
+
+// The polynomial de Casteljau levels b_i <- product(A, b_i) + product(B, b_{i+1}) (A, B scalar of the same degree k)
+// on n + 1 polynomials b_0..b_n of degree m0 and d columns, stacked in `rows` ((n + 1)(m0 + 1) x d); the result is
+// the last level's b_0 (degree m0 + n k). Without temporaries: each b_j is scaled by its binomials once per level
+// (it serves as b_i of one term and b_{i+1} of another) and both products' convolutions run on scratch rows, with
+// the same values, sums in the same order, divisions and final sum as productRows and operator+: the same bits.
+// nullopt when a product would leave productRows' scaled form (m0 + n k > kScaledProductMaxDegree) or when A and B
+// differ in degree: the caller then uses the products themselves.
+std::optional<Matrix> lerpLevels(const Matrix& rows, int n, int m0, const Matrix& A, const Matrix& B) {
+  const int k = static_cast<int>(A.rows()) - 1;
+  if (B.rows() != A.rows() || A.cols() != 1 || B.cols() != 1 || m0 + n * k > kScaledProductMaxDegree) return std::nullopt;
+  const Eigen::Index d = rows.cols();
+  if (n == 0) return Matrix(rows.topRows(m0 + 1));
+  const Eigen::Index stride = static_cast<Eigen::Index>(m0 + n * k + 1) * d;
+  const size_t slots = static_cast<size_t>(n) + 1;
+  std::vector<double> buf(slots * static_cast<size_t>(stride)), scaled(buf.size()), t1(static_cast<size_t>(stride)),
+      t2(static_cast<size_t>(stride)), sa(2 * (static_cast<size_t>(k) + 1));
+  for (size_t j = 0; j < slots; ++j)
+    std::copy(rows.data() + static_cast<Eigen::Index>(j) * (m0 + 1) * d,
+              rows.data() + static_cast<Eigen::Index>(j + 1) * (m0 + 1) * d, buf.data() + j * stride);
+  const double* bk = binomialRow(k);
+  double* sa1 = sa.data();
+  double* sa2 = sa.data() + k + 1;
+  for (int i = 0; i <= k; ++i) {
+    sa1[i] = A(i, 0) * bk[i];
+    sa2[i] = B(i, 0) * bk[i];
+  }
+  int m = m0;
+  for (int r = 1; r <= n; ++r) {
+    const double* bm = binomialRow(m);
+    const double* bo = binomialRow(m + k);
+    const Eigen::Index outSize = static_cast<Eigen::Index>(m + k + 1) * d;
+    for (int j = 0; j <= n - r + 1; ++j) {
+      const double* x = buf.data() + j * stride;
+      double* y = scaled.data() + j * stride;
+      for (int q = 0; q <= m; ++q)
+        for (Eigen::Index c = 0; c < d; ++c) y[q * d + c] = x[q * d + c] * bm[q];
+    }
+    for (int i = 0; i <= n - r; ++i) {
+      std::fill(t1.begin(), t1.begin() + outSize, 0.0);
+      std::fill(t2.begin(), t2.begin() + outSize, 0.0);
+      convolveRows(sa1, true, k, scaled.data() + i * stride, d == 1, m, d, t1.data());
+      convolveRows(sa2, true, k, scaled.data() + (i + 1) * stride, d == 1, m, d, t2.data());
+      double* o = buf.data() + i * stride;
+      for (int q = 0; q <= m + k; ++q)
+        for (Eigen::Index c = 0; c < d; ++c) o[q * d + c] = t1[q * d + c] / bo[q] + t2[q * d + c] / bo[q];
+    }
+    m += k;
+  }
+  return Matrix(Eigen::Map<const Matrix>(buf.data(), m + 1, d));
 }
 
 Matrix elevateRows(const Matrix& c, int by) {
@@ -303,7 +447,44 @@ void subdivideScalar(double* c, Eigen::Index n, double t, bool keepLeft) {
       for (Eigen::Index i = 0; i <= n - r; ++i) c[i] = s * c[i] + t * c[i + 1];
   }
 }
+#ifdef SEAM_BERNSTEIN_AVX2
+// Scalar polynomials of high degree (the pcurve route's P, Q, R of degree 100..500, restricted thousands of times by
+// the bound subdivision): four coefficients of a level at a time. The previous level's stores that a vector load
+// straddles are a whole level (>= kSubdivideScalarAvx2MinDegree coefficients) back, long retired, so the stall that
+// keeps low degrees element by element (subdivideScalar) does not occur; 4-5x faster at degrees 128-480. Per
+// coefficient the same s * a + t * b as subdivideScalar (two products, then their sum; no FMA), in an order in which
+// every value read is the previous level's: the same bits.
+SEAM_AVX2_TARGET void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft) {
+  const double s = 1.0 - t;
+  const __m256d vs = _mm256_set1_pd(s), vt = _mm256_set1_pd(t);
+  if (keepLeft) {
+    // Descending: c[i-3..i] from c[i-4..i] (both loaded before the store; the next block down reads only values
+    // this level has not yet written).
+    for (Eigen::Index r = 1; r <= n; ++r) {
+      Eigen::Index i = n;
+      for (; i - 3 >= r; i -= 4) {
+        const __m256d x = _mm256_loadu_pd(c + i - 4), y = _mm256_loadu_pd(c + i - 3);
+        _mm256_storeu_pd(c + i - 3, _mm256_add_pd(_mm256_mul_pd(vs, x), _mm256_mul_pd(vt, y)));
+      }
+      for (; i >= r; --i) c[i] = s * c[i - 1] + t * c[i];
+    }
+  } else {
+    for (Eigen::Index r = 1; r <= n; ++r) {
+      const Eigen::Index last = n - r;
+      Eigen::Index i = 0;
+      for (; i + 3 <= last; i += 4) {
+        const __m256d x = _mm256_loadu_pd(c + i), y = _mm256_loadu_pd(c + i + 1);
+        _mm256_storeu_pd(c + i, _mm256_add_pd(_mm256_mul_pd(vs, x), _mm256_mul_pd(vt, y)));
+      }
+      for (; i <= last; ++i) c[i] = s * c[i] + t * c[i + 1];
+    }
+  }
+}
+#endif
 void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (d == 1 && n >= kSubdivideScalarAvx2MinDegree && hasAvx2()) return subdivideScalarAvx2(c, n, t, keepLeft);
+#endif
   if (d == 1) return subdivideScalar(c, n, t, keepLeft);
 #ifdef SEAM_BERNSTEIN_AVX2
   if (n > 8 && hasAvx2()) return subdivideAvx2(c, n, d, t, keepLeft);
@@ -453,6 +634,7 @@ BernsteinPoly BernsteinPoly::composed(const BernsteinPoly& w) const {
   const int n = degree();
   // de Casteljau with polynomial arithmetic: b_i <- (1 - w) b_i + w b_{i+1}; each level raises the degree by deg w.
   const BernsteinPoly oneMinusW = BernsteinPoly::constant(1.0, w.degree()) - w;
+  if (std::optional<Matrix> c = lerpLevels(c_, n, 0, oneMinusW.coeffs(), w.coeffs())) return BernsteinPoly(std::move(*c));
   std::vector<BernsteinPoly> b;
   b.reserve(static_cast<size_t>(n + 1));
   for (int i = 0; i <= n; ++i) b.emplace_back(Matrix(c_.row(i)));
@@ -563,6 +745,13 @@ BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPo
   for (int i = 0; i <= du_; ++i)
     b.push_back(BernsteinPoly(Matrix(c_.middleRows(static_cast<Eigen::Index>(i) * (dv_ + 1), dv_ + 1))).composed(v));
   const BernsteinPoly oneMinusU = BernsteinPoly::constant(1.0, u.degree()) - u;
+  {
+    const int m0 = b.front().degree();
+    Matrix rows(static_cast<Eigen::Index>(du_ + 1) * (m0 + 1), dim());
+    for (int i = 0; i <= du_; ++i) rows.middleRows(static_cast<Eigen::Index>(i) * (m0 + 1), m0 + 1) = b[static_cast<size_t>(i)].coeffs();
+    if (std::optional<Matrix> c = lerpLevels(rows, du_, m0, oneMinusU.coeffs(), u.coeffs()))
+      return BernsteinPoly(std::move(*c));
+  }
   for (int r = 1; r <= du_; ++r)
     for (int i = 0; i <= du_ - r; ++i)
       b[static_cast<size_t>(i)] =
@@ -575,6 +764,16 @@ BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPo
   // De Casteljau with homogeneous parameters: (1 - s) a + s b for s = x / w, times w, is (w - x) a + x b.
   auto reduce = [&w](std::vector<BernsteinPoly> b, const BernsteinPoly& x) {
     const BernsteinPoly wMinusX = w - x;
+    {
+      const int m0 = b.front().degree();
+      const Eigen::Index d = b.front().coeffs().cols();
+      Matrix rows(static_cast<Eigen::Index>(b.size()) * (m0 + 1), d);
+      for (size_t i = 0; i < b.size(); ++i)
+        rows.middleRows(static_cast<Eigen::Index>(i) * (m0 + 1), m0 + 1) = b[i].coeffs();
+      if (std::optional<Matrix> c =
+              lerpLevels(rows, static_cast<int>(b.size()) - 1, m0, wMinusX.coeffs(), x.coeffs()))
+        return BernsteinPoly(std::move(*c));
+    }
     for (size_t r = 1; r < b.size(); ++r)
       for (size_t i = 0; i + r < b.size(); ++i) b[i] = product(wMinusX, b[i]) + product(x, b[i + 1]);
     return b.front();

@@ -197,55 +197,81 @@ PointData measure(const FaceSide& A, const FaceSide& B, double t) {
   return m;
 }
 
-/// The sampled seam report through the pcurves (certified = false).
-SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSide& B, const std::string& a,
-                       const std::string& b, const SeamOptions& opt, double modelSize) {
-  SeamReport rep;
-  rep.a = a;
-  rep.b = b;
-  rep.overlapA = {A.first, A.last};
-  rep.overlapB = {B.first, B.last};
-  rep.correspondence = Correspondence::kProjection;
+/// The samples of an edge's measures through the pcurves: kMinSamples + 1 or more evenly spaced points (A's
+/// parameter), the curvature reference and whether a normal vanishes at one of them.
+struct EdgeSamples {
+  std::vector<double> ts;
+  std::vector<PointData> ms;
+  double curvRef = 0.0;
+  bool degenerate = false;
+};
+
+EdgeSamples sampleEdge(const TopoDS_Edge& edge, const FaceSide& A, const FaceSide& B, const SeamOptions& opt,
+                       double modelSize) {
   int spans = 1;
   try {
     spans = std::max(1, BRepAdaptor_Curve(edge).NbIntervals(GeomAbs_C2));
   } catch (const Standard_Failure&) {
   }
   const int n = std::max(kMinSamples, std::max(opt.samplesPerSpan, 2) * spans);
-  std::vector<double> ts(static_cast<size_t>(n) + 1);
-  std::vector<PointData> ms(ts.size());
+  EdgeSamples s;
+  s.ts.resize(static_cast<size_t>(n) + 1);
+  s.ms.resize(s.ts.size());
   for (int i = 0; i <= n; ++i) {
-    ts[static_cast<size_t>(i)] = A.first + (A.last - A.first) * i / n;
-    ms[static_cast<size_t>(i)] = measure(A, B, ts[static_cast<size_t>(i)]);
+    s.ts[static_cast<size_t>(i)] = A.first + (A.last - A.first) * i / n;
+    s.ms[static_cast<size_t>(i)] = measure(A, B, s.ts[static_cast<size_t>(i)]);
   }
   const double flat = kFlatCurvatureRatio / std::max(modelSize, std::numeric_limits<double>::min());
-  double curvRef = flat;
-  bool degenerate = false;
-  for (const PointData& m : ms) {
-    curvRef = std::max(curvRef, m.curvature);
-    degenerate |= !m.curvatureOk;
+  s.curvRef = flat;
+  for (const PointData& m : s.ms) {
+    s.curvRef = std::max(s.curvRef, m.curvature);
+    s.degenerate |= !m.curvatureOk;
   }
-  auto best = [&](auto get) {
+  return s;
+}
+
+/// The sampled seam report through the pcurves (certified = false). The maxima are refined by golden-section
+/// search (detail::refinedMaximum) where `refineG0G1` / `refineG2` ask for it; where the certified route replaces
+/// a measure's values afterwards (certifyThroughPCurves) its refinement is skipped and the best sample stands in
+/// (the report does not keep it).
+SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& B, const std::string& a,
+                       const std::string& b, const SeamOptions& opt, bool refineG0G1 = true, bool refineG2 = true) {
+  SeamReport rep;
+  rep.a = a;
+  rep.b = b;
+  rep.overlapA = {A.first, A.last};
+  rep.overlapB = {B.first, B.last};
+  rep.correspondence = Correspondence::kProjection;
+  const std::vector<double>& ts = s.ts;
+  const std::vector<PointData>& ms = s.ms;
+  const double curvRef = s.curvRef;
+  // (t, value) of the refined maximum and its point, or of the best sample when not refined.
+  auto best = [&](auto get, bool refine) -> std::pair<WorstLocation, double> {
     std::vector<double> v(ms.size());
     for (size_t i = 0; i < v.size(); ++i) v[i] = get(ms[i]);
-    return seam::detail::refinedMaximum(ts, v, [&](double t) { return get(measure(A, B, t)); });
+    if (!refine) {
+      const size_t i = static_cast<size_t>(std::max_element(v.begin(), v.end()) - v.begin());
+      return {WorstLocation{ts[i], ms[i].point}, v[i]};
+    }
+    const auto [t, value] =
+        seam::detail::refinedMaximum(ts, v, [&](double x) { return get(measure(A, B, x)); });
+    return {WorstLocation{t, measure(A, B, t).point}, value};
   };
-  auto at = [&](double t) { return WorstLocation{t, measure(A, B, t).point}; };
   {
-    const auto [t, v] = best([](const PointData& m) { return m.g0; });
+    const auto [at, v] = best([](const PointData& m) { return m.g0; }, refineG0G1);
     rep.g0Max = rep.g0Sampled = v;
-    rep.g0Worst = at(t);
+    rep.g0Worst = at;
   }
   {
-    const auto [t, v] = best([](const PointData& m) { return m.normalsOk ? m.g1 : 0.0; });
+    const auto [at, v] = best([](const PointData& m) { return m.normalsOk ? m.g1 : 0.0; }, refineG0G1);
     rep.g1MaxDeg = rep.g1SampledDeg = v * kRadToDeg;
-    rep.g1Worst = at(t);
+    rep.g1Worst = at;
   }
   {
-    const auto [t, v] = best([](const PointData& m) { return m.curvatureOk ? m.g2 : 0.0; });
+    const auto [at, v] = best([](const PointData& m) { return m.curvatureOk ? m.g2 : 0.0; }, refineG2);
     rep.g2Max = rep.g2Sampled = v;
     rep.g2RelMax = rep.g2RelSampled = v / curvRef;
-    rep.g2Worst = at(t);
+    rep.g2Worst = at;
   }
   if (opt.keepSamples)
     for (size_t i = 0; i < ts.size(); ++i)
@@ -253,7 +279,7 @@ SeamReport sampledSeam(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   rep.certified = false;
   rep.notes.push_back(kSampledNote);
   rep.notes.push_back("faces of a B-rep have unrelated parametrisations: no C^k");
-  if (degenerate) rep.notes.push_back("the normal vanishes somewhere on the edge (pole or degenerate edge)");
+  if (s.degenerate) rep.notes.push_back("the normal vanishes somewhere on the edge (pole or degenerate edge)");
   rep.geometric = classifyGeometric(rep, opt.tol);  // sampled: no identities
   return rep;
 }
@@ -434,9 +460,9 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
 
 /// Replaces the sampled G0 / G1 (and, on G1 identities, G2) values by certified ones where the pcurves and surfaces
 /// compose exactly.
-void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt,
-                           double modelSize) {
-  const Result<PCurveSeamBounds> r = certifyPCurveSeam(a, b, opt);
+/// `r` = certifyPCurveSeam(a, b, opt), computed before the sampled report (EdgeCertificate).
+void certifyThroughPCurves(SeamReport& rep, const Result<PCurveSeamBounds>& r, const PCurveSide& a,
+                           const SeamOptions& opt, double modelSize) {
   if (!r) {
     rep.notes.push_back(fmt::format("not certified: {}", r.status().message()));
     return;
@@ -485,39 +511,84 @@ void certifyThroughPCurves(SeamReport& rep, const PCurveSide& a, const PCurveSid
   reconcileVerdict(rep, opt.tol);
 }
 
-/// The certified route for two faces whose edges do not share a parameter: B's side (or A's, when only B has a
-/// parameter of its own, or when B's pcurve has the higher degree) re-expressed in the other's parameter by a
-/// monotone piecewise-cubic correspondence (detail::correspondInParameterOf), then certifyThroughPCurves.
-void certifyByCorrespondence(SeamReport& rep, const FacePCurve& a, const FacePCurve& b, bool sameParameter,
-                             const std::string& nameA, const std::string& nameB, const SeamOptions& opt,
-                             double modelSize) {
-  // The master keeps its parameter; the other is composed with a cubic (its degree triples): master = the side
-  // with its own parameter, or of the higher pcurve degree.
-  const bool masterA = a.ownParameter != b.ownParameter ? a.ownParameter
-                                                        : a.side.pcurve.degree() >= b.side.pcurve.degree();
-  const FacePCurve& master = masterA ? a : b;
-  const FacePCurve& other = masterA ? b : a;
-  const Result<detail::Correspondence> c = detail::correspondInParameterOf(master.side, other.side, opt.tol.distance);
-  if (!c) {
-    rep.notes.push_back(fmt::format("not certified: no common parameter for the two edges: {}", c.status().message()));
+/// The certified route of an edge, tried before its sampled report is made (the sampled values the certified ones
+/// replace are then not refined): both sides' exact pcurves (pcurveSide), and when the two faces' edges do not
+/// share a parameter, B's side (or A's, when only B has a parameter of its own, or when B's pcurve has the higher
+/// degree) re-expressed in the other's parameter by a monotone piecewise-cubic correspondence
+/// (detail::correspondInParameterOf); then certifyPCurveSeam. Filled in place (a and b point into it).
+struct EdgeCertificate {
+  std::optional<Result<FacePCurve>> sideA, sideB;
+  std::optional<Result<detail::Correspondence>> correspondence;
+  bool byCorrespondence = false, masterA = true, sameParameter = false;
+  SeamOptions opt;
+  const PCurveSide *a = nullptr, *b = nullptr;           ///< the sides composed, when the route was tried
+  std::optional<Result<PCurveSeamBounds>> bounds;        ///< certifyPCurveSeam(*a, *b, opt), when tried
+  std::string failure;                                   ///< the note when the route could not be tried
+  /// G0 and G1 (g2: and G2) values will come from the certified route (unless reconcileVerdict withdraws them).
+  [[nodiscard]] bool certifies() const { return bounds && bounds->isOk(); }
+  [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
+};
+
+void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const TopoDS_Face& fa,
+                    const TopoDS_Face& fb, const BSplineSurface& pa, const BSplineSurface& pb,
+                    const TopoDS_Edge& edge, const std::string& nameA, const std::string& nameB,
+                    const SeamOptions& opt, double modelSize) {
+  c.sideA.emplace(pcurveSide(A, fa, pa, modelSize));
+  c.sideB.emplace(pcurveSide(B, fb, pb, modelSize));
+  c.sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
+  c.opt = opt;
+  const Result<FacePCurve>& sa = *c.sideA;
+  const Result<FacePCurve>& sb = *c.sideB;
+  if (!sa || !sb) {
+    c.failure = fmt::format("not certified: on {}, {}", sa ? nameB : nameA, (sa ? sb : sa).status().message());
     return;
   }
-  SeamOptions o = opt;
-  o.maxBoundWork = std::min(o.maxBoundWork, detail::kCorrespondenceBoundWork);
-  if (masterA)
-    certifyThroughPCurves(rep, master.side, c->b, o, modelSize);
-  else
-    certifyThroughPCurves(rep, c->b, master.side, o, modelSize);
-  if (!rep.certified) return;
-  std::string why = !sameParameter ? "the edge's pcurves do not share its parameter (no SameParameter / SameRange)"
-                                   : "";
+  if (c.sameParameter && !sa->ownParameter && !sb->ownParameter) {
+    c.a = &sa->side;
+    c.b = &sb->side;
+  } else {
+    // The master keeps its parameter; the other is composed with a cubic (its degree triples): master = the side
+    // with its own parameter, or of the higher pcurve degree.
+    c.byCorrespondence = true;
+    c.masterA = sa->ownParameter != sb->ownParameter ? sa->ownParameter
+                                                     : sa->side.pcurve.degree() >= sb->side.pcurve.degree();
+    const FacePCurve& master = c.masterA ? *sa : *sb;
+    const FacePCurve& other = c.masterA ? *sb : *sa;
+    c.correspondence.emplace(detail::correspondInParameterOf(master.side, other.side, opt.tol.distance));
+    if (!*c.correspondence) {
+      c.failure = fmt::format("not certified: no common parameter for the two edges: {}",
+                              c.correspondence->status().message());
+      return;
+    }
+    c.opt.maxBoundWork = std::min(c.opt.maxBoundWork, detail::kCorrespondenceBoundWork);
+    c.a = c.masterA ? &master.side : &(*c.correspondence)->b;
+    c.b = c.masterA ? &(*c.correspondence)->b : &master.side;
+  }
+  c.bounds.emplace(certifyPCurveSeam(*c.a, *c.b, c.opt));
+}
+
+/// Applies the certified route (tryCertificate) to the edge's sampled report.
+void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::string& nameA, const std::string& nameB,
+                      double modelSize) {
+  if (!c.bounds) {
+    rep.notes.push_back(c.failure);
+    return;
+  }
+  certifyThroughPCurves(rep, *c.bounds, *c.a, c.opt, modelSize);
+  if (!c.byCorrespondence || !rep.certified) return;
+  const FacePCurve& a = **c.sideA;
+  const FacePCurve& b = **c.sideB;
+  const detail::Correspondence& corr = **c.correspondence;
+  const bool masterA = c.masterA;
+  std::string why = !c.sameParameter ? "the edge's pcurves do not share its parameter (no SameParameter / SameRange)"
+                                     : "";
   for (const auto& [s, name] : {std::pair{&a, &nameA}, std::pair{&b, &nameB}})
     if (s->ownParameter)
       why += fmt::format("{}{}'s edge is {}", why.empty() ? "" : "; ", *name, s->how);
   rep.notes.push_back(fmt::format(
       "no common parameter ({}): {}'s edge was paired with {}'s by a monotone piecewise-cubic correspondence ({} "
       "pieces, within {:.3g} of the closest points) composed exactly; the bounds hold for the edges themselves",
-      why, masterA ? nameB : nameA, masterA ? nameA : nameB, c->pieces, c->pairingError));
+      why, masterA ? nameB : nameA, masterA ? nameA : nameB, corr.pieces, corr.pairingError));
 }
 
 Vec3 edgeMidpoint(const TopoDS_Edge& e) {
@@ -721,19 +792,15 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           }
           A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
-          seam.report = sampledSeam(edge, A, B, seam.a, seam.b, seamOpt, size);
-          if (out.import.faces[pa].exact && out.import.faces[pb].exact) {
-            const auto sideA = pcurveSide(A, fa, out.import.model.patches[pa].surface, size);
-            const auto sideB = pcurveSide(B, fb, out.import.model.patches[pb].surface, size);
-            const bool sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
-            if (!sideA || !sideB) {
-              seam.report.notes.push_back(fmt::format("not certified: on {}, {}", sideA ? seam.b : seam.a,
-                                                      (sideA ? sideB : sideA).status().message()));
-            } else if (sameParameter && !sideA->ownParameter && !sideB->ownParameter) {
-              certifyThroughPCurves(seam.report, sideA->side, sideB->side, seamOpt, size);
-            } else {
-              certifyByCorrespondence(seam.report, *sideA, *sideB, sameParameter, seam.a, seam.b, seamOpt, size);
-            }
+          const EdgeSamples samples = sampleEdge(edge, A, B, seamOpt, size);
+          const bool exact = out.import.faces[pa].exact && out.import.faces[pb].exact;
+          EdgeCertificate cert;
+          if (exact)
+            tryCertificate(cert, A, B, fa, fb, out.import.model.patches[pa].surface,
+                           out.import.model.patches[pb].surface, edge, seam.a, seam.b, seamOpt, size);
+          seam.report = sampledSeam(samples, A, B, seam.a, seam.b, seamOpt, !cert.certifies(), !cert.certifiesG2());
+          if (exact) {
+            applyCertificate(seam.report, cert, seam.a, seam.b, size);
           } else {
             seam.report.notes.push_back(
                 fmt::format("not certified: {} was approximated, not converted exactly (see the import warnings)",
