@@ -22,7 +22,7 @@
 #include "seam/io/json.h"
 #include "seam/repair/heal.h"
 #include "seam/repair/join.h"
-#include "seam/repair/report_json.h"
+#include "seam/repair/report_json_value.h"
 
 namespace seam::cli {
 
@@ -89,7 +89,7 @@ void addHeal(CLI::App& app, int& exit) {
     const HealReport& r = res->report;
     if (!saveModel(res->model, o->out)) return;  // .json, .step/.stp, .iges/.igs by extension
     if (o->json) {
-      OrderedJson j = OrderedJson::parse(healReportJson(r));
+      OrderedJson j = healReportValue(r);
       addRepairUnits(j, units, resolved);
       j["output"] = o->out;
       printJson(j);

@@ -16,7 +16,7 @@
 #include "repair_units_json.h"
 #include "seam/io/json.h"
 #include "seam/repair/join.h"
-#include "seam/repair/report_json.h"
+#include "seam/repair/report_json_value.h"
 
 namespace seam::cli {
 
@@ -124,7 +124,7 @@ void addJoin(CLI::App& app, int& exit) {
     const JoinReport& r = res->report;
     if (!saveModel(res->model, o->out)) return;  // .json, .step/.stp, .iges/.igs by extension
     if (o->json) {
-      OrderedJson j = OrderedJson::parse(joinReportJson(r));
+      OrderedJson j = joinReportValue(r);
       addRepairUnits(j, units, resolved);
       j["output"] = o->out;
       printJson(j);

@@ -1,4 +1,5 @@
 #include "seam/repair/report_json.h"
+#include "seam/repair/report_json_value.h"
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -62,7 +63,7 @@ Json numbers(const std::vector<double>& v) {
 
 std::string seamRecordJson(const SeamReport& report) { return seamJson(report).dump(); }
 
-std::string joinReportJson(const JoinReport& r) {
+nlohmann::ordered_json joinReportValue(const JoinReport& r) {
   Json j;
   j["method"] = std::string(toString(r.method));
   j["reason"] = r.reason;
@@ -97,10 +98,12 @@ std::string joinReportJson(const JoinReport& r) {
                       {"internal_g1_max_deg", r.stripInternalG1MaxDeg ? num(*r.stripInternalG1MaxDeg) : Json(nullptr)}};
   }
   j["notes"] = strings(r.notes);
-  return j.dump();
+  return j;
 }
 
-std::string healReportJson(const HealReport& r) {
+std::string joinReportJson(const JoinReport& r) { return joinReportValue(r).dump(); }
+
+nlohmann::ordered_json healReportValue(const HealReport& r) {
   Json j;
   j["requested"] = std::string(toString(r.requested));
   j["method"] = std::string(toString(r.method));
@@ -170,8 +173,10 @@ std::string healReportJson(const HealReport& r) {
                     {"g1_max_deg", num(r.worstG1Deg)}};
   j["achieved"] = r.achieved;
   j["notes"] = strings(r.notes);
-  return j.dump();
+  return j;
 }
+
+std::string healReportJson(const HealReport& r) { return healReportValue(r).dump(); }
 
 namespace {
 
