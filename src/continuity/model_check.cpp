@@ -18,6 +18,7 @@
 
 #include "core/union_find.h"
 #include "continuity/model_check_internal.h"
+#include "continuity/seam_internal.h"
 
 namespace seam {
 
@@ -1027,7 +1028,8 @@ struct CornerLinkGlobal {
 
 std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeInfo>& edges,
                                      const std::vector<EdgePair>& pairs, double cornerTol,
-                                     const CornerOptions& cornerOptions, bool analyze, int threads) {
+                                     const CornerOptions& cornerOptions, bool analyze, int threads,
+                                     const std::vector<double>& patchDiagonal) {
   const int np = static_cast<int>(model.patches.size());
   const int nc = 4 * np;
   std::vector<Vec3> points(static_cast<size_t>(nc));
@@ -1194,10 +1196,7 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     if (memberStart[root + 1] - memberStart[root] >= 2) vertexRoots.push_back(root);
 
   // The default length scale of analyzeCorner (the largest control-box diagonal of the patches at the vertex), from
-  // each patch's diagonal computed once instead of once per corner.
-  std::vector<double> patchDiagonal(static_cast<size_t>(np));
-  forEachIndex(static_cast<size_t>(np), threads,
-               [&](size_t p) { patchDiagonal[p] = controlBox(model.patches[p].surface).diagonal(); });
+  // each patch's diagonal computed once (checkModel) instead of once per corner.
 
   // The vertices are analysed in parallel, each into its own slot, and listed in order of root.
   std::vector<std::optional<ModelCorner>> analysed(vertexRoots.size());
@@ -1262,6 +1261,12 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   report.degenerateEdges = P.result.degenerateEdges;
   report.coincidentEdges = P.result.coincidentEdges;
 
+  // Each patch's control-box diagonal, computed once: the seams' scale (analyzeSeam computes it per seam) and the
+  // vertices' default length scale.
+  std::vector<double> patchDiagonal(model.patches.size());
+  forEachIndex(model.patches.size(), options.threads,
+               [&](size_t p) { patchDiagonal[p] = controlBox(model.patches[p].surface).diagonal(); });
+
   // Seams: independent analyses, in parallel (TBB), stored in pairing order.
   SeamOptions seamOptions = options.seam;
   seamOptions.tol = tol;
@@ -1275,7 +1280,10 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
     const Patch& a = model.patches[static_cast<size_t>(p.a.patch)];
     const Patch& b = model.patches[static_cast<size_t>(p.b.patch)];
     const std::optional<Interval> range = p.fullA ? std::nullopt : std::optional<Interval>(p.overlapA);
-    Result<SeamReport> r = analyzeSeam(a, p.a.edge, b, p.b.edge, seamOptions, range);
+    Result<SeamReport> r =
+        detail::analyzeSeamScaled(a, p.a.edge, b, p.b.edge, seamOptions, range,
+                                  patchDiagonal[static_cast<size_t>(p.a.patch)],
+                                  patchDiagonal[static_cast<size_t>(p.b.patch)]);
     if (r)
       ms.report = std::move(r).value();
     else
@@ -1296,7 +1304,8 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   co.tol = tol;
   const double cornerTol = options.cornerTolerance.value_or(tol.distance);
   for (ModelCorner& c :
-       findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads))
+       findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads,
+                   patchDiagonal))
     report.corners.push_back(std::move(c));
 
   // Summary.

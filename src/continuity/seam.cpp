@@ -17,6 +17,7 @@
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
 #include "continuity/sampling.h"
+#include "continuity/seam_internal.h"
 #include "core/bernstein_internal.h"
 #include "seam/core/bernstein.h"
 
@@ -132,7 +133,18 @@ Side makeSide(const Patch& p, Edge e) {
   s.rows = surf.crossDerivativeRows(e, 2);
   s.hd = static_cast<int>(s.rows.cols() / 3);
   s.curve = BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), s.rational);
-  std::vector<double> knots = along.values();
+  // One clamped Bezier span along the edge (every Bezier patch): decompose's own fast path (the same span, rows
+  // untouched) without copying the knots.
+  const std::vector<double>& kv = along.values();
+  const size_t p1 = static_cast<size_t>(s.degree) + 1;
+  if (s.degree >= 1 && kv.size() == 2 * p1 && s.rows.rows() == static_cast<Eigen::Index>(p1) &&
+      kv[p1 - 1] < kv[p1] && std::all_of(kv.begin(), kv.begin() + static_cast<std::ptrdiff_t>(p1),
+                                         [&](double k) { return k == kv.front(); }) &&
+      std::all_of(kv.begin() + static_cast<std::ptrdiff_t>(p1), kv.end(), [&](double k) { return k == kv.back(); })) {
+    s.spans.assign(1, Interval{kv[p1 - 1], kv[p1]});
+    return s;
+  }
+  std::vector<double> knots = kv;
   s.spans = detail::decompose(s.degree, knots, s.rows);
   return s;
 }
@@ -148,36 +160,44 @@ constexpr int kJetStackDegree = 15;
 
 /// kN < 0: the degree n is known at run time only. Four components per point in plain arrays: the same
 /// per-component arithmetic as Vector4d expressions (so the same bits), which the compiler unrolls for a fixed degree.
-template <int kN>
+/// kD == 3: exactly three components (dim == 3, polynomial sides): the same operations on components 0..2, the
+/// fourth left out (its outputs are 0, as the zero padding gives them).
+template <int kN, int kD = 0>
 void bernsteinJetImpl(const double* src, int n, int dim, Eigen::Index stride, double x, int order, double* b,
                       std::array<Eigen::Vector4d, 3>& out) {
   if constexpr (kN >= 0) n = kN;
+  constexpr int kC = kD == 3 ? 3 : 4;  // components computed
   for (int i = 0; i <= n; ++i, src += stride) {  // coefficient i: dim consecutive values, the next stride further
     double* bi = b + 4 * i;
-    for (int k = 0; k < 4; ++k) bi[k] = k < dim ? src[k] : 0.0;
+    if constexpr (kD == 3) {
+      for (int k = 0; k < 3; ++k) bi[k] = src[k];
+    } else {
+      for (int k = 0; k < 4; ++k) bi[k] = k < dim ? src[k] : 0.0;
+    }
   }
   const double y = 1.0 - x;
   const int keep = std::min(n, 2);  // stop with keep + 1 points: the last de Casteljau levels give the derivatives
   for (int r = 1; r <= n - keep; ++r)
     for (int i = 0; i <= n - r; ++i) {
       double* bi = b + 4 * i;
-      for (int k = 0; k < 4; ++k) bi[k] = y * bi[k] + x * bi[k + 4];
+      for (int k = 0; k < kC; ++k) bi[k] = y * bi[k] + x * bi[k + 4];
     }
   out[1].setZero();
   out[2].setZero();
+  if constexpr (kD == 3) out[0][3] = 0.0;
   const double* b0 = b;
   const double* b1 = b + 4;
   const double* b2 = b + 8;
   if (keep == 0) {
-    for (int k = 0; k < 4; ++k) out[0][k] = b0[k];
+    for (int k = 0; k < kC; ++k) out[0][k] = b0[k];
   } else if (keep == 1) {
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kC; ++k) {
       out[0][k] = y * b0[k] + x * b1[k];
       out[1][k] = n * (b1[k] - b0[k]);
     }
   } else {
     const double nn = n, nn1 = n * (n - 1);
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kC; ++k) {
       const double q0 = y * b0[k] + x * b1[k], q1 = y * b1[k] + x * b2[k];
       out[0][k] = y * q0 + x * q1;
       if (order >= 1) out[1][k] = nn * (q1 - q0);
@@ -191,6 +211,16 @@ void bernsteinJetImpl(const double* src, int n, int dim, Eigen::Index stride, do
 void bernsteinJet(const double* src, int n, int dim, Eigen::Index stride, double x, int order,
                   std::array<Eigen::Vector4d, 3>& out) {
   double stack[4 * (kJetStackDegree + 1)];
+  if (dim == 3) {
+    switch (n) {  // polynomial sides of the common degrees: three components, unrolled
+      case 1: return bernsteinJetImpl<1, 3>(src, n, dim, stride, x, order, stack, out);
+      case 2: return bernsteinJetImpl<2, 3>(src, n, dim, stride, x, order, stack, out);
+      case 3: return bernsteinJetImpl<3, 3>(src, n, dim, stride, x, order, stack, out);
+      case 4: return bernsteinJetImpl<4, 3>(src, n, dim, stride, x, order, stack, out);
+      case 5: return bernsteinJetImpl<5, 3>(src, n, dim, stride, x, order, stack, out);
+      default: break;
+    }
+  }
   switch (n) {  // the common degrees unrolled
     case 1: return bernsteinJetImpl<1>(src, n, dim, stride, x, order, stack, out);
     case 2: return bernsteinJetImpl<2>(src, n, dim, stride, x, order, stack, out);
@@ -328,14 +358,18 @@ Vec3 edgePoint(const Side& s, double t, bool fromRight) {
 /// |lambda^2 - 1| |A_oo| are the identities' exact values (docs/algorithms/seam-measures.md, "Seams that share their
 /// control rows"); the angle and the curvature jump, zero in exact arithmetic, are 0 (not their round-off) and the
 /// curvature is A's (B's equals it up to rounding).
-PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, double sgn, double lambda) {
+///
+/// `sameBoundary` (identicalBoundaryRows, and s == t): B's boundary point is A's, bit for bit, so the gap is 0 as
+/// edgePoint would give it, without evaluating B.
+PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, double sgn, double lambda,
+                              bool sameBoundary) {
   std::array<Vec3, 6> da;
   edgeJet(A, t, da);
   PointMeasures m;
   const Vec3 a = da[0], T = da[2], O = -da[1];
   const Vec3 Aoo = da[3], Aot = -da[4], Att = da[5];
   m.point = a;
-  m.g0 = (a - edgePoint(B, s, sgn < 0.0)).norm();
+  m.g0 = sameBoundary && s == t && a.allFinite() ? 0.0 : (a - edgePoint(B, s, sgn < 0.0)).norm();
   const double oNorm = O.norm(), aooNorm = Aoo.norm();
   m.c1 = std::abs(lambda - 1.0) * oNorm;
   m.c2 = std::abs(lambda * lambda - 1.0) * aooNorm;
@@ -359,6 +393,26 @@ PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, 
   const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
   m.curvature = spectralNorm(shapeInFrame(da[1], da[2], da[3], da[4], da[5], nhA, e1, e2));
   return m;
+}
+
+/// True when B's boundary rows are A's, value for value, in the same direction: the same degree, homogeneous
+/// dimension, domain and spans, and row 0 of every span equal. Then edgePoint(B, s) at s == t takes the same span,
+/// the same local parameter and the same coefficients as edgeJet(A, t): the same point, bit for bit (up to the sign
+/// of a zero coordinate), so the sampled gap there is exactly 0.
+bool identicalBoundaryRows(const Side& A, const Side& B, bool reversed) {
+  if (reversed || A.degree != B.degree || A.hd != B.hd || A.rational != B.rational || !(A.dom.lo == B.dom.lo) ||
+      !(A.dom.hi == B.dom.hi) || A.spans.size() != B.spans.size())
+    return false;
+  for (size_t k = 0; k < A.spans.size(); ++k) {
+    if (!(A.spans[k].lo == B.spans[k].lo) || !(A.spans[k].hi == B.spans[k].hi)) return false;
+    for (int j = 0; j <= A.degree; ++j) {
+      const double* a = A.coeff(0, k, j);
+      const double* b = B.coeff(0, k, j);
+      for (int c = 0; c < A.hd; ++c)
+        if (!(a[c] == b[c])) return false;
+    }
+  }
+  return true;
 }
 
 // ------------------------------------------------------------------------------------------------------------
@@ -1075,12 +1129,23 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   if (pa.surface.dim() != 3 || pb.surface.dim() != 3)
     return invalidInput(fmt::format("seam {}:{} / {}:{}: patches must have 3-D control points", pa.name,
                                     edgeName(ea), pb.name, edgeName(eb)));
+  return detail::analyzeSeamScaled(pa, ea, pb, eb, opt, aRange, controlDiagonal(pa.surface),
+                                   controlDiagonal(pb.surface));
+}
+
+namespace detail {
+
+Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, Edge eb, const SeamOptions& opt,
+                                     std::optional<Interval> aRange, double patchDiagA, double patchDiagB) {
+  if (pa.surface.dim() != 3 || pb.surface.dim() != 3)
+    return invalidInput(fmt::format("seam {}:{} / {}:{}: patches must have 3-D control points", pa.name,
+                                    edgeName(ea), pb.name, edgeName(eb)));
   // Formatted only for an error (not on the per-seam path).
   const auto label = [&] {
     return fmt::format("seam {}:{} / {}:{}", pa.name, edgeName(ea), pb.name, edgeName(eb));
   };
   const Side A = makeSide(pa, ea), B = makeSide(pb, eb);
-  const double scale = std::max(controlDiagonal(pa.surface), controlDiagonal(pb.surface));
+  const double scale = std::max(patchDiagA, patchDiagB);
   // The edges' control box diagonals, also the overlap projections' scale below.
   const double diagA = controlBox(A.curve).diagonal(), diagB = controlBox(B.curve).diagonal();
   for (const auto& [s, diag] : {std::pair{&A, diagA}, std::pair{&B, diagB}}) {
@@ -1226,7 +1291,13 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
     }
 
   // ---- dense sampling (the sampled worst values, and the whole story when not certified).
-  SampleSet S;
+  // Per-thread storage reused from seam to seam (no allocation once grown). Nothing else on this thread uses it
+  // while the seam is analysed: the one nested analysis (the general route below) returns its report directly.
+  thread_local SampleSet sampleScratch;
+  SampleSet& S = sampleScratch;
+  S.t.clear();
+  S.s.clear();
+  S.m.clear();
   const auto sOfT = [&](double t, double guess) {
     return detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB, guess).t;
   };
@@ -1283,8 +1354,9 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   S.m.reserve(S.t.size());
   // Shared rows: the angle and the curvature jump are not sampled, but the plots (keepSamples) get every measure.
   const bool sharedSamples = shared && !opt.keepSamples;
+  const bool sameBoundary = sharedSamples && identicalBoundaryRows(A, B, rep.reversed);
   for (size_t i = 0; i < S.t.size(); ++i)
-    S.m.push_back(sharedSamples ? measureSharedAt(A, S.t[i], B, S.s[i], sgn, shared->lambda)
+    S.m.push_back(sharedSamples ? measureSharedAt(A, S.t[i], B, S.s[i], sgn, shared->lambda, sameBoundary)
                                 : measureAt(A, S.t[i], B, S.s[i], sgn));
 
   // Curvature reference for relative G2 values: the largest curvature on the seam, floored at "flat".
@@ -1303,6 +1375,15 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   // Sampled maxima follow the correspondence; golden-section refinement (which re-projects) only where the
   // correspondence is itself a projection. Certified seams are refined by the subdivision of the bounds instead.
   auto refined = [&](auto get) {
+    if (certified && !S.m.empty()) {  // std::max_element's choice (the first maximum), without a vector
+      size_t best = 0;
+      double value = get(S.m[0]);
+      for (size_t i = 1; i < S.m.size(); ++i) {
+        const double vi = get(S.m[i]);
+        if (value < vi) value = vi, best = i;
+      }
+      return std::pair{S.t[best], value};
+    }
     std::vector<double> v(S.m.size());
     for (size_t i = 0; i < v.size(); ++i) v[i] = get(S.m[i]);
     if (certified) {
@@ -1387,7 +1468,7 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
         !(rep.g2Sampled <= opt.tol.curvatureRel * curvRef)) {
       SeamOptions general = opt;
       general.sharedRows = false;
-      return analyzeSeam(pa, ea, pb, eb, general, aRange);
+      return analyzeSeamScaled(pa, ea, pb, eb, general, aRange, patchDiagA, patchDiagB);
     }
     rep.g0Max = std::max(corrBound, rep.g0Sampled);
     rep.g1MaxDeg = std::max(shared->g1 * kRadToDeg, rep.g1SampledDeg);
@@ -1561,6 +1642,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
   }
   return rep;
 }
+
+}  // namespace detail
 
 
 // ---------------------------------------------------------------------------------------------------------------
