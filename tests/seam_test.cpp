@@ -1326,6 +1326,38 @@ TEST(SeamSharedRows, RowsEqualButForAPerturbationOf1e12TakeTheGeneralRoute) {
   }
 }
 
+TEST(SeamSharedRows, OnlyBitIdenticalBoundaryRowsHaveASampledGapOfExactlyZero) {
+  // The row route skips evaluating B when B's boundary row is A's value for value (its points would be A's, bit for
+  // bit). Boundary rows a few ulps apart are still shared rows (within the rounding allowance), but B must then be
+  // evaluated: the sampled gap is the rounding-sized distance, not 0.
+  Rng rng(3904);
+  int exercised = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const SplitPair sp = randomSplitU(rng, 3, false);
+    auto same = analyze(sp.a, Edge::U1, sp.b, Edge::U0);
+    ASSERT_TRUE(same);
+    // Some random splits leave the row route for its normal bound (a cross row nearly along the edge): not this test.
+    if (!same->sharedRows) continue;
+    ++exercised;
+    // Every interior boundary point of B moved by 4 ulps of the largest coordinate (along z): far below the shared-row
+    // allowance of 16 (n + 1) ulps, far above nothing.
+    double mag = 0.0;
+    for (int j = 0; j < sp.b.numV(); ++j) mag = std::max(mag, sp.b.points().row(j).cwiseAbs().maxCoeff());
+    const Vec3 d(0.0, 0.0, 4.0 * std::numeric_limits<double>::epsilon() * mag);
+    BSplineSurface b = sp.b;
+    for (int j = 1; j + 1 < sp.b.numV(); ++j) b = withPointMoved(b, 0, j, d);
+    auto r = analyze(sp.a, Edge::U1, b, Edge::U0);
+    ASSERT_TRUE(r);
+    SCOPED_TRACE(describe(*r));
+    EXPECT_TRUE(r->sharedRows) << "construction: rows 4 ulps apart should still be shared rows";
+    EXPECT_GT(r->g0Sampled, 0.0) << "rows 4 ulps apart were taken for bit-identical rows (gap reported as 0)";
+    EXPECT_LE(r->g0Sampled, 2.0 * d.norm());
+    EXPECT_GE(r->g0Max, r->g0Sampled);
+  }
+  EXPECT_GE(exercised, 4) << "too few random splits took the shared-row route";
+}
+
 // =====================================================================================================================
 // Errors.
 // =====================================================================================================================
