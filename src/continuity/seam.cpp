@@ -672,25 +672,28 @@ struct Lemma1Piece {
   const Piece* pc;
   BernsteinPoly dt;  // d tOf / dx
   [[nodiscard]] std::optional<std::pair<double, double>> at(double x) const {
-    const double wa = scalarAt(pc->wa, x), wb = scalarAt(pc->wb, x);
-    auto val = [&](const RationalPoly& r) {
-      const double v = scalarAt(r.num, x);
-      return r.ea == 0 && r.eb == 0 ? v : v / (std::pow(wa, r.ea) * std::pow(wb, r.eb));
-    };
-    const double d = val(pc->D);
+    const Weights w = weightsAt(x);
+    const double d = value(pc->D, x, w);
     if (!(std::abs(d) > 0.0) || !std::isfinite(d)) return std::nullopt;
-    return std::pair{val(pc->L) / d, val(pc->K) / d * scalarAt(dt, x)};
+    return std::pair{value(pc->L, x, w) / d, value(pc->K, x, w) / d * scalarAt(dt, x)};
   }
   /// lambda (kappa = false) or kappa alone at x, the same values as at(x) (the refinement needs one of them).
   [[nodiscard]] std::optional<double> one(double x, bool kappa) const {
-    const double wa = scalarAt(pc->wa, x), wb = scalarAt(pc->wb, x);
-    auto val = [&](const RationalPoly& r) {
-      const double v = scalarAt(r.num, x);
-      return r.ea == 0 && r.eb == 0 ? v : v / (std::pow(wa, r.ea) * std::pow(wb, r.eb));
-    };
-    const double d = val(pc->D);
+    const Weights w = weightsAt(x);
+    const double d = value(pc->D, x, w);
     if (!(std::abs(d) > 0.0) || !std::isfinite(d)) return std::nullopt;
-    return kappa ? val(pc->K) / d * scalarAt(dt, x) : val(pc->L) / d;
+    return kappa ? value(pc->K, x, w) / d * scalarAt(dt, x) : value(pc->L, x, w) / d;
+  }
+
+ private:
+  struct Weights {
+    double a, b;
+  };
+  [[nodiscard]] Weights weightsAt(double x) const { return {scalarAt(pc->wa, x), scalarAt(pc->wb, x)}; }
+  /// r at x: its numerator over the weights' powers.
+  static double value(const RationalPoly& r, double x, Weights w) {
+    const double v = scalarAt(r.num, x);
+    return r.ea == 0 && r.eb == 0 ? v : v / (std::pow(w.a, r.ea) * std::pow(w.b, r.eb));
   }
 };
 
