@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <tuple>
@@ -1834,6 +1835,9 @@ struct LocalPCurve {
 struct ComposedSide {
   BernsteinPoly x, w;   // Cartesian numerator and weight (w = 1 for polynomial surfaces)
   BernsteinPoly normal; // numerator of S_u x S_v (a positive factor dropped), with the face's sense
+  /// H, H_u, H_v composed with the pcurve (LocalPCurve::compose, per unit of the span's local parameters):
+  /// the first rows of the G2 chart (chartRows), which reuses them.
+  std::array<BernsteinPoly, 3> h;
 };
 
 ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const PCurvePiece& c, bool surfaceRational,
@@ -1841,9 +1845,10 @@ ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const PCur
   const Interval U = sp.us[iu], V = sp.vs[iv];
   const LocalPCurve lc(c, U, V, surfaceRational);
   const auto& H = sp.at(iu, iv);
-  const BernsteinPoly X = lc.compose(H[0], 0);
-  const BernsteinPoly Xu = lc.compose(H[1], 1) * (1.0 / U.length()), Xv = lc.compose(H[2], 1) * (1.0 / V.length());
   ComposedSide out;
+  out.h = {lc.compose(H[0], 0), lc.compose(H[1], 1), lc.compose(H[2], 1)};
+  const BernsteinPoly& X = out.h[0];
+  const BernsteinPoly Xu = out.h[1] * (1.0 / U.length()), Xv = out.h[2] * (1.0 / V.length());
   if (!surfaceRational && !c.rational) {
     out.x = X;
     out.w = BernsteinPoly::constant(1.0);
@@ -1872,8 +1877,9 @@ ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const PCur
 /// homogeneous Bernstein polynomials B(x, w) = w^n b(x / w): a polynomial in (s, t) representing S((u + s D_u) / w,
 /// (v + s D_v) / w), whose s-derivatives at s = 0 are the compositions of H_u, ..., H_vv homogenised the same way;
 /// D = rot(G N) with N the numerator of c' (transversal as above, since w > 0).
+/// `composed`: H, H_u, H_v composed with the pcurve on this leaf (ComposedSide::h), reused.
 std::array<BernsteinPoly, 3> chartRows(const SpanPatches& sp, size_t iu, size_t iv, const PCurvePiece& c,
-                                       bool surfaceRational) {
+                                       bool surfaceRational, const std::array<BernsteinPoly, 3>& composed) {
   const Interval U = sp.us[iu], V = sp.vs[iv];
   const LocalPCurve lc(c, U, V, surfaceRational);
   const auto& H = sp.at(iu, iv);
@@ -1897,9 +1903,9 @@ std::array<BernsteinPoly, 3> chartRows(const SpanPatches& sp, size_t iu, size_t 
   const auto [du, dv] = lc.tangent();
   const BernsteinPoly gu = G(0, 0) * du + G(0, 1) * dv, gv = G(1, 0) * du + G(1, 1) * dv;  // G c'
   const BernsteinPoly a = -1.0 * gv, b = gu;                                                 // d = rot(G c')
-  const BernsteinPoly Hu = lc.compose(H[1], 1), Hv = lc.compose(H[2], 1);
+  const BernsteinPoly &Hu = composed[1], &Hv = composed[2];
   const BernsteinPoly Huu = lc.compose(H[3], 2), Huv = lc.compose(H[4], 2), Hvv = lc.compose(H[5], 2);
-  return {lc.compose(H[0], 0), product(a, Hu) + product(b, Hv),
+  return {composed[0], product(a, Hu) + product(b, Hv),
           product(product(a, a), Huu) + 2.0 * product(product(a, b), Huv) + product(product(b, b), Hvv)};
 }
 
@@ -1926,7 +1932,24 @@ std::optional<double> chartCurvature(const CartesianSide& A, const CartesianSide
 
 }  // namespace
 
+struct SurfaceSpans {
+  const BSplineSurface* surface = nullptr;
+  SpanPatches patches;
+};
+
+std::shared_ptr<const SurfaceSpans> surfaceSpans(const BSplineSurface& surface) {
+  auto out = std::make_shared<SurfaceSpans>();
+  out->surface = &surface;
+  out->patches = spanPatches(surface);
+  return out;
+}
+
 Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt) {
+  return certifyPCurveSeam(a, b, opt, nullptr, nullptr);
+}
+
+Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& opt,
+                                           const SurfaceSpans* spansA, const SurfaceSpans* spansB) {
   for (const PCurveSide* s : {&a, &b}) {
     if (!s->surface || s->surface->dim() != 3) return invalidInput("pcurve seam: a side has no 3-D surface");
     if (s->pcurve.dim() != 2) return invalidInput("pcurve seam: the parameter curve is not 2-D");
@@ -1934,7 +1957,12 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   }
   // A side is rational when its surface or its pcurve is (x / w after composition).
   const bool ra = a.surface->isRational() || a.pcurve.isRational(), rb = b.surface->isRational() || b.pcurve.isRational();
-  const SpanPatches spA = spanPatches(*a.surface), spB = spanPatches(*b.surface);
+  // Each side's spans: the shared ones when given for its surface, else built here.
+  std::optional<SpanPatches> ownA, ownB;
+  if (!spansA || spansA->surface != a.surface) ownA.emplace(spanPatches(*a.surface));
+  if (!spansB || spansB->surface != b.surface) ownB.emplace(spanPatches(*b.surface));
+  const SpanPatches& spA = ownA ? *ownA : spansA->patches;
+  const SpanPatches& spB = ownB ? *ownB : spansB->patches;
   const std::vector<BezierCurvePiece> pcA = a.pcurve.bezierPieces(), pcB = b.pcurve.bezierPieces();
   auto toB = [&](double t) { return b.range.lo + (t - a.range.lo) / a.range.length() * b.range.length(); };
   // Cuts: the range ends and both pcurves' breakpoints (B's mapped into A's parameter).
@@ -2005,10 +2033,12 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
 
   // Exact data per leaf, in the same form as the patch seams (g0 and G1 only).
   std::vector<Piece> pieces;
+  std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed;  // per leaf: A's and B's ComposedSide::h
+  composed.reserve(leaves.size());
   PCurveSeamBounds out;
   for (const PCurveLeaf& L : leaves) {
-    const ComposedSide A = composeSide(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(), a.normalSign);
-    const ComposedSide B = composeSide(spB, L.biu, L.biv, L.cb, b.surface->isRational(), b.normalSign);
+    ComposedSide A = composeSide(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(), a.normalSign);
+    ComposedSide B = composeSide(spB, L.biu, L.biv, L.cb, b.surface->isRational(), b.normalSign);
     Piece pc;
     pc.tOf = BernsteinPoly::linear(L.t0, L.t1);
     pc.sOf = BernsteinPoly::linear(toB(L.t0), toB(L.t1));
@@ -2030,6 +2060,7 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
                     fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
                                 opt.maxCertifiedDegree));
     pieces.push_back(std::move(pc));
+    composed.push_back({std::move(A.h), std::move(B.h)});
   }
   out.pieces = static_cast<int>(pieces.size());
   const double edgeScale = std::max(controlDiagonal(*a.surface), controlDiagonal(*b.surface));
@@ -2063,9 +2094,12 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   double curvMax = 0.0;
   std::vector<std::array<double, 2>> regular;  // (jump, curvature) at the well-conditioned start samples
   bool built = true;
-  for (const PCurveLeaf& L : leaves) {
-    const std::array<BernsteinPoly, 3> XA = chartRows(spA, L.aiu, L.aiv, L.ca, a.surface->isRational()),
-                                       XB = chartRows(spB, L.biu, L.biv, L.cb, b.surface->isRational());
+  for (size_t li = 0; li < leaves.size(); ++li) {
+    const PCurveLeaf& L = leaves[li];
+    const std::array<BernsteinPoly, 3> XA = chartRows(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(),
+                                                      composed[li][0]),
+                                       XB = chartRows(spB, L.biu, L.biv, L.cb, b.surface->isRational(),
+                                                      composed[li][1]);
     const CartesianSide CA = cartesian(XA[0], XA[1], XA[2], ra, 0), CB = cartesian(XB[0], XB[1], XB[2], rb, 1);
     // Checked before building anything: a piece above the limit would cost products of polynomials of degree
     // several hundred for nothing (buildPiece forms the G1 data first).

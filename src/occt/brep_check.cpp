@@ -35,6 +35,8 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include <tbb/parallel_for.h>
@@ -511,6 +513,24 @@ void certifyThroughPCurves(SeamReport& rep, const Result<PCurveSeamBounds>& r, c
   reconcileVerdict(rep, opt.tol);
 }
 
+/// Per converted patch, its spans for certifyPCurveSeam (surfaceSpans): built once, on first use, by
+/// whichever thread needs them first (std::call_once per patch, no global lock), then shared read-only by all
+/// its seams.
+class SpansCache {
+ public:
+  explicit SpansCache(const std::vector<Patch>& patches)
+      : patches_(patches), once_(patches.size()), spans_(patches.size()) {}
+  [[nodiscard]] const SurfaceSpans* at(size_t k) const {
+    std::call_once(once_[k], [&] { spans_[k] = surfaceSpans(patches_[k].surface); });
+    return spans_[k].get();
+  }
+
+ private:
+  const std::vector<Patch>& patches_;
+  mutable std::vector<std::once_flag> once_;
+  mutable std::vector<std::shared_ptr<const SurfaceSpans>> spans_;
+};
+
 /// The certified route of an edge, tried before its sampled report is made (the sampled values the certified ones
 /// replace are then not refined): both sides' exact pcurves (pcurveSide), and when the two faces' edges do not
 /// share a parameter, B's side (or A's, when only B has a parameter of its own, or when B's pcurve has the higher
@@ -532,7 +552,8 @@ struct EdgeCertificate {
 void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const TopoDS_Face& fa,
                     const TopoDS_Face& fb, const BSplineSurface& pa, const BSplineSurface& pb,
                     const TopoDS_Edge& edge, const std::string& nameA, const std::string& nameB,
-                    const SeamOptions& opt, double modelSize) {
+                    const SeamOptions& opt, double modelSize, const SpansCache& spans, size_t patchA,
+                    size_t patchB) {
   c.sideA.emplace(pcurveSide(A, fa, pa, modelSize));
   c.sideB.emplace(pcurveSide(B, fb, pb, modelSize));
   c.sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
@@ -564,7 +585,9 @@ void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, co
     c.a = c.masterA ? &master.side : &(*c.correspondence)->b;
     c.b = c.masterA ? &(*c.correspondence)->b : &master.side;
   }
-  c.bounds.emplace(certifyPCurveSeam(*c.a, *c.b, c.opt));
+  // A's side is on pa and B's on pb (the correspondence keeps the other side's surface); spans of another
+  // surface would be ignored by certifyPCurveSeam.
+  c.bounds.emplace(certifyPCurveSeam(*c.a, *c.b, c.opt, spans.at(patchA), spans.at(patchB)));
 }
 
 /// Applies the certified route (tryCertificate) to the edge's sampled report.
@@ -705,6 +728,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     seamOpt.tol = out.tolerances;
     const double size = out.import.model.boundingBox().diagonal();
     auto faceName = [&](int fi) { return fmt::format("F{}", fi); };
+    const SpansCache spansCache(out.import.model.patches);
 
     TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
@@ -797,7 +821,8 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           EdgeCertificate cert;
           if (exact)
             tryCertificate(cert, A, B, fa, fb, out.import.model.patches[pa].surface,
-                           out.import.model.patches[pb].surface, edge, seam.a, seam.b, seamOpt, size);
+                           out.import.model.patches[pb].surface, edge, seam.a, seam.b, seamOpt, size,
+                           spansCache, pa, pb);
           seam.report = sampledSeam(samples, A, B, seam.a, seam.b, seamOpt, !cert.certifies(), !cert.certifiesG2());
           if (exact) {
             applyCertificate(seam.report, cert, seam.a, seam.b, size);

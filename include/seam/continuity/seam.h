@@ -10,6 +10,7 @@
 //    derivative of b(phi(t)) in t) are oriented consistently, so a fold shows an angle near 180 degrees.
 //  * G2: the jump of the shape operator in a common orthonormal frame of the tangent plane (spectral norm), and the
 //    normal component of the Lemma 2 residual B_cc - lambda^2 A_oo - 2 lambda kappa A_ot - kappa^2 A_tt.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -182,5 +183,17 @@ struct PCurveSeamBounds {
 /// kUnsupported (a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
 /// above SeamOptions::maxCertifiedDegree, a normal vanishing so that the angle bound cannot be closed).
 Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& options = {});
+
+/// A surface's Bezier span patches with their homogeneous partials up to order 2, as certifyPCurveSeam
+/// composes them: built once per surface (surfaceSpans) and shared, read-only, by all the seams on it, on any
+/// number of threads.
+struct SurfaceSpans;
+std::shared_ptr<const SurfaceSpans> surfaceSpans(const BSplineSurface& surface);
+/// Same as certifyPCurveSeam(a, b, options), with each side's spans given: spansA / spansB from surfaceSpans
+/// of that side's surface (nullptr, or the spans of another surface: built here). The result does not depend
+/// on them.
+Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b,
+                                           const SeamOptions& options, const SurfaceSpans* spansA,
+                                           const SurfaceSpans* spansB);
 
 }  // namespace seam
