@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -314,6 +315,55 @@ TEST(BernsteinPoly, RestrictionRoutesGiveTheSameBits) {
         ASSERT_EQ(viaScratch.rowwise().norm().maxCoeff(), p.restricted(a, b).maxCoeffNorm());
         ASSERT_EQ(viaScratch.cwiseAbs().maxCoeff(), p.restricted(a, b).maxAbsCoeff());
       }
+    }
+  }
+}
+
+TEST(BernsteinPoly, SplitHalvesAreTheRestrictionsToEachHalf) {
+  // detail::splitHalves (the certified bounds' subdivision tree at degree >= 32) against the restriction route:
+  // one split gives restricted(0, 1/2) and restricted(1/2, 1) bit for bit (the same lerps 0.5 a + 0.5 b, with one
+  // subdivision each there); ten nested splits down to [k / 1024, (k + 1) / 1024] agree with the direct restriction
+  // of the whole polynomial to within the round-off of the levels (each a convex combination: one rounding of the
+  // largest coefficient per level), and with the polynomial's values at the ends of the interval.
+  std::mt19937_64 rng(2711);
+  std::vector<std::pair<int, int>> cases;
+  for (int dim : {1, 3})
+    for (int n = 0; n <= 14; ++n) cases.emplace_back(dim, n);
+  for (int n : {31, 32, 33, 63, 64, 65, 100, 257, 480}) cases.emplace_back(1, n);
+  cases.emplace_back(3, 40);
+  std::vector<double> scratch;
+  for (auto [dim, n] : cases) {
+    const BernsteinPoly p = randomPoly(rng, n, dim);
+    const auto size = static_cast<size_t>((n + 1) * dim);
+    std::vector<double> left(size), right(size);
+    detail::splitHalves(p.coeffs().data(), n, dim, left.data(), right.data());
+    const Matrix l = p.restricted(0.0, 0.5).coeffs(), r = p.restricted(0.5, 1.0).coeffs();
+    for (size_t i = 0; i < size; ++i) {
+      ASSERT_EQ(left[i], l.data()[i]) << "degree " << n << " dim " << dim;
+      ASSERT_EQ(right[i], r.data()[i]) << "degree " << n << " dim " << dim;
+    }
+    // Ten nested splits along a random path.
+    std::vector<double> cur(p.coeffs().data(), p.coeffs().data() + size);
+    double lo = 0.0, hi = 1.0;
+    for (int depth = 1; depth <= 10; ++depth) {
+      detail::splitHalves(cur.data(), n, dim, left.data(), right.data());
+      const double mid = 0.5 * (lo + hi);
+      if (rng() % 2 == 0) {
+        cur = left;
+        hi = mid;
+      } else {
+        cur = right;
+        lo = mid;
+      }
+    }
+    const Eigen::Map<const Matrix> direct = detail::restrictedCoeffs(p, lo, hi, scratch);
+    const double scale = p.coeffs().cwiseAbs().maxCoeff();
+    const double tol = 4.0 * 10 * (n + 1) * std::numeric_limits<double>::epsilon() * scale;
+    for (size_t i = 0; i < size; ++i) ASSERT_NEAR(cur[i], direct.data()[i], tol) << "degree " << n << " dim " << dim;
+    const VecX atLo = p(lo), atHi = p(hi);
+    for (int k = 0; k < dim; ++k) {
+      EXPECT_NEAR(cur[static_cast<size_t>(k)], atLo[k], tol) << "degree " << n;
+      EXPECT_NEAR(cur[static_cast<size_t>(n * dim + k)], atHi[k], tol) << "degree " << n;
     }
   }
 }

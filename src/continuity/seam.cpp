@@ -547,7 +547,90 @@ std::vector<double>& boundScratch() {
   thread_local std::vector<double> scratch;
   return scratch;
 }
+
+// Restrictions at high degree split from the parent interval (certifyMax's subdivision tree). The composed pieces of
+// the pcurve route carry P, Q, R, ... of degree 100-500; restricting each sub-interval from the whole piece costs two
+// de Casteljau subdivisions (n^2 operations) per polynomial and interval. Instead, the coefficients a node of the
+// tree restricted are kept, and when the node is split both children's coefficients come from one triangle at 1/2
+// (detail::splitHalves: n^2 / 2 operations for both): 4x less work. The halves agree with the direct restriction to
+// round-off (each level one rounding of 0.5 a + 0.5 b, which is exact up to that rounding), not bit for bit; below
+// kSplitFromParentDegree every restriction stays direct (the same bits as before).
+constexpr int kSplitFromParentDegree = 32;
+struct SplitTree {
+  struct Entry {
+    const BernsteinPoly* poly;
+    std::vector<double> coeffs;
+  };
+  struct Node {
+    std::vector<Entry> entries;
+  };
+  std::vector<Node> nodes;
+  std::vector<int> freeNodes;
+  std::vector<std::vector<double>> freeBuffers;
+  bool active = false;  // inside certifyMax
+  int current = -1;     // the node of the interval being bounded (-1: none yet)
+  double x0 = 0.0, x1 = 1.0;
+
+  std::vector<double> buffer(size_t size) {
+    std::vector<double> b;
+    if (!freeBuffers.empty()) {
+      b = std::move(freeBuffers.back());
+      freeBuffers.pop_back();
+    }
+    b.resize(size);
+    return b;
+  }
+  int newNode() {
+    if (!freeNodes.empty()) {
+      const int n = freeNodes.back();
+      freeNodes.pop_back();
+      return n;
+    }
+    nodes.emplace_back();
+    return static_cast<int>(nodes.size()) - 1;
+  }
+  void release(int n) {
+    if (n < 0) return;
+    for (Entry& e : nodes[static_cast<size_t>(n)].entries) freeBuffers.push_back(std::move(e.coeffs));
+    nodes[static_cast<size_t>(n)].entries.clear();
+    freeNodes.push_back(n);
+  }
+  /// The two children's nodes of node n, their entries split from n's (n is released); {-1, -1} when n is -1.
+  std::pair<int, int> split(int n) {
+    if (n < 0) return {-1, -1};
+    const int l = newNode(), r = newNode();
+    for (Entry& e : nodes[static_cast<size_t>(n)].entries) {
+      const Matrix& c = e.poly->coeffs();
+      std::vector<double> left = buffer(e.coeffs.size()), right = buffer(e.coeffs.size());
+      detail::splitHalves(e.coeffs.data(), c.rows() - 1, c.cols(), left.data(), right.data());
+      nodes[static_cast<size_t>(l)].entries.push_back({e.poly, std::move(left)});
+      nodes[static_cast<size_t>(r)].entries.push_back({e.poly, std::move(right)});
+    }
+    release(n);
+    return {l, r};
+  }
+  /// p restricted to [x0, x1] (the current interval): from the node when it has p, else directly (then kept).
+  CoeffView view(const BernsteinPoly& p) {
+    const Matrix& c = p.coeffs();
+    if (current < 0) current = newNode();
+    std::vector<Entry>& entries = nodes[static_cast<size_t>(current)].entries;
+    for (const Entry& e : entries)
+      if (e.poly == &p) return {e.coeffs.data(), c.rows(), c.cols()};
+    const CoeffView direct = detail::restrictedCoeffs(p, x0, x1, boundScratch());
+    std::vector<double> kept = buffer(static_cast<size_t>(c.size()));
+    std::copy(direct.data(), direct.data() + c.size(), kept.data());
+    entries.push_back({&p, std::move(kept)});
+    return {entries.back().coeffs.data(), c.rows(), c.cols()};
+  }
+};
+SplitTree& splitTree() {
+  thread_local SplitTree tree;
+  return tree;
+}
+
 CoeffView restrictedView(const BernsteinPoly& p, double x0, double x1) {
+  SplitTree& tree = splitTree();
+  if (tree.active && p.degree() >= kSplitFromParentDegree && x0 == tree.x0 && x1 == tree.x1) return tree.view(p);
   return detail::restrictedCoeffs(p, x0, x1, boundScratch());
 }
 double lowerBoundOf(const CoeffView& c) { return c.col(0).minCoeff(); }
@@ -584,6 +667,10 @@ double g0Bound(const Piece& pc, double x0, double x1) {
 double g0Value(const Piece& pc, double x) { return evalRational(pc.g0, pc, x); }
 
 double g1Bound(const Piece& pc, double x0, double x1) {
+  // At high degree P and Q are restricted on every interval, needed here or not: the subdivision's children then
+  // split them from this interval's coefficients (SplitTree) instead of restricting them from the whole piece.
+  if (splitTree().active && pc.P.degree() >= kSplitFromParentDegree) (void)restrictedView(pc.P, x0, x1);
+  if (splitTree().active && pc.Q.degree() >= kSplitFromParentDegree) (void)restrictedView(pc.Q, x0, x1);
   const double rLo = lowerBoundOf(restrictedView(pc.R, x0, x1));
   if (!(rLo > 0.0)) return std::numbers::pi;
   const double pLo = lowerBoundOf(restrictedView(pc.P, x0, x1));
@@ -758,9 +845,23 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
     int piece;
     double x0, x1;
     int depth;
+    int node;  // the interval's high-degree restrictions, split from its parent's (SplitTree), or -1
   };
+  // The subdivision tree's kept restrictions (per thread; released however this returns).
+  SplitTree& tree = splitTree();
   std::vector<Item> stack;
-  for (int i = 0; i < static_cast<int>(pieces.size()); ++i) stack.push_back({i, 0.0, 1.0, 0});
+  struct Release {
+    SplitTree& tree;
+    std::vector<Item>& stack;
+    ~Release() {
+      for (const Item& it : stack) tree.release(it.node);
+      tree.release(tree.current);
+      tree.current = -1;
+      tree.active = false;
+    }
+  } release{tree, stack};
+  tree.active = true;
+  for (int i = 0; i < static_cast<int>(pieces.size()); ++i) stack.push_back({i, 0.0, 1.0, 0, -1});
   double result = 0.0;
   ok = true;
   long work = 0;
@@ -772,15 +873,22 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
     const Item it = stack.back();
     stack.pop_back();
     const Piece& pc = pieces[static_cast<size_t>(it.piece)];
+    tree.current = it.node;
+    tree.x0 = it.x0;
+    tree.x1 = it.x1;
     const double ub = bound(pc, it.x0, it.x1);
+    const int node = tree.current;  // created by the bound when it restricted a high-degree polynomial
+    tree.current = -1;
     ++work;
     if (ub <= (1.0 + opt.boundRelGap) * best + floor) {
       result = std::max(result, ub);
+      tree.release(node);
       continue;
     }
     if (it.depth >= opt.maxSubdivisionDepth || work >= opt.maxBoundWork) {
       if (!std::isfinite(ub)) ok = false;
       result = std::max(result, ub);
+      tree.release(node);
       continue;
     }
     const double xm = 0.5 * (it.x0 + it.x1);
@@ -790,8 +898,9 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
       bestX = xm;
       bestPiece = it.piece;
     }
-    stack.push_back({it.piece, it.x0, xm, it.depth + 1});
-    stack.push_back({it.piece, xm, it.x1, it.depth + 1});
+    const auto [left, right] = tree.split(node);
+    stack.push_back({it.piece, it.x0, xm, it.depth + 1, left});
+    stack.push_back({it.piece, xm, it.x1, it.depth + 1, right});
   }
   return std::max(result, best);
 }

@@ -118,6 +118,9 @@ SEAM_AVX2_TARGET void deCasteljauLevelsAvx2(double* w, Eigen::Index n, Eigen::In
 #endif
 #ifdef SEAM_BERNSTEIN_AVX2
 constexpr Eigen::Index kSubdivideScalarAvx2MinDegree = 64;
+// detail::splitHalves four lanes wide from this degree: at t = 1/2 the four-lane levels were as fast as element by
+// element at degree 32-63 and 1.2-5x faster above (2026-11-27, one-off timing of both builds, degrees 32-480).
+constexpr Eigen::Index kSplitHalvesAvx2MinDegree = 32;
 void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft);
 #endif
 void deCasteljauLevels(double* w, Eigen::Index n, Eigen::Index d, double t) {
@@ -481,6 +484,36 @@ SEAM_AVX2_TARGET void subdivideScalarAvx2(double* c, Eigen::Index n, double t, b
   }
 }
 #endif
+// detail::splitHalves for one column below kSplitHalvesAvx2MinDegree, element by element (as subdivideScalar).
+#if defined(__GNUC__) && !defined(__clang__)
+[[gnu::optimize("no-tree-vectorize")]]
+#endif
+void splitHalvesScalar(Eigen::Index n, double* left, double* c) {
+  for (Eigen::Index r = 1; r <= n; ++r) {
+#if defined(__clang__)
+#pragma clang loop vectorize(disable)
+#endif
+    for (Eigen::Index i = 0; i <= n - r; ++i) c[i] = 0.5 * c[i] + 0.5 * c[i + 1];
+    left[r] = c[0];
+  }
+}
+#ifdef SEAM_BERNSTEIN_AVX2
+// detail::splitHalves for one column at degree >= kSubdivideScalarAvx2MinDegree: the right-keeping levels of
+// subdivideScalarAvx2 at t = 1/2, four coefficients at a time, each level's first value recorded for the left half.
+SEAM_AVX2_TARGET void splitHalvesScalarAvx2(Eigen::Index n, double* left, double* c) {
+  const __m256d half = _mm256_set1_pd(0.5);
+  for (Eigen::Index r = 1; r <= n; ++r) {
+    const Eigen::Index last = n - r;
+    Eigen::Index i = 0;
+    for (; i + 3 <= last; i += 4) {
+      const __m256d x = _mm256_loadu_pd(c + i), y = _mm256_loadu_pd(c + i + 1);
+      _mm256_storeu_pd(c + i, _mm256_add_pd(_mm256_mul_pd(half, x), _mm256_mul_pd(half, y)));
+    }
+    for (; i <= last; ++i) c[i] = 0.5 * c[i] + 0.5 * c[i + 1];
+    left[r] = c[0];
+  }
+}
+#endif
 void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
 #ifdef SEAM_BERNSTEIN_AVX2
   if (d == 1 && n >= kSubdivideScalarAvx2MinDegree && hasAvx2()) return subdivideScalarAvx2(c, n, t, keepLeft);
@@ -517,6 +550,23 @@ Matrix restrictRows(const Matrix& c, double a, double b) {
 }  // namespace
 
 namespace detail {
+// Both halves of one de Casteljau triangle at 1/2: the right-keeping levels of subdivideScalar / subdivideDefault
+// (row i <- (row i + row i+1) / 2, as 0.5 a + 0.5 b: both products exact, one rounding, no overflow near the largest
+// doubles), with each level's first row recorded as the left half's next coefficient.
+void splitHalves(const double* c, Eigen::Index n, Eigen::Index d, double* left, double* right) {
+  std::copy(c, c + (n + 1) * d, right);
+  std::copy(c, c + d, left);
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (d == 1 && n >= kSplitHalvesAvx2MinDegree && hasAvx2()) return splitHalvesScalarAvx2(n, left, right);
+#endif
+  if (d == 1) return splitHalvesScalar(n, left, right);
+  for (Eigen::Index r = 1; r <= n; ++r) {
+    for (Eigen::Index i = 0; i <= n - r; ++i)
+      for (Eigen::Index k = 0; k < d; ++k) right[i * d + k] = 0.5 * right[i * d + k] + 0.5 * right[(i + 1) * d + k];
+    std::copy(right, right + d, left + r * d);
+  }
+}
+
 Eigen::Map<const Matrix> restrictedCoeffs(const BernsteinPoly& p, double a, double b, std::vector<double>& scratch) {
   const Matrix& c = p.coeffs();
   if (a == 0.0 && b == 1.0) return {c.data(), c.rows(), c.cols()};

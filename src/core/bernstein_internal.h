@@ -11,4 +11,10 @@ namespace seam::detail {
 /// coefficients for [0, 1]. The view is valid until `scratch` or p changes.
 Eigen::Map<const Matrix> restrictedCoeffs(const BernsteinPoly& p, double a, double b, std::vector<double>& scratch);
 
+/// Both halves at 1/2 of the Bernstein coefficients `c` ((n + 1) rows of d values, row-major) from one de Casteljau
+/// triangle: `left` gets the coefficients on [0, 1/2], `right` those on [1/2, 1] (each (n + 1) * d values; neither
+/// may overlap c). Each value is one rounding of 0.5 a + 0.5 b per level, so the halves agree with
+/// restrictedCoeffs(p, 0, 1/2) and (1/2, 1) to round-off, not bit for bit.
+void splitHalves(const double* c, Eigen::Index n, Eigen::Index d, double* left, double* right);
+
 }  // namespace seam::detail
