@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace seam::detail {
 
@@ -67,6 +68,66 @@ std::pair<double, double> refineMax(const std::function<double(double)>& f, doub
   return f1 > f2 ? std::pair{x1, f1} : std::pair{x2, f2};
 }
 
+std::pair<double, double> refineMaxParabolic(const std::function<double(double)>& f, double lo, double hi) {
+  // Minimises g = -f (the textbook form). a, b bracket the minimum; x is the best point so far, w the second best,
+  // v the previous w; d is the last step and e the one before it (a parabolic step must be shorter than half of e).
+  const double golden = 0.5 * (3.0 - std::sqrt(5.0));
+  auto g = [&](double t) {
+    const double y = f(t);
+    return std::isnan(y) ? std::numeric_limits<double>::infinity() : -y;
+  };
+  double a = std::min(lo, hi), b = std::max(lo, hi);
+  double x = a + golden * (b - a), w = x, v = x;
+  double gx = g(x), gw = gx, gv = gx;
+  double d = 0.0, e = 0.0;
+  const double xtol = kRefineRelTol * (b - a);
+  for (int evaluations = 1; evaluations < kParabolicMaxEvaluations; ++evaluations) {
+    const double m = 0.5 * (a + b);
+    // Absolute resolution, never below a few ulps of x (no step that rounds back onto x).
+    const double tol1 = std::max(xtol, 4.0 * std::numeric_limits<double>::epsilon() * std::abs(x)), tol2 = 2.0 * tol1;
+    if (std::abs(x - m) <= tol2 - 0.5 * (b - a)) break;
+    bool parabolic = false;
+    if (std::abs(e) > tol1) {
+      const double r = (x - w) * (gx - gv);
+      double q = (x - v) * (gx - gw);
+      double p = (x - v) * q - (x - w) * r;
+      q = 2.0 * (q - r);
+      if (q > 0.0) p = -p;
+      q = std::abs(q);
+      const double previous = e;
+      e = d;
+      // Accept the parabola's vertex when it falls inside (a, b) and the step is less than half the one before last.
+      if (std::abs(p) < std::abs(0.5 * q * previous) && p > q * (a - x) && p < q * (b - x)) {
+        d = p / q;
+        const double u = x + d;
+        if (u - a < tol2 || b - u < tol2) d = x < m ? tol1 : -tol1;
+        parabolic = true;
+      }
+    }
+    if (!parabolic) {
+      e = x >= m ? a - x : b - x;
+      d = golden * e;
+    }
+    const double u = std::abs(d) >= tol1 ? x + d : x + (d > 0.0 ? tol1 : -tol1);
+    const double gu = g(u);
+    if (gu <= gx) {
+      (u >= x ? a : b) = x;
+      v = w, gv = gw;
+      w = x, gw = gx;
+      x = u, gx = gu;
+    } else {
+      (u < x ? a : b) = u;
+      if (gu <= gw || w == x) {
+        v = w, gv = gw;
+        w = u, gw = gu;
+      } else if (gu <= gv || v == x || v == w) {
+        v = u, gv = gu;
+      }
+    }
+  }
+  return {x, std::isinf(gx) && gx > 0.0 ? std::numeric_limits<double>::quiet_NaN() : -gx};
+}
+
 // Refines the kRefinedMaxima largest local maxima of values[i] (sampled at xs[i]) and returns the best (x, value).
 std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const std::vector<double>& values,
                                          const std::function<double(double)>& f) {
@@ -87,7 +148,7 @@ std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const st
   for (size_t i : locals) {
     const double lo = xs[i == 0 ? 0 : i - 1], hi = xs[i + 1 == xs.size() ? i : i + 1];
     if (!(hi > lo)) continue;
-    const auto [x, v] = refineMax(f, lo, hi);
+    const auto [x, v] = refineMaxParabolic(f, lo, hi);
     if (v > best) {
       best = v;
       bestX = x;
