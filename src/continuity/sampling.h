@@ -49,12 +49,14 @@ double spectralNorm(const Eigen::Matrix2d& m);
 std::pair<double, double> refineMax(const std::function<double(double)>& f, double lo, double hi,
                                     int iterations = kGoldenIterations);
 
-/// The refinement's resolution in x, as a fraction of the bracketing interval: what golden section reaches in
-/// kGoldenIterations steps (0.618^40 = 4.3e-9), so a smooth maximum's value is found to the same round-off.
-inline constexpr double kRefineRelTol = 4e-9;
+/// The refinement's resolution in x, as a fraction of the bracketing interval. Golden section's last bracket after
+/// kGoldenIterations steps is 0.618^40 = 4.3e-9 of it; Brent's test stops with a bracket of up to 4 resolutions, so
+/// 1e-9 keeps the point at least as close: a smooth maximum's value to round-off, a maximum at a kink (the
+/// spectral norm of the curvature jump where its eigenvalues cross) to the same 1e-9-relative slope error.
+inline constexpr double kRefineRelTol = 1e-9;
 /// Most evaluations of one parabolic refinement: golden-section steps alone (a kink, a plateau) reach
-/// kRefineRelTol within kGoldenIterations; the rest is margin for steps of kRefineRelTol itself near the end.
-inline constexpr int kParabolicMaxEvaluations = kGoldenIterations + 20;
+/// kRefineRelTol in 44; the rest is margin for steps of kRefineRelTol itself near the end.
+inline constexpr int kParabolicMaxEvaluations = kGoldenIterations + 25;
 
 /// Brent's parabolic refinement of a local maximum of f on [lo, hi] (R. P. Brent, Algorithms for Minimization
 /// without Derivatives, 1973, ch. 5): parabolas through the three best points, golden-section steps where a parabola
