@@ -8,7 +8,9 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <numbers>
@@ -235,19 +237,44 @@ void bernsteinJet(const double* src, int n, int dim, Eigen::Index stride, double
   bernsteinJetImpl<-1>(src, n, dim, stride, x, order, heap.data(), out);
 }
 
-/// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
-/// of the side (homogeneous; the quotient rule for rational sides). The same values as the surface's own evaluator
-/// to round-off, at a fraction of its cost. Spans are non-empty (decompose drops empty ones).
-void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight = false) {
-  size_t k = static_cast<size_t>(spanIndex(s, t));
-  // At a breakpoint (to kKnotRelTol: a parameter mapped from the other side carries round-off) the span that ends
-  // there gives the limit from the left, the span that starts there the limit from the right. They differ where the
-  // edge is only C0 or C1 (double or triple knots), so the caller chooses.
-  const double snap = kKnotRelTol * s.dom.length();
-  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
-  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
-  const Interval span = s.spans[k];
-  const double x = (t - span.lo) / span.length(), dx = 1.0 / span.length();
+/// edgeJet on span k of a polynomial side (three coordinates) of degree kN >= 2, at local parameter x with
+/// dx = 1 / span length: the three bernsteinJetImpl<kN, 3> evaluations that edgeJet makes (rows 0, 1, 2 to orders 2,
+/// 1, 0) and edgeJet's scaling, operation for operation in the same order on each coordinate, without the Vector4d
+/// temporaries: the same bits (test SideJet.FusedPassGivesTheGenericBits). Coefficient j of the span holds the
+/// three rows' coordinates in 9 consecutive doubles, so each de Casteljau step runs over those 9 lanes at once.
+template <int kN>
+void polynomialEdgeJet(const Side& s, size_t k, double x, double dx, std::array<Vec3, 6>& out) {
+  static_assert(kN >= 2);
+  constexpr int kLanes = 9;  // rows 0, 1, 2 x coordinates 0, 1, 2
+  assert(s.hd == 3 && s.rowStride() == kLanes);
+  constexpr double nn = kN, nn1 = kN * (kN - 1);
+  const double y = 1.0 - x;
+  const double* src = s.coeff(0, k, 0);
+  double b[kN + 1][kLanes];
+  for (int i = 0; i <= kN; ++i)
+    for (int l = 0; l < kLanes; ++l) b[i][l] = src[i * kLanes + l];
+  for (int level = 1; level <= kN - 2; ++level)
+    for (int i = 0; i <= kN - level; ++i)
+      for (int l = 0; l < kLanes; ++l) b[i][l] = y * b[i][l] + x * b[i + 1][l];
+  double q0[kLanes], q1[kLanes], v[kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    q0[l] = y * b[0][l] + x * b[1][l];
+    q1[l] = y * b[1][l] + x * b[2][l];
+    v[l] = y * q0[l] + x * q1[l];
+  }
+  for (int c = 0; c < 3; ++c) {
+    out[0][c] = v[c];
+    out[1][c] = v[3 + c];
+    out[2][c] = dx * (nn * (q1[c] - q0[c]));
+    out[3][c] = v[6 + c];
+    out[4][c] = dx * (nn * (q1[3 + c] - q0[3 + c]));
+    out[5][c] = dx * dx * (nn1 * (b[2][c] - 2.0 * b[1][c] + b[0][c]));
+  }
+}
+
+/// edgeJet on span k at local parameter x (dx = 1 / span length) by three Bernstein jets of any degree and
+/// dimension (homogeneous; the quotient rule for rational sides).
+void genericEdgeJet(const Side& s, size_t k, double x, double dx, std::array<Vec3, 6>& out) {
   std::array<Eigen::Vector4d, 3> j0, j1, j2;
   bernsteinJet(s.coeff(0, k, 0), s.degree, s.hd, s.rowStride(), x, 2, j0);
   bernsteinJet(s.coeff(1, k, 0), s.degree, s.hd, s.rowStride(), x, 1, j1);
@@ -268,6 +295,41 @@ void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight =
   out[3] = (H[3].head<3>() - H[3][3] * S - 2.0 * H[1][3] * Su) / w;
   out[4] = (H[4].head<3>() - H[4][3] * S - H[1][3] * Sv - H[2][3] * Su) / w;
   out[5] = (H[5].head<3>() - H[5][3] * S - 2.0 * H[2][3] * Sv) / w;
+}
+
+/// The span of side s at t and the local parameter there, as edgeJet and edgePoint choose them.
+struct SpanPoint {
+  size_t k = 0;
+  double x = 0.0, dx = 0.0;
+};
+SpanPoint spanPoint(const Side& s, double t, bool fromRight) {
+  size_t k = static_cast<size_t>(spanIndex(s, t));
+  // At a breakpoint (to kKnotRelTol: a parameter mapped from the other side carries round-off) the span that ends
+  // there gives the limit from the left, the span that starts there the limit from the right. They differ where the
+  // edge is only C0 or C1 (double or triple knots), so the caller chooses.
+  const double snap = kKnotRelTol * s.dom.length();
+  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
+  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
+  const Interval span = s.spans[k];
+  return {k, (t - span.lo) / span.length(), 1.0 / span.length()};
+}
+
+/// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
+/// of the side (homogeneous; the quotient rule for rational sides). The same values as the surface's own evaluator
+/// to round-off, at a fraction of its cost. Spans are non-empty (decompose drops empty ones). `fused` false: always
+/// the generic route (the test hook detail::sideJet compares the two).
+void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight = false, bool fused = true) {
+  const SpanPoint sp = spanPoint(s, t, fromRight);
+  if (fused && !s.rational && s.hd == 3) {  // polynomial sides of the common degrees: one fused pass
+    switch (s.degree) {
+      case 2: return polynomialEdgeJet<2>(s, sp.k, sp.x, sp.dx, out);
+      case 3: return polynomialEdgeJet<3>(s, sp.k, sp.x, sp.dx, out);
+      case 4: return polynomialEdgeJet<4>(s, sp.k, sp.x, sp.dx, out);
+      case 5: return polynomialEdgeJet<5>(s, sp.k, sp.x, sp.dx, out);
+      default: break;
+    }
+  }
+  genericEdgeJet(s, sp.k, sp.x, sp.dx, out);
 }
 
 // ------------------------------------------------------------------------------------------------------------
@@ -341,14 +403,9 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
 /// The boundary point of a side at t (row 0 only), with the span chosen as edgeJet chooses it: the same bits as
 /// edgeJet's value.
 Vec3 edgePoint(const Side& s, double t, bool fromRight) {
-  size_t k = static_cast<size_t>(spanIndex(s, t));
-  const double snap = kKnotRelTol * s.dom.length();
-  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
-  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
-  const Interval span = s.spans[k];
-  const double x = (t - span.lo) / span.length();
+  const SpanPoint sp = spanPoint(s, t, fromRight);
   std::array<Eigen::Vector4d, 3> j0;
-  bernsteinJet(s.coeff(0, k, 0), s.degree, s.hd, s.rowStride(), x, 0, j0);
+  bernsteinJet(s.coeff(0, sp.k, 0), s.degree, s.hd, s.rowStride(), sp.x, 0, j0);
   if (!s.rational) return j0[0].head<3>();
   return Vec3(j0[0].head<3>() / j0[0][3]);
 }
@@ -377,14 +434,19 @@ PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, 
   m.c1Scale = std::max(1.0, lambda) * oNorm;
   m.c2Scale = std::max(1.0, lambda * lambda) * aooNorm;
   auto sideOf = [](const Interval& d, double x) { return x - d.lo <= d.hi - x ? 1.0 : -1.0; };
-  const std::optional<Vec3> uA = limitNormal(T, O, Att, Aot, sideOf(A.dom, t));
+  // limitNormal(T, O, ...) and chartConditioning(T, O) from one cross product: the same expressions, so the same
+  // decisions (only the unit normal, unused here, is not formed; the one-sided limit only where N vanishes).
   const Vec3 nA = T.cross(O);
   const double la = nA.norm();
-  if (!uA || !(T.norm() > 0.0)) {
+  const double size = T.squaredNorm() + O.squaredNorm();
+  const bool normalExists =
+      la > detail::kNormalVanishRel * size || limitNormal(T, O, Att, Aot, sideOf(A.dom, t)).has_value();
+  if (!normalExists || !(T.norm() > 0.0)) {
     m.normalsOk = m.curvatureOk = false;
     return m;
   }
-  if (!(la > 0.0) || chartConditioning(T, O) < kCurvatureChartRel) {
+  const double conditioning = size > 0.0 ? la / size : 0.0;
+  if (!(la > 0.0) || conditioning < kCurvatureChartRel) {
     m.curvatureOk = false;
     return m;
   }
@@ -1139,6 +1201,13 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
 
 namespace detail {
 
+std::array<Vec3, 6> sideJet(const Patch& p, Edge e, double t, bool fromRight, bool fused) {
+  const Side s = makeSide(p, e);
+  std::array<Vec3, 6> out;
+  edgeJet(s, t, out, fromRight, fused);
+  return out;
+}
+
 Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, Edge eb, const SeamOptions& opt,
                                      std::optional<Interval> aRange, double patchDiagA, double patchDiagB) {
   if (pa.surface.dim() != 3 || pb.surface.dim() != 3)
@@ -1168,6 +1237,16 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
   if (aRange) da = {std::max(da.lo, aRange->lo), std::min(da.hi, aRange->hi)};
   const Vec3 a0 = A.curve.point3(da.lo), a1 = A.curve.point3(da.hi);
   const Vec3 b0 = B.curve.point3(db.lo), b1 = B.curve.point3(db.hi);
+  // A's point at t for the reported worst points: a0 or a1 when t is that end of the range, bit for bit (the same
+  // call on the same argument; the sign of a zero compared too), else evaluated.
+  const auto sameBits = [](double x, double y) {
+    return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+  };
+  const auto pointOnA = [&](double t) {
+    if (sameBits(t, da.lo)) return a0;
+    if (sameBits(t, da.hi)) return a1;
+    return A.curve.point3(t);
+  };
   // An end point whose partner edge's end is about as close as the partner curve itself (a gap, not a
   // T-junction) is snapped to that end, so that offset seams keep their exact end-to-end correspondence.
   // `lo`, `hi`: the curve's points at the range ends (computed once above); `diag`: its control box diagonal.
@@ -1420,18 +1499,18 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       other = std::max(other, detail::closestPoint(A.curve, B.curve.point3(S.s[i]), rep.overlapA,
                                                    S.t[i]).distance);
     rep.g0Sampled = std::max(w, other);
-    rep.g0Worst = {tw, A.curve.point3(tw)};
+    rep.g0Worst = {tw, pointOnA(tw)};
   }
   {
     auto [tw, w] = refined([](const PointMeasures& m) { return m.normalsOk ? m.g1 : 0.0; });
     rep.g1SampledDeg = w * kRadToDeg;
-    rep.g1Worst = {tw, A.curve.point3(tw)};
+    rep.g1Worst = {tw, pointOnA(tw)};
   }
   {
     auto [tw, w] = refined([](const PointMeasures& m) { return m.curvatureOk ? m.g2 : 0.0; });
     rep.g2Sampled = w;
     rep.g2RelSampled = w / curvRef;
-    rep.g2Worst = {tw, A.curve.point3(tw)};
+    rep.g2Worst = {tw, pointOnA(tw)};
   }
   double lamLo = std::numeric_limits<double>::infinity(), lamHi = -lamLo, kapLo = lamLo, kapHi = -lamLo;
   double c1 = 0.0, c1s = 0.0, c2 = 0.0, c2s = 0.0;
@@ -1497,7 +1576,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       });
       if (w > rep.g2Sampled) {
         rep.g2Sampled = w;
-        rep.g2Worst = {tw, A.curve.point3(tw)};
+        rep.g2Worst = {tw, pointOnA(tw)};
       }
       rep.g2Max = std::max(rep.g2Max, rep.g2Sampled);
     };
@@ -1514,7 +1593,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {
         rep.g1SampledDeg = best * kRadToDeg;
         const double t = tAt(bp, bx);
-        rep.g1Worst = {t, A.curve.point3(t)};
+        rep.g1Worst = {t, pointOnA(t)};
       }
       if (!ok) {
         rep.notes.push_back("the G1 bound could not be closed near a vanishing normal");
@@ -1572,7 +1651,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       if (bp >= 0 && best > rep.g2Sampled) {
         rep.g2Sampled = best;
         const double t = tAt(bp, bx);
-        rep.g2Worst = {t, A.curve.point3(t)};
+        rep.g2Worst = {t, pointOnA(t)};
       }
       if (g2ok) {
         rep.g2Max = std::max(bound, rep.g2Sampled);
