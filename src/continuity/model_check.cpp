@@ -1204,8 +1204,11 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
   forEachIndex(vertexRoots.size(), threads, [&](size_t v) {
     const size_t root = vertexRoots[v];
     const std::span<const int> cluster(members.data() + memberStart[root], memberStart[root + 1] - memberStart[root]);
-    std::vector<PatchCorner> corners;
-    corners.reserve(cluster.size());
+    // Per-thread lists reused from vertex to vertex (analyzeCorner copies what it reports).
+    thread_local std::vector<PatchCorner> corners;
+    thread_local std::vector<CornerLink> cl;
+    corners.clear();
+    cl.clear();
     double scale = 0.0;
     for (int c : cluster) {
       corners.push_back(cornerOf(c));
@@ -1215,8 +1218,6 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     auto local = [&](int c) {
       return static_cast<int>(std::lower_bound(cluster.begin(), cluster.end(), c) - cluster.begin());
     };
-    std::vector<CornerLink> cl;
-    cl.reserve(linkStart[root + 1] - linkStart[root]);
     for (size_t l = linkStart[root]; l < linkStart[root + 1]; ++l) {
       const CornerLinkGlobal& g = clusterLinks[l];
       cl.push_back({local(g.a), g.aEdge, local(g.b), g.bEdge});
