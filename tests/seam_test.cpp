@@ -1882,5 +1882,46 @@ TEST(SideJet, FusedPassGivesTheGenericBits) {
   EXPECT_GT(compared, 1000);
 }
 
+
+// The seam analysis writes each side's cross-derivative rows into storage reused from seam to seam
+// (src/continuity/seam.cpp crossDerivativeRowsInto): bit for bit BSplineSurface::crossDerivativeRows(e, 2), the
+// surface's own function, on polynomial and rational surfaces of degrees 1 to 5 (clamped and unclamped knots across
+// the edge, a negative zero coordinate), with one storage matrix reused through sizes that grow and shrink.
+TEST(SideRows, ReusedStorageGivesTheSurfaceRows) {
+  Rng rng(16022);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  Matrix storage(2, 5);
+  storage.setConstant(7.0);  // stale values from "a previous seam"
+  int compared = 0;
+  for (int round = 0; round < 3; ++round)
+    for (int pu = 1; pu <= 5; ++pu)
+      for (int pv = 1; pv <= 5; pv += 2)
+        for (const bool rational : {false, true})
+          for (const bool clamped : {true, false}) {
+            const int nu = pu + 1 + irand(rng, 0, 3), nv = pv + 1 + irand(rng, 0, 3);
+            std::vector<double> ku = randomClampedKnots(rng, pu, nu), kv = randomClampedKnots(rng, pv, nv);
+            if (!clamped) {  // end knots spread out: the boundary is not a control row
+              for (int i = 0; i < pu; ++i) ku[static_cast<size_t>(i)] = -0.1 * (pu - i);
+              for (int i = 0; i < pv; ++i) kv[kv.size() - 1 - static_cast<size_t>(i)] = 1.0 + 0.1 * (pv - i);
+            }
+            Matrix pts = graphNet(rng, nu, nv, 0.25);
+            pts(0, 0) = -0.0;
+            const BSplineSurface s(pu, pv, KnotVector(ku), KnotVector(kv), nu, nv, std::move(pts),
+                                   rational ? randomWeights(rng, nu * nv) : VecX());
+            for (const Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
+              SCOPED_TRACE("degrees " + std::to_string(pu) + " " + std::to_string(pv) + (rational ? " rational" : "") +
+                           (clamped ? "" : " unclamped") + ", edge " + std::string(edgeName(e)));
+              const Matrix expected = s.crossDerivativeRows(e, 2);
+              detail::sideCrossRows(s, e, storage);
+              ASSERT_EQ(storage.rows(), expected.rows());
+              ASSERT_EQ(storage.cols(), expected.cols());
+              for (Eigen::Index i = 0; i < expected.rows(); ++i)
+                for (Eigen::Index j = 0; j < expected.cols(); ++j) ASSERT_EQ(bits(storage(i, j)), bits(expected(i, j)));
+              ++compared;
+            }
+          }
+  EXPECT_EQ(compared, 3 * 5 * 3 * 2 * 2 * 4);
+}
+
 }  // namespace
 }  // namespace seam

@@ -22,6 +22,7 @@
 #include "continuity/sampling.h"
 #include "continuity/seam_internal.h"
 #include "core/bernstein_internal.h"
+#include "spline/spline_internal.h"
 #include "seam/core/bernstein.h"
 
 namespace seam {
@@ -122,8 +123,51 @@ struct Side {
   }
 };
 
-Side makeSide(const Patch& p, Edge e) {
-  Side s;
+/// BSplineSurface::crossDerivativeRows(e, 2) written into `out`, whose storage is reused when its size does not
+/// change: the same basis values (detail::basisUpTo2), the same zero start and the same products and sums in the same
+/// order as the surface's function, so the same bits (test SideRows.ReusedStorageGivesTheSurfaceRows). Surfaces that
+/// are not 3-D or whose degree across the edge exceeds the fast basis path take the surface's own function.
+void crossDerivativeRowsInto(const BSplineSurface& surf, Edge e, Matrix& out) {
+  constexpr int kMaxOrder = 2;
+  const bool uEdge = isUEdge(e), atEnd = e == Edge::U1 || e == Edge::V1;
+  const int p = uEdge ? surf.degreeU() : surf.degreeV(), nAlong = uEdge ? surf.numV() : surf.numU();
+  if (surf.dim() != 3 || p > detail::kMaxFastBasisDegree) {
+    out = surf.crossDerivativeRows(e, kMaxOrder);
+    return;
+  }
+  const KnotVector& kc = uEdge ? surf.knotsU() : surf.knotsV();
+  const double c = atEnd ? kc.domain(p).hi : kc.domain(p).lo;
+  const bool rational = surf.isRational();
+  const int hd = rational ? 4 : 3, nv = surf.numV();
+  out.setZero(nAlong, static_cast<Eigen::Index>(kMaxOrder + 1) * hd);
+  const int top = std::min(kMaxOrder, p);
+  const int span = kc.findSpan(p, c);
+  double basis[3][detail::kMaxFastBasisDegree + 1];
+  detail::basisUpTo2(kc.values(), p, span, c, basis);
+  const double* pts = surf.points().data();
+  const double* weights = surf.weights().data();
+  const Eigen::Index cols = out.cols();
+  for (int r = 0; r <= p; ++r) {
+    const int across = span - p + r;
+    for (int k = 0; k <= top; ++k) {
+      const double nkr = basis[k][r];
+      // Reversed cross direction at the far edge: d/dn = -d/du there.
+      const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
+      if (coef == 0.0) continue;
+      for (int j = 0; j < nAlong; ++j) {
+        const int flat = uEdge ? across * nv + j : j * nv + across;
+        const double cw = coef * (rational ? weights[flat] : 1.0);
+        double* o = out.data() + j * cols + static_cast<Eigen::Index>(k) * hd;
+        const double* x = pts + static_cast<Eigen::Index>(flat) * 3;
+        for (int q = 0; q < 3; ++q) o[q] += cw * x[q];
+        if (rational) o[3] += cw;
+      }
+    }
+  }
+}
+
+/// Makes `s` the side of patch p seen from edge e, reusing the storage of its rows and spans.
+void makeSideInto(Side& s, const Patch& p, Edge e) {
   s.patch = &p;
   s.edge = e;
   const BSplineSurface& surf = p.surface;
@@ -133,7 +177,7 @@ Side makeSide(const Patch& p, Edge e) {
   const KnotVector& along = uEdge ? surf.knotsV() : surf.knotsU();
   s.dom = along.domain(s.degree);
   // All three cross-derivative rows at once, decomposed into Bezier pieces in one pass.
-  s.rows = surf.crossDerivativeRows(e, 2);
+  crossDerivativeRowsInto(surf, e, s.rows);
   s.hd = static_cast<int>(s.rows.cols() / 3);
   s.curve = BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), s.rational);
   // One clamped Bezier span along the edge (every Bezier patch): decompose's own fast path (the same span, rows
@@ -145,10 +189,15 @@ Side makeSide(const Patch& p, Edge e) {
                                          [&](double k) { return k == kv.front(); }) &&
       std::all_of(kv.begin() + static_cast<std::ptrdiff_t>(p1), kv.end(), [&](double k) { return k == kv.back(); })) {
     s.spans.assign(1, Interval{kv[p1 - 1], kv[p1]});
-    return s;
+    return;
   }
   std::vector<double> knots = kv;
   s.spans = detail::decompose(s.degree, knots, s.rows);
+}
+
+Side makeSide(const Patch& p, Edge e) {
+  Side s;
+  makeSideInto(s, p, e);
   return s;
 }
 
@@ -1201,6 +1250,8 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
 
 namespace detail {
 
+void sideCrossRows(const BSplineSurface& s, Edge e, Matrix& rows) { crossDerivativeRowsInto(s, e, rows); }
+
 std::array<Vec3, 6> sideJet(const Patch& p, Edge e, double t, bool fromRight, bool fused) {
   const Side s = makeSide(p, e);
   std::array<Vec3, 6> out;
@@ -1217,7 +1268,13 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
   const auto label = [&] {
     return fmt::format("seam {}:{} / {}:{}", pa.name, edgeName(ea), pb.name, edgeName(eb));
   };
-  const Side A = makeSide(pa, ea), B = makeSide(pb, eb);
+  // Per-thread sides reused from seam to seam (their rows and spans keep their storage). The one nested analysis
+  // (the general route below) rebuilds them and its report is returned directly: these are not used after it.
+  thread_local Side sideA, sideB;
+  makeSideInto(sideA, pa, ea);
+  makeSideInto(sideB, pb, eb);
+  const Side& A = sideA;
+  const Side& B = sideB;
   const double scale = std::max(patchDiagA, patchDiagB);
   // The edges' control box diagonals, also the overlap projections' scale below.
   const double diagA = controlBox(A.curve).diagonal(), diagB = controlBox(B.curve).diagonal();
