@@ -179,7 +179,10 @@ void makeSideInto(Side& s, const Patch& p, Edge e) {
   // All three cross-derivative rows at once, decomposed into Bezier pieces in one pass.
   crossDerivativeRowsInto(surf, e, s.rows);
   s.hd = static_cast<int>(s.rows.cols() / 3);
-  s.curve = BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), s.rational);
+  // A polynomial side's curve takes a copy of row 0 as its points (fromHomogeneous would copy it twice: into the
+  // temporary its const Matrix& binds, then into the curve).
+  s.curve = s.rational ? BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), true)
+                       : BSplineCurve(s.degree, along, Matrix(s.rows.leftCols(s.hd)));
   // One clamped Bezier span along the edge (every Bezier patch): decompose's own fast path (the same span, rows
   // untouched) without copying the knots.
   const std::vector<double>& kv = along.values();
@@ -1068,6 +1071,30 @@ std::pair<double, double> crossRowFactors(const BSplineSurface& surf, Edge e) {
   return {p / h, p * (p - 1) / (h * h)};
 }
 
+/// The Bernstein weights of sharedRowBounds' product n_A = A_t x A_out for each degree n <= kJetStackDegree, computed
+/// once: product[n][i][j] = C(n-1, i) C(n, j) / C(2n-1, i+j) and binomial[n][l] = C(2n-1, l), the same expressions
+/// (so the same doubles) that were evaluated per coefficient.
+struct ProductWeights {
+  std::array<std::array<std::array<double, kJetStackDegree + 1>, kJetStackDegree>, kJetStackDegree + 1> product{};
+  std::array<std::array<double, 2 * kJetStackDegree>, kJetStackDegree + 1> binomial{};
+};
+
+const ProductWeights& productWeights() {
+  static const ProductWeights w = [] {
+    ProductWeights r;
+    for (int n = 1; n <= kJetStackDegree; ++n) {
+      const int dn = 2 * n - 1;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j <= n; ++j)
+          r.product[static_cast<size_t>(n)][static_cast<size_t>(i)][static_cast<size_t>(j)] =
+              binomial(n - 1, i) * binomial(n, j) / binomial(dn, i + j);
+      for (int l = 0; l <= dn; ++l) r.binomial[static_cast<size_t>(n)][static_cast<size_t>(l)] = binomial(dn, l);
+    }
+    return r;
+  }();
+  return w;
+}
+
 struct SharedRowBounds {
   double g0 = 0.0;  // certified gap bound (the largest control-point difference of the boundary rows)
   double g1 = 0.0;  // certified angle bound, radians
@@ -1125,6 +1152,7 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
   std::array<Vec3, kMaxDegree + 1> diff;
   std::array<Vec3, kMaxDegree> T, O1;          // A_t and the along-edge derivative of A_1 (coefficients)
   std::array<Vec3, 2 * kMaxDegree> NA;         // n_A = A_t x A_out, degree 2n - 1
+  std::array<Vec3, kMaxDegree + 1> O;          // A_out = -A_1 (coefficients)
   for (size_t k = 0; k < m; ++k) {
     const size_t kb = reversed ? m - 1 - k : k;
     for (int j = 0; j <= n; ++j) {
@@ -1156,16 +1184,18 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
     }
     // n_A = A_t x A_out in Bernstein form of degree 2n - 1: sum over i + j = l of C(n-1, i) C(n, j) / C(2n-1, l).
     const int dn = 2 * n - 1;
+    const ProductWeights& weights = productWeights();
+    for (int j = 0; j <= n; ++j) O[static_cast<size_t>(j)] = -row(A, 1, k, j);
     for (int l = 0; l <= dn; ++l) NA[static_cast<size_t>(l)].setZero();
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j <= n; ++j) {
-        const Vec3 o = -row(A, 1, k, j);
-        NA[static_cast<size_t>(i + j)] +=
-            (binomial(n - 1, i) * binomial(n, j) / binomial(dn, i + j)) * T[static_cast<size_t>(i)].cross(o);
-      }
+      for (int j = 0; j <= n; ++j)
+        NA[static_cast<size_t>(i + j)] += weights.product[static_cast<size_t>(n)][static_cast<size_t>(i)]
+                                                         [static_cast<size_t>(j)] *
+                                          T[static_cast<size_t>(i)].cross(O[static_cast<size_t>(j)]);
     // |n_A| >= min_l <m, N_l> for the unit direction m of n_A at the middle (the hull of a scalar polynomial).
     Vec3 mid = Vec3::Zero();
-    for (int l = 0; l <= dn; ++l) mid += binomial(dn, l) * NA[static_cast<size_t>(l)];  // 2^dn n_A(1/2)
+    for (int l = 0; l <= dn; ++l)  // 2^dn n_A(1/2)
+      mid += weights.binomial[static_cast<size_t>(n)][static_cast<size_t>(l)] * NA[static_cast<size_t>(l)];
     if (!(mid.norm() > 0.0)) return std::nullopt;
     mid.normalize();
     for (int l = 0; l <= dn; ++l) {
