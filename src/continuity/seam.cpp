@@ -147,6 +147,26 @@ void crossDerivativeRowsInto(const BSplineSurface& surf, Edge e, Matrix& out) {
   const double* pts = surf.points().data();
   const double* weights = surf.weights().data();
   const Eigen::Index cols = out.cols();
+  if (!rational) {  // the same loop without the weight lane, the points of row `across` walked by pointer
+    const Eigen::Index step = uEdge ? 3 : 3 * static_cast<Eigen::Index>(nv);  // from point j to point j + 1
+    for (int r = 0; r <= p; ++r) {
+      const int across = span - p + r;
+      for (int k = 0; k <= top; ++k) {
+        const double nkr = basis[k][r];
+        const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
+        if (coef == 0.0) continue;
+        const double cw = coef * 1.0;  // the surface function's factor (weight 1)
+        double* o = out.data() + static_cast<Eigen::Index>(k) * 3;
+        const double* x = pts + 3 * static_cast<Eigen::Index>(uEdge ? across * nv : across);
+        for (int j = 0; j < nAlong; ++j, o += cols, x += step) {
+          o[0] += cw * x[0];
+          o[1] += cw * x[1];
+          o[2] += cw * x[2];
+        }
+      }
+    }
+    return;
+  }
   for (int r = 0; r <= p; ++r) {
     const int across = span - p + r;
     for (int k = 0; k <= top; ++k) {
