@@ -20,6 +20,8 @@
 #include <functional>
 #include <numbers>
 #include <random>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "seam/continuity/corner.h"
@@ -682,6 +684,118 @@ TEST(Corner, ExplicitLinksAgreeWithGeometricLinksAndBadInputIsRejected) {
   std::vector<CornerLink> bad = links;
   bad[0].aEdge = corners[static_cast<size_t>(bad[0].a)].uEdge() == Edge::U0 ? Edge::U1 : Edge::U0;
   EXPECT_EQ(analyzeCorner(patches, corners, bad, options).status().code(), ErrorCode::kInvalidInput);
+}
+
+
+// analyzeCorner keeps its working storage per thread and reuses it from vertex to vertex (checkModel analyses
+// thousands). Reference: each vertex analysed first on a thread of its own (fresh storage). Then the vertices,
+// different in size (8, 4, 3 and 2 corners), in fan structure (closed, open, two fans at one point) and in their
+// collapsed edges, analysed one after another on this thread, each twice in a mixed order: every report must equal
+// its reference exactly (no state carried over from a previous vertex).
+TEST(Corner, ReusedWorkingStorageCarriesNothingFromOneVertexToTheNext) {
+  struct Vertex {
+    std::vector<Patch> patches;
+    std::vector<PatchCorner> corners;
+  };
+  std::vector<Vertex> vertices;
+  // A 4-valent vertex of one smooth surface (Theorems 1 and 2), sheared and reparametrised.
+  SectorConfig sc;
+  sc.fQuad = {0.2, -0.1, 0.15, 0.0};
+  sc.gQuad = {0.0, 0.1, -0.2, 0.1};
+  {
+    std::vector<Patch> p = sectorPatches(sc);
+    vertices.push_back({p, cornersAt(p, kV)});
+  }
+  // A pole: four bilinear triangles, each with its edge collapsed at the apex (eight corners, four sectors).
+  {
+    Vertex v;
+    const Vec3 apex(0, 0, 1);
+    for (int k = 0; k < 4; ++k) {
+      const double a0 = std::numbers::pi / 2 * k, a1 = std::numbers::pi / 2 * (k + 1);
+      Matrix pts(4, 3);
+      pts.row(0) = apex.transpose();
+      pts.row(1) = apex.transpose();
+      pts.row(2) = Eigen::RowVector3d(std::cos(a0), std::sin(a0), 0.5);
+      pts.row(3) = Eigen::RowVector3d(std::cos(a1), std::sin(a1), 0.5);
+      v.patches.push_back({"T" + std::to_string(k), PatchKind::kBSpline,
+                           BSplineSurface(1, 1, KnotVector::bezier(1), KnotVector::bezier(1), 2, 2, pts)});
+      v.corners.push_back({k, false, false});
+      v.corners.push_back({k, false, true});
+    }
+    vertices.push_back(std::move(v));
+  }
+  auto quad = [](const Vec3& o, const Vec3& a, const Vec3& b) {
+    Matrix pts(4, 3);
+    pts.row(0) = o.transpose();
+    pts.row(1) = (o + b).transpose();
+    pts.row(2) = (o + a).transpose();
+    pts.row(3) = (o + a + b).transpose();
+    return BSplineSurface(1, 1, KnotVector::bezier(1), KnotVector::bezier(1), 2, 2, pts);
+  };
+  const Vec3 o = Vec3::Zero(), x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
+  {  // a cube corner: closed, valence 3, one face stored flipped
+    std::vector<Patch> p = {{"X", PatchKind::kBSpline, quad(o, y, z)},
+                            {"Y", PatchKind::kBSpline, quad(o, x, z)},
+                            {"Z", PatchKind::kBSpline, quad(o, x, y)}};
+    vertices.push_back({p, cornersAt(p, o)});
+  }
+  {  // two squares touching at one corner only: two open fans at the point
+    std::vector<Patch> p = {{"A", PatchKind::kBSpline, quad(o, x, y)},
+                            {"B", PatchKind::kBSpline, quad(o, -x, -z)}};
+    vertices.push_back({p, cornersAt(p, o)});
+  }
+  auto run = [](const Vertex& v) {
+    CornerOptions options;
+    options.lengthScale = 1.0;
+    Result<CornerReport> r = analyzeCorner(v.patches, v.corners, options);
+    EXPECT_TRUE(r.isOk());
+    return r.isOk() ? r.value() : CornerReport{};
+  };
+  std::vector<CornerReport> reference(vertices.size());
+  for (size_t k = 0; k < vertices.size(); ++k) std::thread([&, k] { reference[k] = run(vertices[k]); }).join();
+  EXPECT_EQ(reference[1].valence, 4);
+  EXPECT_TRUE(reference[1].degenerate);
+  EXPECT_EQ(reference[2].valence, 3);
+  EXPECT_NE(std::count(reference[3].notes.begin(), reference[3].notes.end(), "2 separate fans meet at the vertex"), 0);
+  ASSERT_TRUE(reference[0].fourPatch.has_value());
+  auto same = [](const std::optional<double>& a, const std::optional<double>& b) {
+    return a.has_value() == b.has_value() && (!a || *a == *b);
+  };
+  for (const size_t k : {1, 0, 3, 2, 0, 1, 2, 3}) {
+    SCOPED_TRACE("vertex " + std::to_string(k));
+    const CornerReport r = run(vertices[k]);
+    const CornerReport& e = reference[k];
+    EXPECT_EQ(r.point, e.point);
+    EXPECT_EQ(r.cornerGap, e.cornerGap);
+    ASSERT_EQ(r.corners.size(), e.corners.size());
+    for (size_t c = 0; c < r.corners.size(); ++c) {
+      EXPECT_EQ(r.corners[c].patch, e.corners[c].patch);
+      EXPECT_EQ(r.corners[c].uMax, e.corners[c].uMax);
+      EXPECT_EQ(r.corners[c].vMax, e.corners[c].vMax);
+    }
+    EXPECT_EQ(r.sectors, e.sectors);
+    EXPECT_EQ(r.orientation, e.orientation);
+    EXPECT_EQ(r.valence, e.valence);
+    EXPECT_EQ(r.closed, e.closed);
+    EXPECT_EQ(r.degenerate, e.degenerate);
+    EXPECT_EQ(r.degenerateCorners, e.degenerateCorners);
+    EXPECT_TRUE(same(r.normalSpreadDeg, e.normalSpreadDeg));
+    EXPECT_TRUE(same(r.curvatureSpread, e.curvatureSpread));
+    EXPECT_TRUE(same(r.curvatureSpreadRel, e.curvatureSpreadRel));
+    EXPECT_EQ(r.notes, e.notes);
+    ASSERT_EQ(r.fourPatch.has_value(), e.fourPatch.has_value());
+    if (r.fourPatch) {
+      EXPECT_EQ(r.fourPatch->g1Relations, e.fourPatch->g1Relations);
+      EXPECT_EQ(r.fourPatch->g1Residual, e.fourPatch->g1Residual);
+      EXPECT_EQ(r.fourPatch->g2Relations, e.fourPatch->g2Relations);
+      EXPECT_EQ(r.fourPatch->g2Residual, e.fourPatch->g2Residual);
+      for (size_t s = 0; s < 4; ++s) {
+        EXPECT_EQ(r.fourPatch->seams[s].lambda, e.fourPatch->seams[s].lambda);
+        EXPECT_EQ(r.fourPatch->seams[s].kappa, e.fourPatch->seams[s].kappa);
+        EXPECT_EQ(r.fourPatch->seams[s].g2Jump, e.fourPatch->seams[s].g2Jump);
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -163,6 +163,25 @@ TEST(ModelCheck, GridPairingMatchesBruteForce) {
   }
 }
 
+// Edges of very different lengths (patches 1/10 x 1/2 of the surface, one column split into T-junctions): the
+// long edges cover several cells of the candidate grid, several of them shared with the same partner, and each such
+// partner must still be found exactly once (the candidate search takes it in the lowest cell the two edges share).
+TEST(ModelCheck, LongAndShortEdgesSharingSeveralCellsPairAsBruteForce) {
+  std::mt19937_64 rng(7);
+  const int nu = 10, nv = 2, split = 4, lifted = 7;
+  const Model m = gridModel(nu, nv, split, lifted, 1e-3, rng);
+  const Result<EdgePairing> r = pairEdges(m);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const Tolerances tol = Tolerances::forModelSize(m.boundingBox().diagonal());
+  EXPECT_EQ(pairSet(r->pairs), brutePairs(m, r->pairingTolerance, tol.distance));
+  const int seams = (nu - 1) * nv + nu * (nv - 1) + 3 * nv;  // the split column adds one seam and two partners per row
+  EXPECT_EQ(static_cast<int>(r->pairs.size()), seams);
+  for (size_t k = 1; k < r->pairs.size(); ++k) {  // each pair of edges once, in candidate order
+    const auto prev = std::pair{r->pairs[k - 1].a, r->pairs[k - 1].b}, cur = std::pair{r->pairs[k].a, r->pairs[k].b};
+    EXPECT_LT(prev, cur);
+  }
+}
+
 TEST(ModelCheck, TJunctionOverlapsAndFreeEdges) {
   // Left: one patch over u in [0, 0.5]; right: two patches over v in [0, 0.5] and [0.5, 1]. The left patch's
   // u1 edge is shared with both right u0 edges on exactly half of its parameter range each.

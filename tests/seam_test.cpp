@@ -9,9 +9,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
-#include <limits>
+#include <cstdint>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "continuity/sampling.h"
+#include "continuity/seam_internal.h"
 #include "seam/continuity/seam.h"
 #include "seam/io/file.h"
 #include "hinge_models.h"
@@ -1898,6 +1901,96 @@ TEST(SampledMaxima, ParabolicRefinementFindsTheMaximaGoldenSectionFinds) {
     EXPECT_LE(x, 0.5);
     EXPECT_NEAR(v, 0.5, 1e-6);
   }
+}
+
+// The seam samples' fused pass over a polynomial side (degrees 2 to 5, src/continuity/seam.cpp polynomialEdgeJet)
+// against the generic route it replaces (three Bernstein jets, the route every other degree and every rational side
+// takes): bit for bit, the sign of zeros included, on multi-span sides with simple, double and triple knots, at
+// random parameters, at every breakpoint from both sides, and at the domain ends. Rational and degree-6 sides take
+// the generic route either way (the same bits trivially).
+TEST(SideJet, FusedPassGivesTheGenericBits) {
+  Rng rng(16021);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  int compared = 0;
+  for (int p = 1; p <= 6; ++p) {
+    for (const bool rational : {false, true}) {
+      for (int variant = 0; variant < 3; ++variant) {
+        // variant 0: simple random knots; 1: a double knot along v; 2: a triple knot along v.
+        const int nu = p + 3, nvSimple = p + 4;
+        std::vector<double> kv = randomClampedKnots(rng, p, nvSimple);
+        if (variant > 0) {
+          const double k = kv[static_cast<size_t>(p + 1)];
+          for (int extra = 0; extra < variant && extra + 1 < p; ++extra) kv.insert(kv.begin() + p + 1, k);
+        }
+        const int nv = static_cast<int>(kv.size()) - p - 1;
+        Matrix pts = graphNet(rng, nu, nv, 0.25);
+        pts(0, 2) = -0.0;  // a negative zero coordinate (its sign must survive both routes alike)
+        const BSplineSurface s(p, p, KnotVector(randomClampedKnots(rng, p, nu)), KnotVector(kv), nu, nv,
+                               std::move(pts), rational ? randomWeights(rng, nu * nv) : VecX());
+        const Patch patch = makePatch("S", s);
+        for (const Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
+          const KnotVector& along = isUEdge(e) ? s.knotsV() : s.knotsU();
+          std::vector<double> ts = along.breakpoints();
+          for (int i = 0; i < 12; ++i) ts.push_back(urand(rng, 0.0, 1.0));
+          for (const double t : ts)
+            for (const bool fromRight : {false, true}) {
+              const std::array<Vec3, 6> fused = detail::sideJet(patch, e, t, fromRight, true);
+              const std::array<Vec3, 6> generic = detail::sideJet(patch, e, t, fromRight, false);
+              for (size_t d = 0; d < 6; ++d)
+                for (int c = 0; c < 3; ++c) {
+                  SCOPED_TRACE("degree " + std::to_string(p) + (rational ? " rational" : "") + ", variant " +
+                               std::to_string(variant) + ", edge " + std::string(edgeName(e)) + ", t " +
+                               std::to_string(t) + ", derivative " + std::to_string(d));
+                  ASSERT_EQ(bits(fused[d][c]), bits(generic[d][c]));
+                }
+              ++compared;
+            }
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 1000);
+}
+
+
+// The seam analysis writes each side's cross-derivative rows into storage reused from seam to seam
+// (src/continuity/seam.cpp crossDerivativeRowsInto): bit for bit BSplineSurface::crossDerivativeRows(e, 2), the
+// surface's own function, on polynomial and rational surfaces of degrees 1 to 5 (clamped and unclamped knots across
+// the edge, a negative zero coordinate), with one storage matrix reused through sizes that grow and shrink.
+TEST(SideRows, ReusedStorageGivesTheSurfaceRows) {
+  Rng rng(16022);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  Matrix storage(2, 5);
+  storage.setConstant(7.0);  // stale values from "a previous seam"
+  int compared = 0;
+  for (int round = 0; round < 3; ++round)
+    for (int pu = 1; pu <= 5; ++pu)
+      for (int pv = 1; pv <= 5; pv += 2)
+        for (const bool rational : {false, true})
+          for (const bool clamped : {true, false}) {
+            const int nu = pu + 1 + irand(rng, 0, 3), nv = pv + 1 + irand(rng, 0, 3);
+            std::vector<double> ku = randomClampedKnots(rng, pu, nu), kv = randomClampedKnots(rng, pv, nv);
+            if (!clamped) {  // end knots spread out: the boundary is not a control row
+              for (int i = 0; i < pu; ++i) ku[static_cast<size_t>(i)] = -0.1 * (pu - i);
+              for (int i = 0; i < pv; ++i) kv[kv.size() - 1 - static_cast<size_t>(i)] = 1.0 + 0.1 * (pv - i);
+            }
+            Matrix pts = graphNet(rng, nu, nv, 0.25);
+            pts(0, 0) = -0.0;
+            const BSplineSurface s(pu, pv, KnotVector(ku), KnotVector(kv), nu, nv, std::move(pts),
+                                   rational ? randomWeights(rng, nu * nv) : VecX());
+            for (const Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
+              SCOPED_TRACE("degrees " + std::to_string(pu) + " " + std::to_string(pv) + (rational ? " rational" : "") +
+                           (clamped ? "" : " unclamped") + ", edge " + std::string(edgeName(e)));
+              const Matrix expected = s.crossDerivativeRows(e, 2);
+              detail::sideCrossRows(s, e, storage);
+              ASSERT_EQ(storage.rows(), expected.rows());
+              ASSERT_EQ(storage.cols(), expected.cols());
+              for (Eigen::Index i = 0; i < expected.rows(); ++i)
+                for (Eigen::Index j = 0; j < expected.cols(); ++j) ASSERT_EQ(bits(storage(i, j)), bits(expected(i, j)));
+              ++compared;
+            }
+          }
+  EXPECT_EQ(compared, 3 * 5 * 3 * 2 * 2 * 4);
 }
 
 }  // namespace

@@ -247,6 +247,23 @@ struct Fan {
   bool closed = false;
 };
 
+/// analyzeCorner's working storage, kept per thread and reused from vertex to vertex (checkModel analyses thousands
+/// of vertices; a call uses it from start to end and calls nothing that uses it too): no allocation once grown.
+struct CornerScratch {
+  std::vector<std::array<std::optional<CornerEdge>, 2>> partner;
+  std::vector<Jet> jets;
+  std::vector<Vec3> normals, orientedNormal, oriented;
+  std::vector<char> degenerate;
+  std::vector<Fan> fans;  ///< the first fanCount are this call's (the rest keep their storage for later calls)
+  size_t fanCount = 0;
+  std::vector<Eigen::Matrix2d> shape;
+};
+
+CornerScratch& cornerScratch() {
+  thread_local CornerScratch scratch;
+  return scratch;
+}
+
 }  // namespace
 
 BSplineSurface applyLayout(const BSplineSurface& s, const PatchLayout& layout) {
@@ -332,8 +349,10 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
     if (patches[static_cast<size_t>(c.patch)].surface.dim() != 3)
       return invalidInput(fmt::format("corner: patch \"{}\" is not 3-D", patches[static_cast<size_t>(c.patch)].name));
   }
+  CornerScratch& W = cornerScratch();
   // Links: validated, and at most one partner per corner edge.
-  std::vector<std::array<std::optional<CornerEdge>, 2>> partner(static_cast<size_t>(n));
+  std::vector<std::array<std::optional<CornerEdge>, 2>>& partner = W.partner;
+  partner.assign(static_cast<size_t>(n), {});
   auto slot = [&](int corner, Edge e) -> int {
     const PatchCorner& c = corners[static_cast<size_t>(corner)];
     return e == c.uEdge() ? 0 : (e == c.vEdge() ? 1 : -1);
@@ -366,9 +385,12 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   report.notes = std::move(notes);
 
   // Corner data.
-  std::vector<Jet> jets(static_cast<size_t>(n));
-  std::vector<Vec3> normals(static_cast<size_t>(n), Vec3::Zero());
-  std::vector<bool> degenerate(static_cast<size_t>(n), false);
+  std::vector<Jet>& jets = W.jets;
+  jets.assign(static_cast<size_t>(n), Jet{});
+  std::vector<Vec3>& normals = W.normals;
+  normals.assign(static_cast<size_t>(n), Vec3::Zero());
+  std::vector<char>& degenerate = W.degenerate;
+  degenerate.assign(static_cast<size_t>(n), 0);
   double scale = 0.0;
   for (int i = 0; i < n; ++i) {
     const PatchCorner& c = corners[static_cast<size_t>(i)];
@@ -380,7 +402,7 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
     const Vec3 cr = j.u.cross(j.v);
     const double m = std::max(j.u.norm(), j.v.norm());
     if (!(cr.norm() > kDegenerateNormalRel * m * m)) {
-      degenerate[static_cast<size_t>(i)] = true;
+      degenerate[static_cast<size_t>(i)] = 1;
       report.degenerateCorners.push_back(i);
     } else {
       normals[static_cast<size_t>(i)] = cr.normalized();
@@ -395,10 +417,12 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   // Fans: walk from corner to corner across the linked edges, orienting each corner so that the seam edge we arrive
   // by is its first edge (counter-clockwise); start open fans at a corner with an unlinked edge.
   report.orientation.assign(static_cast<size_t>(n), 0);
-  std::vector<Fan> fans;
+  W.fanCount = 0;
   auto walk = [&](int start, int startOrientation) {
-    Fan fan;
-    fan.order.reserve(static_cast<size_t>(n));
+    if (W.fanCount == W.fans.size()) W.fans.emplace_back();
+    Fan& fan = W.fans[W.fanCount++];
+    fan.order.clear();
+    fan.closed = false;
     int cur = start;
     report.orientation[static_cast<size_t>(cur)] = startOrientation;
     fan.order.push_back(cur);
@@ -426,7 +450,6 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
       fan.order.push_back(j);
       cur = j;
     }
-    fans.push_back(std::move(fan));
   };
   // Open fans first: a corner with exactly one linked edge starts one, oriented so the unlinked edge comes first.
   for (int i = 0; i < n; ++i) {
@@ -438,40 +461,43 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   }
   for (int i = 0; i < n; ++i)
     if (report.orientation[static_cast<size_t>(i)] == 0) walk(i, 1);
+  const std::span<const Fan> fans(W.fans.data(), W.fanCount);
   if (fans.size() > 1) report.notes.push_back(fmt::format("{} separate fans meet at the vertex", fans.size()));
 
   // Sectors: consecutive corners of a fan joined by a collapsed edge are one sector.
   report.sectors.reserve(static_cast<size_t>(n));
   for (const Fan& fan : fans) {
-    std::vector<std::vector<int>> sectors;
-    sectors.reserve(fan.order.size());
+    // This fan's sectors, made in place at the end of report.sectors (from index first).
+    std::vector<std::vector<int>>& sectors = report.sectors;
+    const size_t first = sectors.size();
     for (int c : fan.order) {
-      if (!sectors.empty() && collapsed.count({std::min(sectors.back().back(), c), std::max(sectors.back().back(), c)}))
+      if (sectors.size() > first &&
+          collapsed.count({std::min(sectors.back().back(), c), std::max(sectors.back().back(), c)}))
         sectors.back().push_back(c);
       else
         sectors.push_back({c});
     }
-    if (fan.closed && sectors.size() > 1 &&
-        collapsed.count({std::min(sectors.back().back(), sectors.front().front()),
-                         std::max(sectors.back().back(), sectors.front().front())})) {
-      sectors.front().insert(sectors.front().begin(), sectors.back().begin(), sectors.back().end());
+    if (fan.closed && sectors.size() - first > 1 &&
+        collapsed.count({std::min(sectors.back().back(), sectors[first].front()),
+                         std::max(sectors.back().back(), sectors[first].front())})) {
+      sectors[first].insert(sectors[first].begin(), sectors.back().begin(), sectors.back().end());
       sectors.pop_back();
     }
-    for (auto& s : sectors) report.sectors.push_back(std::move(s));
   }
   report.valence = static_cast<int>(report.sectors.size());
   report.closed = fans.size() == 1 && fans[0].closed;
 
   // The consistently oriented unit normals (zero at degenerate corners), once for the spreads below.
-  std::vector<Vec3> orientedNormal(static_cast<size_t>(n));
+  std::vector<Vec3>& orientedNormal = W.orientedNormal;
+  orientedNormal.resize(static_cast<size_t>(n));
   for (size_t i = 0; i < orientedNormal.size(); ++i)
     orientedNormal[i] = static_cast<double>(report.orientation[i]) * normals[i];
 
   // Normal spread over the consistently oriented normals, within each fan (the orientations of separate fans, e.g. a
   // handle touching a body at a vertex, are unrelated, so their normals are not compared).
   for (const Fan& fan : fans) {
-    std::vector<Vec3> oriented;
-    oriented.reserve(fan.order.size());
+    std::vector<Vec3>& oriented = W.oriented;
+    oriented.clear();
     for (int i : fan.order)
       if (!degenerate[static_cast<size_t>(i)]) oriented.push_back(orientedNormal[static_cast<size_t>(i)]);
     if (oriented.size() < 2) continue;
@@ -499,8 +525,8 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
         creased = creased || angleBetween(mean, orientedNormal[static_cast<size_t>(i)]) > kCurvatureSpreadMaxTilt;
     if (creased) continue;
     const Vec3 e1 = mean.unitOrthogonal(), e2 = mean.cross(e1);
-    std::vector<Eigen::Matrix2d> shape;
-    shape.reserve(fan.order.size());
+    std::vector<Eigen::Matrix2d>& shape = W.shape;
+    shape.clear();
     double largest = 0.0;
     for (int i : fan.order) {
       if (degenerate[static_cast<size_t>(i)]) continue;

@@ -231,7 +231,7 @@ struct EdgeInfo {
   /// Unit directions in which the edge leaves its start and its end point (chords to the points at 1/64 of the
   /// domain from each end, robust where the first derivative vanishes).
   Vec3 startDir = Vec3::Zero(), endDir = Vec3::Zero();
-  std::vector<double> unitKnots;  ///< the curve's knots mapped affinely onto [0, 1]
+  std::span<const double> unitKnots;  ///< the curve's knots mapped affinely onto [0, 1] (in Pairing::unitKnotPool)
   // Samples for the general overlap test (filled on demand).
   std::vector<double> sampleT;
   std::vector<Vec3> sampleP;
@@ -240,12 +240,12 @@ struct EdgeInfo {
   std::vector<Vec3> polyP;
 };
 
-/// Knot vector of the curve mapped affinely onto [0, 1].
-std::vector<double> normalizedKnots(const BSplineCurve& c) {
-  std::vector<double> k = c.knots().values();
+/// Knot vector of the curve mapped affinely onto [0, 1], written into `out` (as many values as the curve has knots).
+void normalizedKnots(const BSplineCurve& c, std::span<double> out) {
+  const std::vector<double>& k = c.knots().values();
+  assert(out.size() == k.size());
   const Interval d = c.domain();
-  for (double& x : k) x = (x - d.lo) / d.length();
-  return k;
+  for (size_t i = 0; i < k.size(); ++i) out[i] = (k[i] - d.lo) / d.length();
 }
 
 /// |d|, without overflowing in the squares when the coordinates are near 1e300 (the scaled norm only then).
@@ -254,14 +254,16 @@ double safeNorm(const Vec3& d) {
   return std::isfinite(n) ? n : d.stableNorm();
 }
 
-EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol) {
+/// `unitKnots`: where the edge's normalised knots go (as many values as the surface has knots along the edge).
+EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std::span<double> unitKnots) {
   EdgeInfo info;
   info.ref = {index, e};
   const BSplineSurface& s = patch.surface;
   info.curve = s.boundaryCurve(e);
   info.domain = info.curve.domain();
   info.box = controlBox(info.curve);
-  info.unitKnots = normalizedKnots(info.curve);
+  normalizedKnots(info.curve, unitKnots);
+  info.unitKnots = unitKnots;
   const Matrix& P = info.curve.points();
   for (Eigen::Index i = 1; i < P.rows(); ++i) info.length += safeNorm((P.row(i) - P.row(i - 1)).head<3>().transpose());
   info.collapsed = detail::controlExtent(info.curve) <= collapseTol;
@@ -332,8 +334,8 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
   const BSplineCurve& cb = b.curve;
   if (ca.degree() != cb.degree() || ca.numPoints() != cb.numPoints() || ca.isRational() != cb.isRational())
     return std::nullopt;
-  const std::vector<double>& ka = a.unitKnots;
-  const std::vector<double>& kb = b.unitKnots;
+  const std::span<const double> ka = a.unitKnots;
+  const std::span<const double> kb = b.unitKnots;
   const size_t nk = ka.size();
   if (kb.size() != nk) return std::nullopt;
   const int n = ca.numPoints();
@@ -566,9 +568,9 @@ bool endsExplained(const EdgePair& p, const EdgeInfo& a, const EdgeInfo& b) {
   return lowEnd && highEnd;
 }
 
-/// Length of the part of `o` covered by the (possibly overlapping) intervals `claimed`.
-double claimedLength(const std::vector<Interval>& claimed, const Interval& o) {
-  std::vector<Interval> cut;
+/// Length of the part of `o` covered by the (possibly overlapping) intervals `claimed` (`cut`: working storage).
+double claimedLength(std::span<const Interval> claimed, const Interval& o, std::vector<Interval>& cut) {
+  cut.clear();
   for (const Interval& c : claimed) {
     const double lo = std::max(c.lo, o.lo), hi = std::min(c.hi, o.hi);
     if (hi > lo) cut.push_back({lo, hi});
@@ -590,9 +592,9 @@ double claimedLength(const std::vector<Interval>& claimed, const Interval& o) {
   return total;
 }
 
-/// The parts of `domain` not covered by `claimed` that are longer than `minLength`.
-std::vector<Interval> uncovered(const std::vector<Interval>& claimed, const Interval& domain, double minLength) {
-  std::vector<Interval> c = claimed;
+/// The parts of `domain` not covered by `c` (the claimed parts, sorted here in place) that are longer than
+/// `minLength`.
+std::vector<Interval> uncovered(std::vector<Interval>& c, const Interval& domain, double minLength) {
   std::sort(c.begin(), c.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
   std::vector<Interval> out;
   double cur = domain.lo;
@@ -603,6 +605,29 @@ std::vector<Interval> uncovered(const std::vector<Interval>& claimed, const Inte
   if (domain.hi - cur > minLength) out.push_back({cur, domain.hi});
   return out;
 }
+
+/// The parts claimed on each edge: one singly linked list per edge in flat arrays (almost every edge is claimed once,
+/// so a vector per edge would cost an allocation per edge).
+class ClaimLists {
+ public:
+  explicit ClaimLists(size_t edges) : head_(edges, -1) {}
+  void add(size_t edge, const Interval& part) {
+    next_.push_back(head_[edge]);
+    parts_.push_back(part);
+    head_[edge] = static_cast<int>(parts_.size()) - 1;
+  }
+  /// The parts claimed on `edge` in the order they were claimed (out is cleared first).
+  void get(size_t edge, std::vector<Interval>& out) const {
+    out.clear();
+    for (int c = head_[edge]; c >= 0; c = next_[static_cast<size_t>(c)]) out.push_back(parts_[static_cast<size_t>(c)]);
+    std::reverse(out.begin(), out.end());
+  }
+
+ private:
+  std::vector<int> head_;  ///< per edge: its last claim, or -1
+  std::vector<int> next_;  ///< per claim: the same edge's previous claim, or -1
+  std::vector<Interval> parts_;
+};
 
 /// True when every coordinate of the box is finite.
 bool finiteBox(const BoundingBox& b) { return b.min.allFinite() && b.max.allFinite(); }
@@ -718,15 +743,19 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
             for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) {
               const std::uint64_t c = code(x, y, z);
               const auto [cellFirst, cellLast] = cellIndex.find(c);
-              // This cell's edges above i.
+              // This cell's edges above i, each taken in one cell only: the lowest of the cells it shares with i
+              // (the componentwise larger of the two low cells; x >= both low cells here), so no duplicates.
               auto it = std::upper_bound(keys.begin() + cellFirst, keys.begin() + cellLast, std::pair{c, i});
-              for (; it != keys.begin() + cellLast; ++it) partners.push_back(it->second);
+              for (; it != keys.begin() + cellLast; ++it) {
+                const Cell& loJ = cellRange[static_cast<size_t>(it->second)][0];
+                if ((x == lo[0] || x == loJ[0]) && (y == lo[1] || y == loJ[1]) && (z == lo[2] || z == loJ[2]))
+                  partners.push_back(it->second);
+              }
             }
         for (int j : oversize)
           if (j > i) partners.push_back(j);
       }
       std::sort(partners.begin(), partners.end());
-      partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
       for (int j : partners)
         if (!boxesApart(i, j)) local.emplace_back(i, j);
     }
@@ -834,8 +863,8 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
 
 struct Pairing {
   std::vector<EdgeInfo> edges;  // 4 per patch, index 4 * patch + edge
+  std::vector<double> unitKnotPool;  // every edge's normalised knots, one allocation (EdgeInfo::unitKnots views)
   EdgePairing result;
-  std::vector<std::vector<Interval>> claimed;  // per edge
 };
 
 /// `diagonal`: the model's bounding-box diagonal (computed once by the caller).
@@ -849,10 +878,23 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   // Edge data per patch, in parallel (each patch fills its own four slots: index 4 * patch + edge, kAllEdges order
   // U0, U1, V0, V1).
   P.edges.resize(model.patches.size() * 4);
+  // Each edge's slice of the knot pool: its curve has the surface's knots along the edge.
+  std::vector<size_t> knotStart(P.edges.size() + 1, 0);
+  for (size_t i = 0; i < model.patches.size(); ++i)
+    for (size_t k = 0; k < 4; ++k) {
+      const BSplineSurface& s = model.patches[i].surface;
+      knotStart[4 * i + k + 1] =
+          knotStart[4 * i + k] + static_cast<size_t>(isUEdge(kAllEdges[k]) ? s.knotsV().size() : s.knotsU().size());
+    }
+  P.unitKnotPool.resize(knotStart.back());
   forEachIndex(model.patches.size(), options.threads, [&](size_t i) {
     const Patch& patch = model.patches[i];
     const size_t base = 4 * i;
-    for (size_t k = 0; k < 4; ++k) P.edges[base + k] = makeEdge(patch, static_cast<int>(i), kAllEdges[k], tol.distance);
+    for (size_t k = 0; k < 4; ++k) {
+      const std::span<double> slot(P.unitKnotPool.data() + knotStart[base + k],
+                                   knotStart[base + k + 1] - knotStart[base + k]);
+      P.edges[base + k] = makeEdge(patch, static_cast<int>(i), kAllEdges[k], tol.distance, slot);
+    }
     setWidths(P.edges[base], P.edges[base + 1]);
     setWidths(P.edges[base + 2], P.edges[base + 3]);
   });
@@ -976,16 +1018,19 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   std::stable_sort(byDistance.begin(), byDistance.end(),
                    [&](size_t x, size_t y) { return candidates[x].distance < candidates[y].distance; });
   std::vector<char> isAccepted(candidates.size(), 0);
-  P.claimed.assign(P.edges.size(), {});
+  ClaimLists claimed(P.edges.size());
+  std::vector<Interval> claimedA, claimedB, cut;  // working storage
   for (size_t k : byDistance) {
     const EdgePair& c = candidates[k];
     const size_t ia = static_cast<size_t>(4 * c.a.patch + static_cast<int>(c.a.edge));
     const size_t ib = static_cast<size_t>(4 * c.b.patch + static_cast<int>(c.b.edge));
-    const double fa = claimedLength(P.claimed[ia], c.overlapA) / c.overlapA.length();
-    const double fb = claimedLength(P.claimed[ib], c.overlapB) / c.overlapB.length();
+    claimed.get(ia, claimedA);
+    claimed.get(ib, claimedB);
+    const double fa = claimedLength(claimedA, c.overlapA, cut) / c.overlapA.length();
+    const double fb = claimedLength(claimedB, c.overlapB, cut) / c.overlapB.length();
     if (fa > kMaxClaimedFraction || fb > kMaxClaimedFraction) continue;
-    P.claimed[ia].push_back(c.overlapA);
-    P.claimed[ib].push_back(c.overlapB);
+    claimed.add(ia, c.overlapA);
+    claimed.add(ib, c.overlapB);
     isAccepted[k] = 1;
   }
   for (size_t k = 0; k < candidates.size(); ++k)
@@ -994,7 +1039,8 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     const EdgeInfo& e = P.edges[k];
     if (e.collapsed || e.coincidentExtra) continue;
     const double minLength = options.minOverlapFraction * e.domain.length();
-    const std::vector<Interval> free = uncovered(P.claimed[k], e.domain, minLength);
+    claimed.get(k, claimedA);
+    const std::vector<Interval> free = uncovered(claimedA, e.domain, minLength);
     for (const Interval& f : free)
       P.result.freeEdges.push_back({e.ref, f, !(f.lo == e.domain.lo && f.hi == e.domain.hi)});
   }
@@ -1204,8 +1250,11 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
   forEachIndex(vertexRoots.size(), threads, [&](size_t v) {
     const size_t root = vertexRoots[v];
     const std::span<const int> cluster(members.data() + memberStart[root], memberStart[root + 1] - memberStart[root]);
-    std::vector<PatchCorner> corners;
-    corners.reserve(cluster.size());
+    // Per-thread lists reused from vertex to vertex (analyzeCorner copies what it reports).
+    thread_local std::vector<PatchCorner> corners;
+    thread_local std::vector<CornerLink> cl;
+    corners.clear();
+    cl.clear();
     double scale = 0.0;
     for (int c : cluster) {
       corners.push_back(cornerOf(c));
@@ -1215,8 +1264,6 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     auto local = [&](int c) {
       return static_cast<int>(std::lower_bound(cluster.begin(), cluster.end(), c) - cluster.begin());
     };
-    std::vector<CornerLink> cl;
-    cl.reserve(linkStart[root + 1] - linkStart[root]);
     for (size_t l = linkStart[root]; l < linkStart[root + 1]; ++l) {
       const CornerLinkGlobal& g = clusterLinks[l];
       cl.push_back({local(g.a), g.aEdge, local(g.b), g.bEdge});

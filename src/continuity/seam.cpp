@@ -8,7 +8,9 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <numbers>
@@ -20,6 +22,7 @@
 #include "continuity/sampling.h"
 #include "continuity/seam_internal.h"
 #include "core/bernstein_internal.h"
+#include "spline/spline_internal.h"
 #include "seam/core/bernstein.h"
 
 namespace seam {
@@ -120,8 +123,71 @@ struct Side {
   }
 };
 
-Side makeSide(const Patch& p, Edge e) {
-  Side s;
+/// BSplineSurface::crossDerivativeRows(e, 2) written into `out`, whose storage is reused when its size does not
+/// change: the same basis values (detail::basisUpTo2), the same zero start and the same products and sums in the same
+/// order as the surface's function, so the same bits (test SideRows.ReusedStorageGivesTheSurfaceRows). Surfaces that
+/// are not 3-D or whose degree across the edge exceeds the fast basis path take the surface's own function.
+void crossDerivativeRowsInto(const BSplineSurface& surf, Edge e, Matrix& out) {
+  constexpr int kMaxOrder = 2;
+  const bool uEdge = isUEdge(e), atEnd = e == Edge::U1 || e == Edge::V1;
+  const int p = uEdge ? surf.degreeU() : surf.degreeV(), nAlong = uEdge ? surf.numV() : surf.numU();
+  if (surf.dim() != 3 || p > detail::kMaxFastBasisDegree) {
+    out = surf.crossDerivativeRows(e, kMaxOrder);
+    return;
+  }
+  const KnotVector& kc = uEdge ? surf.knotsU() : surf.knotsV();
+  const double c = atEnd ? kc.domain(p).hi : kc.domain(p).lo;
+  const bool rational = surf.isRational();
+  const int hd = rational ? 4 : 3, nv = surf.numV();
+  out.setZero(nAlong, static_cast<Eigen::Index>(kMaxOrder + 1) * hd);
+  const int top = std::min(kMaxOrder, p);
+  const int span = kc.findSpan(p, c);
+  double basis[3][detail::kMaxFastBasisDegree + 1];
+  detail::basisUpTo2(kc.values(), p, span, c, basis);
+  const double* pts = surf.points().data();
+  const double* weights = surf.weights().data();
+  const Eigen::Index cols = out.cols();
+  if (!rational) {  // the same loop without the weight lane, the points of row `across` walked by pointer
+    const Eigen::Index step = uEdge ? 3 : 3 * static_cast<Eigen::Index>(nv);  // from point j to point j + 1
+    for (int r = 0; r <= p; ++r) {
+      const int across = span - p + r;
+      for (int k = 0; k <= top; ++k) {
+        const double nkr = basis[k][r];
+        const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
+        if (coef == 0.0) continue;
+        const double cw = coef * 1.0;  // the surface function's factor (weight 1)
+        double* o = out.data() + static_cast<Eigen::Index>(k) * 3;
+        const double* x = pts + 3 * static_cast<Eigen::Index>(uEdge ? across * nv : across);
+        for (int j = 0; j < nAlong; ++j, o += cols, x += step) {
+          o[0] += cw * x[0];
+          o[1] += cw * x[1];
+          o[2] += cw * x[2];
+        }
+      }
+    }
+    return;
+  }
+  for (int r = 0; r <= p; ++r) {
+    const int across = span - p + r;
+    for (int k = 0; k <= top; ++k) {
+      const double nkr = basis[k][r];
+      // Reversed cross direction at the far edge: d/dn = -d/du there.
+      const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
+      if (coef == 0.0) continue;
+      for (int j = 0; j < nAlong; ++j) {
+        const int flat = uEdge ? across * nv + j : j * nv + across;
+        const double cw = coef * (rational ? weights[flat] : 1.0);
+        double* o = out.data() + j * cols + static_cast<Eigen::Index>(k) * hd;
+        const double* x = pts + static_cast<Eigen::Index>(flat) * 3;
+        for (int q = 0; q < 3; ++q) o[q] += cw * x[q];
+        if (rational) o[3] += cw;
+      }
+    }
+  }
+}
+
+/// Makes `s` the side of patch p seen from edge e, reusing the storage of its rows and spans.
+void makeSideInto(Side& s, const Patch& p, Edge e) {
   s.patch = &p;
   s.edge = e;
   const BSplineSurface& surf = p.surface;
@@ -131,9 +197,12 @@ Side makeSide(const Patch& p, Edge e) {
   const KnotVector& along = uEdge ? surf.knotsV() : surf.knotsU();
   s.dom = along.domain(s.degree);
   // All three cross-derivative rows at once, decomposed into Bezier pieces in one pass.
-  s.rows = surf.crossDerivativeRows(e, 2);
+  crossDerivativeRowsInto(surf, e, s.rows);
   s.hd = static_cast<int>(s.rows.cols() / 3);
-  s.curve = BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), s.rational);
+  // A polynomial side's curve takes a copy of row 0 as its points (fromHomogeneous would copy it twice: into the
+  // temporary its const Matrix& binds, then into the curve).
+  s.curve = s.rational ? BSplineCurve::fromHomogeneous(s.degree, along, s.rows.leftCols(s.hd), true)
+                       : BSplineCurve(s.degree, along, Matrix(s.rows.leftCols(s.hd)));
   // One clamped Bezier span along the edge (every Bezier patch): decompose's own fast path (the same span, rows
   // untouched) without copying the knots.
   const std::vector<double>& kv = along.values();
@@ -143,10 +212,15 @@ Side makeSide(const Patch& p, Edge e) {
                                          [&](double k) { return k == kv.front(); }) &&
       std::all_of(kv.begin() + static_cast<std::ptrdiff_t>(p1), kv.end(), [&](double k) { return k == kv.back(); })) {
     s.spans.assign(1, Interval{kv[p1 - 1], kv[p1]});
-    return s;
+    return;
   }
   std::vector<double> knots = kv;
   s.spans = detail::decompose(s.degree, knots, s.rows);
+}
+
+Side makeSide(const Patch& p, Edge e) {
+  Side s;
+  makeSideInto(s, p, e);
   return s;
 }
 
@@ -235,19 +309,44 @@ void bernsteinJet(const double* src, int n, int dim, Eigen::Index stride, double
   bernsteinJetImpl<-1>(src, n, dim, stride, x, order, heap.data(), out);
 }
 
-/// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
-/// of the side (homogeneous; the quotient rule for rational sides). The same values as the surface's own evaluator
-/// to round-off, at a fraction of its cost. Spans are non-empty (decompose drops empty ones).
-void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight = false) {
-  size_t k = static_cast<size_t>(spanIndex(s, t));
-  // At a breakpoint (to kKnotRelTol: a parameter mapped from the other side carries round-off) the span that ends
-  // there gives the limit from the left, the span that starts there the limit from the right. They differ where the
-  // edge is only C0 or C1 (double or triple knots), so the caller chooses.
-  const double snap = kKnotRelTol * s.dom.length();
-  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
-  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
-  const Interval span = s.spans[k];
-  const double x = (t - span.lo) / span.length(), dx = 1.0 / span.length();
+/// edgeJet on span k of a polynomial side (three coordinates) of degree kN >= 2, at local parameter x with
+/// dx = 1 / span length: the three bernsteinJetImpl<kN, 3> evaluations that edgeJet makes (rows 0, 1, 2 to orders 2,
+/// 1, 0) and edgeJet's scaling, operation for operation in the same order on each coordinate, without the Vector4d
+/// temporaries: the same bits (test SideJet.FusedPassGivesTheGenericBits). Coefficient j of the span holds the
+/// three rows' coordinates in 9 consecutive doubles, so each de Casteljau step runs over those 9 lanes at once.
+template <int kN>
+void polynomialEdgeJet(const Side& s, size_t k, double x, double dx, std::array<Vec3, 6>& out) {
+  static_assert(kN >= 2);
+  constexpr int kLanes = 9;  // rows 0, 1, 2 x coordinates 0, 1, 2
+  assert(s.hd == 3 && s.rowStride() == kLanes);
+  constexpr double nn = kN, nn1 = kN * (kN - 1);
+  const double y = 1.0 - x;
+  const double* src = s.coeff(0, k, 0);
+  double b[kN + 1][kLanes];
+  for (int i = 0; i <= kN; ++i)
+    for (int l = 0; l < kLanes; ++l) b[i][l] = src[i * kLanes + l];
+  for (int level = 1; level <= kN - 2; ++level)
+    for (int i = 0; i <= kN - level; ++i)
+      for (int l = 0; l < kLanes; ++l) b[i][l] = y * b[i][l] + x * b[i + 1][l];
+  double q0[kLanes], q1[kLanes], v[kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    q0[l] = y * b[0][l] + x * b[1][l];
+    q1[l] = y * b[1][l] + x * b[2][l];
+    v[l] = y * q0[l] + x * q1[l];
+  }
+  for (int c = 0; c < 3; ++c) {
+    out[0][c] = v[c];
+    out[1][c] = v[3 + c];
+    out[2][c] = dx * (nn * (q1[c] - q0[c]));
+    out[3][c] = v[6 + c];
+    out[4][c] = dx * (nn * (q1[3 + c] - q0[3 + c]));
+    out[5][c] = dx * dx * (nn1 * (b[2][c] - 2.0 * b[1][c] + b[0][c]));
+  }
+}
+
+/// edgeJet on span k at local parameter x (dx = 1 / span length) by three Bernstein jets of any degree and
+/// dimension (homogeneous; the quotient rule for rational sides).
+void genericEdgeJet(const Side& s, size_t k, double x, double dx, std::array<Vec3, 6>& out) {
   std::array<Eigen::Vector4d, 3> j0, j1, j2;
   bernsteinJet(s.coeff(0, k, 0), s.degree, s.hd, s.rowStride(), x, 2, j0);
   bernsteinJet(s.coeff(1, k, 0), s.degree, s.hd, s.rowStride(), x, 1, j1);
@@ -268,6 +367,41 @@ void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight =
   out[3] = (H[3].head<3>() - H[3][3] * S - 2.0 * H[1][3] * Su) / w;
   out[4] = (H[4].head<3>() - H[4][3] * S - H[1][3] * Sv - H[2][3] * Su) / w;
   out[5] = (H[5].head<3>() - H[5][3] * S - 2.0 * H[2][3] * Sv) / w;
+}
+
+/// The span of side s at t and the local parameter there, as edgeJet and edgePoint choose them.
+struct SpanPoint {
+  size_t k = 0;
+  double x = 0.0, dx = 0.0;
+};
+SpanPoint spanPoint(const Side& s, double t, bool fromRight) {
+  size_t k = static_cast<size_t>(spanIndex(s, t));
+  // At a breakpoint (to kKnotRelTol: a parameter mapped from the other side carries round-off) the span that ends
+  // there gives the limit from the left, the span that starts there the limit from the right. They differ where the
+  // edge is only C0 or C1 (double or triple knots), so the caller chooses.
+  const double snap = kKnotRelTol * s.dom.length();
+  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
+  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
+  const Interval span = s.spans[k];
+  return {k, (t - span.lo) / span.length(), 1.0 / span.length()};
+}
+
+/// S, S_u, S_v, S_uu, S_uv, S_vv of the oriented surface at (u = edge, v = t) from the cross-derivative Bezier pieces
+/// of the side (homogeneous; the quotient rule for rational sides). The same values as the surface's own evaluator
+/// to round-off, at a fraction of its cost. Spans are non-empty (decompose drops empty ones). `fused` false: always
+/// the generic route (the test hook detail::sideJet compares the two).
+void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight = false, bool fused = true) {
+  const SpanPoint sp = spanPoint(s, t, fromRight);
+  if (fused && !s.rational && s.hd == 3) {  // polynomial sides of the common degrees: one fused pass
+    switch (s.degree) {
+      case 2: return polynomialEdgeJet<2>(s, sp.k, sp.x, sp.dx, out);
+      case 3: return polynomialEdgeJet<3>(s, sp.k, sp.x, sp.dx, out);
+      case 4: return polynomialEdgeJet<4>(s, sp.k, sp.x, sp.dx, out);
+      case 5: return polynomialEdgeJet<5>(s, sp.k, sp.x, sp.dx, out);
+      default: break;
+    }
+  }
+  genericEdgeJet(s, sp.k, sp.x, sp.dx, out);
 }
 
 // ------------------------------------------------------------------------------------------------------------
@@ -341,14 +475,9 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
 /// The boundary point of a side at t (row 0 only), with the span chosen as edgeJet chooses it: the same bits as
 /// edgeJet's value.
 Vec3 edgePoint(const Side& s, double t, bool fromRight) {
-  size_t k = static_cast<size_t>(spanIndex(s, t));
-  const double snap = kKnotRelTol * s.dom.length();
-  if (fromRight && k + 1 < s.spans.size() && t >= s.spans[k].hi - snap) ++k;
-  if (!fromRight && k > 0 && t <= s.spans[k].lo + snap) --k;
-  const Interval span = s.spans[k];
-  const double x = (t - span.lo) / span.length();
+  const SpanPoint sp = spanPoint(s, t, fromRight);
   std::array<Eigen::Vector4d, 3> j0;
-  bernsteinJet(s.coeff(0, k, 0), s.degree, s.hd, s.rowStride(), x, 0, j0);
+  bernsteinJet(s.coeff(0, sp.k, 0), s.degree, s.hd, s.rowStride(), sp.x, 0, j0);
   if (!s.rational) return j0[0].head<3>();
   return Vec3(j0[0].head<3>() / j0[0][3]);
 }
@@ -377,14 +506,19 @@ PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, 
   m.c1Scale = std::max(1.0, lambda) * oNorm;
   m.c2Scale = std::max(1.0, lambda * lambda) * aooNorm;
   auto sideOf = [](const Interval& d, double x) { return x - d.lo <= d.hi - x ? 1.0 : -1.0; };
-  const std::optional<Vec3> uA = limitNormal(T, O, Att, Aot, sideOf(A.dom, t));
+  // limitNormal(T, O, ...) and chartConditioning(T, O) from one cross product: the same expressions, so the same
+  // decisions (only the unit normal, unused here, is not formed; the one-sided limit only where N vanishes).
   const Vec3 nA = T.cross(O);
   const double la = nA.norm();
-  if (!uA || !(T.norm() > 0.0)) {
+  const double size = T.squaredNorm() + O.squaredNorm();
+  const bool normalExists =
+      la > detail::kNormalVanishRel * size || limitNormal(T, O, Att, Aot, sideOf(A.dom, t)).has_value();
+  if (!normalExists || !(T.norm() > 0.0)) {
     m.normalsOk = m.curvatureOk = false;
     return m;
   }
-  if (!(la > 0.0) || chartConditioning(T, O) < kCurvatureChartRel) {
+  const double conditioning = size > 0.0 ? la / size : 0.0;
+  if (!(la > 0.0) || conditioning < kCurvatureChartRel) {
     m.curvatureOk = false;
     return m;
   }
@@ -1066,6 +1200,30 @@ std::pair<double, double> crossRowFactors(const BSplineSurface& surf, Edge e) {
   return {p / h, p * (p - 1) / (h * h)};
 }
 
+/// The Bernstein weights of sharedRowBounds' product n_A = A_t x A_out for each degree n <= kJetStackDegree, computed
+/// once: product[n][i][j] = C(n-1, i) C(n, j) / C(2n-1, i+j) and binomial[n][l] = C(2n-1, l), the same expressions
+/// (so the same doubles) that were evaluated per coefficient.
+struct ProductWeights {
+  std::array<std::array<std::array<double, kJetStackDegree + 1>, kJetStackDegree>, kJetStackDegree + 1> product{};
+  std::array<std::array<double, 2 * kJetStackDegree>, kJetStackDegree + 1> binomial{};
+};
+
+const ProductWeights& productWeights() {
+  static const ProductWeights w = [] {
+    ProductWeights r;
+    for (int n = 1; n <= kJetStackDegree; ++n) {
+      const int dn = 2 * n - 1;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j <= n; ++j)
+          r.product[static_cast<size_t>(n)][static_cast<size_t>(i)][static_cast<size_t>(j)] =
+              binomial(n - 1, i) * binomial(n, j) / binomial(dn, i + j);
+      for (int l = 0; l <= dn; ++l) r.binomial[static_cast<size_t>(n)][static_cast<size_t>(l)] = binomial(dn, l);
+    }
+    return r;
+  }();
+  return w;
+}
+
 struct SharedRowBounds {
   double g0 = 0.0;  // certified gap bound (the largest control-point difference of the boundary rows)
   double g1 = 0.0;  // certified angle bound, radians
@@ -1123,6 +1281,7 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
   std::array<Vec3, kMaxDegree + 1> diff;
   std::array<Vec3, kMaxDegree> T, O1;          // A_t and the along-edge derivative of A_1 (coefficients)
   std::array<Vec3, 2 * kMaxDegree> NA;         // n_A = A_t x A_out, degree 2n - 1
+  std::array<Vec3, kMaxDegree + 1> O;          // A_out = -A_1 (coefficients)
   for (size_t k = 0; k < m; ++k) {
     const size_t kb = reversed ? m - 1 - k : k;
     for (int j = 0; j <= n; ++j) {
@@ -1154,16 +1313,18 @@ std::optional<SharedRowBounds> sharedRowBounds(const Side& A, const Side& B, boo
     }
     // n_A = A_t x A_out in Bernstein form of degree 2n - 1: sum over i + j = l of C(n-1, i) C(n, j) / C(2n-1, l).
     const int dn = 2 * n - 1;
+    const ProductWeights& weights = productWeights();
+    for (int j = 0; j <= n; ++j) O[static_cast<size_t>(j)] = -row(A, 1, k, j);
     for (int l = 0; l <= dn; ++l) NA[static_cast<size_t>(l)].setZero();
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j <= n; ++j) {
-        const Vec3 o = -row(A, 1, k, j);
-        NA[static_cast<size_t>(i + j)] +=
-            (binomial(n - 1, i) * binomial(n, j) / binomial(dn, i + j)) * T[static_cast<size_t>(i)].cross(o);
-      }
+      for (int j = 0; j <= n; ++j)
+        NA[static_cast<size_t>(i + j)] += weights.product[static_cast<size_t>(n)][static_cast<size_t>(i)]
+                                                         [static_cast<size_t>(j)] *
+                                          T[static_cast<size_t>(i)].cross(O[static_cast<size_t>(j)]);
     // |n_A| >= min_l <m, N_l> for the unit direction m of n_A at the middle (the hull of a scalar polynomial).
     Vec3 mid = Vec3::Zero();
-    for (int l = 0; l <= dn; ++l) mid += binomial(dn, l) * NA[static_cast<size_t>(l)];  // 2^dn n_A(1/2)
+    for (int l = 0; l <= dn; ++l)  // 2^dn n_A(1/2)
+      mid += weights.binomial[static_cast<size_t>(n)][static_cast<size_t>(l)] * NA[static_cast<size_t>(l)];
     if (!(mid.norm() > 0.0)) return std::nullopt;
     mid.normalize();
     for (int l = 0; l <= dn; ++l) {
@@ -1248,6 +1409,15 @@ Result<SeamReport> analyzeSeam(const Patch& pa, Edge ea, const Patch& pb, Edge e
 
 namespace detail {
 
+void sideCrossRows(const BSplineSurface& s, Edge e, Matrix& rows) { crossDerivativeRowsInto(s, e, rows); }
+
+std::array<Vec3, 6> sideJet(const Patch& p, Edge e, double t, bool fromRight, bool fused) {
+  const Side s = makeSide(p, e);
+  std::array<Vec3, 6> out;
+  edgeJet(s, t, out, fromRight, fused);
+  return out;
+}
+
 Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, Edge eb, const SeamOptions& opt,
                                      std::optional<Interval> aRange, double patchDiagA, double patchDiagB) {
   if (pa.surface.dim() != 3 || pb.surface.dim() != 3)
@@ -1257,7 +1427,13 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
   const auto label = [&] {
     return fmt::format("seam {}:{} / {}:{}", pa.name, edgeName(ea), pb.name, edgeName(eb));
   };
-  const Side A = makeSide(pa, ea), B = makeSide(pb, eb);
+  // Per-thread sides reused from seam to seam (their rows and spans keep their storage). The one nested analysis
+  // (the general route below) rebuilds them and its report is returned directly: these are not used after it.
+  thread_local Side sideA, sideB;
+  makeSideInto(sideA, pa, ea);
+  makeSideInto(sideB, pb, eb);
+  const Side& A = sideA;
+  const Side& B = sideB;
   const double scale = std::max(patchDiagA, patchDiagB);
   // The edges' control box diagonals, also the overlap projections' scale below.
   const double diagA = controlBox(A.curve).diagonal(), diagB = controlBox(B.curve).diagonal();
@@ -1277,6 +1453,16 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
   if (aRange) da = {std::max(da.lo, aRange->lo), std::min(da.hi, aRange->hi)};
   const Vec3 a0 = A.curve.point3(da.lo), a1 = A.curve.point3(da.hi);
   const Vec3 b0 = B.curve.point3(db.lo), b1 = B.curve.point3(db.hi);
+  // A's point at t for the reported worst points: a0 or a1 when t is that end of the range, bit for bit (the same
+  // call on the same argument; the sign of a zero compared too), else evaluated.
+  const auto sameBits = [](double x, double y) {
+    return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+  };
+  const auto pointOnA = [&](double t) {
+    if (sameBits(t, da.lo)) return a0;
+    if (sameBits(t, da.hi)) return a1;
+    return A.curve.point3(t);
+  };
   // An end point whose partner edge's end is about as close as the partner curve itself (a gap, not a
   // T-junction) is snapped to that end, so that offset seams keep their exact end-to-end correspondence.
   // `lo`, `hi`: the curve's points at the range ends (computed once above); `diag`: its control box diagonal.
@@ -1529,18 +1715,18 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       other = std::max(other, detail::closestPoint(A.curve, B.curve.point3(S.s[i]), rep.overlapA,
                                                    S.t[i]).distance);
     rep.g0Sampled = std::max(w, other);
-    rep.g0Worst = {tw, A.curve.point3(tw)};
+    rep.g0Worst = {tw, pointOnA(tw)};
   }
   {
     auto [tw, w] = refined([](const PointMeasures& m) { return m.normalsOk ? m.g1 : 0.0; });
     rep.g1SampledDeg = w * kRadToDeg;
-    rep.g1Worst = {tw, A.curve.point3(tw)};
+    rep.g1Worst = {tw, pointOnA(tw)};
   }
   {
     auto [tw, w] = refined([](const PointMeasures& m) { return m.curvatureOk ? m.g2 : 0.0; });
     rep.g2Sampled = w;
     rep.g2RelSampled = w / curvRef;
-    rep.g2Worst = {tw, A.curve.point3(tw)};
+    rep.g2Worst = {tw, pointOnA(tw)};
   }
   double lamLo = std::numeric_limits<double>::infinity(), lamHi = -lamLo, kapLo = lamLo, kapHi = -lamLo;
   double c1 = 0.0, c1s = 0.0, c2 = 0.0, c2s = 0.0;
@@ -1606,7 +1792,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       });
       if (w > rep.g2Sampled) {
         rep.g2Sampled = w;
-        rep.g2Worst = {tw, A.curve.point3(tw)};
+        rep.g2Worst = {tw, pointOnA(tw)};
       }
       rep.g2Max = std::max(rep.g2Max, rep.g2Sampled);
     };
@@ -1623,7 +1809,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {
         rep.g1SampledDeg = best * kRadToDeg;
         const double t = tAt(bp, bx);
-        rep.g1Worst = {t, A.curve.point3(t)};
+        rep.g1Worst = {t, pointOnA(t)};
       }
       if (!ok) {
         rep.notes.push_back("the G1 bound could not be closed near a vanishing normal");
@@ -1681,7 +1867,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
       if (bp >= 0 && best > rep.g2Sampled) {
         rep.g2Sampled = best;
         const double t = tAt(bp, bx);
-        rep.g2Worst = {t, A.curve.point3(t)};
+        rep.g2Worst = {t, pointOnA(t)};
       }
       if (g2ok) {
         rep.g2Max = std::max(bound, rep.g2Sampled);
