@@ -815,10 +815,13 @@ double g1Bound(const Piece& pc, double x0, double x1) {
   return std::acos(std::clamp(pLo / std::sqrt(rLo), -1.0, 1.0));
 }
 double scalarAt(const BernsteinPoly& p, double x);
-// A sample, never a bound: above degree 63 (the pcurve route's composed P and Q, degree ~100-500) in O(n) by
-// scalarAt instead of de Casteljau's O(n^2), which differs in the last bits only (issue 16 goal 6).
+// A sample, never a bound: from degree kSampleHornerDegree (the pcurve route's composed P, Q, rho, ..., degree
+// ~40-500) in O(n) by scalarAt instead of de Casteljau's O(n^2), which differs in the last bits only (issue 16 goal
+// 6). Below it (every quantity of a bicubic or biquartic seam: rho of a bicubic one has degree 28) de Casteljau, as
+// before. Above degree 512 the binomial factors of scalarAt may overflow: de Casteljau again.
+constexpr int kSampleHornerDegree = 32;
 double sampleAt(const BernsteinPoly& p, double x) {
-  if (p.degree() < 64 || p.degree() > 512) return p.scalar(x);
+  if (p.degree() < kSampleHornerDegree || p.degree() > 512) return p.scalar(x);
   const double v = scalarAt(p, x);
   return std::isfinite(v) ? v : p.scalar(x);
 }
@@ -838,9 +841,9 @@ double g2Bound(const Piece& pc, double x0, double x1) {
 // The G2 quotient at x, or nullopt where it has no value: a vanishing normal or tangent, or a chart too
 // ill-conditioned for curvature (next to a pole the quotient is round-off over a vanishing normal, as in measureAt).
 std::optional<double> g2ValueIfDefined(const Piece& pc, double x) {
-  auto val = [&](const RationalPoly& r) {
-    return r.num.scalar(x) / (std::pow(pc.wa.scalar(x), r.ea) * std::pow(pc.wb.scalar(x), r.eb));
-  };
+  // The weights once (each quotient formed them again: the same values); the numerators as samples (sampleAt).
+  const double wa = pc.wa.scalar(x), wb = pc.wb.scalar(x);
+  auto val = [&](const RationalPoly& r) { return sampleAt(r.num, x) / (std::pow(wa, r.ea) * std::pow(wb, r.eb)); };
   const double n2 = val(pc.nA2), b2 = val(pc.BcT2);
   if (!(n2 > 0.0) || !(b2 > 0.0)) return std::nullopt;
   const double o2 = val(pc.O2);
