@@ -33,6 +33,8 @@
 #include <TopoDS_Face.hxx>
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -271,6 +273,18 @@ SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& 
   const std::vector<double>& ts = s.ts;
   const std::vector<PointData>& ms = s.ms;
   const double curvRef = s.curvRef;
+  // The measures made by the refinements, by parameter (bit pattern): the refinements of G0, G1 and G2 often
+  // bracket the same sample, so that their golden sections begin at the same points, and the worst location's
+  // point is that of a measure already made. measure is a function of t alone (OpenCASCADE's Geom surfaces and
+  // curves keep no evaluation state), so a kept measure is the one a new call would make.
+  std::vector<std::pair<std::uint64_t, PointData>> tried;
+  auto measured = [&](double x) -> PointData {
+    const auto key = std::bit_cast<std::uint64_t>(x);
+    for (const auto& [k, m] : tried)
+      if (k == key) return m;
+    tried.emplace_back(key, measure(A, B, x));
+    return tried.back().second;
+  };
   // (t, value) of the refined maximum and its point, or of the best sample when not refined.
   auto best = [&](auto get, bool refine) -> std::pair<WorstLocation, double> {
     std::vector<double> v(ms.size());
@@ -279,9 +293,8 @@ SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& 
       const size_t i = static_cast<size_t>(std::max_element(v.begin(), v.end()) - v.begin());
       return {WorstLocation{ts[i], ms[i].point}, v[i]};
     }
-    const auto [t, value] =
-        seam::detail::refinedMaximum(ts, v, [&](double x) { return get(measure(A, B, x)); });
-    return {WorstLocation{t, measure(A, B, t).point}, value};
+    const auto [t, value] = seam::detail::refinedMaximum(ts, v, [&](double x) { return get(measured(x)); });
+    return {WorstLocation{t, measured(t).point}, value};
   };
   {
     const auto [at, v] = best([](const PointData& m) { return m.g0; }, refineG0G1);
