@@ -174,6 +174,37 @@ TEST(BSplineCurve, AllocationFreePathsMatchTheRecursiveFormula) {
       }
 }
 
+TEST(BSplineCurve, PlaneCurveDerivatives1MatchTheRecursiveFormulaAndDerivativesBitForBit) {
+  // derivatives1 (the pcurve correspondence's fast path) against the brute-force recursion, degrees up to 16 (one
+  // above the stack path), at knots too; and bit for bit against rows 0 and 1 of derivatives(t, 1), whose values
+  // the B-rep check reported before (its reports must not change).
+  std::mt19937_64 rng(407);
+  for (int p : {1, 2, 3, 5, 9, 15, 16})
+    for (bool rational : {false, true})
+      for (bool clamped : {true, false}) {
+        const BSplineCurve c = randomCurve(rng, p, 2, {.rational = rational, .clamped = clamped});
+        std::vector<double> ts = test::sampleParams(rng, c.domain(), 20);
+        for (const auto& [b, m] : interiorKnots(c)) ts.push_back(b);
+        for (double t : ts) {
+          const Matrix expected = refCurveDerivs(c, t, 1);
+          const VecX magnitude = refCurveDerivMagnitudes(c, t, 1);
+          Vec2 x, d1;
+          c.derivatives1(t, x, d1);
+          ASSERT_TRUE(
+              closeTo(expected.row(0).transpose(), x, test::kRoundoffTol * magnitude[0] + test::kExactZeroFloor))
+              << describe(c) << " t " << t;
+          ASSERT_TRUE(
+              closeTo(expected.row(1).transpose(), d1, test::kRoundoffTol * magnitude[1] + test::kExactZeroFloor))
+              << describe(c) << " t " << t;
+          const Matrix general = c.derivatives(t, 1);
+          for (int k = 0; k < 2; ++k) {
+            ASSERT_EQ(general(0, k), x[k]) << describe(c) << " t " << t;
+            ASSERT_EQ(general(1, k), d1[k]) << describe(c) << " t " << t;
+          }
+        }
+      }
+}
+
 TEST(BSplineCurve, DerivativesMatchFiniteDifferencesOfTheQuotient) {
   // Derivative k from seam vs the Richardson central difference of the brute-force (k-1)-th derivative; for k
   // = 1 that is the difference quotient of the rational point A(t) / W(t) itself.

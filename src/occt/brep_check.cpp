@@ -33,6 +33,8 @@
 #include <TopoDS_Face.hxx>
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -105,10 +107,34 @@ std::string basisName(Handle(Geom2d_Curve) c) {
   return c->DynamicType()->Name();
 }
 
+/// Per face of the check, its parameter box (BRepTools::UVBounds, which bounds the pcurves of all the face's edges,
+/// projecting a plane's edges onto it afresh each time: ~3 % of a check when it was called per edge and side):
+/// computed once, on first use, by whichever thread needs it first (std::call_once per face, as SpansCache), then
+/// shared read-only by the face's edges. UVBounds looks at the face FORWARD, so the box does not depend on the
+/// orientation in which an edge's ancestor list holds the face.
+class FaceBoxCache {
+ public:
+  explicit FaceBoxCache(const TopTools_IndexedMapOfShape& faces)
+      : faces_(faces), once_(static_cast<size_t>(faces.Extent())), boxes_(static_cast<size_t>(faces.Extent())) {}
+  /// The box of face `index` (1-based, as in the map). A Standard_Failure of UVBounds reaches the caller (and the
+  /// next caller tries again: std::call_once sets nothing when its function throws).
+  [[nodiscard]] const detail::ParamBox& at(int index) const {
+    const size_t k = static_cast<size_t>(index - 1);
+    std::call_once(once_[k], [&] {
+      detail::ParamBox& b = boxes_[k];
+      BRepTools::UVBounds(TopoDS::Face(faces_(index)), b.u0, b.u1, b.v0, b.v1);
+    });
+    return boxes_[k];
+  }
+
+ private:
+  const TopTools_IndexedMapOfShape& faces_;
+  mutable std::vector<std::once_flag> once_;
+  mutable std::vector<detail::ParamBox> boxes_;
+};
+
 /// The side of the face's parameter box that the edge's pcurve runs along from corner to corner, if any.
-std::optional<Edge> naturalSide(const TopoDS_Edge& e, const TopoDS_Face& f) {
-  detail::ParamBox box;
-  BRepTools::UVBounds(f, box.u0, box.u1, box.v0, box.v1);
+std::optional<Edge> naturalSide(const TopoDS_Edge& e, const TopoDS_Face& f, const detail::ParamBox& box) {
   return detail::boxSideOf(e, f, box, true);
 }
 
@@ -247,6 +273,18 @@ SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& 
   const std::vector<double>& ts = s.ts;
   const std::vector<PointData>& ms = s.ms;
   const double curvRef = s.curvRef;
+  // The measures made by the refinements, by parameter (bit pattern): the refinements of G0, G1 and G2 often
+  // bracket the same sample, so that their golden sections begin at the same points, and the worst location's
+  // point is that of a measure already made. measure is a function of t alone (OpenCASCADE's Geom surfaces and
+  // curves keep no evaluation state), so a kept measure is the one a new call would make.
+  std::vector<std::pair<std::uint64_t, PointData>> tried;
+  auto measured = [&](double x) -> PointData {
+    const auto key = std::bit_cast<std::uint64_t>(x);
+    for (const auto& [k, m] : tried)
+      if (k == key) return m;
+    tried.emplace_back(key, measure(A, B, x));
+    return tried.back().second;
+  };
   // (t, value) of the refined maximum and its point, or of the best sample when not refined.
   auto best = [&](auto get, bool refine) -> std::pair<WorstLocation, double> {
     std::vector<double> v(ms.size());
@@ -255,9 +293,8 @@ SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& 
       const size_t i = static_cast<size_t>(std::max_element(v.begin(), v.end()) - v.begin());
       return {WorstLocation{ts[i], ms[i].point}, v[i]};
     }
-    const auto [t, value] =
-        seam::detail::refinedMaximum(ts, v, [&](double x) { return get(measure(A, B, x)); });
-    return {WorstLocation{t, measure(A, B, t).point}, value};
+    const auto [t, value] = seam::detail::refinedMaximum(ts, v, [&](double x) { return get(measured(x)); });
+    return {WorstLocation{t, measured(t).point}, value};
   };
   {
     const auto [at, v] = best([](const PointData& m) { return m.g0; }, refineG0G1);
@@ -296,6 +333,15 @@ struct FacePCurve {
   bool ownParameter = false;
   std::string how;  ///< for the seam's notes, when ownParameter
 };
+
+/// The point of a converted (3-D) patch at (u, v), without the heap allocations of BSplineSurface::evaluate (~20
+/// per call): pointAndFirstDerivatives forms the same basis values, sums them in the same order and divides by the
+/// same weight, so the point is evaluate's bit for bit (OcctBRep.PatchPointIsTheSurfaceValueBitForBit).
+Vec3 patchPoint(const BSplineSurface& patch, double u, double v) {
+  Vec3 p, su, sv;
+  patch.pointAndFirstDerivatives(u, v, p, su, sv);
+  return p;
+}
 
 /// The patch parameters of the point of `patch` closest to x, by Gauss-Newton steps on |P(u, v) - x|^2 from `uv`
 /// (clamped to the domain); x is expected on the patch (a point of the surface the patch converts).
@@ -352,7 +398,7 @@ Result<BSplineCurve> isoLineInPatch(const FaceSide& f, const BSplineCurve& faceP
   const double level = uv[n / 2][static_cast<size_t>(fixed)];
   for (size_t i = 0; i < n; ++i) {
     const bool onLine = std::abs(uv[i][static_cast<size_t>(fixed)] - level) <= kIsoLineRel * dom[fixed].length();
-    const Vec3 y = patch.evaluate(uv[i][0], uv[i][1]).head<3>();
+    const Vec3 y = patchPoint(patch, uv[i][0], uv[i][1]);
     if (!onLine || !((y - x[i]).norm() <= kSameParametrisationRel * modelSize))
       return Status(ErrorCode::kUnsupported,
                     "the patch does not reproduce the face's surface in its own parameters (a converted analytic "
@@ -370,7 +416,7 @@ Result<BSplineCurve> isoLineInPatch(const FaceSide& f, const BSplineCurve& faceP
 
 /// kUnsupported, with the reason, when OpenCASCADE cannot convert the pcurve, when it leaves the patch's domain, or
 /// when the patch made from the face reproduces the face's edge neither along the pcurve nor as an iso-line.
-Result<FacePCurve> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const BSplineSurface& patch,
+Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int face, const BSplineSurface& patch,
                               double modelSize) {
   auto why = [&](std::string_view reason) {
     std::string type = "?";
@@ -418,7 +464,9 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
     side.surface = &patch;
     side.pcurve = std::move(c).value();
     side.range = {f.first, f.last};
-    BRepTools::UVBounds(face, side.faceU.lo, side.faceU.hi, side.faceV.lo, side.faceV.hi);
+    const detail::ParamBox& box = boxes.at(face);
+    side.faceU = {box.u0, box.u1};
+    side.faceV = {box.v0, box.v1};
     side.normalSign = f.sign;
     const Interval pd = patch.domainU(), qd = patch.domainV();
     const double slackU = kPCurveDomainSlackRel * pd.length(), slackV = kPCurveDomainSlackRel * qd.length();
@@ -429,7 +477,7 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const TopoDS_Face& face, const 
         return why(fmt::format("the pcurve leaves the patch's parameter domain: ({:.9g}, {:.9g}) outside [{:.9g}, "
                                "{:.9g}] x [{:.9g}, {:.9g}]",
                                uv[0], uv[1], pd.lo, pd.hi, qd.lo, qd.hi));
-      const Vec3 x = patch.evaluate(std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi)).head<3>();
+      const Vec3 x = patchPoint(patch, std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi));
       if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize) {
         // A converted analytic surface: the edge as an iso-line of the patch, in a parameter of its own.
         Result<BSplineCurve> line = isoLineInPatch(f, side.pcurve, patch, modelSize);
@@ -549,13 +597,13 @@ struct EdgeCertificate {
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
 };
 
-void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const TopoDS_Face& fa,
-                    const TopoDS_Face& fb, const BSplineSurface& pa, const BSplineSurface& pb,
+void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const FaceBoxCache& boxes, int fa,
+                    int fb, const BSplineSurface& pa, const BSplineSurface& pb,
                     const TopoDS_Edge& edge, const std::string& nameA, const std::string& nameB,
                     const SeamOptions& opt, double modelSize, const SpansCache& spans, size_t patchA,
                     size_t patchB) {
-  c.sideA.emplace(pcurveSide(A, fa, pa, modelSize));
-  c.sideB.emplace(pcurveSide(B, fb, pb, modelSize));
+  c.sideA.emplace(pcurveSide(A, boxes, fa, pa, modelSize));
+  c.sideB.emplace(pcurveSide(B, boxes, fb, pb, modelSize));
   c.sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
   c.opt = opt;
   const Result<FacePCurve>& sa = *c.sideA;
@@ -729,6 +777,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
     const double size = out.import.model.boundingBox().diagonal();
     auto faceName = [&](int fi) { return fmt::format("F{}", fi); };
     const SpansCache spansCache(out.import.model.patches);
+    const FaceBoxCache faceBoxes(faceMap);
 
     TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
@@ -791,8 +840,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           seam.occtContinuity = "?";
         }
         // Certified route: both faces untrimmed and the edge a whole side of each.
-        const std::optional<Edge> sa = out.import.faces[pa].trimmed || ia == ib ? std::nullopt : naturalSide(ea, fa);
-        const std::optional<Edge> sb = out.import.faces[pb].trimmed || ia == ib ? std::nullopt : naturalSide(eb, fb);
+        const std::optional<Edge> sa =
+            out.import.faces[pa].trimmed || ia == ib ? std::nullopt : naturalSide(ea, fa, faceBoxes.at(ia));
+        const std::optional<Edge> sb =
+            out.import.faces[pb].trimmed || ia == ib ? std::nullopt : naturalSide(eb, fb, faceBoxes.at(ib));
         bool done = false;
         if (sa && sb) {
           Result<SeamReport> r =
@@ -820,7 +871,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           const bool exact = out.import.faces[pa].exact && out.import.faces[pb].exact;
           EdgeCertificate cert;
           if (exact)
-            tryCertificate(cert, A, B, fa, fb, out.import.model.patches[pa].surface,
+            tryCertificate(cert, A, B, faceBoxes, ia, ib, out.import.model.patches[pa].surface,
                            out.import.model.patches[pb].surface, edge, seam.a, seam.b, seamOpt, size,
                            spansCache, pa, pb);
           seam.report = sampledSeam(samples, A, B, seam.a, seam.b, seamOpt, !cert.certifies(), !cert.certifiesG2());

@@ -27,12 +27,12 @@ struct EdgeJet {
 };
 
 EdgeJet jet(const PCurveSide& s, double t) {
-  const Matrix d = s.pcurve.derivatives(t, 1);
+  Vec2 c, d;
+  s.pcurve.derivatives1(t, c, d);
   const Interval du = s.surface->domainU(), dv = s.surface->domainV();
   Vec3 p, su, sv;
-  s.surface->pointAndFirstDerivatives(std::clamp(d(0, 0), du.lo, du.hi), std::clamp(d(0, 1), dv.lo, dv.hi), p, su,
-                                      sv);
-  return {p, su * d(1, 0) + sv * d(1, 1)};
+  s.surface->pointAndFirstDerivatives(std::clamp(c[0], du.lo, du.hi), std::clamp(c[1], dv.lo, dv.hi), p, su, sv);
+  return {p, su * d[0] + sv * d[1]};
 }
 
 /// The parameter of the point of side `s`'s edge closest to x, from `t` (Gauss-Newton, clamped to the range).

@@ -246,6 +246,42 @@ void BSplineCurve::derivatives2(double t, Vec3& c, Vec3& d1, Vec3& d2) const {
   d2 = (A[2] - 2.0 * w[1] * d1 - w[2] * c) / w[0];
 }
 
+void BSplineCurve::derivatives1(double t, Vec2& c, Vec2& d1) const {
+  assert(dim() == 2);
+  if (p_ > kMaxFastEvalDegree) {
+    const Matrix d = derivatives(t, 1);
+    c = d.row(0).transpose();
+    d1 = d.row(1).transpose();
+    return;
+  }
+  // derivatives(t, 1) on the stack: basisUpTo2's rows 0 and 1 are those of basisFunctionDerivatives (row 1 does not
+  // depend on row 2), summed in the same order, then the same quotient rule.
+  const int span = knots_.findSpan(p_, t);
+  double N[3][detail::kMaxFastBasisDegree + 1];
+  detail::basisUpTo2(knots_.values(), p_, span, t, N);
+  const bool rational = isRational();
+  Vec2 A[2] = {Vec2::Zero(), Vec2::Zero()};
+  double w[2] = {0.0, 0.0};
+  for (int k = 0; k < 2; ++k)
+    for (int r = 0; r <= p_; ++r) {
+      const int i = span - p_ + r;
+      if (rational) {
+        A[k] += (N[k][r] * weights_[i]) * points_.row(i).transpose();
+        w[k] += N[k][r] * weights_[i];
+      } else {
+        A[k] += N[k][r] * points_.row(i).transpose();
+      }
+    }
+  if (!rational) {
+    c = A[0];
+    d1 = A[1];
+    return;
+  }
+  // C' = (A' - w' C) / w (NURBS Book A4.2), as derivatives() computes it (its factor binomial(1, 1) = 1 is exact).
+  c = A[0] / w[0];
+  d1 = (A[1] - w[1] * c) / w[0];
+}
+
 Matrix BSplineCurve::derivatives(double t, int order) const {
   assert(order >= 0);
   const int span = knots_.findSpan(p_, t);

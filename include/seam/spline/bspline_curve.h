@@ -43,6 +43,9 @@ class BSplineCurve {
   [[nodiscard]] Vec3 point3(double t) const;
   /// C(t), C'(t), C''(t) (first three coordinates; dim() >= 3; rational: quotient rule), without heap allocation.
   void derivatives2(double t, Vec3& c, Vec3& d1, Vec3& d2) const;
+  /// C(t) and C'(t) of a plane curve (dim() == 2; rational: quotient rule) without heap allocation: the same
+  /// values, bit for bit, as rows 0 and 1 of derivatives(t, 1) (the same operations in the same order).
+  void derivatives1(double t, Vec2& c, Vec2& d1) const;
   /// Rows 0..order: C(t), C'(t), ..., C^(order)(t) (rational: quotient-rule recursion, NURBS Book A4.2).
   [[nodiscard]] Matrix derivatives(double t, int order) const;
 
