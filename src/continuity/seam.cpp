@@ -1666,7 +1666,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
   double curvRef = flat;
   for (const auto& m : S.m) curvRef = std::max(curvRef, m.curvature);
 
-  // Sampled maxima, refined by golden section (s follows t through the correspondence or projection).
+  // Sampled maxima, refined (detail::refineMaxParabolic) (s follows t through the correspondence or projection).
   auto sAt = [&](double t) {
     // Start from the nearest sample's partner and project (on an exact correspondence this is phi(t) to round-off).
     const auto it = std::lower_bound(S.t.begin(), S.t.end(), t);
@@ -1674,7 +1674,7 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
     return sOfT(t, S.s[i]);
   };
   auto pointMeasure = [&](double t) { return measureAt(A, t, B, sAt(t), sgn); };
-  // Sampled maxima follow the correspondence; golden-section refinement (which re-projects) only where the
+  // Sampled maxima follow the correspondence; the refinement (which re-projects) only where the
   // correspondence is itself a projection. Certified seams are refined by the subdivision of the bounds instead.
   auto refined = [&](auto get) {
     if (certified && !S.m.empty()) {  // std::max_element's choice (the first maximum), without a vector

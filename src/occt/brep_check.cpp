@@ -262,8 +262,8 @@ EdgeSamples sampleEdge(const TopoDS_Edge& edge, const FaceSide& A, const FaceSid
   return s;
 }
 
-/// The sampled seam report through the pcurves (certified = false). The maxima are refined by golden-section
-/// search (detail::refinedMaximum) where `refineG0G1` / `refineG2` ask for it; where the certified route replaces
+/// The sampled seam report through the pcurves (certified = false). The maxima are refined (Brent's parabolic
+/// steps, detail::refinedMaximum) where `refineG0G1` / `refineG2` ask for it; where the certified route replaces
 /// a measure's values afterwards (certifyThroughPCurves) its refinement is skipped and the best sample stands in
 /// (the report does not keep it).
 SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& B, const std::string& a,
@@ -278,9 +278,12 @@ SeamReport sampledSeam(const EdgeSamples& s, const FaceSide& A, const FaceSide& 
   const std::vector<PointData>& ms = s.ms;
   const double curvRef = s.curvRef;
   // The measures made by the refinements, by parameter (bit pattern): the refinements of G0, G1 and G2 often
-  // bracket the same sample, so that their golden sections begin at the same points, and the worst location's
-  // point is that of a measure already made. measure is a function of t alone (OpenCASCADE's Geom surfaces and
-  // curves keep no evaluation state), so a kept measure is the one a new call would make.
+  // bracket the same sample, so that their refinements begin at the same point, and the worst location's
+  // point is that of a measure already made. measure is a function of t alone up to round-off (the span caches of
+  // the adaptors it evaluates through pick a parameter's span by its value, half-open; only a parameter within an
+  // ulp of a knot may keep the neighbouring span's cache, whose value there agrees to round-off), so a kept measure
+  // is the one a new call would make. The order of the calls is fixed per edge: the report does not depend on the
+  // number of threads.
   std::vector<std::pair<std::uint64_t, PointData>> tried;
   auto measured = [&](double x) -> PointData {
     const auto key = std::bit_cast<std::uint64_t>(x);
