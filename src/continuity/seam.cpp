@@ -1608,6 +1608,11 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
     // Plots (keepSamples) get the dense sampling; otherwise the bound subdivision does the refining.
     const int start = corrBound <= exactFloor ? opt.certifiedSamplesPerPiece : 2 * opt.certifiedSamplesPerPiece;
     const int perPiece = std::max(opt.keepSamples ? opt.samplesPerSpan : start, 2);
+    // Shared rows: half as many samples per span (issue 16 goal 2). The gap, angle and curvature jump there are
+    // identities (sharedRowBounds); the samples give only the curvature reference of the relative G2 values (whose
+    // numerators are round-off bounds: dividing an upper bound by a curvature <= the seam's largest keeps it an
+    // upper bound) and the sampled C1/C2 mismatch |lambda - 1| |A_out| of a constant lambda. The plots keep all.
+    const int perShared = opt.keepSamples ? perPiece : std::max(perPiece / 2, 2);
     const size_t m = A.spans.size();
     const size_t count = ((shared ? m : 0) + pieces.size()) * static_cast<size_t>(perPiece + 1);
     S.t.reserve(count);
@@ -1615,8 +1620,8 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
     if (shared)  // the spans correspond one to one, each by the identity of its local parameter
       for (size_t k = 0; k < m; ++k) {
         const Interval sa = A.spans[k], sb = B.spans[rep.reversed ? m - 1 - k : k];
-        for (int i = 0; i <= perPiece; ++i) {
-          const double x = static_cast<double>(i) / perPiece;
+        for (int i = 0; i <= perShared; ++i) {
+          const double x = static_cast<double>(i) / perShared;
           S.t.push_back((1.0 - x) * sa.lo + x * sa.hi);
           S.s.push_back(rep.reversed ? x * sb.lo + (1.0 - x) * sb.hi : (1.0 - x) * sb.lo + x * sb.hi);
         }
