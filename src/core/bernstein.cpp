@@ -121,7 +121,7 @@ constexpr Eigen::Index kSubdivideScalarAvx2MinDegree = 64;
 // detail::splitHalves four lanes wide from this degree: at t = 1/2 the four-lane levels were as fast as element by
 // element at degree 32-63 and 1.2-5x faster above (2026-11-27, one-off timing of both builds, degrees 32-480).
 constexpr Eigen::Index kSplitHalvesAvx2MinDegree = 32;
-void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft);
+void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft, double* leftOut = nullptr);
 #endif
 void deCasteljauLevels(double* w, Eigen::Index n, Eigen::Index d, double t) {
 #ifdef SEAM_BERNSTEIN_AVX2
@@ -434,7 +434,7 @@ SEAM_AVX2_TARGET void subdivideAvx2(double* c, Eigen::Index n, Eigen::Index d, d
 #if defined(__GNUC__) && !defined(__clang__)
 [[gnu::optimize("no-tree-vectorize")]]
 #endif
-void subdivideScalar(double* c, Eigen::Index n, double t, bool keepLeft) {
+void subdivideScalar(double* c, Eigen::Index n, double t, bool keepLeft, double* leftOut = nullptr) {
   const double s = 1.0 - t;
   if (keepLeft) {
     for (Eigen::Index r = 1; r <= n; ++r)
@@ -443,11 +443,13 @@ void subdivideScalar(double* c, Eigen::Index n, double t, bool keepLeft) {
 #endif
       for (Eigen::Index i = n; i >= r; --i) c[i] = s * c[i - 1] + t * c[i];
   } else {
-    for (Eigen::Index r = 1; r <= n; ++r)
+    for (Eigen::Index r = 1; r <= n; ++r) {
 #if defined(__clang__)
 #pragma clang loop vectorize(disable)
 #endif
       for (Eigen::Index i = 0; i <= n - r; ++i) c[i] = s * c[i] + t * c[i + 1];
+      if (leftOut != nullptr) leftOut[r] = c[0];  // the left part's coefficient r (detail::splitHalves)
+    }
   }
 }
 #ifdef SEAM_BERNSTEIN_AVX2
@@ -457,7 +459,7 @@ void subdivideScalar(double* c, Eigen::Index n, double t, bool keepLeft) {
 // keeps low degrees element by element (subdivideScalar) does not occur; 4-5x faster at degrees 128-480. Per
 // coefficient the same s * a + t * b as subdivideScalar (two products, then their sum; no FMA), in an order in which
 // every value read is the previous level's: the same bits.
-SEAM_AVX2_TARGET void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft) {
+SEAM_AVX2_TARGET void subdivideScalarAvx2(double* c, Eigen::Index n, double t, bool keepLeft, double* leftOut) {
   const double s = 1.0 - t;
   const __m256d vs = _mm256_set1_pd(s), vt = _mm256_set1_pd(t);
   if (keepLeft) {
@@ -480,37 +482,8 @@ SEAM_AVX2_TARGET void subdivideScalarAvx2(double* c, Eigen::Index n, double t, b
         _mm256_storeu_pd(c + i, _mm256_add_pd(_mm256_mul_pd(vs, x), _mm256_mul_pd(vt, y)));
       }
       for (; i <= last; ++i) c[i] = s * c[i] + t * c[i + 1];
+      if (leftOut != nullptr) leftOut[r] = c[0];  // the left part's coefficient r (detail::splitHalves)
     }
-  }
-}
-#endif
-// detail::splitHalves for one column below kSplitHalvesAvx2MinDegree, element by element (as subdivideScalar).
-#if defined(__GNUC__) && !defined(__clang__)
-[[gnu::optimize("no-tree-vectorize")]]
-#endif
-void splitHalvesScalar(Eigen::Index n, double* left, double* c) {
-  for (Eigen::Index r = 1; r <= n; ++r) {
-#if defined(__clang__)
-#pragma clang loop vectorize(disable)
-#endif
-    for (Eigen::Index i = 0; i <= n - r; ++i) c[i] = 0.5 * c[i] + 0.5 * c[i + 1];
-    left[r] = c[0];
-  }
-}
-#ifdef SEAM_BERNSTEIN_AVX2
-// detail::splitHalves for one column at degree >= kSubdivideScalarAvx2MinDegree: the right-keeping levels of
-// subdivideScalarAvx2 at t = 1/2, four coefficients at a time, each level's first value recorded for the left half.
-SEAM_AVX2_TARGET void splitHalvesScalarAvx2(Eigen::Index n, double* left, double* c) {
-  const __m256d half = _mm256_set1_pd(0.5);
-  for (Eigen::Index r = 1; r <= n; ++r) {
-    const Eigen::Index last = n - r;
-    Eigen::Index i = 0;
-    for (; i + 3 <= last; i += 4) {
-      const __m256d x = _mm256_loadu_pd(c + i), y = _mm256_loadu_pd(c + i + 1);
-      _mm256_storeu_pd(c + i, _mm256_add_pd(_mm256_mul_pd(half, x), _mm256_mul_pd(half, y)));
-    }
-    for (; i <= last; ++i) c[i] = 0.5 * c[i] + 0.5 * c[i + 1];
-    left[r] = c[0];
   }
 }
 #endif
@@ -556,10 +529,12 @@ namespace detail {
 void splitHalves(const double* c, Eigen::Index n, Eigen::Index d, double* left, double* right) {
   std::copy(c, c + (n + 1) * d, right);
   std::copy(c, c + d, left);
+  // One column: the right-keeping levels of subdivideScalar(Avx2) at t = 1/2 (s = 1 - t = 1/2 exactly, so each
+  // value is 0.5 a + 0.5 b), recording each level's first value.
 #ifdef SEAM_BERNSTEIN_AVX2
-  if (d == 1 && n >= kSplitHalvesAvx2MinDegree && hasAvx2()) return splitHalvesScalarAvx2(n, left, right);
+  if (d == 1 && n >= kSplitHalvesAvx2MinDegree && hasAvx2()) return subdivideScalarAvx2(right, n, 0.5, false, left);
 #endif
-  if (d == 1) return splitHalvesScalar(n, left, right);
+  if (d == 1) return subdivideScalar(right, n, 0.5, false, left);
   for (Eigen::Index r = 1; r <= n; ++r) {
     for (Eigen::Index i = 0; i <= n - r; ++i)
       for (Eigen::Index k = 0; k < d; ++k) right[i * d + k] = 0.5 * right[i * d + k] + 0.5 * right[(i + 1) * d + k];
