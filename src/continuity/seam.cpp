@@ -147,39 +147,24 @@ void crossDerivativeRowsInto(const BSplineSurface& surf, Edge e, Matrix& out) {
   const double* pts = surf.points().data();
   const double* weights = surf.weights().data();
   const Eigen::Index cols = out.cols();
-  if (!rational) {  // the same loop without the weight lane, the points of row `across` walked by pointer
-    const Eigen::Index step = uEdge ? 3 : 3 * static_cast<Eigen::Index>(nv);  // from point j to point j + 1
-    for (int r = 0; r <= p; ++r) {
-      const int across = span - p + r;
-      for (int k = 0; k <= top; ++k) {
-        const double nkr = basis[k][r];
-        const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
-        if (coef == 0.0) continue;
-        const double cw = coef * 1.0;  // the surface function's factor (weight 1)
-        double* o = out.data() + static_cast<Eigen::Index>(k) * 3;
-        const double* x = pts + 3 * static_cast<Eigen::Index>(uEdge ? across * nv : across);
-        for (int j = 0; j < nAlong; ++j, o += cols, x += step) {
-          o[0] += cw * x[0];
-          o[1] += cw * x[1];
-          o[2] += cw * x[2];
-        }
-      }
-    }
-    return;
-  }
+  // The points (and weights) of row `across` walked by pointer; the weight lane only for rational surfaces.
+  const Eigen::Index step = uEdge ? 1 : static_cast<Eigen::Index>(nv);  // from point j to point j + 1, in points
   for (int r = 0; r <= p; ++r) {
     const int across = span - p + r;
+    const Eigen::Index first = uEdge ? static_cast<Eigen::Index>(across) * nv : across;
     for (int k = 0; k <= top; ++k) {
       const double nkr = basis[k][r];
       // Reversed cross direction at the far edge: d/dn = -d/du there.
       const double coef = (atEnd && k % 2 == 1) ? -nkr : nkr;
       if (coef == 0.0) continue;
-      for (int j = 0; j < nAlong; ++j) {
-        const int flat = uEdge ? across * nv + j : j * nv + across;
-        const double cw = coef * (rational ? weights[flat] : 1.0);
-        double* o = out.data() + j * cols + static_cast<Eigen::Index>(k) * hd;
-        const double* x = pts + static_cast<Eigen::Index>(flat) * 3;
-        for (int q = 0; q < 3; ++q) o[q] += cw * x[q];
+      double* o = out.data() + static_cast<Eigen::Index>(k) * hd;
+      const double* x = pts + 3 * first;
+      const double* w = rational ? weights + first : nullptr;  // a polynomial surface may have no weights at all
+      for (int j = 0; j < nAlong; ++j, o += cols, x += 3 * step) {
+        const double cw = coef * (rational ? w[j * step] : 1.0);  // the surface function's factor
+        o[0] += cw * x[0];
+        o[1] += cw * x[1];
+        o[2] += cw * x[2];
         if (rational) o[3] += cw;
       }
     }
