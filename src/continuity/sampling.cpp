@@ -21,18 +21,21 @@ Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, co
   return C.transpose() * II * C;
 }
 
+double chartConditioning(double crossNorm, double size) { return size > 0.0 ? crossNorm / size : 0.0; }
+
 double chartConditioning(const Vec3& a, const Vec3& b) {
-  const double size = a.squaredNorm() + b.squaredNorm();
-  return size > 0.0 ? a.cross(b).norm() / size : 0.0;
+  return chartConditioning(a.cross(b).norm(), a.squaredNorm() + b.squaredNorm());
 }
+
+bool normalVanishes(double crossNorm, double size) { return !(crossNorm > kNormalVanishRel * size); }
 
 std::optional<Vec3> limitNormal(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, double side) {
   const Vec3 n = a.cross(b);
   const double size = a.squaredNorm() + b.squaredNorm();
-  if (n.norm() > kNormalVanishRel * size) return Vec3(n.normalized());
+  if (!normalVanishes(n.norm(), size)) return Vec3(n.normalized());
   const Vec3 dn = da.cross(b) + a.cross(db);
   const double dsize = 2.0 * (a.norm() + b.norm()) * (da.norm() + db.norm());
-  if (!(dn.norm() > kNormalVanishRel * dsize) || !std::isfinite(dn.norm())) return std::nullopt;
+  if (normalVanishes(dn.norm(), dsize) || !std::isfinite(dn.norm())) return std::nullopt;
   return Vec3(side * dn.normalized());
 }
 

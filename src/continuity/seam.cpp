@@ -491,19 +491,18 @@ PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, 
   m.c1Scale = std::max(1.0, lambda) * oNorm;
   m.c2Scale = std::max(1.0, lambda * lambda) * aooNorm;
   auto sideOf = [](const Interval& d, double x) { return x - d.lo <= d.hi - x ? 1.0 : -1.0; };
-  // limitNormal(T, O, ...) and chartConditioning(T, O) from one cross product: the same expressions, so the same
-  // decisions (only the unit normal, unused here, is not formed; the one-sided limit only where N vanishes).
+  // limitNormal's test and chartConditioning from this one cross product (the same values, so the same decisions;
+  // the one-sided limit only where the normal vanishes).
   const Vec3 nA = T.cross(O);
   const double la = nA.norm();
   const double size = T.squaredNorm() + O.squaredNorm();
   const bool normalExists =
-      la > detail::kNormalVanishRel * size || limitNormal(T, O, Att, Aot, sideOf(A.dom, t)).has_value();
+      !detail::normalVanishes(la, size) || limitNormal(T, O, Att, Aot, sideOf(A.dom, t)).has_value();
   if (!normalExists || !(T.norm() > 0.0)) {
     m.normalsOk = m.curvatureOk = false;
     return m;
   }
-  const double conditioning = size > 0.0 ? la / size : 0.0;
-  if (!(la > 0.0) || conditioning < kCurvatureChartRel) {
+  if (!(la > 0.0) || detail::chartConditioning(la, size) < kCurvatureChartRel) {
     m.curvatureOk = false;
     return m;
   }
@@ -786,10 +785,6 @@ double g0Bound(const Piece& pc, double x0, double x1) {
 double g0Value(const Piece& pc, double x) { return evalRational(pc.g0, pc, x); }
 
 double g1Bound(const Piece& pc, double x0, double x1) {
-  // At high degree P and Q are restricted on every interval, needed here or not: the subdivision's children then
-  // split them from this interval's coefficients (SplitTree) instead of restricting them from the whole piece.
-  if (splitTree().active && pc.P.degree() >= kSplitFromParentDegree) (void)restrictedView(pc.P, x0, x1);
-  if (splitTree().active && pc.Q.degree() >= kSplitFromParentDegree) (void)restrictedView(pc.Q, x0, x1);
   const double rLo = lowerBoundOf(restrictedView(pc.R, x0, x1));
   if (!(rLo > 0.0)) return std::numbers::pi;
   const double pLo = lowerBoundOf(restrictedView(pc.P, x0, x1));

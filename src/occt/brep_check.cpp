@@ -146,8 +146,8 @@ struct FaceSide {
   Handle(Geom2d_Curve) pcurve;
   double first = 0, last = 0;  // pcurve parameter range
   double sign = 1.0;           // -1 for a reversed face
-  std::shared_ptr<GeomAdaptor_Surface> gs;
-  std::shared_ptr<Geom2dAdaptor_Curve> gc;
+  GeomAdaptor_Surface surfaceEval;  // the surface through its span cache (the sampled route's evaluations)
+  Geom2dAdaptor_Curve pcurveEval;   // the pcurve through its span cache
 };
 
 struct PointData {
@@ -163,16 +163,16 @@ struct PointData {
 /// assumption that both pcurves share the edge's parameter.
 double partnerParameter(const FaceSide& A, const FaceSide& B, double t) {
   double s = B.first + (t - A.first) / (A.last - A.first) * (B.last - B.first);
-  const gp_Pnt2d uvA = A.gc->Value(t);
-  const gp_Pnt p = A.gs->Value(uvA.X(), uvA.Y());
+  const gp_Pnt2d uvA = A.pcurveEval.Value(t);
+  const gp_Pnt p = A.surfaceEval.Value(uvA.X(), uvA.Y());
   const double range = B.last - B.first;
   for (int it = 0; it < kPartnerIterations; ++it) {
     gp_Pnt2d uv;
     gp_Vec2d d;
-    B.gc->D1(s, uv, d);
+    B.pcurveEval.D1(s, uv, d);
     gp_Pnt q;
     gp_Vec su, sv;
-    B.gs->D1(uv.X(), uv.Y(), q, su, sv);
+    B.surfaceEval.D1(uv.X(), uv.Y(), q, su, sv);
     const Vec3 c1 = toVec(su) * d.X() + toVec(sv) * d.Y();
     const double c1n2 = c1.squaredNorm();
     if (!(c1n2 > 0.0)) break;  // a pole of B's edge: keep the affine partner
@@ -192,12 +192,12 @@ PointData measure(const FaceSide& A, const FaceSide& B, double t) {
   const double s = partnerParameter(A, B, t);
   gp_Pnt2d uvA, uvB;
   gp_Vec2d dA, dB;
-  A.gc->D1(t, uvA, dA);
-  B.gc->D1(s, uvB, dB);
+  A.pcurveEval.D1(t, uvA, dA);
+  B.pcurveEval.D1(s, uvB, dB);
   gp_Pnt pa, pb;
   gp_Vec au, av, auu, avv, auv, bu, bv, buu, bvv, buv;
-  A.gs->D2(uvA.X(), uvA.Y(), pa, au, av, auu, avv, auv);
-  B.gs->D2(uvB.X(), uvB.Y(), pb, bu, bv, buu, bvv, buv);
+  A.surfaceEval.D2(uvA.X(), uvA.Y(), pa, au, av, auu, avv, auv);
+  B.surfaceEval.D2(uvB.X(), uvB.Y(), pb, bu, bv, buu, bvv, buv);
   m.point = toVec(pa);
   m.g0 = (toVec(pa) - toVec(pb)).norm();
   const Vec3 Au = toVec(au), Av = toVec(av), Bu = toVec(bu), Bv = toVec(bv);
@@ -872,10 +872,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
             o.free = {i, seam.a, edgeMidpoint(edge), edgePolyline(edge)};
             return o;
           }
-          A.gs = std::make_shared<GeomAdaptor_Surface>(A.surface);
-          B.gs = std::make_shared<GeomAdaptor_Surface>(B.surface);
-          A.gc = std::make_shared<Geom2dAdaptor_Curve>(A.pcurve, A.first, A.last);
-          B.gc = std::make_shared<Geom2dAdaptor_Curve>(B.pcurve, B.first, B.last);
+          A.surfaceEval.Load(A.surface);
+          B.surfaceEval.Load(B.surface);
+          A.pcurveEval.Load(A.pcurve, A.first, A.last);
+          B.pcurveEval.Load(B.pcurve, B.first, B.last);
           A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           const EdgeSamples samples = sampleEdge(edge, A, B, seamOpt, size);
