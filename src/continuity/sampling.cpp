@@ -21,13 +21,9 @@ Eigen::Matrix2d shapeInFrame(const Vec3& su, const Vec3& sv, const Vec3& suu, co
   return C.transpose() * II * C;
 }
 
-double chartConditioning(double crossNorm, double size) { return size > 0.0 ? crossNorm / size : 0.0; }
-
 double chartConditioning(const Vec3& a, const Vec3& b) {
   return chartConditioning(a.cross(b).norm(), a.squaredNorm() + b.squaredNorm());
 }
-
-bool normalVanishes(double crossNorm, double size) { return !(crossNorm > kNormalVanishRel * size); }
 
 std::optional<Vec3> limitNormal(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, double side) {
   const Vec3 n = a.cross(b);

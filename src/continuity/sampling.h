@@ -35,11 +35,11 @@ inline constexpr double kSameBreakpointRel = 1e-9;
 
 /// |a x b| / (|a|^2 + |b|^2) (0 for a zero chart): 1/2 for an orthonormal chart, 0 for a degenerate one.
 double chartConditioning(const Vec3& a, const Vec3& b);
-/// chartConditioning from |a x b| and |a|^2 + |b|^2 already formed (the same value).
-double chartConditioning(double crossNorm, double size);
+/// chartConditioning from |a x b| and |a|^2 + |b|^2 already formed (the same value; inline: the per-sample path).
+inline double chartConditioning(double crossNorm, double size) { return size > 0.0 ? crossNorm / size : 0.0; }
 /// True when the normal a x b of a chart vanishes (kNormalVanishRel), from |a x b| and |a|^2 + |b|^2: where it does,
 /// limitNormal takes the one-sided limit.
-bool normalVanishes(double crossNorm, double size);
+inline bool normalVanishes(double crossNorm, double size) { return !(crossNorm > kNormalVanishRel * size); }
 
 /// The unit normal of the chart (a, b) along a curve on which a and b have derivatives da and db: (a x b)/|a x b|
 /// where that is well defined (kNormalVanishRel), else the one-sided limit of the normalised cross product along
