@@ -301,7 +301,11 @@ TEST(HtmlReport, TheThreeDViewHasItsDataAndTheTwoDDrawingStays) {
   EXPECT_EQ(count(flat, "seam-view-data"), 0u);
   EXPECT_EQ(count(flat, "<script"), 1u);
   EXPECT_EQ(count(flat, "<polyline"), count(h, "<polyline"));  // the 2-D drawing is there either way
-  EXPECT_LT(flat.size(), h.size());
+  if (report::hasViewer3d()) {
+    EXPECT_LT(flat.size(), h.size());
+  } else {
+    EXPECT_EQ(flat, h);  // without the viewer both options give the same page
+  }
 }
 
 TEST(ReportMeshes, OnePerShadedPatchUnitNormalsWithinTheBudget) {
