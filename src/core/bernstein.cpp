@@ -248,6 +248,40 @@ void convolveRows(const double* sa, bool aScalar, int n, const double* sb, bool 
   convolveRowsDefault(sa, aScalar, n, sb, bScalar, m, d, so);
 }
 
+// so_c[i + j] += (x_i cross y_j)_c for the rows x_i of sa (row-major, 3 values) and y_j of B, i outer: B and the sums
+// by column (sb_c[j] = sb[c (m + 1) + j], so_c[k] = so[c (n + m + 1) + k]), so that the loop over j runs four lanes
+// wide. Each term is Eigen's Vector3d::cross (x1 y2 - x2 y1, x2 y0 - x0 y2, x0 y1 - x1 y0) and each sum adds its
+// terms in the order of i, as the row-by-row loop did: the same bits.
+SEAM_KERNEL void crossRowsKernel(const double* sa, int n, const double* sb, int m, double* so) {
+  const size_t nb = static_cast<size_t>(m) + 1, no = static_cast<size_t>(n + m) + 1;
+  const double *y0 = sb, *y1 = sb + nb, *y2 = sb + 2 * nb;
+  for (int i = 0; i <= n; ++i) {
+    const double x0 = sa[3 * i], x1 = sa[3 * i + 1], x2 = sa[3 * i + 2];
+    double* __restrict o0 = so + i;
+    double* __restrict o1 = so + no + i;
+    double* __restrict o2 = so + 2 * no + i;
+    for (size_t j = 0; j < nb; ++j) {
+      o0[j] += x1 * y2[j] - x2 * y1[j];
+      o1[j] += x2 * y0[j] - x0 * y2[j];
+      o2[j] += x0 * y1[j] - x1 * y0[j];
+    }
+  }
+}
+void crossRowsDefault(const double* sa, int n, const double* sb, int m, double* so) {
+  crossRowsKernel(sa, n, sb, m, so);
+}
+#ifdef SEAM_BERNSTEIN_AVX2
+SEAM_AVX2_TARGET void crossRowsAvx2(const double* sa, int n, const double* sb, int m, double* so) {
+  crossRowsKernel(sa, n, sb, m, so);
+}
+#endif
+void crossRows(const double* sa, int n, const double* sb, int m, double* so) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (m > 8 && hasAvx2()) return crossRowsAvx2(sa, n, sb, m, so);
+#endif
+  crossRowsDefault(sa, n, sb, m, so);
+}
+
 Matrix productRows(const Matrix& a, const Matrix& b) {
   const int n = static_cast<int>(a.rows()) - 1;
   const int m = static_cast<int>(b.rows()) - 1;
@@ -721,18 +755,21 @@ BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
     out.col(2) = z.coeffs().col(0);
     return BernsteinPoly(std::move(out));
   }
-  // One convolution of the binomially scaled rows (see productRows).
+  // One convolution of the binomially scaled rows (see productRows), B's rows and the sums by column (crossRows).
   Matrix as = a.coeffs(), bs = b.coeffs();
   for (int i = 0; i <= n; ++i) as.row(i) *= binom(n, i);
   for (int j = 0; j <= m; ++j) bs.row(j) *= binom(m, j);
-  Matrix out = Matrix::Zero(n + m + 1, 3);
-  for (int i = 0; i <= n; ++i) {
-    const Eigen::Vector3d x = as.row(i).transpose();
-    for (int j = 0; j <= m; ++j) {
-      const Eigen::Vector3d y = bs.row(j).transpose();
-      out.row(i + j) += x.cross(y).transpose();
-    }
-  }
+  thread_local std::vector<double> scratch;
+  const size_t nb = static_cast<size_t>(m) + 1, no = static_cast<size_t>(n + m) + 1;
+  scratch.assign(3 * (nb + no), 0.0);
+  double* sb = scratch.data();
+  double* so = sb + 3 * nb;
+  for (size_t j = 0; j < nb; ++j)
+    for (size_t c = 0; c < 3; ++c) sb[c * nb + j] = bs(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(c));
+  crossRows(as.data(), n, sb, m, so);
+  Matrix out(n + m + 1, 3);
+  for (size_t k = 0; k < no; ++k)
+    for (size_t c = 0; c < 3; ++c) out(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = so[c * no + k];
   for (int k = 0; k <= n + m; ++k) out.row(k) /= binom(n + m, k);
   return BernsteinPoly(std::move(out));
 }
