@@ -282,6 +282,10 @@ void crossRows(const double* sa, int n, const double* sb, int m, double* so) {
   crossRowsDefault(sa, n, sb, m, so);
 }
 
+// productRows of an A with several columns goes column by column from this degree of A (and B above degree 8, where
+// convolveAdd runs four lanes wide); below, the row-major convolution (convolveRows).
+constexpr int kColumnProductMinDegree = 4;
+
 Matrix productRows(const Matrix& a, const Matrix& b) {
   const int n = static_cast<int>(a.rows()) - 1;
   const int m = static_cast<int>(b.rows()) - 1;
@@ -321,7 +325,29 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
     for (int j = 0; j <= m; ++j)
       for (Eigen::Index c = 0; c < cb; ++c) sb[j * cb + c] = b(j, c) * bmr[j];
     double* so = out.data();
-    convolveRows(sa, ca == 1, n, sb, cb == 1, m, dim, so);
+    if (ca > 1 && n >= kColumnProductMinDegree && m > 8) {
+      // A with several columns: column by column through contiguous copies (convolveAdd, four lanes over j; the
+      // row-major rows of 3 or 4 values do not fill the lanes). Per value the same products summed in the order of
+      // i from the same zero: the same bits as convolveRows.
+      thread_local std::vector<double> columns;
+      columns.resize(static_cast<size_t>(2 * (n + m) + 3));
+      double* xa = columns.data();
+      double* xb = xa + n + 1;
+      double* xo = xb + m + 1;
+      for (Eigen::Index c = 0; c < dim; ++c) {
+        for (int i = 0; i <= n; ++i) xa[i] = sa[i * ca + c];
+        const double* yb = sb;
+        if (cb > 1) {
+          for (int j = 0; j <= m; ++j) xb[j] = sb[j * cb + c];
+          yb = xb;
+        }
+        std::fill(xo, xo + n + m + 1, 0.0);
+        convolveAdd(xa, n, yb, m, xo);
+        for (int k = 0; k <= n + m; ++k) so[k * dim + c] = xo[k];
+      }
+    } else {
+      convolveRows(sa, ca == 1, n, sb, cb == 1, m, dim, so);
+    }
     for (int k = 0; k <= n + m; ++k)
       for (Eigen::Index c = 0; c < dim; ++c) so[k * dim + c] = so[k * dim + c] / bnm[k];
     return out;
