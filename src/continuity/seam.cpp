@@ -598,36 +598,43 @@ int lemma2Degree(const CartesianSide& A, const CartesianSide& B, int waDegree, i
   return 2 * (2 * nA) + B.Suu.num.degree() + nA + 2 * (waDegree + wbDegree);
 }
 
-Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
-                 bool ratB, BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree) {
+/// What buildPiece forms: everything (patch seams), or only what the G2 bound and samples read (the pcurve route's
+/// G2 pieces: wa, wb, rho, T2, nA2, BcT2, O2, tOf; its G1 comes from the composed normals, ComposedSide).
+enum class PieceData { kAll, kG2Only };
+
+/// The piece from both sides' Cartesian forms (cartesian) and weights (1 for a polynomial side).
+Piece buildPiece(const CartesianSide& A, const CartesianSide& B, BernsteinPoly wa, BernsteinPoly wb,
+                 BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree, PieceData data) {
   Piece pc;
   pc.tOf = std::move(tOf);
   pc.sOf = std::move(sOf);
-  const CartesianSide A = cartesian(XA[0], XA[1], XA[2], ratA, 0);
-  const CartesianSide B = cartesian(XB[0], XB[1], XB[2], ratB, 1);
-  pc.wa = ratA ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0);
-  pc.wb = ratB ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0);
+  pc.wa = std::move(wa);
+  pc.wb = std::move(wb);
   WeightContext ctx(pc.wa, pc.wb);
   const RationalPoly T = A.Sv, O = WeightContext::scaled(A.Su, -1.0), Aoo = A.Suu,
                      Aot = WeightContext::scaled(A.Suv, -1.0), Att = A.Svv;
   const RationalPoly Bc = B.Su, Bt = B.Sv, Bcc = B.Suu;
-  pc.g0 = ctx.add(A.S, B.S, -1.0);
-  const RationalPoly nA = WeightContext::cross(T, O), nB = WeightContext::cross(Bt, Bc);
-  const double stripA = kRoundoff * nA.num.maxCoeffNorm(), stripB = kRoundoff * nB.num.maxCoeffNorm();
-  const BernsteinPoly NA = detail::stripEndRoots(nA.num, stripA), NB = detail::stripEndRoots(nB.num, stripB);
-  pc.P = dot(NA, NB);
-  pc.cross = seam::cross(NA, NB);
-  pc.Q = dot(pc.cross, pc.cross);
+  const RationalPoly nA = WeightContext::cross(T, O);
   // |n_A|^2 once: where no end root was stripped NA is n_A's numerator itself (the same product, the same bits).
   const RationalPoly nA2 = WeightContext::dot(nA, nA);
-  pc.R = product(NA.degree() == nA.num.degree() ? nA2.num : dot(NA, NA), dot(NB, NB));
-  pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
-  pc.c1 = ctx.add(Bc, O, -1.0);
-  pc.c2 = ctx.add(Bcc, Aoo, -1.0);
-  pc.O = O;
-  pc.Aoo = Aoo;
+  if (data == PieceData::kAll) {
+    pc.g0 = ctx.add(A.S, B.S, -1.0);
+    const RationalPoly nB = WeightContext::cross(Bt, Bc);
+    const double stripA = kRoundoff * nA.num.maxCoeffNorm(), stripB = kRoundoff * nB.num.maxCoeffNorm();
+    const BernsteinPoly NA = detail::stripEndRoots(nA.num, stripA), NB = detail::stripEndRoots(nB.num, stripB);
+    pc.P = dot(NA, NB);
+    pc.cross = seam::cross(NA, NB);
+    pc.Q = dot(pc.cross, pc.cross);
+    pc.R = product(NA.degree() == nA.num.degree() ? nA2.num : dot(NA, NA), dot(NB, NB));
+    pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
+    pc.c1 = ctx.add(Bc, O, -1.0);
+    pc.c2 = ctx.add(Bcc, Aoo, -1.0);
+    pc.O = O;
+    pc.Aoo = Aoo;
+  }
   // Lemma 2 with lambda = L / D, kappa = K / D (D = (O x T).nA):  rho~ = nA . (D^2 Bcc - L^2 Aoo - 2 L K Aot - K^2 Att)
-  const RationalPoly L = WeightContext::dot(WeightContext::cross(Bc, T), nA);
+  const RationalPoly BcT = WeightContext::cross(Bc, T);  // also |Bc x T|^2 below
+  const RationalPoly L = WeightContext::dot(BcT, nA);
   const RationalPoly K = WeightContext::dot(WeightContext::cross(O, Bc), nA);
   pc.L = L;
   pc.K = K;
@@ -649,11 +656,18 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
     pc.T2 = WeightContext::dot(T, T);
     pc.O2 = WeightContext::dot(O, O);
     pc.nA2 = nA2;
-    const RationalPoly BcT = WeightContext::cross(Bc, T);
     pc.BcT2 = WeightContext::dot(BcT, BcT);
     pc.g2Available = true;
   }
   return pc;
+}
+
+Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
+                 bool ratB, BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree) {
+  return buildPiece(cartesian(XA[0], XA[1], XA[2], ratA, 0), cartesian(XB[0], XB[1], XB[2], ratB, 1),
+                    ratA ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                    ratB ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0), std::move(tOf),
+                    std::move(sOf), maxDegree, PieceData::kAll);
 }
 
 // Bounds of a rational quantity on a sub-interval [x0, x1] of the piece. The restrictions go through a per-thread
@@ -2385,13 +2399,16 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
                                                       composed[li][1]);
     const CartesianSide CA = cartesian(XA[0], XA[1], XA[2], ra, 0), CB = cartesian(XB[0], XB[1], XB[2], rb, 1);
     // Checked before building anything: a piece above the limit would cost products of polynomials of degree
-    // several hundred for nothing (buildPiece forms the G1 data first).
+    // several hundred for nothing.
     if (lemma2Degree(CA, CB, ra ? XA[0].degree() : 0, rb ? XB[0].degree() : 0) > opt.maxCertifiedDegree) {
       built = false;
       break;
     }
-    Piece pc = buildPiece(XA, XB, ra, rb, BernsteinPoly::linear(L.t0, L.t1),
-                          BernsteinPoly::linear(toB(L.t0), toB(L.t1)), opt.maxCertifiedDegree);
+    // The G2 data only (the G1 bound came from the composed normals above), from the Cartesian sides just formed.
+    Piece pc = buildPiece(CA, CB, ra ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                          rb ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                          BernsteinPoly::linear(L.t0, L.t1), BernsteinPoly::linear(toB(L.t0), toB(L.t1)),
+                          opt.maxCertifiedDegree, PieceData::kG2Only);
     for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
       const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
       if (const auto c = chartCurvature(CA, CB, pc, x)) {
