@@ -386,8 +386,13 @@ std::optional<Matrix> lerpLevels(const Matrix& rows, int n, int m0, const Matrix
   if (n == 0) return Matrix(rows.topRows(m0 + 1));
   const Eigen::Index stride = static_cast<Eigen::Index>(m0 + n * k + 1) * d;
   const size_t slots = static_cast<size_t>(n) + 1;
-  std::vector<double> buf(slots * static_cast<size_t>(stride)), scaled(buf.size()), t1(static_cast<size_t>(stride)),
-      t2(static_cast<size_t>(stride)), sa(2 * (static_cast<size_t>(k) + 1));
+  // Per-thread scratch (grown, never shrunk): every value is written before it is read.
+  thread_local std::vector<double> buf, scaled, t1, t2, sa;
+  buf.resize(slots * static_cast<size_t>(stride));
+  scaled.resize(buf.size());
+  t1.resize(static_cast<size_t>(stride));
+  t2.resize(static_cast<size_t>(stride));
+  sa.resize(2 * (static_cast<size_t>(k) + 1));
   for (size_t j = 0; j < slots; ++j)
     std::copy(rows.data() + static_cast<Eigen::Index>(j) * (m0 + 1) * d,
               rows.data() + static_cast<Eigen::Index>(j + 1) * (m0 + 1) * d, buf.data() + j * stride);
@@ -828,11 +833,29 @@ BernsteinPoly BernsteinPatch::isoV(double v) const { return swapped().isoU(v); }
 BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPoly& v) const {
   assert(u.dim() == 1 && v.dim() == 1);
   // Each u-row (a curve in v) composed with v(t), then de Casteljau in u with polynomial arithmetic.
+  const BernsteinPoly oneMinusU = BernsteinPoly::constant(1.0, u.degree()) - u;
+  {
+    // All u-rows at once, side by side as columns (wide(j, i d + c) = row i's coefficient j, column c): lerpLevels
+    // treats every column alike, so each row's composition has the bits of BernsteinPoly::composed(v).
+    const Eigen::Index d = dim();
+    Matrix wide(dv_ + 1, static_cast<Eigen::Index>(du_ + 1) * d);
+    for (int i = 0; i <= du_; ++i)
+      wide.middleCols(static_cast<Eigen::Index>(i) * d, d) =
+          c_.middleRows(static_cast<Eigen::Index>(i) * (dv_ + 1), dv_ + 1);
+    const BernsteinPoly oneMinusV = BernsteinPoly::constant(1.0, v.degree()) - v;
+    if (std::optional<Matrix> cv = lerpLevels(wide, dv_, 0, oneMinusV.coeffs(), v.coeffs())) {
+      const Eigen::Index m0 = cv->rows() - 1;
+      Matrix rows((du_ + 1) * (m0 + 1), d);
+      for (int i = 0; i <= du_; ++i)
+        rows.middleRows(static_cast<Eigen::Index>(i) * (m0 + 1), m0 + 1) = cv->middleCols(static_cast<Eigen::Index>(i) * d, d);
+      if (std::optional<Matrix> c = lerpLevels(rows, du_, static_cast<int>(m0), oneMinusU.coeffs(), u.coeffs()))
+        return BernsteinPoly(std::move(*c));
+    }
+  }
   std::vector<BernsteinPoly> b;
   b.reserve(static_cast<size_t>(du_ + 1));
   for (int i = 0; i <= du_; ++i)
     b.push_back(BernsteinPoly(Matrix(c_.middleRows(static_cast<Eigen::Index>(i) * (dv_ + 1), dv_ + 1))).composed(v));
-  const BernsteinPoly oneMinusU = BernsteinPoly::constant(1.0, u.degree()) - u;
   {
     const int m0 = b.front().degree();
     Matrix rows(static_cast<Eigen::Index>(du_ + 1) * (m0 + 1), dim());
