@@ -490,6 +490,30 @@ TEST(BernsteinPoly, CrossKeepsTheRowWiseBits) {
   }
 }
 
+// Degree elevation by row expressions with binomial() per term, as elevateRows computed it before it ran on raw rows
+// (issue 16 goal 6): the sums of the rational pieces (WeightContext::add) keep those bits.
+Matrix elevatedByRows(const Matrix& c, int by) {
+  const int n = static_cast<int>(c.rows()) - 1;
+  Matrix out = Matrix::Zero(n + by + 1, c.cols());
+  for (int i = 0; i <= n + by; ++i) {
+    const double denom = binomial(n + by, i);
+    for (int j = std::max(0, i - by); j <= std::min(n, i); ++j)
+      out.row(i) += (binomial(n, j) * binomial(by, i - j) / denom) * c.row(j);
+  }
+  return out;
+}
+
+TEST(BernsteinPoly, ElevationKeepsTheRowWiseBits) {
+  std::mt19937_64 rng(1631);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = trial % 3 == 0 ? uniformInt(rng, 0, 12) : uniformInt(rng, 0, 250);
+    const int by = trial % 3 == 1 ? uniformInt(rng, 1, 12) : uniformInt(rng, 1, 250);
+    const BernsteinPoly p = randomPoly(rng, n, 1 + trial % 4);
+    expectSameBits(p.elevated(by).coeffs(), elevatedByRows(p.coeffs(), by),
+                   "elevated " + std::to_string(n) + " by " + std::to_string(by));
+  }
+}
+
 TEST(BernsteinPoly, ReversedIsPOfOneMinusS) {
   std::mt19937_64 rng(108);
   for (int dim : kDims)
