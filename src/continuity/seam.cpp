@@ -17,6 +17,8 @@
 #include <optional>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
 #include "continuity/sampling.h"
@@ -2328,15 +2330,16 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
       return Status(ErrorCode::kUnsupported,
                     "pcurve seam: a pcurve leaves its surface's domain or its knot-line crossings cannot be isolated");
 
-  // Exact data per leaf, in the same form as the patch seams (g0 and G1 only).
-  std::vector<Piece> pieces;
-  std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed;  // per leaf: A's and B's ComposedSide::h
-  composed.reserve(leaves.size());
-  PCurveSeamBounds out;
-  for (const PCurveLeaf& L : leaves) {
+  // Exact data per leaf, in the same form as the patch seams (g0 and G1 only). The leaves are composed on the
+  // calling thread's arena (each leaf a pure function of its own data: the same values on any number of threads,
+  // so that one heavy seam does not hold a core alone), then taken in leaf order.
+  std::vector<Piece> pieces(leaves.size());
+  std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed(leaves.size());  // A's and B's ComposedSide::h
+  auto composeLeaf = [&](size_t li) {
+    const PCurveLeaf& L = leaves[li];
     ComposedSide A = composeSide(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(), a.normalSign);
     ComposedSide B = composeSide(spB, L.biu, L.biv, L.cb, b.surface->isRational(), b.normalSign);
-    Piece pc;
+    Piece& pc = pieces[li];
     pc.tOf = BernsteinPoly::linear(L.t0, L.t1);
     pc.sOf = BernsteinPoly::linear(toB(L.t0), toB(L.t1));
     pc.wa = A.w;
@@ -2351,13 +2354,19 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     pc.Q = dot(pc.cross, pc.cross);
     pc.R = product(dot(NA, NA), dot(NB, NB));
     pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
+    composed[li] = {std::move(A.h), std::move(B.h)};
+  };
+  if (leaves.size() > 1)
+    tbb::parallel_for(size_t{0}, leaves.size(), composeLeaf);
+  else if (!leaves.empty())
+    composeLeaf(0);
+  PCurveSeamBounds out;
+  for (const Piece& pc : pieces) {
     out.maxDegree = std::max(out.maxDegree, pc.R.degree());
     if (pc.R.degree() > opt.maxCertifiedDegree)
       return Status(ErrorCode::kUnsupported,
                     fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
                                 opt.maxCertifiedDegree));
-    pieces.push_back(std::move(pc));
-    composed.push_back({std::move(A.h), std::move(B.h)});
   }
   out.pieces = static_cast<int>(pieces.size());
   const double edgeScale = std::max(controlDiagonal(*a.surface), controlDiagonal(*b.surface));
@@ -2391,8 +2400,18 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   double curvMax = 0.0;
   std::vector<std::array<double, 2>> regular;  // (jump, curvature) at the well-conditioned start samples
   bool built = true;
-  for (size_t li = 0; li < leaves.size(); ++li) {
+  // Per leaf on the arena as the G1 data above (pure functions of the leaf), then taken in leaf order: the first
+  // leaf above the degree limit ends the G2 route as the loop did, the samples are replayed in their order.
+  struct G2Leaf {
+    bool tooHigh = false;
+    Piece pc;
+    std::array<std::optional<double>, kPCurveSamplesPerPiece + 1> curvature;  // chartCurvature at the samples
+    std::array<double, kPCurveSamplesPerPiece + 1> jump{};                      // g2Value there (g2Available)
+  };
+  std::vector<G2Leaf> g2Leaves(leaves.size());
+  auto buildG2Leaf = [&](size_t li) {
     const PCurveLeaf& L = leaves[li];
+    G2Leaf& g = g2Leaves[li];
     const std::array<BernsteinPoly, 3> XA = chartRows(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(),
                                                       composed[li][0]),
                                        XB = chartRows(spB, L.biu, L.biv, L.cb, b.surface->isRational(),
@@ -2401,24 +2420,37 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     // Checked before building anything: a piece above the limit would cost products of polynomials of degree
     // several hundred for nothing.
     if (lemma2Degree(CA, CB, ra ? XA[0].degree() : 0, rb ? XB[0].degree() : 0) > opt.maxCertifiedDegree) {
+      g.tooHigh = true;
+      return;
+    }
+    // The G2 data only (the G1 bound came from the composed normals above), from the Cartesian sides just formed.
+    g.pc = buildPiece(CA, CB, ra ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                      rb ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                      BernsteinPoly::linear(L.t0, L.t1), BernsteinPoly::linear(toB(L.t0), toB(L.t1)),
+                      opt.maxCertifiedDegree, PieceData::kG2Only);
+    for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
+      const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
+      g.curvature[static_cast<size_t>(k)] = chartCurvature(CA, CB, g.pc, x);
+      if (g.curvature[static_cast<size_t>(k)] && g.pc.g2Available) g.jump[static_cast<size_t>(k)] = g2Value(g.pc, x);
+    }
+  };
+  if (leaves.size() > 1)
+    tbb::parallel_for(size_t{0}, leaves.size(), buildG2Leaf);
+  else if (!leaves.empty())
+    buildG2Leaf(0);
+  for (G2Leaf& g : g2Leaves) {
+    if (g.tooHigh) {
       built = false;
       break;
     }
-    // The G2 data only (the G1 bound came from the composed normals above), from the Cartesian sides just formed.
-    Piece pc = buildPiece(CA, CB, ra ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0),
-                          rb ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0),
-                          BernsteinPoly::linear(L.t0, L.t1), BernsteinPoly::linear(toB(L.t0), toB(L.t1)),
-                          opt.maxCertifiedDegree, PieceData::kG2Only);
-    for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
-      const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
-      if (const auto c = chartCurvature(CA, CB, pc, x)) {
+    for (size_t k = 0; k < g.curvature.size(); ++k)
+      if (const auto& c = g.curvature[k]) {
         curvMax = std::max(curvMax, *c);
-        if (pc.g2Available) regular.push_back({g2Value(pc, x), *c});
+        if (g.pc.g2Available) regular.push_back({g.jump[k], *c});
       }
-    }
-    if (!pc.g2Available) built = false;
-    else out.maxDegreeG2 = std::max(out.maxDegreeG2, pc.rho.num.degree());
-    g2Pieces.push_back(std::move(pc));
+    if (!g.pc.g2Available) built = false;
+    else out.maxDegreeG2 = std::max(out.maxDegreeG2, g.pc.rho.num.degree());
+    g2Pieces.push_back(std::move(g.pc));
   }
   out.curvatureMax = curvMax;
   if (!built) {

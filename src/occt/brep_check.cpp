@@ -948,7 +948,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       const int n = std::min(kProgressEdgeStep, nEdges - first + 1);
       block.assign(static_cast<size_t>(n), EdgeOutcome{});
       if (options.threads == 1) {
-        for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(first + k);
+        // In the one-thread arena: the nested parallel loops of an edge (certifyPCurveSeam's leaves) run here too.
+        arena.execute([&] {
+          for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(first + k);
+        });
       } else {
         arena.execute([&] {
           tbb::parallel_for(0, n, [&](int k) { block[static_cast<size_t>(k)] = analyseEdge(first + k); });
