@@ -18,6 +18,7 @@
 #include <tuple>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
@@ -2356,17 +2357,23 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
     composed[li] = {std::move(A.h), std::move(B.h)};
   };
-  if (leaves.size() > 1)
-    tbb::parallel_for(size_t{0}, leaves.size(), composeLeaf);
-  else if (!leaves.empty())
-    composeLeaf(0);
+  // As many leaves at a time as the arena has threads (one: the loop of one leaf after the other), each batch
+  // checked in leaf order before the next is composed: a degree above the limit ends the route after at most a
+  // batch of leaves, as the serial loop ended it after one.
+  const size_t batch = static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   PCurveSeamBounds out;
-  for (const Piece& pc : pieces) {
-    out.maxDegree = std::max(out.maxDegree, pc.R.degree());
-    if (pc.R.degree() > opt.maxCertifiedDegree)
-      return Status(ErrorCode::kUnsupported,
-                    fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
-                                opt.maxCertifiedDegree));
+  for (size_t first = 0; first < leaves.size(); first += batch) {
+    const size_t last = std::min(leaves.size(), first + batch);
+    if (last - first > 1) tbb::parallel_for(first, last, composeLeaf);
+    else composeLeaf(first);
+    for (size_t li = first; li < last; ++li) {
+      const Piece& pc = pieces[li];
+      out.maxDegree = std::max(out.maxDegree, pc.R.degree());
+      if (pc.R.degree() > opt.maxCertifiedDegree)
+        return Status(ErrorCode::kUnsupported,
+                      fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
+                                  opt.maxCertifiedDegree));
+    }
   }
   out.pieces = static_cast<int>(pieces.size());
   const double edgeScale = std::max(controlDiagonal(*a.surface), controlDiagonal(*b.surface));
@@ -2434,23 +2441,27 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
       if (g.curvature[static_cast<size_t>(k)] && g.pc.g2Available) g.jump[static_cast<size_t>(k)] = g2Value(g.pc, x);
     }
   };
-  if (leaves.size() > 1)
-    tbb::parallel_for(size_t{0}, leaves.size(), buildG2Leaf);
-  else if (!leaves.empty())
-    buildG2Leaf(0);
-  for (G2Leaf& g : g2Leaves) {
-    if (g.tooHigh) {
-      built = false;
-      break;
-    }
-    for (size_t k = 0; k < g.curvature.size(); ++k)
-      if (const auto& c = g.curvature[k]) {
-        curvMax = std::max(curvMax, *c);
-        if (g.pc.g2Available) regular.push_back({g.jump[k], *c});
+  bool tooHigh = false;
+  for (size_t first = 0; first < leaves.size() && !tooHigh; first += batch) {  // in batches, as the G1 data
+    const size_t last = std::min(leaves.size(), first + batch);
+    if (last - first > 1) tbb::parallel_for(first, last, buildG2Leaf);
+    else buildG2Leaf(first);
+    for (size_t li = first; li < last; ++li) {
+      G2Leaf& g = g2Leaves[li];
+      if (g.tooHigh) {
+        built = false;
+        tooHigh = true;
+        break;
       }
-    if (!g.pc.g2Available) built = false;
-    else out.maxDegreeG2 = std::max(out.maxDegreeG2, g.pc.rho.num.degree());
-    g2Pieces.push_back(std::move(g.pc));
+      for (size_t k = 0; k < g.curvature.size(); ++k)
+        if (const auto& c = g.curvature[k]) {
+          curvMax = std::max(curvMax, *c);
+          if (g.pc.g2Available) regular.push_back({g.jump[k], *c});
+        }
+      if (!g.pc.g2Available) built = false;
+      else out.maxDegreeG2 = std::max(out.maxDegreeG2, g.pc.rho.num.degree());
+      g2Pieces.push_back(std::move(g.pc));
+    }
   }
   out.curvatureMax = curvMax;
   if (!built) {
