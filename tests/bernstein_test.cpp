@@ -462,6 +462,58 @@ TEST(BernsteinPoly, ProductsAndCompositionsKeepTheColumnWiseBits) {
   }
 }
 
+// The cross product row by row through binomially scaled copies with Eigen's Vector3d::cross, as cross() computed it
+// before its sums ran by column (issue 16 goal 6): the composed normals and everything bounded from them keep those
+// bits.
+Matrix crossByRows(const Matrix& a, const Matrix& b) {
+  const int n = static_cast<int>(a.rows()) - 1, m = static_cast<int>(b.rows()) - 1;
+  Matrix as = a, bs = b;
+  for (int i = 0; i <= n; ++i) as.row(i) *= binomial(n, i);
+  for (int j = 0; j <= m; ++j) bs.row(j) *= binomial(m, j);
+  Matrix out = Matrix::Zero(n + m + 1, 3);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= m; ++j)
+      out.row(i + j) += Eigen::Vector3d(as.row(i).transpose()).cross(Eigen::Vector3d(bs.row(j).transpose())).transpose();
+  for (int k = 0; k <= n + m; ++k) out.row(k) /= binomial(n + m, k);
+  return out;
+}
+
+TEST(BernsteinPoly, CrossKeepsTheRowWiseBits) {
+  std::mt19937_64 rng(1627);
+  for (int trial = 0; trial < 80; ++trial) {
+    // Both sides of the four-lane threshold (degree 8 of B) and up to the scaled form's limit (n + m <= 500).
+    const int n = trial % 4 == 0 ? uniformInt(rng, 0, 12) : uniformInt(rng, 0, 250);
+    const int m = trial % 4 == 1 ? uniformInt(rng, 0, 12) : uniformInt(rng, 0, 250);
+    const BernsteinPoly a = randomPoly(rng, n, 3), b = randomPoly(rng, m, 3);
+    expectSameBits(cross(a, b).coeffs(), crossByRows(a.coeffs(), b.coeffs()),
+                   "cross " + std::to_string(n) + " x " + std::to_string(m));
+  }
+}
+
+// Degree elevation by row expressions with binomial() per term, as elevateRows computed it before it ran on raw rows
+// (issue 16 goal 6): the sums of the rational pieces (WeightContext::add) keep those bits.
+Matrix elevatedByRows(const Matrix& c, int by) {
+  const int n = static_cast<int>(c.rows()) - 1;
+  Matrix out = Matrix::Zero(n + by + 1, c.cols());
+  for (int i = 0; i <= n + by; ++i) {
+    const double denom = binomial(n + by, i);
+    for (int j = std::max(0, i - by); j <= std::min(n, i); ++j)
+      out.row(i) += (binomial(n, j) * binomial(by, i - j) / denom) * c.row(j);
+  }
+  return out;
+}
+
+TEST(BernsteinPoly, ElevationKeepsTheRowWiseBits) {
+  std::mt19937_64 rng(1631);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = trial % 3 == 0 ? uniformInt(rng, 0, 12) : uniformInt(rng, 0, 250);
+    const int by = trial % 3 == 1 ? uniformInt(rng, 1, 12) : uniformInt(rng, 1, 250);
+    const BernsteinPoly p = randomPoly(rng, n, 1 + trial % 4);
+    expectSameBits(p.elevated(by).coeffs(), elevatedByRows(p.coeffs(), by),
+                   "elevated " + std::to_string(n) + " by " + std::to_string(by));
+  }
+}
+
 TEST(BernsteinPoly, ReversedIsPOfOneMinusS) {
   std::mt19937_64 rng(108);
   for (int dim : kDims)

@@ -17,6 +17,9 @@
 #include <optional>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "continuity/curve_projection.h"
 #include "continuity/rational_poly.h"
 #include "continuity/sampling.h"
@@ -598,36 +601,43 @@ int lemma2Degree(const CartesianSide& A, const CartesianSide& B, int waDegree, i
   return 2 * (2 * nA) + B.Suu.num.degree() + nA + 2 * (waDegree + wbDegree);
 }
 
-Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
-                 bool ratB, BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree) {
+/// What buildPiece forms: everything (patch seams), or only what the G2 bound and samples read (the pcurve route's
+/// G2 pieces: wa, wb, rho, T2, nA2, BcT2, O2, tOf; its G1 comes from the composed normals, ComposedSide).
+enum class PieceData { kAll, kG2Only };
+
+/// The piece from both sides' Cartesian forms (cartesian) and weights (1 for a polynomial side).
+Piece buildPiece(const CartesianSide& A, const CartesianSide& B, BernsteinPoly wa, BernsteinPoly wb,
+                 BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree, PieceData data) {
   Piece pc;
   pc.tOf = std::move(tOf);
   pc.sOf = std::move(sOf);
-  const CartesianSide A = cartesian(XA[0], XA[1], XA[2], ratA, 0);
-  const CartesianSide B = cartesian(XB[0], XB[1], XB[2], ratB, 1);
-  pc.wa = ratA ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0);
-  pc.wb = ratB ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0);
+  pc.wa = std::move(wa);
+  pc.wb = std::move(wb);
   WeightContext ctx(pc.wa, pc.wb);
   const RationalPoly T = A.Sv, O = WeightContext::scaled(A.Su, -1.0), Aoo = A.Suu,
                      Aot = WeightContext::scaled(A.Suv, -1.0), Att = A.Svv;
   const RationalPoly Bc = B.Su, Bt = B.Sv, Bcc = B.Suu;
-  pc.g0 = ctx.add(A.S, B.S, -1.0);
-  const RationalPoly nA = WeightContext::cross(T, O), nB = WeightContext::cross(Bt, Bc);
-  const double stripA = kRoundoff * nA.num.maxCoeffNorm(), stripB = kRoundoff * nB.num.maxCoeffNorm();
-  const BernsteinPoly NA = detail::stripEndRoots(nA.num, stripA), NB = detail::stripEndRoots(nB.num, stripB);
-  pc.P = dot(NA, NB);
-  pc.cross = seam::cross(NA, NB);
-  pc.Q = dot(pc.cross, pc.cross);
+  const RationalPoly nA = WeightContext::cross(T, O);
   // |n_A|^2 once: where no end root was stripped NA is n_A's numerator itself (the same product, the same bits).
   const RationalPoly nA2 = WeightContext::dot(nA, nA);
-  pc.R = product(NA.degree() == nA.num.degree() ? nA2.num : dot(NA, NA), dot(NB, NB));
-  pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
-  pc.c1 = ctx.add(Bc, O, -1.0);
-  pc.c2 = ctx.add(Bcc, Aoo, -1.0);
-  pc.O = O;
-  pc.Aoo = Aoo;
+  if (data == PieceData::kAll) {
+    pc.g0 = ctx.add(A.S, B.S, -1.0);
+    const RationalPoly nB = WeightContext::cross(Bt, Bc);
+    const double stripA = kRoundoff * nA.num.maxCoeffNorm(), stripB = kRoundoff * nB.num.maxCoeffNorm();
+    const BernsteinPoly NA = detail::stripEndRoots(nA.num, stripA), NB = detail::stripEndRoots(nB.num, stripB);
+    pc.P = dot(NA, NB);
+    pc.cross = seam::cross(NA, NB);
+    pc.Q = dot(pc.cross, pc.cross);
+    pc.R = product(NA.degree() == nA.num.degree() ? nA2.num : dot(NA, NA), dot(NB, NB));
+    pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
+    pc.c1 = ctx.add(Bc, O, -1.0);
+    pc.c2 = ctx.add(Bcc, Aoo, -1.0);
+    pc.O = O;
+    pc.Aoo = Aoo;
+  }
   // Lemma 2 with lambda = L / D, kappa = K / D (D = (O x T).nA):  rho~ = nA . (D^2 Bcc - L^2 Aoo - 2 L K Aot - K^2 Att)
-  const RationalPoly L = WeightContext::dot(WeightContext::cross(Bc, T), nA);
+  const RationalPoly BcT = WeightContext::cross(Bc, T);  // also |Bc x T|^2 below
+  const RationalPoly L = WeightContext::dot(BcT, nA);
   const RationalPoly K = WeightContext::dot(WeightContext::cross(O, Bc), nA);
   pc.L = L;
   pc.K = K;
@@ -649,11 +659,18 @@ Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<Bernst
     pc.T2 = WeightContext::dot(T, T);
     pc.O2 = WeightContext::dot(O, O);
     pc.nA2 = nA2;
-    const RationalPoly BcT = WeightContext::cross(Bc, T);
     pc.BcT2 = WeightContext::dot(BcT, BcT);
     pc.g2Available = true;
   }
   return pc;
+}
+
+Piece buildPiece(const std::array<BernsteinPoly, 3>& XA, const std::array<BernsteinPoly, 3>& XB, bool ratA,
+                 bool ratB, BernsteinPoly tOf, BernsteinPoly sOf, int maxDegree) {
+  return buildPiece(cartesian(XA[0], XA[1], XA[2], ratA, 0), cartesian(XB[0], XB[1], XB[2], ratB, 1),
+                    ratA ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                    ratB ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0), std::move(tOf),
+                    std::move(sOf), maxDegree, PieceData::kAll);
 }
 
 // Bounds of a rational quantity on a sub-interval [x0, x1] of the piece. The restrictions go through a per-thread
@@ -2314,15 +2331,16 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
       return Status(ErrorCode::kUnsupported,
                     "pcurve seam: a pcurve leaves its surface's domain or its knot-line crossings cannot be isolated");
 
-  // Exact data per leaf, in the same form as the patch seams (g0 and G1 only).
-  std::vector<Piece> pieces;
-  std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed;  // per leaf: A's and B's ComposedSide::h
-  composed.reserve(leaves.size());
-  PCurveSeamBounds out;
-  for (const PCurveLeaf& L : leaves) {
+  // Exact data per leaf, in the same form as the patch seams (g0 and G1 only). The leaves are composed on the
+  // calling thread's arena (each leaf a pure function of its own data: the same values on any number of threads,
+  // so that one heavy seam does not hold a core alone), then taken in leaf order.
+  std::vector<Piece> pieces(leaves.size());
+  std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed(leaves.size());  // A's and B's ComposedSide::h
+  auto composeLeaf = [&](size_t li) {
+    const PCurveLeaf& L = leaves[li];
     ComposedSide A = composeSide(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(), a.normalSign);
     ComposedSide B = composeSide(spB, L.biu, L.biv, L.cb, b.surface->isRational(), b.normalSign);
-    Piece pc;
+    Piece& pc = pieces[li];
     pc.tOf = BernsteinPoly::linear(L.t0, L.t1);
     pc.sOf = BernsteinPoly::linear(toB(L.t0), toB(L.t1));
     pc.wa = A.w;
@@ -2337,13 +2355,25 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     pc.Q = dot(pc.cross, pc.cross);
     pc.R = product(dot(NA, NA), dot(NB, NB));
     pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
-    out.maxDegree = std::max(out.maxDegree, pc.R.degree());
-    if (pc.R.degree() > opt.maxCertifiedDegree)
-      return Status(ErrorCode::kUnsupported,
-                    fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
-                                opt.maxCertifiedDegree));
-    pieces.push_back(std::move(pc));
-    composed.push_back({std::move(A.h), std::move(B.h)});
+    composed[li] = {std::move(A.h), std::move(B.h)};
+  };
+  // As many leaves at a time as the arena has threads (one: the loop of one leaf after the other), each batch
+  // checked in leaf order before the next is composed: a degree above the limit ends the route after at most a
+  // batch of leaves, as the serial loop ended it after one.
+  const size_t batch = static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  PCurveSeamBounds out;
+  for (size_t first = 0; first < leaves.size(); first += batch) {
+    const size_t last = std::min(leaves.size(), first + batch);
+    if (last - first > 1) tbb::parallel_for(first, last, composeLeaf);
+    else composeLeaf(first);
+    for (size_t li = first; li < last; ++li) {
+      const Piece& pc = pieces[li];
+      out.maxDegree = std::max(out.maxDegree, pc.R.degree());
+      if (pc.R.degree() > opt.maxCertifiedDegree)
+        return Status(ErrorCode::kUnsupported,
+                      fmt::format("pcurve seam: composed degree {} above maxCertifiedDegree {}", pc.R.degree(),
+                                  opt.maxCertifiedDegree));
+    }
   }
   out.pieces = static_cast<int>(pieces.size());
   const double edgeScale = std::max(controlDiagonal(*a.surface), controlDiagonal(*b.surface));
@@ -2377,31 +2407,61 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
   double curvMax = 0.0;
   std::vector<std::array<double, 2>> regular;  // (jump, curvature) at the well-conditioned start samples
   bool built = true;
-  for (size_t li = 0; li < leaves.size(); ++li) {
+  // Per leaf on the arena as the G1 data above (pure functions of the leaf), then taken in leaf order: the first
+  // leaf above the degree limit ends the G2 route as the loop did, the samples are replayed in their order.
+  struct G2Leaf {
+    bool tooHigh = false;
+    Piece pc;
+    std::array<std::optional<double>, kPCurveSamplesPerPiece + 1> curvature;  // chartCurvature at the samples
+    std::array<double, kPCurveSamplesPerPiece + 1> jump{};                      // g2Value there (g2Available)
+  };
+  std::vector<G2Leaf> g2Leaves(leaves.size());
+  auto buildG2Leaf = [&](size_t li) {
     const PCurveLeaf& L = leaves[li];
+    G2Leaf& g = g2Leaves[li];
     const std::array<BernsteinPoly, 3> XA = chartRows(spA, L.aiu, L.aiv, L.ca, a.surface->isRational(),
                                                       composed[li][0]),
                                        XB = chartRows(spB, L.biu, L.biv, L.cb, b.surface->isRational(),
                                                       composed[li][1]);
     const CartesianSide CA = cartesian(XA[0], XA[1], XA[2], ra, 0), CB = cartesian(XB[0], XB[1], XB[2], rb, 1);
     // Checked before building anything: a piece above the limit would cost products of polynomials of degree
-    // several hundred for nothing (buildPiece forms the G1 data first).
+    // several hundred for nothing.
     if (lemma2Degree(CA, CB, ra ? XA[0].degree() : 0, rb ? XB[0].degree() : 0) > opt.maxCertifiedDegree) {
-      built = false;
-      break;
+      g.tooHigh = true;
+      return;
     }
-    Piece pc = buildPiece(XA, XB, ra, rb, BernsteinPoly::linear(L.t0, L.t1),
-                          BernsteinPoly::linear(toB(L.t0), toB(L.t1)), opt.maxCertifiedDegree);
+    // The G2 data only (the G1 bound came from the composed normals above), from the Cartesian sides just formed.
+    g.pc = buildPiece(CA, CB, ra ? XA[0].component(XA[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                      rb ? XB[0].component(XB[0].dim() - 1) : BernsteinPoly::constant(1.0),
+                      BernsteinPoly::linear(L.t0, L.t1), BernsteinPoly::linear(toB(L.t0), toB(L.t1)),
+                      opt.maxCertifiedDegree, PieceData::kG2Only);
     for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
       const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
-      if (const auto c = chartCurvature(CA, CB, pc, x)) {
-        curvMax = std::max(curvMax, *c);
-        if (pc.g2Available) regular.push_back({g2Value(pc, x), *c});
-      }
+      g.curvature[static_cast<size_t>(k)] = chartCurvature(CA, CB, g.pc, x);
+      if (g.curvature[static_cast<size_t>(k)] && g.pc.g2Available) g.jump[static_cast<size_t>(k)] = g2Value(g.pc, x);
     }
-    if (!pc.g2Available) built = false;
-    else out.maxDegreeG2 = std::max(out.maxDegreeG2, pc.rho.num.degree());
-    g2Pieces.push_back(std::move(pc));
+  };
+  bool tooHigh = false;
+  for (size_t first = 0; first < leaves.size() && !tooHigh; first += batch) {  // in batches, as the G1 data
+    const size_t last = std::min(leaves.size(), first + batch);
+    if (last - first > 1) tbb::parallel_for(first, last, buildG2Leaf);
+    else buildG2Leaf(first);
+    for (size_t li = first; li < last; ++li) {
+      G2Leaf& g = g2Leaves[li];
+      if (g.tooHigh) {
+        built = false;
+        tooHigh = true;
+        break;
+      }
+      for (size_t k = 0; k < g.curvature.size(); ++k)
+        if (const auto& c = g.curvature[k]) {
+          curvMax = std::max(curvMax, *c);
+          if (g.pc.g2Available) regular.push_back({g.jump[k], *c});
+        }
+      if (!g.pc.g2Available) built = false;
+      else out.maxDegreeG2 = std::max(out.maxDegreeG2, g.pc.rho.num.degree());
+      g2Pieces.push_back(std::move(g.pc));
+    }
   }
   out.curvatureMax = curvMax;
   if (!built) {

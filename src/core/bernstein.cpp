@@ -248,6 +248,44 @@ void convolveRows(const double* sa, bool aScalar, int n, const double* sb, bool 
   convolveRowsDefault(sa, aScalar, n, sb, bScalar, m, d, so);
 }
 
+// so_c[i + j] += (x_i cross y_j)_c for the rows x_i of sa (row-major, 3 values) and y_j of B, i outer: B and the sums
+// by column (sb_c[j] = sb[c (m + 1) + j], so_c[k] = so[c (n + m + 1) + k]), so that the loop over j runs four lanes
+// wide. Each term is Eigen's Vector3d::cross (x1 y2 - x2 y1, x2 y0 - x0 y2, x0 y1 - x1 y0) and each sum adds its
+// terms in the order of i, as the row-by-row loop did: the same bits.
+SEAM_KERNEL void crossRowsKernel(const double* sa, int n, const double* sb, int m, double* so) {
+  const size_t nb = static_cast<size_t>(m) + 1, no = static_cast<size_t>(n + m) + 1;
+  const double *y0 = sb, *y1 = sb + nb, *y2 = sb + 2 * nb;
+  for (int i = 0; i <= n; ++i) {
+    const double x0 = sa[3 * i], x1 = sa[3 * i + 1], x2 = sa[3 * i + 2];
+    double* __restrict o0 = so + i;
+    double* __restrict o1 = so + no + i;
+    double* __restrict o2 = so + 2 * no + i;
+    for (size_t j = 0; j < nb; ++j) {
+      o0[j] += x1 * y2[j] - x2 * y1[j];
+      o1[j] += x2 * y0[j] - x0 * y2[j];
+      o2[j] += x0 * y1[j] - x1 * y0[j];
+    }
+  }
+}
+void crossRowsDefault(const double* sa, int n, const double* sb, int m, double* so) {
+  crossRowsKernel(sa, n, sb, m, so);
+}
+#ifdef SEAM_BERNSTEIN_AVX2
+SEAM_AVX2_TARGET void crossRowsAvx2(const double* sa, int n, const double* sb, int m, double* so) {
+  crossRowsKernel(sa, n, sb, m, so);
+}
+#endif
+void crossRows(const double* sa, int n, const double* sb, int m, double* so) {
+#ifdef SEAM_BERNSTEIN_AVX2
+  if (m > 8 && hasAvx2()) return crossRowsAvx2(sa, n, sb, m, so);
+#endif
+  crossRowsDefault(sa, n, sb, m, so);
+}
+
+// productRows of an A with several columns goes column by column from this degree of A (and B above degree 8, where
+// convolveAdd runs four lanes wide); below, the row-major convolution (convolveRows).
+constexpr int kColumnProductMinDegree = 4;
+
 Matrix productRows(const Matrix& a, const Matrix& b) {
   const int n = static_cast<int>(a.rows()) - 1;
   const int m = static_cast<int>(b.rows()) - 1;
@@ -287,7 +325,29 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
     for (int j = 0; j <= m; ++j)
       for (Eigen::Index c = 0; c < cb; ++c) sb[j * cb + c] = b(j, c) * bmr[j];
     double* so = out.data();
-    convolveRows(sa, ca == 1, n, sb, cb == 1, m, dim, so);
+    if (ca > 1 && n >= kColumnProductMinDegree && m > 8) {
+      // A with several columns: column by column through contiguous copies (convolveAdd, four lanes over j; the
+      // row-major rows of 3 or 4 values do not fill the lanes). Per value the same products summed in the order of
+      // i from the same zero: the same bits as convolveRows.
+      thread_local std::vector<double> columns;
+      columns.resize(static_cast<size_t>(2 * (n + m) + 3));
+      double* xa = columns.data();
+      double* xb = xa + n + 1;
+      double* xo = xb + m + 1;
+      for (Eigen::Index c = 0; c < dim; ++c) {
+        for (int i = 0; i <= n; ++i) xa[i] = sa[i * ca + c];
+        const double* yb = sb;
+        if (cb > 1) {
+          for (int j = 0; j <= m; ++j) xb[j] = sb[j * cb + c];
+          yb = xb;
+        }
+        std::fill(xo, xo + n + m + 1, 0.0);
+        convolveAdd(xa, n, yb, m, xo);
+        for (int k = 0; k <= n + m; ++k) so[k * dim + c] = xo[k];
+      }
+    } else {
+      convolveRows(sa, ca == 1, n, sb, cb == 1, m, dim, so);
+    }
     for (int k = 0; k <= n + m; ++k)
       for (Eigen::Index c = 0; c < dim; ++c) so[k * dim + c] = so[k * dim + c] / bnm[k];
     return out;
@@ -326,8 +386,13 @@ std::optional<Matrix> lerpLevels(const Matrix& rows, int n, int m0, const Matrix
   if (n == 0) return Matrix(rows.topRows(m0 + 1));
   const Eigen::Index stride = static_cast<Eigen::Index>(m0 + n * k + 1) * d;
   const size_t slots = static_cast<size_t>(n) + 1;
-  std::vector<double> buf(slots * static_cast<size_t>(stride)), scaled(buf.size()), t1(static_cast<size_t>(stride)),
-      t2(static_cast<size_t>(stride)), sa(2 * (static_cast<size_t>(k) + 1));
+  // Per-thread scratch (grown, never shrunk): every value is written before it is read.
+  thread_local std::vector<double> buf, scaled, t1, t2, sa;
+  buf.resize(slots * static_cast<size_t>(stride));
+  scaled.resize(buf.size());
+  t1.resize(static_cast<size_t>(stride));
+  t2.resize(static_cast<size_t>(stride));
+  sa.resize(2 * (static_cast<size_t>(k) + 1));
   for (size_t j = 0; j < slots; ++j)
     std::copy(rows.data() + static_cast<Eigen::Index>(j) * (m0 + 1) * d,
               rows.data() + static_cast<Eigen::Index>(j + 1) * (m0 + 1) * d, buf.data() + j * stride);
@@ -367,6 +432,22 @@ Matrix elevateRows(const Matrix& c, int by) {
   if (by <= 0) return c;
   const int n = static_cast<int>(c.rows()) - 1;
   Matrix out = Matrix::Zero(n + by + 1, c.cols());
+  if (n + by <= kBinomialRowCacheMax) {
+    // On the raw rows with the binomial rows looked up once (binomialRow: binom's values): per value the same
+    // factor C(n, j) C(by, i - j) / C(n + by, i), products and sums in the same order as the row expressions below.
+    const double *bn = binomialRow(n), *bb = binomialRow(by), *bo = binomialRow(n + by);
+    const Eigen::Index d = c.cols();
+    for (int i = 0; i <= n + by; ++i) {
+      const double denom = bo[i];
+      double* o = out.data() + static_cast<Eigen::Index>(i) * d;
+      for (int j = std::max(0, i - by); j <= std::min(n, i); ++j) {
+        const double f = bn[j] * bb[i - j] / denom;
+        const double* x = c.data() + static_cast<Eigen::Index>(j) * d;
+        for (Eigen::Index k = 0; k < d; ++k) o[k] += f * x[k];
+      }
+    }
+    return out;
+  }
   for (int i = 0; i <= n + by; ++i) {
     const double denom = binom(n + by, i);
     for (int j = std::max(0, i - by); j <= std::min(n, i); ++j)
@@ -721,18 +802,21 @@ BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
     out.col(2) = z.coeffs().col(0);
     return BernsteinPoly(std::move(out));
   }
-  // One convolution of the binomially scaled rows (see productRows).
+  // One convolution of the binomially scaled rows (see productRows), B's rows and the sums by column (crossRows).
   Matrix as = a.coeffs(), bs = b.coeffs();
   for (int i = 0; i <= n; ++i) as.row(i) *= binom(n, i);
   for (int j = 0; j <= m; ++j) bs.row(j) *= binom(m, j);
-  Matrix out = Matrix::Zero(n + m + 1, 3);
-  for (int i = 0; i <= n; ++i) {
-    const Eigen::Vector3d x = as.row(i).transpose();
-    for (int j = 0; j <= m; ++j) {
-      const Eigen::Vector3d y = bs.row(j).transpose();
-      out.row(i + j) += x.cross(y).transpose();
-    }
-  }
+  thread_local std::vector<double> scratch;
+  const size_t nb = static_cast<size_t>(m) + 1, no = static_cast<size_t>(n + m) + 1;
+  scratch.assign(3 * (nb + no), 0.0);
+  double* sb = scratch.data();
+  double* so = sb + 3 * nb;
+  for (size_t j = 0; j < nb; ++j)
+    for (size_t c = 0; c < 3; ++c) sb[c * nb + j] = bs(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(c));
+  crossRows(as.data(), n, sb, m, so);
+  Matrix out(n + m + 1, 3);
+  for (size_t k = 0; k < no; ++k)
+    for (size_t c = 0; c < 3; ++c) out(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = so[c * no + k];
   for (int k = 0; k <= n + m; ++k) out.row(k) /= binom(n + m, k);
   return BernsteinPoly(std::move(out));
 }
@@ -765,11 +849,29 @@ BernsteinPoly BernsteinPatch::isoV(double v) const { return swapped().isoU(v); }
 BernsteinPoly BernsteinPatch::composed(const BernsteinPoly& u, const BernsteinPoly& v) const {
   assert(u.dim() == 1 && v.dim() == 1);
   // Each u-row (a curve in v) composed with v(t), then de Casteljau in u with polynomial arithmetic.
+  const BernsteinPoly oneMinusU = BernsteinPoly::constant(1.0, u.degree()) - u;
+  {
+    // All u-rows at once, side by side as columns (wide(j, i d + c) = row i's coefficient j, column c): lerpLevels
+    // treats every column alike, so each row's composition has the bits of BernsteinPoly::composed(v).
+    const Eigen::Index d = dim();
+    Matrix wide(dv_ + 1, static_cast<Eigen::Index>(du_ + 1) * d);
+    for (int i = 0; i <= du_; ++i)
+      wide.middleCols(static_cast<Eigen::Index>(i) * d, d) =
+          c_.middleRows(static_cast<Eigen::Index>(i) * (dv_ + 1), dv_ + 1);
+    const BernsteinPoly oneMinusV = BernsteinPoly::constant(1.0, v.degree()) - v;
+    if (std::optional<Matrix> cv = lerpLevels(wide, dv_, 0, oneMinusV.coeffs(), v.coeffs())) {
+      const Eigen::Index m0 = cv->rows() - 1;
+      Matrix rows((du_ + 1) * (m0 + 1), d);
+      for (int i = 0; i <= du_; ++i)
+        rows.middleRows(static_cast<Eigen::Index>(i) * (m0 + 1), m0 + 1) = cv->middleCols(static_cast<Eigen::Index>(i) * d, d);
+      if (std::optional<Matrix> c = lerpLevels(rows, du_, static_cast<int>(m0), oneMinusU.coeffs(), u.coeffs()))
+        return BernsteinPoly(std::move(*c));
+    }
+  }
   std::vector<BernsteinPoly> b;
   b.reserve(static_cast<size_t>(du_ + 1));
   for (int i = 0; i <= du_; ++i)
     b.push_back(BernsteinPoly(Matrix(c_.middleRows(static_cast<Eigen::Index>(i) * (dv_ + 1), dv_ + 1))).composed(v));
-  const BernsteinPoly oneMinusU = BernsteinPoly::constant(1.0, u.degree()) - u;
   {
     const int m0 = b.front().degree();
     Matrix rows(static_cast<Eigen::Index>(du_ + 1) * (m0 + 1), dim());

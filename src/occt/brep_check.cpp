@@ -38,6 +38,7 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -45,6 +46,7 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "continuity/sampling.h"
 #include "occt/cad_internal.h"
@@ -878,13 +880,43 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
           B.pcurveEval.Load(B.pcurve, B.first, B.last);
           A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
-          const EdgeSamples samples = sampleEdge(edge, A, B, seamOpt, size);
           const bool exact = out.import.faces[pa].exact && out.import.faces[pb].exact;
+          EdgeSamples samples;
           EdgeCertificate cert;
-          if (exact)
-            tryCertificate(cert, A, B, faceBoxes, ia, ib, out.import.model.patches[pa].surface,
-                           out.import.model.patches[pb].surface, edge, seam.a, seam.b, seamOpt, size,
-                           spansCache, pa, pb);
+          auto certify = [&] {
+            if (exact)
+              tryCertificate(cert, A, B, faceBoxes, ia, ib, out.import.model.patches[pa].surface,
+                             out.import.model.patches[pb].surface, edge, seam.a, seam.b, seamOpt, size,
+                             spansCache, pa, pb);
+          };
+          if (options.threads == 1) {
+            samples = sampleEdge(edge, A, B, seamOpt, size);
+            certify();
+          } else {
+            // The samples (OpenCASCADE's evaluators through A's and B's adaptors) and the certificate (the
+            // faces' Geom objects, the converted patches, seam's own polynomials: no state shared with the
+            // samples) as two tasks, so that one heavy edge does not hold the last block on one core. Each
+            // computes what it computes serially; a failure is raised as the serial order would raise it (the
+            // samples' first).
+            std::exception_ptr sampleError, certError;
+            tbb::task_group tasks;
+            tasks.run([&] {
+              OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
+              try {
+                samples = sampleEdge(edge, A, B, seamOpt, size);
+              } catch (...) {
+                sampleError = std::current_exception();
+              }
+            });
+            try {
+              certify();
+            } catch (...) {
+              certError = std::current_exception();
+            }
+            tasks.wait();
+            if (sampleError) std::rethrow_exception(sampleError);
+            if (certError) std::rethrow_exception(certError);
+          }
           seam.report = sampledSeam(samples, A, B, seam.a, seam.b, seamOpt, !cert.certifies(), !cert.certifiesG2());
           if (exact) {
             applyCertificate(seam.report, cert, seam.a, seam.b, size);
@@ -916,7 +948,10 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
       const int n = std::min(kProgressEdgeStep, nEdges - first + 1);
       block.assign(static_cast<size_t>(n), EdgeOutcome{});
       if (options.threads == 1) {
-        for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(first + k);
+        // In the one-thread arena: the nested parallel loops of an edge (certifyPCurveSeam's leaves) run here too.
+        arena.execute([&] {
+          for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(first + k);
+        });
       } else {
         arena.execute([&] {
           tbb::parallel_for(0, n, [&](int k) { block[static_cast<size_t>(k)] = analyseEdge(first + k); });
