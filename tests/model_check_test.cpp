@@ -565,6 +565,62 @@ TEST(ModelCheckCoincident, TwoCoincidentEdgesAreAnOrdinarySeam) {
   EXPECT_TRUE(found);
 }
 
+TEST(ModelCheckCoincident, EdgesSharingTheirEndsButNotTheirMiddleFormSeparateGroupsAsBruteForce) {
+  // Three copies of a patch, and three copies of the same patch with the middle of its u1 edge bent out of the
+  // surface: all six u1 edges share their end points, but only the copies that also share the middle are one group
+  // (two groups of three); the other three edges of all six patches coincide (groups of six). Expected groups from a
+  // brute-force comparison of every two edges' end and mid points.
+  const BezierPatch base = baseSurface();
+  const BSplineSurface plain = subPatch(base, 0.0, 0.5, 0.0, 1.0);
+  Matrix pts = plain.points();
+  for (int j : {1, 2}) pts(3 * 4 + j, 2) += 0.05;  // row i = 3 (the u1 edge), its two inner points
+  const BSplineSurface bent(plain.degreeU(), plain.degreeV(), plain.knotsU(), plain.knotsV(), plain.numU(),
+                            plain.numV(), pts);
+  Model m;
+  for (int k = 0; k < 6; ++k) m.patches.push_back({"P" + std::to_string(k), PatchKind::kBSpline, k < 3 ? plain : bent});
+  ModelCheckOptions o;
+  o.analyzeSeams = false;
+  o.analyzeCorners = false;
+  const Result<ModelCheckReport> r = checkModel(m, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const double tol = r->tolerances.distance;
+  // Brute force: each edge not yet grouped with every later edge (ends either way round and mid points within tol).
+  struct Ends {
+    EdgeRef ref;
+    Vec3 start, end, mid;
+  };
+  std::vector<Ends> edges;
+  for (int p = 0; p < 6; ++p)
+    for (Edge e : kAllEdges) {
+      const BSplineCurve c = m.patches[static_cast<size_t>(p)].surface.boundaryCurve(e);
+      const Interval d = c.domain();
+      edges.push_back({{p, e}, c.evaluate(d.lo).head<3>(), c.evaluate(d.hi).head<3>(),
+                       c.evaluate(0.5 * (d.lo + d.hi)).head<3>()});
+    }
+  std::set<std::vector<EdgeRef>> expected;
+  std::vector<char> grouped(edges.size(), 0);
+  for (size_t i = 0; i < edges.size(); ++i) {
+    if (grouped[i]) continue;
+    std::vector<EdgeRef> group{edges[i].ref};
+    for (size_t j = i + 1; j < edges.size(); ++j) {
+      const Ends& x = edges[i];
+      const Ends& y = edges[j];
+      const bool ends = ((x.start - y.start).norm() <= tol && (x.end - y.end).norm() <= tol) ||
+                        ((x.start - y.end).norm() <= tol && (x.end - y.start).norm() <= tol);
+      if (ends && (x.mid - y.mid).norm() <= tol) {
+        group.push_back(edges[j].ref);
+        grouped[j] = 1;
+      }
+    }
+    if (group.size() >= 3) expected.insert(group);
+  }
+  ASSERT_EQ(expected.size(), 5u);  // u0, v0, v1 of all six; u1 of the plain three; u1 of the bent three
+  std::set<std::vector<EdgeRef>> got;
+  for (const CoincidentEdges& c : r->coincidentEdges) got.insert(c.edges);
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(r->coincidentEdges.size(), expected.size());
+}
+
 /// Every field of a report that the pairing, the corners and the seam analyses produce, as text (doubles in their
 /// shortest exact form), so that two reports compare equal only when they are identical, in the same order.
 std::string reportText(const ModelCheckReport& r) {

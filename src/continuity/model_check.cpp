@@ -326,6 +326,20 @@ detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
   return best;
 }
 
+/// The pair identicalPolygons reports for polygons found to agree in the orientation `reversed` within `distance`
+/// (before snapOverlap).
+EdgePair identicalPair(const EdgeInfo& a, const EdgeInfo& b, bool reversed, double distance) {
+  EdgePair p;
+  p.a = a.ref;
+  p.b = b.ref;
+  p.overlapA = a.domain;
+  p.overlapB = b.domain;
+  p.reversed = reversed;
+  p.distance = distance;
+  p.identicalControlPolygons = true;
+  return p;
+}
+
 /// Fast path: control polygons that agree point by point within `tol` (in the same or reversed order, the closer of
 /// the two) with equivalent knots and weights. Then the edges are the same parametrised curve up to the largest
 /// control-point distance (partition of unity).
@@ -368,15 +382,7 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
     bestD = d;
   }
   if (!found) return std::nullopt;
-  EdgePair p;
-  p.a = a.ref;
-  p.b = b.ref;
-  p.overlapA = a.domain;
-  p.overlapB = b.domain;
-  p.reversed = bestReversed;
-  p.distance = bestD;
-  p.identicalControlPolygons = true;
-  return p;
+  return identicalPair(a, b, bestReversed, bestD);
 }
 
 /// The longest run of consecutive samples within `tol` of the other edge; returns (first, last) indices.
@@ -769,6 +775,10 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
 
 /// Groups of three or more coincident edges (same end points, either way round, and mid point within `tol`), found
 /// by sorting quantised keys: O(N log N). All but the first two edges of each group are marked coincidentExtra.
+/// The keys are made in two steps: the end points' six quantised coordinates for every edge, and the mid point's
+/// three only for the edges that share their end-point key with two others or more (a group of three equal keys
+/// needs three equal end-point keys: on a model of distinct seams no mid point is evaluated). The groups, their
+/// members and the marks are those of the nine-coordinate keys.
 std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, double tol, int threads) {
   const double q = tol > 0.0 ? tol : std::numeric_limits<double>::min();
   // Cell index of a coordinate (the coordinate itself when the index would not be an exact integer): identical
@@ -777,28 +787,33 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
     const double r = std::floor(v / q);
     return std::isfinite(r) && std::abs(r) < kExactIntegerDouble ? r : v;
   };
+  constexpr size_t kEndKeys = 6;  ///< the end points' quantised coordinates (the first six of the nine)
   struct Key {
-    std::array<double, 9> k;
+    std::array<double, 9> k;  ///< end points (the lexicographically smaller first), then the mid point
     int edge;
   };
-  // Keys and hashes per edge in parallel (each edge its own slot), then the non-collapsed ones in edge order.
-  std::vector<Vec3> mids(edges.size(), Vec3::Zero());
+  auto endsEqual = [](const Key& x, const Key& y) {
+    return std::equal(x.k.begin(), x.k.begin() + kEndKeys, y.k.begin());
+  };
+  auto endsLess = [](const Key& x, const Key& y) {
+    return std::lexicographical_compare(x.k.begin(), x.k.begin() + kEndKeys, y.k.begin(), y.k.begin() + kEndKeys);
+  };
+  // End-point keys and their hashes per edge in parallel (each edge its own slot), then the non-collapsed ones in edge
+  // order.
   std::vector<Key> all(edges.size());
   std::vector<std::uint64_t> hashes(edges.size());
   forEachIndex(edges.size(), threads, [&](size_t i) {
     const EdgeInfo& e = edges[i];
     if (e.collapsed) return;
-    mids[i] = e.curve.point3(0.5 * (e.domain.lo + e.domain.hi));
     Vec3 a = e.start, b = e.end;
     if (std::lexicographical_compare(b.data(), b.data() + 3, a.data(), a.data() + 3)) std::swap(a, b);
     Key key{{}, static_cast<int>(i)};
     for (int c = 0; c < 3; ++c) {
       key.k[static_cast<size_t>(c)] = quant(a[c]);
       key.k[static_cast<size_t>(3 + c)] = quant(b[c]);
-      key.k[static_cast<size_t>(6 + c)] = quant(mids[i][c]);
     }
     all[i] = key;
-    hashes[i] = hashDoubles(key.k);
+    hashes[i] = hashDoubles(std::span<const double>(key.k.data(), kEndKeys));
   });
   std::vector<Key> keys;
   std::vector<std::pair<std::uint64_t, int>> byHash;
@@ -809,8 +824,9 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
     byHash.emplace_back(hashes[i], static_cast<int>(keys.size()));
     keys.push_back(all[i]);
   }
-  // Ordered so that equal keys are contiguous, in increasing edge order: by a hash of the key (a stable linear sort of
-  // keys made in edge order), runs of one hash holding different keys (collisions) then stably by the key itself.
+  // Ordered so that equal end-point keys are contiguous, in increasing edge order: by a hash of the key (a stable
+  // linear sort of keys made in edge order), runs of one hash holding different keys (collisions) then stably by the
+  // key itself.
   {
     radixSortByKey(byHash, 64);
     std::vector<Key> sorted;
@@ -822,39 +838,58 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
       bool mixed = false;
       for (size_t m = r; m < end; ++m) {
         sorted.push_back(keys[static_cast<size_t>(byHash[m].second)]);
-        mixed = mixed || !(sorted.back().k == sorted[first].k);
+        mixed = mixed || !endsEqual(sorted.back(), sorted[first]);
       }
       if (mixed)
-        std::stable_sort(sorted.begin() + static_cast<std::ptrdiff_t>(first), sorted.end(),
-                         [](const Key& x, const Key& y) { return x.k < y.k; });
+        std::stable_sort(sorted.begin() + static_cast<std::ptrdiff_t>(first), sorted.end(), endsLess);
       r = end;
     }
     keys.swap(sorted);
   }
   std::vector<CoincidentEdges> out;
-  for (size_t g = 0; g < keys.size();) {
-    size_t end = g + 1;
-    while (end < keys.size() && keys[end].k == keys[g].k) ++end;
-    if (end - g >= 3) {
-      const EdgeInfo& first = edges[static_cast<size_t>(keys[g].edge)];
-      const Vec3& firstMid = mids[static_cast<size_t>(keys[g].edge)];
-      std::vector<int> members;
-      for (size_t m = g; m < end; ++m) {
-        const EdgeInfo& e = edges[static_cast<size_t>(keys[m].edge)];
-        const bool same = (e.start - first.start).norm() <= tol && (e.end - first.end).norm() <= tol;
-        const bool flipped = (e.start - first.end).norm() <= tol && (e.end - first.start).norm() <= tol;
-        if ((same || flipped) && (mids[static_cast<size_t>(keys[m].edge)] - firstMid).norm() <= tol)
-          members.push_back(keys[m].edge);
-      }
-      if (members.size() >= 3) {  // keys sorted by edge within the group: members are in EdgeRef order
-        CoincidentEdges c;
-        for (int i : members) c.edges.push_back(edges[static_cast<size_t>(i)].ref);
-        c.point = firstMid;
-        for (size_t m = 2; m < members.size(); ++m) edges[static_cast<size_t>(members[m])].coincidentExtra = true;
-        out.push_back(std::move(c));
-      }
+  std::vector<Vec3> mids;  // of the current end-point group's edges, by position in `keys`
+  for (size_t h = 0; h < keys.size();) {
+    size_t hEnd = h + 1;
+    while (hEnd < keys.size() && endsEqual(keys[hEnd], keys[h])) ++hEnd;
+    if (hEnd - h < 3) {
+      h = hEnd;
+      continue;
     }
-    g = end;
+    // Three or more equal end-point keys: the mid points' keys, then runs of equal nine-coordinate keys in edge order
+    // (the run is in edge order; a stable sort by the whole key keeps it within equal keys).
+    mids.assign(hEnd - h, Vec3::Zero());
+    for (size_t m = h; m < hEnd; ++m) {
+      const EdgeInfo& e = edges[static_cast<size_t>(keys[m].edge)];
+      mids[m - h] = e.curve.point3(0.5 * (e.domain.lo + e.domain.hi));
+      for (int c = 0; c < 3; ++c) keys[m].k[static_cast<size_t>(6 + c)] = quant(mids[m - h][c]);
+    }
+    std::vector<std::pair<Key, Vec3>> group;
+    for (size_t m = h; m < hEnd; ++m) group.emplace_back(keys[m], mids[m - h]);
+    std::stable_sort(group.begin(), group.end(), [](const auto& x, const auto& y) { return x.first.k < y.first.k; });
+    for (size_t g = 0; g < group.size();) {
+      size_t end = g + 1;
+      while (end < group.size() && group[end].first.k == group[g].first.k) ++end;
+      if (end - g >= 3) {
+        const EdgeInfo& first = edges[static_cast<size_t>(group[g].first.edge)];
+        const Vec3& firstMid = group[g].second;
+        std::vector<int> members;
+        for (size_t m = g; m < end; ++m) {
+          const EdgeInfo& e = edges[static_cast<size_t>(group[m].first.edge)];
+          const bool same = (e.start - first.start).norm() <= tol && (e.end - first.end).norm() <= tol;
+          const bool flipped = (e.start - first.end).norm() <= tol && (e.end - first.start).norm() <= tol;
+          if ((same || flipped) && (group[m].second - firstMid).norm() <= tol) members.push_back(group[m].first.edge);
+        }
+        if (members.size() >= 3) {  // keys sorted by edge within the group: members are in EdgeRef order
+          CoincidentEdges c;
+          for (int i : members) c.edges.push_back(edges[static_cast<size_t>(i)].ref);
+          c.point = firstMid;
+          for (size_t m = 2; m < members.size(); ++m) edges[static_cast<size_t>(members[m])].coincidentExtra = true;
+          out.push_back(std::move(c));
+        }
+      }
+      g = end;
+    }
+    h = hEnd;
   }
   std::sort(out.begin(), out.end(),
             [](const CoincidentEdges& x, const CoincidentEdges& y) { return x.edges.front() < y.edges.front(); });
@@ -934,7 +969,14 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   // Stage 1 (parallel, read-only): identical control polygons (within tau, then the gap rules: small patches whose
   // polygons all lie within tau of each other stop here), or else the cheap necessary condition of the sampled test.
   enum class Stage : char { kRejected, kIdentical, kSampled };
-  std::vector<Stage> stage(pairs.size(), Stage::kRejected);
+  // An identical-polygon candidate keeps the orientation and distance identicalPolygons found (stage 3 rebuilds the
+  // pair from them instead of comparing the polygons again).
+  struct StageResult {
+    Stage stage = Stage::kRejected;
+    bool reversed = false;
+    double distance = 0.0;
+  };
+  std::vector<StageResult> stage(pairs.size());
   forEachIndex(pairs.size(), options.threads, [&](size_t k) {
     const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
     const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
@@ -956,17 +998,17 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     }
     if (std::optional<EdgePair> p = identicalPolygons(a, b, tau)) {
       snapOverlap(*p, a, b);
-      if (keepPair(*p, a, b)) stage[k] = Stage::kIdentical;
+      if (keepPair(*p, a, b)) stage[k] = {Stage::kIdentical, p->reversed, p->distance};
     } else if (mayOverlap(a, b, tauPairOf(a, b))) {
-      stage[k] = Stage::kSampled;
+      stage[k].stage = Stage::kSampled;
     }
   });
   std::vector<size_t> survivors;
   std::vector<char> needsSamples(P.edges.size(), 0);
   for (size_t k = 0; k < pairs.size(); ++k) {
-    if (stage[k] == Stage::kRejected) continue;
+    if (stage[k].stage == Stage::kRejected) continue;
     survivors.push_back(k);
-    if (stage[k] == Stage::kSampled)
+    if (stage[k].stage == Stage::kSampled)
       needsSamples[static_cast<size_t>(pairs[k].first)] = needsSamples[static_cast<size_t>(pairs[k].second)] = 1;
   }
   // Stage 2: the samples of the edges that need them, each edge once, in parallel.
@@ -982,8 +1024,8 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
     const bool samePatch = a.ref.patch == b.ref.patch;
     std::optional<EdgePair> p;
-    if (stage[k] == Stage::kIdentical) {
-      p = identicalPolygons(a, b, tau);
+    if (stage[k].stage == Stage::kIdentical) {
+      p = identicalPair(a, b, stage[k].reversed, stage[k].distance);
       snapOverlap(*p, a, b);
     } else {
       // Two passes: the cheap polyline pass rejects most candidates (edges that only touch at a corner, parallel
