@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <set>
@@ -14,6 +16,7 @@
 #include <tuple>
 #include <vector>
 
+#include "continuity/one_span_curve.h"
 #include "seam/continuity/corner.h"
 #include "seam/continuity/model_check.h"
 #include "seam/core/bernstein.h"
@@ -518,6 +521,49 @@ TEST(ModelCheckExtreme, SubnormalKnotsDoNotOverflowTheCornerGrid) {
   } else {
     EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
   }
+}
+
+TEST(OneSpanCurve, GivesTheCurvesOwnBitsAndFallsBackOffItsRoute) {
+  // Every Bezier edge (one clamped polynomial span, degree 1..5) is evaluated without the span search; the values must
+  // be BSplineCurve::point3's and derivatives2's bit for bit, at the domain ends and inside. Rational, multi-span and
+  // higher-degree curves take the curve's own route.
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> coord(-3.0, 3.0), unit(0.0, 1.0);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  auto sameBits = [&](const Vec3& x, const Vec3& y) {
+    return bits(x[0]) == bits(y[0]) && bits(x[1]) == bits(y[1]) && bits(x[2]) == bits(y[2]);
+  };
+  int compared = 0;
+  for (int p = 1; p <= 6; ++p)
+    for (int variant = 0; variant < 4; ++variant) {
+      // variant 0: one span; 1: rational; 2: two spans; 3: one span on a tiny domain far from 0.
+      const double a = variant == 3 ? 1e6 + unit(rng) : coord(rng);
+      const double b = a + (variant == 3 ? 1e-7 : 0.1 + unit(rng));
+      std::vector<double> knots(static_cast<size_t>(p + 1), a);
+      if (variant == 2) knots.push_back(0.5 * (a + b));
+      knots.insert(knots.end(), static_cast<size_t>(p + 1), b);
+      const int n = static_cast<int>(knots.size()) - p - 1;
+      Matrix pts(n, 3);
+      for (int i = 0; i < n; ++i) pts.row(i) << coord(rng), coord(rng), coord(rng);
+      pts(0, 2) = -0.0;  // a negative zero coordinate must come out alike
+      VecX w;
+      if (variant == 1) w = VecX::Constant(n, 1.0) + 0.5 * VecX::Random(n).cwiseAbs();
+      const BSplineCurve c = BSplineCurve::create(p, knots, pts, w).value();
+      const detail::OneSpanCurve ev(c);
+      EXPECT_EQ(ev.oneSpan(), p <= detail::kOneSpanMaxDegree && (variant == 0 || variant == 3)) << p << " " << variant;
+      std::vector<double> ts = {a, b, std::nextafter(a, b), std::nextafter(b, a), 0.5 * (a + b)};
+      for (int i = 0; i < 20; ++i) ts.push_back(a + (b - a) * unit(rng));
+      for (const double t : ts) {
+        SCOPED_TRACE("degree " + std::to_string(p) + ", variant " + std::to_string(variant) + ", t " + std::to_string(t));
+        EXPECT_TRUE(sameBits(ev.point3(t), c.point3(t)));
+        Vec3 x, d1, d2, y, e1, e2;
+        ev.derivatives2(t, x, d1, d2);
+        c.derivatives2(t, y, e1, e2);
+        EXPECT_TRUE(sameBits(x, y) && sameBits(d1, e1) && sameBits(d2, e2));
+        ++compared;
+      }
+    }
+  EXPECT_EQ(compared, 6 * 4 * 25);
 }
 
 TEST(ModelCheckCoincident, IdenticalPatchesAreReportedAsCoincidentEdgesNotPairedQuadratically) {

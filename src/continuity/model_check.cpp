@@ -18,6 +18,7 @@
 
 #include "core/union_find.h"
 #include "continuity/model_check_internal.h"
+#include "continuity/one_span_curve.h"
 #include "continuity/seam_internal.h"
 
 namespace seam {
@@ -40,7 +41,8 @@ EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::o
   for (double b : curve.knots().interiorBreakpoints(curve.degree()))
     if (b > r.lo && b < r.hi) cuts.push_back(b);
   cuts.push_back(r.hi);
-  auto dist2 = [&](double t) { return (curve.point3(t) - p).squaredNorm(); };
+  const OneSpanCurve ev(curve);  // the curve's own values, without the span search on Bezier edges
+  auto dist2 = [&](double t) { return (ev.point3(t) - p).squaredNorm(); };
   double bestT = r.lo, bestD = dist2(r.lo);
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
     for (int i = 1; i <= kProjectionSamplesPerSpan; ++i) {
@@ -56,7 +58,7 @@ EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::o
   double t = bestT;
   for (int it = 0; it < kProjectionNewtonIterations; ++it) {
     Vec3 x, d1, d2;
-    curve.derivatives2(t, x, d1, d2);
+    ev.derivatives2(t, x, d1, d2);
     const Vec3 diff = x - p;
     const double f = diff.dot(d1);
     const double fp = d1.squaredNorm() + diff.dot(d2);
@@ -275,21 +277,23 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std
     clampedLo = clampedLo && kn[static_cast<size_t>(i)] == kn.front();
     clampedHi = clampedHi && kn[kn.size() - 1 - static_cast<size_t>(i)] == kn.back();
   }
-  info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : info.curve.point3(info.domain.lo);
-  info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : info.curve.point3(info.domain.hi);
+  const detail::OneSpanCurve ev(info.curve);
+  info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : ev.point3(info.domain.lo);
+  info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : ev.point3(info.domain.hi);
   const double step = info.domain.length() / kDepartureDivisor;
-  info.startDir = (info.curve.point3(info.domain.lo + step) - info.start).normalized();
-  info.endDir = (info.curve.point3(info.domain.hi - step) - info.end).normalized();
+  info.startDir = (ev.point3(info.domain.lo + step) - info.start).normalized();
+  info.endDir = (ev.point3(info.domain.hi - step) - info.end).normalized();
   return info;
 }
 
 /// Width of a patch across two opposite edges (U0/U1 or V0/V1, whose curves share one parameter domain): the largest
 /// of the distances between them at 1/4, 1/2 and 3/4 of the edge parameter.
 void setWidths(EdgeInfo& e0, EdgeInfo& e1) {
+  const detail::OneSpanCurve ev0(e0.curve), ev1(e1.curve);
   double w = 0.0;
   for (double f : {0.25, 0.5, 0.75}) {
     const double t = e0.domain.lo + f * e0.domain.length();
-    w = std::max(w, safeNorm(e0.curve.point3(t) - e1.curve.point3(t)));
+    w = std::max(w, safeNorm(ev0.point3(t) - ev1.point3(t)));
   }
   e0.width = e1.width = w;
 }
@@ -304,12 +308,13 @@ void ensureSamples(EdgeInfo& e) {
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= perSpan; ++i)
       e.sampleT.push_back(cuts[static_cast<size_t>(k)] + (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / perSpan);
-  for (double t : e.sampleT) e.sampleP.push_back(e.curve.point3(t));
+  const detail::OneSpanCurve ev(e.curve);
+  for (double t : e.sampleT) e.sampleP.push_back(ev.point3(t));
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= kPolylinePerSpan; ++i)
       e.polyT.push_back(cuts[static_cast<size_t>(k)] +
                         (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / kPolylinePerSpan);
-  for (double t : e.polyT) e.polyP.push_back(e.curve.point3(t));
+  for (double t : e.polyT) e.polyP.push_back(ev.point3(t));
 }
 
 /// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
