@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -230,6 +231,8 @@ struct EdgeInfo {
   bool collapsed = false;
   bool coincidentExtra = false;  ///< a third or later copy of a coincident edge: left out of the pairing
   Vec3 start = Vec3::Zero(), end = Vec3::Zero();
+  /// The first and last control points (3 coordinates; the stage-1 test reads them for every candidate).
+  Vec3 firstPoint = Vec3::Zero(), lastPoint = Vec3::Zero();
   /// Unit directions in which the edge leaves its start and its end point (chords to the points at 1/64 of the
   /// domain from each end, robust where the first derivative vanishes).
   Vec3 startDir = Vec3::Zero(), endDir = Vec3::Zero();
@@ -278,6 +281,8 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std
     clampedHi = clampedHi && kn[kn.size() - 1 - static_cast<size_t>(i)] == kn.back();
   }
   const detail::OneSpanCurve ev(info.curve);
+  info.firstPoint = P.row(0).head<3>().transpose();
+  info.lastPoint = P.row(P.rows() - 1).head<3>().transpose();
   info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : ev.point3(info.domain.lo);
   info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : ev.point3(info.domain.hi);
   const double step = info.domain.length() / kDepartureDivisor;
@@ -684,12 +689,11 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   if (!(h > 0.0) || !std::isfinite(h)) h = extent > 0.0 ? extent : 1.0;
   h = std::max(h, extent / kMaxCellsPerAxis);
   using Cell = std::array<std::uint64_t, 3>;
-  auto code = [](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
-    return (x << (2 * kCellBits)) | (y << kCellBits) | z;
-  };
   std::vector<std::pair<std::uint64_t, int>> keys;  // (cell code, edge), sorted
   std::vector<int> oversize;
   std::vector<std::array<Cell, 2>> cellRange(edges.size());  // lo, hi cell of each keyed edge
+  std::vector<char> keyed(edges.size(), 0);
+  Cell maxCell{0, 0, 0};  // the largest cell index per axis of the keyed edges
   for (int i : active) {
     const BoundingBox& b = edges[static_cast<size_t>(i)].box;
     const double inflate = inflateOf[static_cast<size_t>(i)];
@@ -708,12 +712,25 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
       continue;
     }
     cellRange[static_cast<size_t>(i)] = {lo, hi};
+    keyed[static_cast<size_t>(i)] = 1;
+    for (size_t k = 0; k < 3; ++k) maxCell[k] = std::max(maxCell[k], hi[k]);
+  }
+  // Cell codes packed with as many bits per axis as the largest index needs (at most kCellBits): one code per cell,
+  // and as few radix passes as the occupied cells need (2 of 16 bits for up to 128 cells per axis).
+  const int bitsY = static_cast<int>(std::bit_width(maxCell[1])), bitsZ = static_cast<int>(std::bit_width(maxCell[2]));
+  const int codeBits = static_cast<int>(std::bit_width(maxCell[0])) + bitsY + bitsZ;
+  auto code = [bitsY, bitsZ](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+    return (x << (bitsY + bitsZ)) | (y << bitsZ) | z;
+  };
+  for (int i : active) {
+    if (!keyed[static_cast<size_t>(i)]) continue;
+    const auto& [lo, hi] = cellRange[static_cast<size_t>(i)];
     for (std::uint64_t x = lo[0]; x <= hi[0]; ++x)
       for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
         for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) keys.emplace_back(code(x, y, z), i);
   }
   // Sorted by (cell, edge): the keys were made in increasing edge order, so a stable sort by cell alone does it.
-  radixSortByKey(keys, 3 * kCellBits);
+  radixSortByKey(keys, codeBits);
   // Each occupied cell's run of keys, found by a hash of its code.
   size_t cells = 0;
   for (size_t k = 0; k < keys.size(); ++k) cells += (k == 0 || keys[k].first != keys[k - 1].first) ? 1 : 0;
@@ -989,16 +1006,13 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     // rules would keep (in both orientations the distance of the polygons, at least that of their end points, exceeds
     // the largest gap keepPair allows) and the sampled test's necessary condition fails, the candidate is rejected
     // whichever way identicalPolygons decides (edges that only share a corner).
-    const Matrix& pa = a.curve.points();
-    const Matrix& pb = b.curve.points();
-    if (pa.rows() == pb.rows() && pa.rows() > 0) {
-      const Eigen::Index last = pa.rows() - 1;
-      auto dist = [&](Eigen::Index i, Eigen::Index j) { return (pa.row(i) - pb.row(j)).head<3>().norm(); };
+    // (The end control points as Vec3: the same differences and sums of squares as the rows' first three columns.)
+    if (a.curve.numPoints() == b.curve.numPoints() && a.curve.numPoints() > 0) {
       const double keptGap = a.ref.patch == b.ref.patch
                                  ? tol.distance
                                  : std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width));
-      const double sameWay = std::max(dist(0, 0), dist(last, last));
-      const double reversedWay = std::max(dist(0, last), dist(last, 0));
+      const double sameWay = std::max((a.firstPoint - b.firstPoint).norm(), (a.lastPoint - b.lastPoint).norm());
+      const double reversedWay = std::max((a.firstPoint - b.lastPoint).norm(), (a.lastPoint - b.firstPoint).norm());
       if (sameWay > keptGap && reversedWay > keptGap && !mayOverlap(a, b, tauPairOf(a, b))) return;
     }
     if (std::optional<EdgePair> p = identicalPolygons(a, b, tau)) {
