@@ -95,10 +95,17 @@ Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
       for (int b = 0; b < kv; ++b)
         P[static_cast<size_t>(a)][static_cast<size_t>(b)] =
             s.point(c.uMax ? nu - 1 - a : a, c.vMax ? nv - 1 - b : b).transpose().head<3>();
+    // clampedEndWeights leaves w[k][i] = +-0 for i > k: with finite weights those terms have f = +-0 and are skipped
+    // below anyway, so the sums stop at i = k (the same terms in the same order). Non-finite weights take every term.
+    bool finite = true;
+    for (const auto* w : {&wu, &wv})
+      for (const auto& row : *w)
+        for (const double x : row) finite = finite && std::isfinite(x);
     auto mix = [&](int du, int dv) -> Vec3 {
       Vec3 r = Vec3::Zero();
-      for (int a = 0; a < ku; ++a)
-        for (int b = 0; b < kv; ++b) {
+      const int na = finite ? std::min(ku, du + 1) : ku, nb = finite ? std::min(kv, dv + 1) : kv;
+      for (int a = 0; a < na; ++a)
+        for (int b = 0; b < nb; ++b) {
           const double f = wu[static_cast<size_t>(du)][static_cast<size_t>(a)] *
                            wv[static_cast<size_t>(dv)][static_cast<size_t>(b)];
           if (f != 0.0) r += f * P[static_cast<size_t>(a)][static_cast<size_t>(b)];

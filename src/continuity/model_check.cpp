@@ -1333,9 +1333,8 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     if (!co.lengthScale) co.lengthScale = scale > 0.0 && std::isfinite(scale) ? scale : 1.0;
     Result<CornerReport> r = analyzeCorner(patches, corners, cl, co);
     if (!r) return;  // cannot happen for valid indices and 3-D patches (checked before)
-    ModelCorner mc{std::move(r).value()};
+    ModelCorner& mc = analysed[v].emplace(ModelCorner{std::move(r).value()});
     if (!analyze) mc.report.fourPatch.reset();
-    analysed[v] = std::move(mc);
   });
   std::vector<ModelCorner> out;
   out.reserve(analysed.size());
@@ -1411,10 +1410,8 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   CornerOptions co;
   co.tol = tol;
   const double cornerTol = options.cornerTolerance.value_or(tol.distance);
-  for (ModelCorner& c :
-       findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads,
-                   patchDiagonal))
-    report.corners.push_back(std::move(c));
+  report.corners = findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads,
+                               patchDiagonal);  // the same corners in the same order, moved once
 
   // Summary.
   S.seams = static_cast<int>(report.seams.size());
