@@ -648,11 +648,29 @@ class ClaimLists {
 /// True when every coordinate of the box is finite.
 bool finiteBox(const BoundingBox& b) { return b.min.allFinite() && b.max.allFinite(); }
 
+/// The first test of a candidate pair (runPairing's stage 1): rejected, identical control polygons (with the
+/// orientation and distance identicalPolygons found), or to be sampled.
+enum class Stage : char { kRejected, kIdentical, kSampled };
+struct StageResult {
+  Stage stage = Stage::kRejected;
+  bool reversed = false;
+  double distance = 0.0;
+};
+/// A candidate pair of edges (a < b) that its first test did not reject.
+struct Candidate {
+  int a = 0, b = 0;
+  StageResult stage;
+};
+
 /// Candidate pairs from a uniform grid over the inflated edge boxes: sorted (cell, edge) keys, then every two edges
 /// that share a cell. Edge i's box is inflated by inflate[i]; two edges within inflate[i] + inflate[j] of each other
 /// always share a cell. Edges covering too many cells are compared with every edge by box.
-std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf,
-                                                int threads) {
+/// Each pair (i, j), in increasing order, goes through `test(i, j)` (a StageResult; read-only, called in parallel) as
+/// it is found, and only those not rejected are listed: the pairs that a list of every candidate followed by the test
+/// of each would keep, in the same order, without that list.
+template <class Test>
+std::vector<Candidate> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf,
+                                      int threads, const Test& test) {
   std::vector<int> active;
   std::vector<double> sizes;
   for (int i = 0; i < static_cast<int>(edges.size()); ++i) {
@@ -665,7 +683,7 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
     const BoundingBox& b = edges[static_cast<size_t>(i)].box;
     sizes.push_back((b.max - b.min).maxCoeff() + 2.0 * inflateOf[static_cast<size_t>(i)]);
   }
-  std::vector<std::pair<int, int>> out;
+  std::vector<Candidate> out;
   if (active.size() < 2) return out;
   std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
   // Cells are counted from the low corner of all inflated boxes, kCellBits per axis packed into one 64-bit code;
@@ -753,10 +771,10 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
     return ((a.min.array() - r) > b.max.array()).any() || ((b.min.array() - r) > a.max.array()).any();
   };
   constexpr size_t kChunks = 64;
-  std::vector<std::vector<std::pair<int, int>>> chunkPairs(kChunks);
+  std::vector<std::vector<Candidate>> chunkPairs(kChunks);
   forEachIndex(kChunks, threads, [&](size_t chunk) {
     const size_t first = active.size() * chunk / kChunks, last = active.size() * (chunk + 1) / kChunks;
-    std::vector<std::pair<int, int>>& local = chunkPairs[chunk];
+    std::vector<Candidate>& local = chunkPairs[chunk];
     std::vector<int> partners;
     for (size_t a = first; a < last; ++a) {
       const int i = active[a];
@@ -784,8 +802,11 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
           if (j > i) partners.push_back(j);
       }
       std::sort(partners.begin(), partners.end());
-      for (int j : partners)
-        if (!boxesApart(i, j)) local.emplace_back(i, j);
+      for (int j : partners) {
+        if (boxesApart(i, j)) continue;
+        const StageResult r = test(i, j);
+        if (r.stage != Stage::kRejected) local.push_back({i, j, r});
+      }
     }
   });
   size_t total = 0;
@@ -973,7 +994,6 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   std::vector<double> inflate(P.edges.size());
   for (size_t k = 0; k < P.edges.size(); ++k)
     inflate[k] = 0.5 * std::min(tau, std::max(tol.distance, options.maxGapToWidth * P.edges[k].width));
-  const std::vector<std::pair<int, int>> pairs = candidatePairs(P.edges, inflate, options.threads);
   // Gapped pairs must have a gap below maxGapToWidth x the patch widths, and a patch meets itself only exactly: the
   // sampled test never needs a larger tolerance than that.
   auto tauPairOf = [&](const EdgeInfo& a, const EdgeInfo& b) {
@@ -988,20 +1008,13 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     if (p.distance > options.maxGapToWidth * std::min(a.width, b.width)) return false;
     return plausibleGappedSeam(p, a, b);
   };
-  // Stage 1 (parallel, read-only): identical control polygons (within tau, then the gap rules: small patches whose
-  // polygons all lie within tau of each other stop here), or else the cheap necessary condition of the sampled test.
-  enum class Stage : char { kRejected, kIdentical, kSampled };
-  // An identical-polygon candidate keeps the orientation and distance identicalPolygons found (stage 3 rebuilds the
-  // pair from them instead of comparing the polygons again).
-  struct StageResult {
-    Stage stage = Stage::kRejected;
-    bool reversed = false;
-    double distance = 0.0;
-  };
-  std::vector<StageResult> stage(pairs.size());
-  forEachIndex(pairs.size(), options.threads, [&](size_t k) {
-    const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
-    const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
+  // Stage 1 (parallel, read-only, on each candidate as the grid finds it): identical control polygons (within tau,
+  // then the gap rules: small patches whose polygons all lie within tau of each other stop here), or else the cheap
+  // necessary condition of the sampled test. An identical-polygon candidate keeps the orientation and distance
+  // identicalPolygons found (stage 3 rebuilds the pair from them instead of comparing the polygons again).
+  auto stageOne = [&](int i, int j) -> StageResult {
+    const EdgeInfo& a = P.edges[static_cast<size_t>(i)];
+    const EdgeInfo& b = P.edges[static_cast<size_t>(j)];
     // Shortcut with the same outcome: when the end control points rule out every identical-polygon pair that the gap
     // rules would keep (in both orientations the distance of the polygons, at least that of their end points, exceeds
     // the largest gap keepPair allows) and the sampled test's necessary condition fails, the candidate is rejected
@@ -1013,23 +1026,22 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
                                  : std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width));
       const double sameWay = std::max((a.firstPoint - b.firstPoint).norm(), (a.lastPoint - b.lastPoint).norm());
       const double reversedWay = std::max((a.firstPoint - b.lastPoint).norm(), (a.lastPoint - b.firstPoint).norm());
-      if (sameWay > keptGap && reversedWay > keptGap && !mayOverlap(a, b, tauPairOf(a, b))) return;
+      if (sameWay > keptGap && reversedWay > keptGap && !mayOverlap(a, b, tauPairOf(a, b))) return {};
     }
     if (std::optional<EdgePair> p = identicalPolygons(a, b, tau)) {
       snapOverlap(*p, a, b);
-      if (keepPair(*p, a, b)) stage[k] = {Stage::kIdentical, p->reversed, p->distance};
+      if (keepPair(*p, a, b)) return {Stage::kIdentical, p->reversed, p->distance};
     } else if (mayOverlap(a, b, tauPairOf(a, b))) {
-      stage[k].stage = Stage::kSampled;
+      return {Stage::kSampled, false, 0.0};
     }
-  });
-  std::vector<size_t> survivors;
+    return {};
+  };
+  // The candidates that stage 1 keeps, in candidate order (by a, then b).
+  const std::vector<Candidate> survivors = candidatePairs(P.edges, inflate, options.threads, stageOne);
   std::vector<char> needsSamples(P.edges.size(), 0);
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    if (stage[k].stage == Stage::kRejected) continue;
-    survivors.push_back(k);
-    if (stage[k].stage == Stage::kSampled)
-      needsSamples[static_cast<size_t>(pairs[k].first)] = needsSamples[static_cast<size_t>(pairs[k].second)] = 1;
-  }
+  for (const Candidate& c : survivors)
+    if (c.stage.stage == Stage::kSampled)
+      needsSamples[static_cast<size_t>(c.a)] = needsSamples[static_cast<size_t>(c.b)] = 1;
   // Stage 2: the samples of the edges that need them, each edge once, in parallel.
   std::vector<size_t> sampledEdges;
   for (size_t e = 0; e < P.edges.size(); ++e)
@@ -1038,13 +1050,13 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   // Stage 3 (parallel, read-only): the pair of each surviving candidate, or none.
   std::vector<std::optional<EdgePair>> found(survivors.size());
   forEachIndex(survivors.size(), options.threads, [&](size_t s) {
-    const size_t k = survivors[s];
-    const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
-    const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
+    const Candidate& cand = survivors[s];
+    const EdgeInfo& a = P.edges[static_cast<size_t>(cand.a)];
+    const EdgeInfo& b = P.edges[static_cast<size_t>(cand.b)];
     const bool samePatch = a.ref.patch == b.ref.patch;
     std::optional<EdgePair> p;
-    if (stage[k].stage == Stage::kIdentical) {
-      p = identicalPair(a, b, stage[k].reversed, stage[k].distance);
+    if (cand.stage.stage == Stage::kIdentical) {
+      p = identicalPair(a, b, cand.stage.reversed, cand.stage.distance);
       snapOverlap(*p, a, b);
     } else {
       // Two passes: the cheap polyline pass rejects most candidates (edges that only touch at a corner, parallel
