@@ -554,7 +554,8 @@ TEST(OneSpanCurve, GivesTheCurvesOwnBitsAndFallsBackOffItsRoute) {
       std::vector<double> ts = {a, b, std::nextafter(a, b), std::nextafter(b, a), 0.5 * (a + b)};
       for (int i = 0; i < 20; ++i) ts.push_back(a + (b - a) * unit(rng));
       for (const double t : ts) {
-        SCOPED_TRACE("degree " + std::to_string(p) + ", variant " + std::to_string(variant) + ", t " + std::to_string(t));
+        SCOPED_TRACE("degree " + std::to_string(p) + ", variant " + std::to_string(variant) + ", t " +
+                     std::to_string(t));
         EXPECT_TRUE(sameBits(ev.point3(t), c.point3(t)));
         Vec3 x, d1, d2, y, e1, e2;
         ev.derivatives2(t, x, d1, d2);

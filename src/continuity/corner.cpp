@@ -192,7 +192,7 @@ Map1 correspondence(const Vec3& c1d, const Vec3& c1dd, const Vec3& c2d, const Ve
 /// cross-along, along-along), Bcc that of B.
 VertexSeam seamAtVertex(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, const Vec3& B, const Vec3& dB,
                         const Vec3& Acc, const Vec3& Aca, const Vec3& Aaa, const Vec3& Bcc, double lengthScale,
-                        const Tolerances& tol) {
+                        const Tolerances& tol, double sinTol) {
   VertexSeam s;
   Eigen::Matrix2d G;
   G << a.dot(a), a.dot(b), a.dot(b), b.dot(b);
@@ -223,7 +223,6 @@ VertexSeam seamAtVertex(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3
   const double kA = n.dot(predicted) / b2, kB = n.dot(Bcc) / b2;
   s.g2JumpRel = std::abs(s.g2Jump) / std::max({std::abs(kA), std::abs(kB), 1.0 / lengthScale});
 
-  const double sinTol = std::sin(tol.angleDeg * std::numbers::pi / 180.0);
   s.g1 = s.g1Residual <= sinTol && s.g1SlopeResidual <= sinTol;
   s.g2 = s.g1 && s.g2JumpRel <= tol.curvatureRel;
   if (s.g2) {
@@ -616,11 +615,16 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   const Jet R3 = reparametrize(D3, phi23, phi43);
 
   const Tolerances& tol = options.tol;
+  const double sinTol = std::sin(tol.angleDeg * std::numbers::pi / 180.0);  // of the G1 tolerance, once per vertex
   // (1,2): cross u, along v.   (4,3): cross u, along v.   (1,4): cross v, along u.   (2,3): cross v, along u.
-  VertexSeam s12 = seamAtVertex(R1.u, R1.v, R1.uv, R1.vv, R2.u, R2.uv, R1.uu, R1.uv, R1.vv, R2.uu, lengthScale, tol);
-  VertexSeam s43 = seamAtVertex(R4.u, R4.v, R4.uv, R4.vv, R3.u, R3.uv, R4.uu, R4.uv, R4.vv, R3.uu, lengthScale, tol);
-  VertexSeam s14 = seamAtVertex(R1.v, R1.u, R1.uv, R1.uu, R4.v, R4.uv, R1.vv, R1.uv, R1.uu, R4.vv, lengthScale, tol);
-  VertexSeam s23 = seamAtVertex(R2.v, R2.u, R2.uv, R2.uu, R3.v, R3.uv, R2.vv, R2.uv, R2.uu, R3.vv, lengthScale, tol);
+  VertexSeam s12 =
+      seamAtVertex(R1.u, R1.v, R1.uv, R1.vv, R2.u, R2.uv, R1.uu, R1.uv, R1.vv, R2.uu, lengthScale, tol, sinTol);
+  VertexSeam s43 =
+      seamAtVertex(R4.u, R4.v, R4.uv, R4.vv, R3.u, R3.uv, R4.uu, R4.uv, R4.vv, R3.uu, lengthScale, tol, sinTol);
+  VertexSeam s14 =
+      seamAtVertex(R1.v, R1.u, R1.uv, R1.uu, R4.v, R4.uv, R1.vv, R1.uv, R1.uu, R4.vv, lengthScale, tol, sinTol);
+  VertexSeam s23 =
+      seamAtVertex(R2.v, R2.u, R2.uv, R2.uu, R3.v, R3.uv, R2.vv, R2.uv, R2.uu, R3.vv, lengthScale, tol, sinTol);
   s12.from = 1, s12.to = 2;
   s23.from = 2, s23.to = 3;
   s43.from = 4, s43.to = 3;
