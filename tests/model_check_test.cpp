@@ -185,6 +185,28 @@ TEST(ModelCheck, LongAndShortEdgesSharingSeveralCellsPairAsBruteForce) {
   }
 }
 
+TEST(ModelCheck, TolerancesComeFromTheModelsBoxWithItsCurves) {
+  // checkModel forms the model's box from each patch's control box (computed once for the seams and vertices too) and
+  // the curves' boxes: the same box as Model::boundingBox, so the same tolerances and pairing tolerance.
+  std::mt19937_64 rng(5);
+  Model m = gridModel(3, 2, -1, -1, 0.0, rng);
+  Matrix pts(2, 3);
+  pts << 0.0, 0.0, 0.0, 40.0, -7.0, 3.0;  // far outside the patches: it sets the model's size
+  m.curves.push_back({"far", BSplineCurve::create(1, {0, 0, 1, 1}, pts).value()});
+  const double diagonal = m.boundingBox().diagonal();
+  ASSERT_GT(diagonal, 40.0);
+  ModelCheckOptions o;
+  o.analyzeSeams = false;
+  const Result<ModelCheckReport> r = checkModel(m, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const Tolerances expected = Tolerances::forModelSize(diagonal);
+  EXPECT_EQ(r->tolerances.distance, expected.distance);
+  const Result<EdgePairing> p = pairEdges(m, o);
+  ASSERT_TRUE(p.isOk());
+  EXPECT_EQ(r->pairingTolerance, p->pairingTolerance);
+  EXPECT_EQ(r->pairingTolerance, std::max(expected.distance, o.pairingRelTol * diagonal));
+}
+
 TEST(ModelCheck, TJunctionOverlapsAndFreeEdges) {
   // Left: one patch over u in [0, 0.5]; right: two patches over v in [0, 0.5] and [0.5, 1]. The left patch's
   // u1 edge is shared with both right u0 edges on exactly half of its parameter range each.

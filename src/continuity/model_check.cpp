@@ -1369,22 +1369,28 @@ Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& optio
 Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options) {
   if (model.patches.empty()) return invalidInput("the model has no patches");
   ModelCheckReport report;
-  const double diagonal = model.boundingBox().diagonal();
+  // Each patch's control box, computed once: the model's box (Model::boundingBox's union, the patches in order and
+  // then the curves: the same box), the seams' scale (analyzeSeam computes it per seam) and the vertices' default
+  // length scale.
+  std::vector<BoundingBox> patchBox(model.patches.size());
+  forEachIndex(model.patches.size(), options.threads,
+               [&](size_t p) { patchBox[p] = controlBox(model.patches[p].surface); });
+  BoundingBox modelBox;
+  for (const BoundingBox& b : patchBox) modelBox.add(b);
+  for (const Curve& c : model.curves) modelBox.add(controlBox(c.curve));
+  const double diagonal = modelBox.diagonal();
   report.tolerances = options.tolerances.value_or(Tolerances::forModelSize(diagonal));
   const Tolerances& tol = report.tolerances;
   Result<Pairing> pairing = runPairing(model, diagonal, tol, options);
   if (!pairing) return pairing.status();
   Pairing& P = pairing.value();
   report.pairingTolerance = P.result.pairingTolerance;
-  report.freeEdges = P.result.freeEdges;
-  report.degenerateEdges = P.result.degenerateEdges;
-  report.coincidentEdges = P.result.coincidentEdges;
+  report.freeEdges = std::move(P.result.freeEdges);
+  report.degenerateEdges = std::move(P.result.degenerateEdges);
+  report.coincidentEdges = std::move(P.result.coincidentEdges);
 
-  // Each patch's control-box diagonal, computed once: the seams' scale (analyzeSeam computes it per seam) and the
-  // vertices' default length scale.
   std::vector<double> patchDiagonal(model.patches.size());
-  forEachIndex(model.patches.size(), options.threads,
-               [&](size_t p) { patchDiagonal[p] = controlBox(model.patches[p].surface).diagonal(); });
+  for (size_t p = 0; p < patchDiagonal.size(); ++p) patchDiagonal[p] = patchBox[p].diagonal();
 
   // Seams: independent analyses, in parallel (TBB), stored in pairing order.
   SeamOptions seamOptions = options.seam;
