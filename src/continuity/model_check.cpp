@@ -260,8 +260,8 @@ double safeNorm(const Vec3& d) {
 }
 
 /// `unitKnots`: where the edge's normalised knots go (as many values as the surface has knots along the edge).
-EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std::span<double> unitKnots) {
-  EdgeInfo info;
+/// Fills `info` (a default-constructed slot, filled in place).
+void makeEdge(EdgeInfo& info, const Patch& patch, int index, Edge e, double collapseTol, std::span<double> unitKnots) {
   info.ref = {index, e};
   const BSplineSurface& s = patch.surface;
   info.curve = s.boundaryCurve(e);
@@ -288,7 +288,6 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std
   const double step = info.domain.length() / kDepartureDivisor;
   info.startDir = (ev.point3(info.domain.lo + step) - info.start).normalized();
   info.endDir = (ev.point3(info.domain.hi - step) - info.end).normalized();
-  return info;
 }
 
 /// Width of a patch across two opposite edges (U0/U1 or V0/V1, whose curves share one parameter domain): the largest
@@ -971,7 +970,7 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     for (size_t k = 0; k < 4; ++k) {
       const std::span<double> slot(P.unitKnotPool.data() + knotStart[base + k],
                                    knotStart[base + k + 1] - knotStart[base + k]);
-      P.edges[base + k] = makeEdge(patch, static_cast<int>(i), kAllEdges[k], tol.distance, slot);
+      makeEdge(P.edges[base + k], patch, static_cast<int>(i), kAllEdges[k], tol.distance, slot);
     }
     setWidths(P.edges[base], P.edges[base + 1]);
     setWidths(P.edges[base + 2], P.edges[base + 3]);
