@@ -207,6 +207,35 @@ TEST(ModelCheck, TolerancesComeFromTheModelsBoxWithItsCurves) {
   EXPECT_EQ(r->pairingTolerance, std::max(expected.distance, o.pairingRelTol * diagonal));
 }
 
+TEST(ModelCheck, BitIdenticalBoundaryRowsPairAsTheGeneralComparisonDoes) {
+  // Patch B's u0 row is a copy of A's u1 row (a seam whose control rows are equal value for value: the identical-
+  // polygon test's fast path); C is B stored with v reversed (the same rows in the opposite order: the general
+  // comparison). Both seams must come out as exact identical-polygon pairs over the whole edges, C's reversed.
+  const BezierPatch base = baseSurface();
+  const BSplineSurface a = subPatch(base, 0.0, 0.5, 0.0, 1.0);
+  Matrix pb = subPatch(base, 0.5, 1.0, 0.0, 1.0).points();
+  for (int j = 0; j < 4; ++j) pb.row(j) = a.points().row(3 * 4 + j);  // row i = 0 of B := row i = 3 of A
+  const BSplineSurface b(a.degreeU(), a.degreeV(), a.knotsU(), a.knotsV(), a.numU(), a.numV(), pb);
+  for (const bool reverseV : {false, true}) {
+    Model m;
+    m.patches.push_back({"A", PatchKind::kBSpline, a});
+    m.patches.push_back({"B", PatchKind::kBSpline, applyLayout(b, PatchLayout{false, false, reverseV})});
+    const Result<EdgePairing> r = pairEdges(m);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->pairs.size(), 1u);
+    const EdgePair& p = r->pairs[0];
+    EXPECT_EQ(p.a, (EdgeRef{0, Edge::U1}));
+    EXPECT_EQ(p.b, (EdgeRef{1, Edge::U0}));
+    EXPECT_TRUE(p.identicalControlPolygons);
+    EXPECT_EQ(p.distance, 0.0);
+    EXPECT_EQ(p.reversed, reverseV) << "reverseV " << reverseV;
+    EXPECT_TRUE(p.fullA && p.fullB);
+    EXPECT_EQ(p.overlapA.lo, 0.0);
+    EXPECT_EQ(p.overlapA.hi, 1.0);
+    EXPECT_EQ(r->freeEdges.size(), 6u);
+  }
+}
+
 TEST(ModelCheck, TJunctionOverlapsAndFreeEdges) {
   // Left: one patch over u in [0, 0.5]; right: two patches over v in [0, 0.5] and [0.5, 1]. The left patch's
   // u1 edge is shared with both right u0 edges on exactly half of its parameter range each.

@@ -365,6 +365,13 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
   const Matrix& pa = ca.points();
   const Matrix& pb = cb.points();
   const bool rational = ca.isRational();
+  // Fast path: polynomial edges whose normalised knots and control points are equal value for value (neighbours cut
+  // from one surface share their boundary rows exactly). The loops below would find the same: the knots match in the
+  // same order, every point difference is +-0 (distance 0, within any tolerance), and the reversed order is ruled out
+  // at its first point (no closer than 0).
+  if (!rational && !(0.0 > tol) && pa.cols() == pb.cols() && std::equal(ka.begin(), ka.end(), kb.begin()) &&
+      std::equal(pa.data(), pa.data() + pa.size(), pb.data()))
+    return identicalPair(a, b, false, 0.0);
   // The best orientation so far: its distance, or none.
   bool found = false, bestReversed = false;
   double bestD = 0.0;
