@@ -112,8 +112,26 @@ Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
         }
       return r;
     };
+    // The same sums with the bounds known at compile time (3 x 3 corner points, finite weights: every Bezier corner).
+    auto mixFixed = [&]<int du, int dv>() -> Vec3 {
+      Vec3 r = Vec3::Zero();
+      for (int a = 0; a <= du; ++a)
+        for (int b = 0; b <= dv; ++b) {
+          const double f = wu[du][static_cast<size_t>(a)] * wv[dv][static_cast<size_t>(b)];
+          if (f != 0.0) r += f * P[static_cast<size_t>(a)][static_cast<size_t>(b)];
+        }
+      return r;
+    };
     Jet j;
     j.p = P[0][0];
+    if (finite && ku == 3 && kv == 3) {
+      j.u = mixFixed.template operator()<1, 0>();
+      j.v = mixFixed.template operator()<0, 1>();
+      j.uu = mixFixed.template operator()<2, 0>();
+      j.uv = mixFixed.template operator()<1, 1>();
+      j.vv = mixFixed.template operator()<0, 2>();
+      return j;
+    }
     j.u = mix(1, 0);
     j.v = mix(0, 1);
     j.uu = mix(2, 0);
