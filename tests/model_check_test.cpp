@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <set>
@@ -14,6 +16,7 @@
 #include <tuple>
 #include <vector>
 
+#include "continuity/one_span_curve.h"
 #include "seam/continuity/corner.h"
 #include "seam/continuity/model_check.h"
 #include "seam/core/bernstein.h"
@@ -179,6 +182,57 @@ TEST(ModelCheck, LongAndShortEdgesSharingSeveralCellsPairAsBruteForce) {
   for (size_t k = 1; k < r->pairs.size(); ++k) {  // each pair of edges once, in candidate order
     const auto prev = std::pair{r->pairs[k - 1].a, r->pairs[k - 1].b}, cur = std::pair{r->pairs[k].a, r->pairs[k].b};
     EXPECT_LT(prev, cur);
+  }
+}
+
+TEST(ModelCheck, TolerancesComeFromTheModelsBoxWithItsCurves) {
+  // checkModel forms the model's box from each patch's control box (computed once for the seams and vertices too) and
+  // the curves' boxes: the same box as Model::boundingBox, so the same tolerances and pairing tolerance.
+  std::mt19937_64 rng(5);
+  Model m = gridModel(3, 2, -1, -1, 0.0, rng);
+  Matrix pts(2, 3);
+  pts << 0.0, 0.0, 0.0, 40.0, -7.0, 3.0;  // far outside the patches: it sets the model's size
+  m.curves.push_back({"far", BSplineCurve::create(1, {0, 0, 1, 1}, pts).value()});
+  const double diagonal = m.boundingBox().diagonal();
+  ASSERT_GT(diagonal, 40.0);
+  ModelCheckOptions o;
+  o.analyzeSeams = false;
+  const Result<ModelCheckReport> r = checkModel(m, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const Tolerances expected = Tolerances::forModelSize(diagonal);
+  EXPECT_EQ(r->tolerances.distance, expected.distance);
+  const Result<EdgePairing> p = pairEdges(m, o);
+  ASSERT_TRUE(p.isOk());
+  EXPECT_EQ(r->pairingTolerance, p->pairingTolerance);
+  EXPECT_EQ(r->pairingTolerance, std::max(expected.distance, o.pairingRelTol * diagonal));
+}
+
+TEST(ModelCheck, BitIdenticalBoundaryRowsPairAsTheGeneralComparisonDoes) {
+  // Patch B's u0 row is a copy of A's u1 row (a seam whose control rows are equal value for value: the identical-
+  // polygon test's fast path); C is B stored with v reversed (the same rows in the opposite order: the general
+  // comparison). Both seams must come out as exact identical-polygon pairs over the whole edges, C's reversed.
+  const BezierPatch base = baseSurface();
+  const BSplineSurface a = subPatch(base, 0.0, 0.5, 0.0, 1.0);
+  Matrix pb = subPatch(base, 0.5, 1.0, 0.0, 1.0).points();
+  for (int j = 0; j < 4; ++j) pb.row(j) = a.points().row(3 * 4 + j);  // row i = 0 of B := row i = 3 of A
+  const BSplineSurface b(a.degreeU(), a.degreeV(), a.knotsU(), a.knotsV(), a.numU(), a.numV(), pb);
+  for (const bool reverseV : {false, true}) {
+    Model m;
+    m.patches.push_back({"A", PatchKind::kBSpline, a});
+    m.patches.push_back({"B", PatchKind::kBSpline, applyLayout(b, PatchLayout{false, false, reverseV})});
+    const Result<EdgePairing> r = pairEdges(m);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->pairs.size(), 1u);
+    const EdgePair& p = r->pairs[0];
+    EXPECT_EQ(p.a, (EdgeRef{0, Edge::U1}));
+    EXPECT_EQ(p.b, (EdgeRef{1, Edge::U0}));
+    EXPECT_TRUE(p.identicalControlPolygons);
+    EXPECT_EQ(p.distance, 0.0);
+    EXPECT_EQ(p.reversed, reverseV) << "reverseV " << reverseV;
+    EXPECT_TRUE(p.fullA && p.fullB);
+    EXPECT_EQ(p.overlapA.lo, 0.0);
+    EXPECT_EQ(p.overlapA.hi, 1.0);
+    EXPECT_EQ(r->freeEdges.size(), 6u);
   }
 }
 
@@ -520,6 +574,50 @@ TEST(ModelCheckExtreme, SubnormalKnotsDoNotOverflowTheCornerGrid) {
   }
 }
 
+TEST(OneSpanCurve, GivesTheCurvesOwnBitsAndFallsBackOffItsRoute) {
+  // Every Bezier edge (one clamped polynomial span, degree 1..5) is evaluated without the span search; the values must
+  // be BSplineCurve::point3's and derivatives2's bit for bit, at the domain ends and inside. Rational, multi-span and
+  // higher-degree curves take the curve's own route.
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> coord(-3.0, 3.0), unit(0.0, 1.0);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  auto sameBits = [&](const Vec3& x, const Vec3& y) {
+    return bits(x[0]) == bits(y[0]) && bits(x[1]) == bits(y[1]) && bits(x[2]) == bits(y[2]);
+  };
+  int compared = 0;
+  for (int p = 1; p <= 6; ++p)
+    for (int variant = 0; variant < 4; ++variant) {
+      // variant 0: one span; 1: rational; 2: two spans; 3: one span on a tiny domain far from 0.
+      const double a = variant == 3 ? 1e6 + unit(rng) : coord(rng);
+      const double b = a + (variant == 3 ? 1e-7 : 0.1 + unit(rng));
+      std::vector<double> knots(static_cast<size_t>(p + 1), a);
+      if (variant == 2) knots.push_back(0.5 * (a + b));
+      knots.insert(knots.end(), static_cast<size_t>(p + 1), b);
+      const int n = static_cast<int>(knots.size()) - p - 1;
+      Matrix pts(n, 3);
+      for (int i = 0; i < n; ++i) pts.row(i) << coord(rng), coord(rng), coord(rng);
+      pts(0, 2) = -0.0;  // a negative zero coordinate must come out alike
+      VecX w;
+      if (variant == 1) w = VecX::Constant(n, 1.0) + 0.5 * VecX::Random(n).cwiseAbs();
+      const BSplineCurve c = BSplineCurve::create(p, knots, pts, w).value();
+      const detail::OneSpanCurve ev(c);
+      EXPECT_EQ(ev.oneSpan(), p <= detail::kOneSpanMaxDegree && (variant == 0 || variant == 3)) << p << " " << variant;
+      std::vector<double> ts = {a, b, std::nextafter(a, b), std::nextafter(b, a), 0.5 * (a + b)};
+      for (int i = 0; i < 20; ++i) ts.push_back(a + (b - a) * unit(rng));
+      for (const double t : ts) {
+        SCOPED_TRACE("degree " + std::to_string(p) + ", variant " + std::to_string(variant) + ", t " +
+                     std::to_string(t));
+        EXPECT_TRUE(sameBits(ev.point3(t), c.point3(t)));
+        Vec3 x, d1, d2, y, e1, e2;
+        ev.derivatives2(t, x, d1, d2);
+        c.derivatives2(t, y, e1, e2);
+        EXPECT_TRUE(sameBits(x, y) && sameBits(d1, e1) && sameBits(d2, e2));
+        ++compared;
+      }
+    }
+  EXPECT_EQ(compared, 6 * 4 * 25);
+}
+
 TEST(ModelCheckCoincident, IdenticalPatchesAreReportedAsCoincidentEdgesNotPairedQuadratically) {
   // N copies of one patch (a duplicated face): every edge has N - 1 coincident partners. The 4 groups are reported
   // with all N edges each; only the first two copies of each edge are paired (one seam per edge), so the
@@ -563,6 +661,62 @@ TEST(ModelCheckCoincident, TwoCoincidentEdgesAreAnOrdinarySeam) {
   bool found = false;
   for (const CoincidentEdges& c : r->coincidentEdges) found = found || c.edges == shared;
   EXPECT_TRUE(found);
+}
+
+TEST(ModelCheckCoincident, EdgesSharingTheirEndsButNotTheirMiddleFormSeparateGroupsAsBruteForce) {
+  // Three copies of a patch, and three copies of the same patch with the middle of its u1 edge bent out of the
+  // surface: all six u1 edges share their end points, but only the copies that also share the middle are one group
+  // (two groups of three); the other three edges of all six patches coincide (groups of six). Expected groups from a
+  // brute-force comparison of every two edges' end and mid points.
+  const BezierPatch base = baseSurface();
+  const BSplineSurface plain = subPatch(base, 0.0, 0.5, 0.0, 1.0);
+  Matrix pts = plain.points();
+  for (int j : {1, 2}) pts(3 * 4 + j, 2) += 0.05;  // row i = 3 (the u1 edge), its two inner points
+  const BSplineSurface bent(plain.degreeU(), plain.degreeV(), plain.knotsU(), plain.knotsV(), plain.numU(),
+                            plain.numV(), pts);
+  Model m;
+  for (int k = 0; k < 6; ++k) m.patches.push_back({"P" + std::to_string(k), PatchKind::kBSpline, k < 3 ? plain : bent});
+  ModelCheckOptions o;
+  o.analyzeSeams = false;
+  o.analyzeCorners = false;
+  const Result<ModelCheckReport> r = checkModel(m, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const double tol = r->tolerances.distance;
+  // Brute force: each edge not yet grouped with every later edge (ends either way round and mid points within tol).
+  struct Ends {
+    EdgeRef ref;
+    Vec3 start, end, mid;
+  };
+  std::vector<Ends> edges;
+  for (int p = 0; p < 6; ++p)
+    for (Edge e : kAllEdges) {
+      const BSplineCurve c = m.patches[static_cast<size_t>(p)].surface.boundaryCurve(e);
+      const Interval d = c.domain();
+      edges.push_back({{p, e}, c.evaluate(d.lo).head<3>(), c.evaluate(d.hi).head<3>(),
+                       c.evaluate(0.5 * (d.lo + d.hi)).head<3>()});
+    }
+  std::set<std::vector<EdgeRef>> expected;
+  std::vector<char> grouped(edges.size(), 0);
+  for (size_t i = 0; i < edges.size(); ++i) {
+    if (grouped[i]) continue;
+    std::vector<EdgeRef> group{edges[i].ref};
+    for (size_t j = i + 1; j < edges.size(); ++j) {
+      const Ends& x = edges[i];
+      const Ends& y = edges[j];
+      const bool ends = ((x.start - y.start).norm() <= tol && (x.end - y.end).norm() <= tol) ||
+                        ((x.start - y.end).norm() <= tol && (x.end - y.start).norm() <= tol);
+      if (ends && (x.mid - y.mid).norm() <= tol) {
+        group.push_back(edges[j].ref);
+        grouped[j] = 1;
+      }
+    }
+    if (group.size() >= 3) expected.insert(group);
+  }
+  ASSERT_EQ(expected.size(), 5u);  // u0, v0, v1 of all six; u1 of the plain three; u1 of the bent three
+  std::set<std::vector<EdgeRef>> got;
+  for (const CoincidentEdges& c : r->coincidentEdges) got.insert(c.edges);
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(r->coincidentEdges.size(), expected.size());
 }
 
 /// Every field of a report that the pairing, the corners and the seam analyses produce, as text (doubles in their

@@ -95,18 +95,43 @@ Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
       for (int b = 0; b < kv; ++b)
         P[static_cast<size_t>(a)][static_cast<size_t>(b)] =
             s.point(c.uMax ? nu - 1 - a : a, c.vMax ? nv - 1 - b : b).transpose().head<3>();
+    // clampedEndWeights leaves w[k][i] = +-0 for i > k: with finite weights those terms have f = +-0 and are skipped
+    // below anyway, so the sums stop at i = k (the same terms in the same order). Non-finite weights take every term.
+    bool finite = true;
+    for (const auto* w : {&wu, &wv})
+      for (const auto& row : *w)
+        for (const double x : row) finite = finite && std::isfinite(x);
     auto mix = [&](int du, int dv) -> Vec3 {
       Vec3 r = Vec3::Zero();
-      for (int a = 0; a < ku; ++a)
-        for (int b = 0; b < kv; ++b) {
+      const int na = finite ? std::min(ku, du + 1) : ku, nb = finite ? std::min(kv, dv + 1) : kv;
+      for (int a = 0; a < na; ++a)
+        for (int b = 0; b < nb; ++b) {
           const double f = wu[static_cast<size_t>(du)][static_cast<size_t>(a)] *
                            wv[static_cast<size_t>(dv)][static_cast<size_t>(b)];
           if (f != 0.0) r += f * P[static_cast<size_t>(a)][static_cast<size_t>(b)];
         }
       return r;
     };
+    // The same sums with the bounds known at compile time (3 x 3 corner points, finite weights: every Bezier corner).
+    auto mixFixed = [&]<int du, int dv>() -> Vec3 {
+      Vec3 r = Vec3::Zero();
+      for (int a = 0; a <= du; ++a)
+        for (int b = 0; b <= dv; ++b) {
+          const double f = wu[du][static_cast<size_t>(a)] * wv[dv][static_cast<size_t>(b)];
+          if (f != 0.0) r += f * P[static_cast<size_t>(a)][static_cast<size_t>(b)];
+        }
+      return r;
+    };
     Jet j;
     j.p = P[0][0];
+    if (finite && ku == 3 && kv == 3) {
+      j.u = mixFixed.template operator()<1, 0>();
+      j.v = mixFixed.template operator()<0, 1>();
+      j.uu = mixFixed.template operator()<2, 0>();
+      j.uv = mixFixed.template operator()<1, 1>();
+      j.vv = mixFixed.template operator()<0, 2>();
+      return j;
+    }
     j.u = mix(1, 0);
     j.v = mix(0, 1);
     j.uu = mix(2, 0);
@@ -182,11 +207,10 @@ Map1 correspondence(const Vec3& c1d, const Vec3& c1dd, const Vec3& c2d, const Ve
 
 /// Eq. 2.1 / 3.10 / 3.11 at V for one seam. a = A_cross, b = A_along (side A), da, db their derivatives along the seam,
 /// B = B_cross and dB its derivative along the seam, Acc/Aca/Aaa the second derivatives of A (cross-cross,
-/// cross-along, along-along), Bcc that of B.
-VertexSeam seamAtVertex(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, const Vec3& B, const Vec3& dB,
-                        const Vec3& Acc, const Vec3& Aca, const Vec3& Aaa, const Vec3& Bcc, double lengthScale,
-                        const Tolerances& tol) {
-  VertexSeam s;
+/// cross-along, along-along), Bcc that of B. Written into `s` (a default-constructed VertexSeam, in its report slot).
+void seamAtVertex(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3& db, const Vec3& B, const Vec3& dB,
+                  const Vec3& Acc, const Vec3& Aca, const Vec3& Aaa, const Vec3& Bcc, double lengthScale,
+                  const Tolerances& tol, double sinTol, VertexSeam& s) {
   Eigen::Matrix2d G;
   G << a.dot(a), a.dot(b), a.dot(b), b.dot(b);
   const Eigen::Matrix2d Ginv = G.inverse();
@@ -216,14 +240,12 @@ VertexSeam seamAtVertex(const Vec3& a, const Vec3& b, const Vec3& da, const Vec3
   const double kA = n.dot(predicted) / b2, kB = n.dot(Bcc) / b2;
   s.g2JumpRel = std::abs(s.g2Jump) / std::max({std::abs(kA), std::abs(kB), 1.0 / lengthScale});
 
-  const double sinTol = std::sin(tol.angleDeg * std::numbers::pi / 180.0);
   s.g1 = s.g1Residual <= sinTol && s.g1SlopeResidual <= sinTol;
   s.g2 = s.g1 && s.g2JumpRel <= tol.curvatureRel;
   if (s.g2) {
     s.mu = mn[0];
     s.nu = mn[1];
   }
-  return s;
 }
 
 /// Node of the fan walk: one of the two edges through a corner.
@@ -609,16 +631,21 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   const Jet R3 = reparametrize(D3, phi23, phi43);
 
   const Tolerances& tol = options.tol;
+  const double sinTol = std::sin(tol.angleDeg * std::numbers::pi / 180.0);  // of the G1 tolerance, once per vertex
   // (1,2): cross u, along v.   (4,3): cross u, along v.   (1,4): cross v, along u.   (2,3): cross v, along u.
-  VertexSeam s12 = seamAtVertex(R1.u, R1.v, R1.uv, R1.vv, R2.u, R2.uv, R1.uu, R1.uv, R1.vv, R2.uu, lengthScale, tol);
-  VertexSeam s43 = seamAtVertex(R4.u, R4.v, R4.uv, R4.vv, R3.u, R3.uv, R4.uu, R4.uv, R4.vv, R3.uu, lengthScale, tol);
-  VertexSeam s14 = seamAtVertex(R1.v, R1.u, R1.uv, R1.uu, R4.v, R4.uv, R1.vv, R1.uv, R1.uu, R4.vv, lengthScale, tol);
-  VertexSeam s23 = seamAtVertex(R2.v, R2.u, R2.uv, R2.uu, R3.v, R3.uv, R2.vv, R2.uv, R2.uu, R3.vv, lengthScale, tol);
+  // Each seam written in its slot of fp.seams (s12, s23, s43, s14 in that order).
+  VertexSeam& s12 = fp.seams[0];
+  VertexSeam& s23 = fp.seams[1];
+  VertexSeam& s43 = fp.seams[2];
+  VertexSeam& s14 = fp.seams[3];
+  seamAtVertex(R1.u, R1.v, R1.uv, R1.vv, R2.u, R2.uv, R1.uu, R1.uv, R1.vv, R2.uu, lengthScale, tol, sinTol, s12);
+  seamAtVertex(R4.u, R4.v, R4.uv, R4.vv, R3.u, R3.uv, R4.uu, R4.uv, R4.vv, R3.uu, lengthScale, tol, sinTol, s43);
+  seamAtVertex(R1.v, R1.u, R1.uv, R1.uu, R4.v, R4.uv, R1.vv, R1.uv, R1.uu, R4.vv, lengthScale, tol, sinTol, s14);
+  seamAtVertex(R2.v, R2.u, R2.uv, R2.uu, R3.v, R3.uv, R2.vv, R2.uv, R2.uu, R3.vv, lengthScale, tol, sinTol, s23);
   s12.from = 1, s12.to = 2;
   s23.from = 2, s23.to = 3;
   s43.from = 4, s43.to = 3;
   s14.from = 1, s14.to = 4;
-  fp.seams = {s12, s23, s43, s14};
 
   const double l12 = s12.lambda, k12 = s12.kappa, l14 = s14.lambda, k14 = s14.kappa;
   const double l23 = s23.lambda, k23 = s23.kappa, l43 = s43.lambda, k43 = s43.kappa;

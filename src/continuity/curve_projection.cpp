@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "continuity/one_span_curve.h"
 #include "spline/spline_internal.h"
 
 namespace seam::detail {
@@ -16,7 +17,7 @@ constexpr int kCoarseSamplesPerSpan = 8;
 constexpr int kNewtonIterations = 12;
 
 // `start`, when given: the curve point at the starting t (the first iteration's x).
-double newton(const BSplineCurve& c, const Vec3& p, double t, Interval r, Vec3* start = nullptr) {
+double newton(const OneSpanCurve& c, const Vec3& p, double t, Interval r, Vec3* start = nullptr) {
   for (int it = 0; it < kNewtonIterations; ++it) {
     Vec3 x, d1, d2;
     c.derivatives2(t, x, d1, d2);
@@ -39,15 +40,16 @@ double newton(const BSplineCurve& c, const Vec3& p, double t, Interval r, Vec3* 
 CurvePoint closestPoint(const BSplineCurve& curve, const Vec3& p, std::optional<Interval> range,
                         std::optional<double> guess) {
   const Interval r = range.value_or(curve.domain());
-  auto distAt = [&](double t) { return (curve.point3(t) - p).norm(); };
+  const OneSpanCurve ev(curve);  // the curve's own values, without the span search on Bezier edges
+  auto distAt = [&](double t) { return (ev.point3(t) - p).norm(); };
   if (guess && curve.degree() <= kMaxFastBasisDegree) {
     // As below, with the points at g and t taken from derivatives2, which forms them with point3's operations
     // (the same basis values, the same sums: the same bits) for these degrees: two evaluations fewer.
     const double g = std::clamp(*guess, r.lo, r.hi);
     Vec3 xg;
-    const double t = newton(curve, p, g, r, &xg);
+    const double t = newton(ev, p, g, r, &xg);
     Vec3 x, d1, d2;
-    curve.derivatives2(t, x, d1, d2);
+    ev.derivatives2(t, x, d1, d2);
     const Vec3 diff = x - p;
     const double d = diff.norm();
     if (d <= (xg - p).norm()) {
@@ -58,12 +60,12 @@ CurvePoint closestPoint(const BSplineCurve& curve, const Vec3& p, std::optional<
     }
   } else if (guess) {
     const double g = std::clamp(*guess, r.lo, r.hi);
-    const double t = newton(curve, p, g, r);
+    const double t = newton(ev, p, g, r);
     const double d = distAt(t);
     if (d <= distAt(g)) {
       // Accept when the projection is locally optimal (Newton converged or hit the range boundary).
       Vec3 x, d1, d2;
-      curve.derivatives2(t, x, d1, d2);
+      ev.derivatives2(t, x, d1, d2);
       const Vec3 diff = x - p;
       const double grad = diff.dot(d1);
       const bool boundary = (t == r.lo && grad >= 0.0) || (t == r.hi && grad <= 0.0);
@@ -101,7 +103,7 @@ CurvePoint closestPoint(const BSplineCurve& curve, const Vec3& p, std::optional<
         bestT = t;
       }
     }
-  const double t = newton(curve, p, bestT, r);
+  const double t = newton(ev, p, bestT, r);
   const double d = distAt(t);
   return d <= bestD ? CurvePoint{t, d} : CurvePoint{bestT, bestD};
 }

@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -18,6 +19,7 @@
 
 #include "core/union_find.h"
 #include "continuity/model_check_internal.h"
+#include "continuity/one_span_curve.h"
 #include "continuity/seam_internal.h"
 
 namespace seam {
@@ -40,7 +42,8 @@ EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::o
   for (double b : curve.knots().interiorBreakpoints(curve.degree()))
     if (b > r.lo && b < r.hi) cuts.push_back(b);
   cuts.push_back(r.hi);
-  auto dist2 = [&](double t) { return (curve.point3(t) - p).squaredNorm(); };
+  const OneSpanCurve ev(curve);  // the curve's own values, without the span search on Bezier edges
+  auto dist2 = [&](double t) { return (ev.point3(t) - p).squaredNorm(); };
   double bestT = r.lo, bestD = dist2(r.lo);
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
     for (int i = 1; i <= kProjectionSamplesPerSpan; ++i) {
@@ -56,7 +59,7 @@ EdgeProjection projectOntoCurve(const BSplineCurve& curve, const Vec3& p, std::o
   double t = bestT;
   for (int it = 0; it < kProjectionNewtonIterations; ++it) {
     Vec3 x, d1, d2;
-    curve.derivatives2(t, x, d1, d2);
+    ev.derivatives2(t, x, d1, d2);
     const Vec3 diff = x - p;
     const double f = diff.dot(d1);
     const double fp = d1.squaredNorm() + diff.dot(d2);
@@ -228,6 +231,8 @@ struct EdgeInfo {
   bool collapsed = false;
   bool coincidentExtra = false;  ///< a third or later copy of a coincident edge: left out of the pairing
   Vec3 start = Vec3::Zero(), end = Vec3::Zero();
+  /// The first and last control points (3 coordinates; the stage-1 test reads them for every candidate).
+  Vec3 firstPoint = Vec3::Zero(), lastPoint = Vec3::Zero();
   /// Unit directions in which the edge leaves its start and its end point (chords to the points at 1/64 of the
   /// domain from each end, robust where the first derivative vanishes).
   Vec3 startDir = Vec3::Zero(), endDir = Vec3::Zero();
@@ -255,8 +260,8 @@ double safeNorm(const Vec3& d) {
 }
 
 /// `unitKnots`: where the edge's normalised knots go (as many values as the surface has knots along the edge).
-EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std::span<double> unitKnots) {
-  EdgeInfo info;
+/// Fills `info` (a default-constructed slot, filled in place).
+void makeEdge(EdgeInfo& info, const Patch& patch, int index, Edge e, double collapseTol, std::span<double> unitKnots) {
   info.ref = {index, e};
   const BSplineSurface& s = patch.surface;
   info.curve = s.boundaryCurve(e);
@@ -275,21 +280,24 @@ EdgeInfo makeEdge(const Patch& patch, int index, Edge e, double collapseTol, std
     clampedLo = clampedLo && kn[static_cast<size_t>(i)] == kn.front();
     clampedHi = clampedHi && kn[kn.size() - 1 - static_cast<size_t>(i)] == kn.back();
   }
-  info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : info.curve.point3(info.domain.lo);
-  info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : info.curve.point3(info.domain.hi);
+  const detail::OneSpanCurve ev(info.curve);
+  info.firstPoint = P.row(0).head<3>().transpose();
+  info.lastPoint = P.row(P.rows() - 1).head<3>().transpose();
+  info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : ev.point3(info.domain.lo);
+  info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : ev.point3(info.domain.hi);
   const double step = info.domain.length() / kDepartureDivisor;
-  info.startDir = (info.curve.point3(info.domain.lo + step) - info.start).normalized();
-  info.endDir = (info.curve.point3(info.domain.hi - step) - info.end).normalized();
-  return info;
+  info.startDir = (ev.point3(info.domain.lo + step) - info.start).normalized();
+  info.endDir = (ev.point3(info.domain.hi - step) - info.end).normalized();
 }
 
 /// Width of a patch across two opposite edges (U0/U1 or V0/V1, whose curves share one parameter domain): the largest
 /// of the distances between them at 1/4, 1/2 and 3/4 of the edge parameter.
 void setWidths(EdgeInfo& e0, EdgeInfo& e1) {
+  const detail::OneSpanCurve ev0(e0.curve), ev1(e1.curve);
   double w = 0.0;
   for (double f : {0.25, 0.5, 0.75}) {
     const double t = e0.domain.lo + f * e0.domain.length();
-    w = std::max(w, safeNorm(e0.curve.point3(t) - e1.curve.point3(t)));
+    w = std::max(w, safeNorm(ev0.point3(t) - ev1.point3(t)));
   }
   e0.width = e1.width = w;
 }
@@ -304,12 +312,13 @@ void ensureSamples(EdgeInfo& e) {
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= perSpan; ++i)
       e.sampleT.push_back(cuts[static_cast<size_t>(k)] + (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / perSpan);
-  for (double t : e.sampleT) e.sampleP.push_back(e.curve.point3(t));
+  const detail::OneSpanCurve ev(e.curve);
+  for (double t : e.sampleT) e.sampleP.push_back(ev.point3(t));
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= kPolylinePerSpan; ++i)
       e.polyT.push_back(cuts[static_cast<size_t>(k)] +
                         (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / kPolylinePerSpan);
-  for (double t : e.polyT) e.polyP.push_back(e.curve.point3(t));
+  for (double t : e.polyT) e.polyP.push_back(ev.point3(t));
 }
 
 /// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
@@ -324,6 +333,20 @@ detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
     if (dist < best.distance) best = {e.polyT[k] + f * (e.polyT[k + 1] - e.polyT[k]), dist};
   }
   return best;
+}
+
+/// The pair identicalPolygons reports for polygons found to agree in the orientation `reversed` within `distance`
+/// (before snapOverlap).
+EdgePair identicalPair(const EdgeInfo& a, const EdgeInfo& b, bool reversed, double distance) {
+  EdgePair p;
+  p.a = a.ref;
+  p.b = b.ref;
+  p.overlapA = a.domain;
+  p.overlapB = b.domain;
+  p.reversed = reversed;
+  p.distance = distance;
+  p.identicalControlPolygons = true;
+  return p;
 }
 
 /// Fast path: control polygons that agree point by point within `tol` (in the same or reversed order, the closer of
@@ -342,6 +365,13 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
   const Matrix& pa = ca.points();
   const Matrix& pb = cb.points();
   const bool rational = ca.isRational();
+  // Fast path: polynomial edges whose normalised knots and control points are equal value for value (neighbours cut
+  // from one surface share their boundary rows exactly). The loops below would find the same: the knots match in the
+  // same order, every point difference is +-0 (distance 0, within any tolerance), and the reversed order is ruled out
+  // at its first point (no closer than 0).
+  if (!rational && !(0.0 > tol) && pa.cols() == pb.cols() && std::equal(ka.begin(), ka.end(), kb.begin()) &&
+      std::equal(pa.data(), pa.data() + pa.size(), pb.data()))
+    return identicalPair(a, b, false, 0.0);
   // The best orientation so far: its distance, or none.
   bool found = false, bestReversed = false;
   double bestD = 0.0;
@@ -368,15 +398,7 @@ std::optional<EdgePair> identicalPolygons(const EdgeInfo& a, const EdgeInfo& b, 
     bestD = d;
   }
   if (!found) return std::nullopt;
-  EdgePair p;
-  p.a = a.ref;
-  p.b = b.ref;
-  p.overlapA = a.domain;
-  p.overlapB = b.domain;
-  p.reversed = bestReversed;
-  p.distance = bestD;
-  p.identicalControlPolygons = true;
-  return p;
+  return identicalPair(a, b, bestReversed, bestD);
 }
 
 /// The longest run of consecutive samples within `tol` of the other edge; returns (first, last) indices.
@@ -632,11 +654,29 @@ class ClaimLists {
 /// True when every coordinate of the box is finite.
 bool finiteBox(const BoundingBox& b) { return b.min.allFinite() && b.max.allFinite(); }
 
+/// The first test of a candidate pair (runPairing's stage 1): rejected, identical control polygons (with the
+/// orientation and distance identicalPolygons found), or to be sampled.
+enum class Stage : char { kRejected, kIdentical, kSampled };
+struct StageResult {
+  Stage stage = Stage::kRejected;
+  bool reversed = false;
+  double distance = 0.0;
+};
+/// A candidate pair of edges (a < b) that its first test did not reject.
+struct Candidate {
+  int a = 0, b = 0;
+  StageResult stage;
+};
+
 /// Candidate pairs from a uniform grid over the inflated edge boxes: sorted (cell, edge) keys, then every two edges
 /// that share a cell. Edge i's box is inflated by inflate[i]; two edges within inflate[i] + inflate[j] of each other
 /// always share a cell. Edges covering too many cells are compared with every edge by box.
-std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf,
-                                                int threads) {
+/// Each pair (i, j), in increasing order, goes through `test(i, j)` (a StageResult; read-only, called in parallel) as
+/// it is found, and only those not rejected are listed: the pairs that a list of every candidate followed by the test
+/// of each would keep, in the same order, without that list.
+template <class Test>
+std::vector<Candidate> candidatePairs(const std::vector<EdgeInfo>& edges, const std::vector<double>& inflateOf,
+                                      int threads, const Test& test) {
   std::vector<int> active;
   std::vector<double> sizes;
   for (int i = 0; i < static_cast<int>(edges.size()); ++i) {
@@ -649,7 +689,7 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
     const BoundingBox& b = edges[static_cast<size_t>(i)].box;
     sizes.push_back((b.max - b.min).maxCoeff() + 2.0 * inflateOf[static_cast<size_t>(i)]);
   }
-  std::vector<std::pair<int, int>> out;
+  std::vector<Candidate> out;
   if (active.size() < 2) return out;
   std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
   // Cells are counted from the low corner of all inflated boxes, kCellBits per axis packed into one 64-bit code;
@@ -673,12 +713,11 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
   if (!(h > 0.0) || !std::isfinite(h)) h = extent > 0.0 ? extent : 1.0;
   h = std::max(h, extent / kMaxCellsPerAxis);
   using Cell = std::array<std::uint64_t, 3>;
-  auto code = [](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
-    return (x << (2 * kCellBits)) | (y << kCellBits) | z;
-  };
   std::vector<std::pair<std::uint64_t, int>> keys;  // (cell code, edge), sorted
   std::vector<int> oversize;
   std::vector<std::array<Cell, 2>> cellRange(edges.size());  // lo, hi cell of each keyed edge
+  std::vector<char> keyed(edges.size(), 0);
+  Cell maxCell{0, 0, 0};  // the largest cell index per axis of the keyed edges
   for (int i : active) {
     const BoundingBox& b = edges[static_cast<size_t>(i)].box;
     const double inflate = inflateOf[static_cast<size_t>(i)];
@@ -697,12 +736,25 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
       continue;
     }
     cellRange[static_cast<size_t>(i)] = {lo, hi};
+    keyed[static_cast<size_t>(i)] = 1;
+    for (size_t k = 0; k < 3; ++k) maxCell[k] = std::max(maxCell[k], hi[k]);
+  }
+  // Cell codes packed with as many bits per axis as the largest index needs (at most kCellBits): one code per cell,
+  // and as few radix passes as the occupied cells need (2 of 16 bits for up to 128 cells per axis).
+  const int bitsY = static_cast<int>(std::bit_width(maxCell[1])), bitsZ = static_cast<int>(std::bit_width(maxCell[2]));
+  const int codeBits = static_cast<int>(std::bit_width(maxCell[0])) + bitsY + bitsZ;
+  auto code = [bitsY, bitsZ](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+    return (x << (bitsY + bitsZ)) | (y << bitsZ) | z;
+  };
+  for (int i : active) {
+    if (!keyed[static_cast<size_t>(i)]) continue;
+    const auto& [lo, hi] = cellRange[static_cast<size_t>(i)];
     for (std::uint64_t x = lo[0]; x <= hi[0]; ++x)
       for (std::uint64_t y = lo[1]; y <= hi[1]; ++y)
         for (std::uint64_t z = lo[2]; z <= hi[2]; ++z) keys.emplace_back(code(x, y, z), i);
   }
   // Sorted by (cell, edge): the keys were made in increasing edge order, so a stable sort by cell alone does it.
-  radixSortByKey(keys, 3 * kCellBits);
+  radixSortByKey(keys, codeBits);
   // Each occupied cell's run of keys, found by a hash of its code.
   size_t cells = 0;
   for (size_t k = 0; k < keys.size(); ++k) cells += (k == 0 || keys[k].first != keys[k - 1].first) ? 1 : 0;
@@ -725,10 +777,10 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
     return ((a.min.array() - r) > b.max.array()).any() || ((b.min.array() - r) > a.max.array()).any();
   };
   constexpr size_t kChunks = 64;
-  std::vector<std::vector<std::pair<int, int>>> chunkPairs(kChunks);
+  std::vector<std::vector<Candidate>> chunkPairs(kChunks);
   forEachIndex(kChunks, threads, [&](size_t chunk) {
     const size_t first = active.size() * chunk / kChunks, last = active.size() * (chunk + 1) / kChunks;
-    std::vector<std::pair<int, int>>& local = chunkPairs[chunk];
+    std::vector<Candidate>& local = chunkPairs[chunk];
     std::vector<int> partners;
     for (size_t a = first; a < last; ++a) {
       const int i = active[a];
@@ -756,8 +808,11 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
           if (j > i) partners.push_back(j);
       }
       std::sort(partners.begin(), partners.end());
-      for (int j : partners)
-        if (!boxesApart(i, j)) local.emplace_back(i, j);
+      for (int j : partners) {
+        if (boxesApart(i, j)) continue;
+        const StageResult r = test(i, j);
+        if (r.stage != Stage::kRejected) local.push_back({i, j, r});
+      }
     }
   });
   size_t total = 0;
@@ -769,6 +824,10 @@ std::vector<std::pair<int, int>> candidatePairs(const std::vector<EdgeInfo>& edg
 
 /// Groups of three or more coincident edges (same end points, either way round, and mid point within `tol`), found
 /// by sorting quantised keys: O(N log N). All but the first two edges of each group are marked coincidentExtra.
+/// The keys are made in two steps: the end points' six quantised coordinates for every edge, and the mid point's
+/// three only for the edges that share their end-point key with two others or more (a group of three equal keys
+/// needs three equal end-point keys: on a model of distinct seams no mid point is evaluated). The groups, their
+/// members and the marks are those of the nine-coordinate keys.
 std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, double tol, int threads) {
   const double q = tol > 0.0 ? tol : std::numeric_limits<double>::min();
   // Cell index of a coordinate (the coordinate itself when the index would not be an exact integer): identical
@@ -777,28 +836,33 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
     const double r = std::floor(v / q);
     return std::isfinite(r) && std::abs(r) < kExactIntegerDouble ? r : v;
   };
+  constexpr size_t kEndKeys = 6;  ///< the end points' quantised coordinates (the first six of the nine)
   struct Key {
-    std::array<double, 9> k;
+    std::array<double, 9> k;  ///< end points (the lexicographically smaller first), then the mid point
     int edge;
   };
-  // Keys and hashes per edge in parallel (each edge its own slot), then the non-collapsed ones in edge order.
-  std::vector<Vec3> mids(edges.size(), Vec3::Zero());
+  auto endsEqual = [](const Key& x, const Key& y) {
+    return std::equal(x.k.begin(), x.k.begin() + kEndKeys, y.k.begin());
+  };
+  auto endsLess = [](const Key& x, const Key& y) {
+    return std::lexicographical_compare(x.k.begin(), x.k.begin() + kEndKeys, y.k.begin(), y.k.begin() + kEndKeys);
+  };
+  // End-point keys and their hashes per edge in parallel (each edge its own slot), then the non-collapsed ones in edge
+  // order.
   std::vector<Key> all(edges.size());
   std::vector<std::uint64_t> hashes(edges.size());
   forEachIndex(edges.size(), threads, [&](size_t i) {
     const EdgeInfo& e = edges[i];
     if (e.collapsed) return;
-    mids[i] = e.curve.point3(0.5 * (e.domain.lo + e.domain.hi));
     Vec3 a = e.start, b = e.end;
     if (std::lexicographical_compare(b.data(), b.data() + 3, a.data(), a.data() + 3)) std::swap(a, b);
     Key key{{}, static_cast<int>(i)};
     for (int c = 0; c < 3; ++c) {
       key.k[static_cast<size_t>(c)] = quant(a[c]);
       key.k[static_cast<size_t>(3 + c)] = quant(b[c]);
-      key.k[static_cast<size_t>(6 + c)] = quant(mids[i][c]);
     }
     all[i] = key;
-    hashes[i] = hashDoubles(key.k);
+    hashes[i] = hashDoubles(std::span<const double>(key.k.data(), kEndKeys));
   });
   std::vector<Key> keys;
   std::vector<std::pair<std::uint64_t, int>> byHash;
@@ -809,8 +873,9 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
     byHash.emplace_back(hashes[i], static_cast<int>(keys.size()));
     keys.push_back(all[i]);
   }
-  // Ordered so that equal keys are contiguous, in increasing edge order: by a hash of the key (a stable linear sort of
-  // keys made in edge order), runs of one hash holding different keys (collisions) then stably by the key itself.
+  // Ordered so that equal end-point keys are contiguous, in increasing edge order: by a hash of the key (a stable
+  // linear sort of keys made in edge order), runs of one hash holding different keys (collisions) then stably by the
+  // key itself.
   {
     radixSortByKey(byHash, 64);
     std::vector<Key> sorted;
@@ -822,39 +887,58 @@ std::vector<CoincidentEdges> markCoincidentEdges(std::vector<EdgeInfo>& edges, d
       bool mixed = false;
       for (size_t m = r; m < end; ++m) {
         sorted.push_back(keys[static_cast<size_t>(byHash[m].second)]);
-        mixed = mixed || !(sorted.back().k == sorted[first].k);
+        mixed = mixed || !endsEqual(sorted.back(), sorted[first]);
       }
       if (mixed)
-        std::stable_sort(sorted.begin() + static_cast<std::ptrdiff_t>(first), sorted.end(),
-                         [](const Key& x, const Key& y) { return x.k < y.k; });
+        std::stable_sort(sorted.begin() + static_cast<std::ptrdiff_t>(first), sorted.end(), endsLess);
       r = end;
     }
     keys.swap(sorted);
   }
   std::vector<CoincidentEdges> out;
-  for (size_t g = 0; g < keys.size();) {
-    size_t end = g + 1;
-    while (end < keys.size() && keys[end].k == keys[g].k) ++end;
-    if (end - g >= 3) {
-      const EdgeInfo& first = edges[static_cast<size_t>(keys[g].edge)];
-      const Vec3& firstMid = mids[static_cast<size_t>(keys[g].edge)];
-      std::vector<int> members;
-      for (size_t m = g; m < end; ++m) {
-        const EdgeInfo& e = edges[static_cast<size_t>(keys[m].edge)];
-        const bool same = (e.start - first.start).norm() <= tol && (e.end - first.end).norm() <= tol;
-        const bool flipped = (e.start - first.end).norm() <= tol && (e.end - first.start).norm() <= tol;
-        if ((same || flipped) && (mids[static_cast<size_t>(keys[m].edge)] - firstMid).norm() <= tol)
-          members.push_back(keys[m].edge);
-      }
-      if (members.size() >= 3) {  // keys sorted by edge within the group: members are in EdgeRef order
-        CoincidentEdges c;
-        for (int i : members) c.edges.push_back(edges[static_cast<size_t>(i)].ref);
-        c.point = firstMid;
-        for (size_t m = 2; m < members.size(); ++m) edges[static_cast<size_t>(members[m])].coincidentExtra = true;
-        out.push_back(std::move(c));
-      }
+  std::vector<Vec3> mids;  // of the current end-point group's edges, by position in `keys`
+  for (size_t h = 0; h < keys.size();) {
+    size_t hEnd = h + 1;
+    while (hEnd < keys.size() && endsEqual(keys[hEnd], keys[h])) ++hEnd;
+    if (hEnd - h < 3) {
+      h = hEnd;
+      continue;
     }
-    g = end;
+    // Three or more equal end-point keys: the mid points' keys, then runs of equal nine-coordinate keys in edge order
+    // (the run is in edge order; a stable sort by the whole key keeps it within equal keys).
+    mids.assign(hEnd - h, Vec3::Zero());
+    for (size_t m = h; m < hEnd; ++m) {
+      const EdgeInfo& e = edges[static_cast<size_t>(keys[m].edge)];
+      mids[m - h] = e.curve.point3(0.5 * (e.domain.lo + e.domain.hi));
+      for (int c = 0; c < 3; ++c) keys[m].k[static_cast<size_t>(6 + c)] = quant(mids[m - h][c]);
+    }
+    std::vector<std::pair<Key, Vec3>> group;
+    for (size_t m = h; m < hEnd; ++m) group.emplace_back(keys[m], mids[m - h]);
+    std::stable_sort(group.begin(), group.end(), [](const auto& x, const auto& y) { return x.first.k < y.first.k; });
+    for (size_t g = 0; g < group.size();) {
+      size_t end = g + 1;
+      while (end < group.size() && group[end].first.k == group[g].first.k) ++end;
+      if (end - g >= 3) {
+        const EdgeInfo& first = edges[static_cast<size_t>(group[g].first.edge)];
+        const Vec3& firstMid = group[g].second;
+        std::vector<int> members;
+        for (size_t m = g; m < end; ++m) {
+          const EdgeInfo& e = edges[static_cast<size_t>(group[m].first.edge)];
+          const bool same = (e.start - first.start).norm() <= tol && (e.end - first.end).norm() <= tol;
+          const bool flipped = (e.start - first.end).norm() <= tol && (e.end - first.start).norm() <= tol;
+          if ((same || flipped) && (group[m].second - firstMid).norm() <= tol) members.push_back(group[m].first.edge);
+        }
+        if (members.size() >= 3) {  // keys sorted by edge within the group: members are in EdgeRef order
+          CoincidentEdges c;
+          for (int i : members) c.edges.push_back(edges[static_cast<size_t>(i)].ref);
+          c.point = firstMid;
+          for (size_t m = 2; m < members.size(); ++m) edges[static_cast<size_t>(members[m])].coincidentExtra = true;
+          out.push_back(std::move(c));
+        }
+      }
+      g = end;
+    }
+    h = hEnd;
   }
   std::sort(out.begin(), out.end(),
             [](const CoincidentEdges& x, const CoincidentEdges& y) { return x.edges.front() < y.edges.front(); });
@@ -893,7 +977,7 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     for (size_t k = 0; k < 4; ++k) {
       const std::span<double> slot(P.unitKnotPool.data() + knotStart[base + k],
                                    knotStart[base + k + 1] - knotStart[base + k]);
-      P.edges[base + k] = makeEdge(patch, static_cast<int>(i), kAllEdges[k], tol.distance, slot);
+      makeEdge(P.edges[base + k], patch, static_cast<int>(i), kAllEdges[k], tol.distance, slot);
     }
     setWidths(P.edges[base], P.edges[base + 1]);
     setWidths(P.edges[base + 2], P.edges[base + 3]);
@@ -916,7 +1000,6 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   std::vector<double> inflate(P.edges.size());
   for (size_t k = 0; k < P.edges.size(); ++k)
     inflate[k] = 0.5 * std::min(tau, std::max(tol.distance, options.maxGapToWidth * P.edges[k].width));
-  const std::vector<std::pair<int, int>> pairs = candidatePairs(P.edges, inflate, options.threads);
   // Gapped pairs must have a gap below maxGapToWidth x the patch widths, and a patch meets itself only exactly: the
   // sampled test never needs a larger tolerance than that.
   auto tauPairOf = [&](const EdgeInfo& a, const EdgeInfo& b) {
@@ -931,44 +1014,40 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
     if (p.distance > options.maxGapToWidth * std::min(a.width, b.width)) return false;
     return plausibleGappedSeam(p, a, b);
   };
-  // Stage 1 (parallel, read-only): identical control polygons (within tau, then the gap rules: small patches whose
-  // polygons all lie within tau of each other stop here), or else the cheap necessary condition of the sampled test.
-  enum class Stage : char { kRejected, kIdentical, kSampled };
-  std::vector<Stage> stage(pairs.size(), Stage::kRejected);
-  forEachIndex(pairs.size(), options.threads, [&](size_t k) {
-    const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
-    const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
+  // Stage 1 (parallel, read-only, on each candidate as the grid finds it): identical control polygons (within tau,
+  // then the gap rules: small patches whose polygons all lie within tau of each other stop here), or else the cheap
+  // necessary condition of the sampled test. An identical-polygon candidate keeps the orientation and distance
+  // identicalPolygons found (stage 3 rebuilds the pair from them instead of comparing the polygons again).
+  auto stageOne = [&](int i, int j) -> StageResult {
+    const EdgeInfo& a = P.edges[static_cast<size_t>(i)];
+    const EdgeInfo& b = P.edges[static_cast<size_t>(j)];
     // Shortcut with the same outcome: when the end control points rule out every identical-polygon pair that the gap
     // rules would keep (in both orientations the distance of the polygons, at least that of their end points, exceeds
     // the largest gap keepPair allows) and the sampled test's necessary condition fails, the candidate is rejected
     // whichever way identicalPolygons decides (edges that only share a corner).
-    const Matrix& pa = a.curve.points();
-    const Matrix& pb = b.curve.points();
-    if (pa.rows() == pb.rows() && pa.rows() > 0) {
-      const Eigen::Index last = pa.rows() - 1;
-      auto dist = [&](Eigen::Index i, Eigen::Index j) { return (pa.row(i) - pb.row(j)).head<3>().norm(); };
+    // (The end control points as Vec3: the same differences and sums of squares as the rows' first three columns.)
+    if (a.curve.numPoints() == b.curve.numPoints() && a.curve.numPoints() > 0) {
       const double keptGap = a.ref.patch == b.ref.patch
                                  ? tol.distance
                                  : std::max(tol.distance, options.maxGapToWidth * std::min(a.width, b.width));
-      const double sameWay = std::max(dist(0, 0), dist(last, last));
-      const double reversedWay = std::max(dist(0, last), dist(last, 0));
-      if (sameWay > keptGap && reversedWay > keptGap && !mayOverlap(a, b, tauPairOf(a, b))) return;
+      const double sameWay = std::max((a.firstPoint - b.firstPoint).norm(), (a.lastPoint - b.lastPoint).norm());
+      const double reversedWay = std::max((a.firstPoint - b.lastPoint).norm(), (a.lastPoint - b.firstPoint).norm());
+      if (sameWay > keptGap && reversedWay > keptGap && !mayOverlap(a, b, tauPairOf(a, b))) return {};
     }
     if (std::optional<EdgePair> p = identicalPolygons(a, b, tau)) {
       snapOverlap(*p, a, b);
-      if (keepPair(*p, a, b)) stage[k] = Stage::kIdentical;
+      if (keepPair(*p, a, b)) return {Stage::kIdentical, p->reversed, p->distance};
     } else if (mayOverlap(a, b, tauPairOf(a, b))) {
-      stage[k] = Stage::kSampled;
+      return {Stage::kSampled, false, 0.0};
     }
-  });
-  std::vector<size_t> survivors;
+    return {};
+  };
+  // The candidates that stage 1 keeps, in candidate order (by a, then b).
+  const std::vector<Candidate> survivors = candidatePairs(P.edges, inflate, options.threads, stageOne);
   std::vector<char> needsSamples(P.edges.size(), 0);
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    if (stage[k] == Stage::kRejected) continue;
-    survivors.push_back(k);
-    if (stage[k] == Stage::kSampled)
-      needsSamples[static_cast<size_t>(pairs[k].first)] = needsSamples[static_cast<size_t>(pairs[k].second)] = 1;
-  }
+  for (const Candidate& c : survivors)
+    if (c.stage.stage == Stage::kSampled)
+      needsSamples[static_cast<size_t>(c.a)] = needsSamples[static_cast<size_t>(c.b)] = 1;
   // Stage 2: the samples of the edges that need them, each edge once, in parallel.
   std::vector<size_t> sampledEdges;
   for (size_t e = 0; e < P.edges.size(); ++e)
@@ -977,13 +1056,13 @@ Result<Pairing> runPairing(const Model& model, double diagonal, const Tolerances
   // Stage 3 (parallel, read-only): the pair of each surviving candidate, or none.
   std::vector<std::optional<EdgePair>> found(survivors.size());
   forEachIndex(survivors.size(), options.threads, [&](size_t s) {
-    const size_t k = survivors[s];
-    const EdgeInfo& a = P.edges[static_cast<size_t>(pairs[k].first)];
-    const EdgeInfo& b = P.edges[static_cast<size_t>(pairs[k].second)];
+    const Candidate& cand = survivors[s];
+    const EdgeInfo& a = P.edges[static_cast<size_t>(cand.a)];
+    const EdgeInfo& b = P.edges[static_cast<size_t>(cand.b)];
     const bool samePatch = a.ref.patch == b.ref.patch;
     std::optional<EdgePair> p;
-    if (stage[k] == Stage::kIdentical) {
-      p = identicalPolygons(a, b, tau);
+    if (cand.stage.stage == Stage::kIdentical) {
+      p = identicalPair(a, b, cand.stage.reversed, cand.stage.distance);
       snapOverlap(*p, a, b);
     } else {
       // Two passes: the cheap polyline pass rejects most candidates (edges that only touch at a corner, parallel
@@ -1272,9 +1351,8 @@ std::vector<ModelCorner> findCorners(const Model& model, const std::vector<EdgeI
     if (!co.lengthScale) co.lengthScale = scale > 0.0 && std::isfinite(scale) ? scale : 1.0;
     Result<CornerReport> r = analyzeCorner(patches, corners, cl, co);
     if (!r) return;  // cannot happen for valid indices and 3-D patches (checked before)
-    ModelCorner mc{std::move(r).value()};
+    ModelCorner& mc = analysed[v].emplace(ModelCorner{std::move(r).value()});
     if (!analyze) mc.report.fourPatch.reset();
-    analysed[v] = std::move(mc);
   });
   std::vector<ModelCorner> out;
   out.reserve(analysed.size());
@@ -1297,22 +1375,28 @@ Result<EdgePairing> pairEdges(const Model& model, const ModelCheckOptions& optio
 Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options) {
   if (model.patches.empty()) return invalidInput("the model has no patches");
   ModelCheckReport report;
-  const double diagonal = model.boundingBox().diagonal();
+  // Each patch's control box, computed once: the model's box (Model::boundingBox's union, the patches in order and
+  // then the curves: the same box), the seams' scale (analyzeSeam computes it per seam) and the vertices' default
+  // length scale.
+  std::vector<BoundingBox> patchBox(model.patches.size());
+  forEachIndex(model.patches.size(), options.threads,
+               [&](size_t p) { patchBox[p] = controlBox(model.patches[p].surface); });
+  BoundingBox modelBox;
+  for (const BoundingBox& b : patchBox) modelBox.add(b);
+  for (const Curve& c : model.curves) modelBox.add(controlBox(c.curve));
+  const double diagonal = modelBox.diagonal();
   report.tolerances = options.tolerances.value_or(Tolerances::forModelSize(diagonal));
   const Tolerances& tol = report.tolerances;
   Result<Pairing> pairing = runPairing(model, diagonal, tol, options);
   if (!pairing) return pairing.status();
   Pairing& P = pairing.value();
   report.pairingTolerance = P.result.pairingTolerance;
-  report.freeEdges = P.result.freeEdges;
-  report.degenerateEdges = P.result.degenerateEdges;
-  report.coincidentEdges = P.result.coincidentEdges;
+  report.freeEdges = std::move(P.result.freeEdges);
+  report.degenerateEdges = std::move(P.result.degenerateEdges);
+  report.coincidentEdges = std::move(P.result.coincidentEdges);
 
-  // Each patch's control-box diagonal, computed once: the seams' scale (analyzeSeam computes it per seam) and the
-  // vertices' default length scale.
   std::vector<double> patchDiagonal(model.patches.size());
-  forEachIndex(model.patches.size(), options.threads,
-               [&](size_t p) { patchDiagonal[p] = controlBox(model.patches[p].surface).diagonal(); });
+  for (size_t p = 0; p < patchDiagonal.size(); ++p) patchDiagonal[p] = patchBox[p].diagonal();
 
   // Seams: independent analyses, in parallel (TBB), stored in pairing order.
   SeamOptions seamOptions = options.seam;
@@ -1350,10 +1434,8 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   CornerOptions co;
   co.tol = tol;
   const double cornerTol = options.cornerTolerance.value_or(tol.distance);
-  for (ModelCorner& c :
-       findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads,
-                   patchDiagonal))
-    report.corners.push_back(std::move(c));
+  report.corners = findCorners(model, P.edges, P.result.pairs, cornerTol, co, options.analyzeCorners, options.threads,
+                               patchDiagonal);  // the same corners in the same order, moved once
 
   // Summary.
   S.seams = static_cast<int>(report.seams.size());
