@@ -70,19 +70,8 @@ class OneSpanCurve {
     const int p = kP > 0 ? kP : c_.degree();
     const double* U = c_.knots().values().data();
     const int span = p;
-    double N[kOneSpanMaxDegree + 1], left[kOneSpanMaxDegree + 1], right[kOneSpanMaxDegree + 1];
-    N[0] = 1.0;
-    for (int j = 1; j <= p; ++j) {
-      left[j] = t - U[span + 1 - j];
-      right[j] = U[span + j] - t;
-      double saved = 0.0;
-      for (int r = 0; r < j; ++r) {
-        const double tmp = N[r] / (right[r + 1] + left[j - r]);
-        N[r] = saved + right[r + 1] * tmp;
-        saved = left[j - r] * tmp;
-      }
-      N[j] = saved;
-    }
+    double N[kOneSpanMaxDegree + 1];
+    basisValuesImpl<kP>(U, p, span, t, N);
     const double* P = c_.points().data();
     Vec3 out = Vec3::Zero();
     for (int r = 0; r <= p; ++r) out += N[r] * Vec3(P[3 * r], P[3 * r + 1], P[3 * r + 2]);

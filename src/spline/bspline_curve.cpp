@@ -138,34 +138,14 @@ namespace {
 /// Degrees up to this use the allocation-free evaluation (stack arrays); higher degrees go through derivatives().
 constexpr int kMaxFastEvalDegree = detail::kMaxFastBasisDegree;
 
-// The p + 1 non-zero basis functions at t in `span` (triangular Cox-de Boor scheme, NURBS Book A2.2, on the stack).
-// kP > 0: the degree known at compile time, as basisUpTo2Impl (the same operations, so the same bits).
-template <int kP>
-void basisValuesImpl(const double* U, int p, int span, double t, double* N) {
-  if constexpr (kP > 0) p = kP;
-  double left[kMaxFastEvalDegree + 1], right[kMaxFastEvalDegree + 1];
-  N[0] = 1.0;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - U[span + 1 - j];
-    right[j] = U[span + j] - t;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      const double tmp = N[r] / (right[r + 1] + left[j - r]);
-      N[r] = saved + right[r + 1] * tmp;
-      saved = left[j - r] * tmp;
-    }
-    N[j] = saved;
-  }
-}
-
 void basisValues(const std::vector<double>& U, int p, int span, double t, double* N) {
   switch (p) {  // the common degrees unrolled
-    case 1: return basisValuesImpl<1>(U.data(), p, span, t, N);
-    case 2: return basisValuesImpl<2>(U.data(), p, span, t, N);
-    case 3: return basisValuesImpl<3>(U.data(), p, span, t, N);
-    case 4: return basisValuesImpl<4>(U.data(), p, span, t, N);
-    case 5: return basisValuesImpl<5>(U.data(), p, span, t, N);
-    default: return basisValuesImpl<0>(U.data(), p, span, t, N);
+    case 1: return detail::basisValuesImpl<1>(U.data(), p, span, t, N);
+    case 2: return detail::basisValuesImpl<2>(U.data(), p, span, t, N);
+    case 3: return detail::basisValuesImpl<3>(U.data(), p, span, t, N);
+    case 4: return detail::basisValuesImpl<4>(U.data(), p, span, t, N);
+    case 5: return detail::basisValuesImpl<5>(U.data(), p, span, t, N);
+    default: return detail::basisValuesImpl<0>(U.data(), p, span, t, N);
   }
 }
 }  // namespace

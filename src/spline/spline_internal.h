@@ -15,6 +15,27 @@ inline constexpr int kMaxFastBasisDegree = 15;
 /// p <= kMaxFastBasisDegree at t in knot span `span` (NURBS Book A2.3, on the stack).
 void basisUpTo2(const std::vector<double>& U, int p, int span, double t, double (*ders)[kMaxFastBasisDegree + 1]);
 
+/// The p + 1 non-zero basis functions at t in `span`, p <= kMaxFastBasisDegree (triangular Cox-de Boor scheme, NURBS
+/// Book A2.2, on the stack). kP > 0: the degree known at compile time (the same operations, so the same bits).
+/// BSplineCurve::point3 / evaluate and detail::OneSpanCurve (src/continuity/one_span_curve.h) evaluate through it.
+template <int kP>
+inline void basisValuesImpl(const double* U, int p, int span, double t, double* N) {
+  if constexpr (kP > 0) p = kP;
+  double left[kMaxFastBasisDegree + 1], right[kMaxFastBasisDegree + 1];
+  N[0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = t - U[span + 1 - j];
+    right[j] = U[span + j] - t;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      const double tmp = N[r] / (right[r + 1] + left[j - r]);
+      N[r] = saved + right[r + 1] * tmp;
+      saved = left[j - r] * tmp;
+    }
+    N[j] = saved;
+  }
+}
+
 /// Makes both domain ends of multiplicity degree+1 and drops control rows outside the domain (same curve).
 void clampEnds(int degree, std::vector<double>& knots, Matrix& rows);
 
