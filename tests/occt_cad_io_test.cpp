@@ -616,6 +616,26 @@ TEST(OcctBRep, ProgressIsReportedFromStartToEnd) {
   EXPECT_EQ(static_cast<int>(calls.size()), 2 + (total - 1) / occt::kProgressEdgeStep);
 }
 
+TEST(OcctBRep, CreasesNearNinetyDegreesAreBoundedCloseToTheirSampledAngle) {
+  // occ22470 and trj3 have certified creases of 88.5-89.3 degrees, nearly constant along their edges. The certified G1
+  // bound must hold (at least the angle sampled through OpenCASCADE's evaluators, the independent route) and be
+  // sharp: next to 90 degrees the arcsine of Q / R is ill-conditioned and stopped at the 1 % gap (89.38 degrees for
+  // a crease sampled at 88.5); the cosine's bound P_lo / sqrt(R_hi) gives it to 0.25 degrees.
+  int creases = 0;
+  for (const fs::path& file : {kData / "iges" / "occ22470.igs", kData / "step" / "trj3_s1-al-214.stp"}) {
+    const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, {});
+    ASSERT_TRUE(r.isOk()) << file;
+    for (const occt::BRepSeam& s : r->seams) {
+      const SeamReport& x = s.report;
+      if (!x.certified || !(x.g1SampledDeg > 80.0 && x.g1SampledDeg < 89.9)) continue;
+      ++creases;
+      EXPECT_GE(x.g1MaxDeg, x.g1SampledDeg * (1.0 - 1e-12)) << file << " edge " << s.edge;
+      EXPECT_LE(x.g1MaxDeg, x.g1SampledDeg + 0.25) << file << " edge " << s.edge;
+    }
+  }
+  EXPECT_GE(creases, 6);
+}
+
 TEST(OcctBRep, TheReportDoesNotDependOnTheNumberOfThreads) {
   // The shared edges are analysed on BRepCheckOptions::threads threads and merged in edge order (issue 16 goal 6):
   // serial and parallel checks give the same seams, values and notes, free edges and warnings. occ22470: heavy
