@@ -12,6 +12,16 @@
 #include <STEPControl_Writer.hxx>
 #include <BRep_Tool.hxx>
 #include <STEPControl_Reader.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Reader.hxx>
+#include <IGESData_IGESEntity.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <StepData_StepModel.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <XSControl_Reader.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
@@ -27,6 +37,7 @@
 #include <regex>
 #include <sstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -222,6 +233,56 @@ TEST(OcctReadModel, FacesAreNamedByTheirEntityInTheFile) {
   }
   EXPECT_EQ(r->faces[1].entity, "#1283");  // #1283=ADVANCED_FACE('trim region',...)
   EXPECT_EQ(r->faces[1].entityName, "trim region");
+}
+
+// Issue 17 §3 with issue 16's single scan: each face's entity is the one OpenCASCADE's own per-face lookup finds,
+// XSControl_TransferReader::EntityFromShapeResult(face, 1), on every real file (the same file read a second time,
+// its faces in the explorer's order).
+TEST(OcctReadModel, FaceEntitiesAreOpenCascadesPerFaceLookup) {
+  for (const char* rel : {"step/bug28366_fuselage.stp", "step/trj3_s1-al-214.stp", "step/linkrods.step",
+                          "step/boxed_sphere.step", "iges/sunglasses_lens.igs", "iges/BUC50025.igs",
+                          "iges/occ22470.igs", "iges/bearing.iges"}) {
+    SCOPED_TRACE(rel);
+    const Result<occt::CadImport> r = occt::readCadFile(kData / rel);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    const bool step = std::string(rel).starts_with("step/");
+    std::unique_ptr<XSControl_Reader> reader;
+    if (step) {
+      reader = std::make_unique<STEPControl_Reader>();
+    } else {
+      IGESControl_Controller::Init();
+      reader = std::make_unique<IGESControl_Reader>();
+    }
+    ASSERT_EQ(reader->ReadFile((kData / rel).c_str()), IFSelect_RetDone);
+    reader->TransferRoots();
+    const Handle(XSControl_TransferReader) transfer = reader->WS()->TransferReader();
+    std::vector<TopoDS_Shape> faces;
+    TopTools_IndexedMapOfShape firstOccurrence;
+    for (TopExp_Explorer ex(reader->OneShape(), TopAbs_FACE); ex.More(); ex.Next()) {
+      firstOccurrence.Add(ex.Current());
+      faces.push_back(firstOccurrence.FindKey(firstOccurrence.FindIndex(ex.Current())));
+    }
+    int named = 0;
+    for (const occt::CadFace& f : r->faces) {
+      ASSERT_GE(f.faceIndex, 1);
+      ASSERT_LE(f.faceIndex, static_cast<int>(faces.size()));
+      const Handle(Standard_Transient) entity =
+          transfer->EntityFromShapeResult(faces[static_cast<size_t>(f.faceIndex - 1)], 1);
+      std::string expected;
+      if (entity.IsNull()) {
+      } else if (step) {
+        const int id = Handle(StepData_StepModel)::DownCast(reader->Model())->IdentLabel(entity);
+        if (id > 0) expected = "#" + std::to_string(id);
+      } else {
+        const int dnum = Handle(IGESData_IGESModel)::DownCast(reader->Model())
+                             ->DNum(Handle(IGESData_IGESEntity)::DownCast(entity));
+        if (dnum > 0) expected = "D" + std::to_string(dnum);
+      }
+      EXPECT_EQ(f.entity, expected) << f.patch;
+      named += expected.empty() ? 0 : 1;
+    }
+    EXPECT_GT(named, 0);
+  }
 }
 
 // Issue 17 §3: faces keep their entity through the B-rep check's sewing. Sewing rebuilds faces, and their history is

@@ -48,6 +48,9 @@
 #include <IGESData_IGESEntity.hxx>
 #include <IGESData_IGESModel.hxx>
 #include <XSControl_TransferReader.hxx>
+#include <Transfer_TransientProcess.hxx>
+#include <TransferBRep.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <XSControl_WorkSession.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <StepData_StepWriter.hxx>
@@ -85,6 +88,7 @@
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <optional>
 #include <iterator>
 #include <memory>
 #include <mutex>
@@ -198,16 +202,25 @@ std::optional<std::string> hugeReal(std::string_view text) {
 Status checkReals(const fs::path& file, CadFormat format) {
   std::ifstream is(file, std::ios::binary);
   if (!is) return {ErrorCode::kIoError, fmt::format("{}: cannot read the file", file.string())};
-  const std::string all((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
+  std::string all;
+  constexpr size_t kChunkBytes = size_t{1} << 20;
+  while (is) {  // bulk reads (a character iterator costs ~20 instructions a byte)
+    const size_t have = all.size();
+    all.resize(have + kChunkBytes);
+    is.read(all.data() + have, static_cast<std::streamsize>(kChunkBytes));
+    all.resize(have + static_cast<size_t>(is.gcount()));
+  }
   std::string data;
-  data.reserve(all.size());
   if (format == CadFormat::kStep) {
+    // Quoted strings become blanks (the closing quote stays).
+    data = std::move(all);
     bool quoted = false;
-    for (char c : all) {
+    for (char& c : data) {
       if (c == '\'') quoted = !quoted;
-      data.push_back(quoted ? ' ' : c);
+      if (quoted) c = ' ';
     }
   } else {
+    data.reserve(all.size());
     size_t pos = 0;
     while (pos < all.size()) {
       size_t end = all.find('\n', pos);
@@ -392,6 +405,38 @@ void readIgesUnits(const Handle(IGESData_IGESModel)& model, CadUnits& units) {
     units.declaredResolutionMm = g.Resolution() * units.millimetresPerFileUnit;
 }
 
+/// The entity OpenCASCADE's transfer made each face of `shape` from, as
+/// XSControl_TransferReader::EntityFromShapeResult(face, 1) finds it: the first mapped entity whose shape result
+/// equals the face (same TShape, location and orientation), else the last one whose result is the same face in
+/// another orientation. EntityFromShapeResult scans every mapped entity for each face (faces x entities: 126 M
+/// instructions on boxed_sphere.step, 192 faces); this is one scan for all faces.
+std::vector<Handle(Standard_Transient)> faceEntities(const Handle(XSControl_TransferReader)& transfer,
+                                                     const TopTools_IndexedMapOfShape& faces) {
+  std::vector<Handle(Standard_Transient)> entity(static_cast<size_t>(faces.Extent()));
+  const Handle(Transfer_TransientProcess) tp = transfer.IsNull() ? nullptr : transfer->TransientProcess();
+  if (tp.IsNull()) return entity;
+  // Per face: the first entity whose result equals it in each orientation, and the last whose result is the same.
+  constexpr size_t kOrientations = 4;  // TopAbs_FORWARD, REVERSED, INTERNAL, EXTERNAL
+  std::vector<std::array<Handle(Standard_Transient), kOrientations>> equal(entity.size());
+  std::vector<Handle(Standard_Transient)> same(entity.size());
+  for (int j = 1; j <= tp->NbMapped(); ++j) {
+    const Handle(Standard_Transient) ent = tp->Mapped(j);
+    const TopoDS_Shape sh = TransferBRep::ShapeResult(tp, ent);
+    if (sh.IsNull() || sh.ShapeType() != TopAbs_FACE) continue;
+    const int k = faces.FindIndex(sh);  // keyed by TShape and location: IsSame
+    if (k == 0) continue;
+    Handle(Standard_Transient)& first = equal[static_cast<size_t>(k - 1)][static_cast<size_t>(sh.Orientation())];
+    if (first.IsNull()) first = ent;
+    same[static_cast<size_t>(k - 1)] = ent;
+  }
+  for (int k = 1; k <= faces.Extent(); ++k) {
+    const Handle(Standard_Transient)& first =
+        equal[static_cast<size_t>(k - 1)][static_cast<size_t>(faces(k).Orientation())];
+    entity[static_cast<size_t>(k - 1)] = first.IsNull() ? same[static_cast<size_t>(k - 1)] : first;
+  }
+  return entity;
+}
+
 /// The file entity of every face of `shape` (issue 17 §3): the STEP instance id "#1234" and the entity's name, or the
 /// IGES directory entry "D17" and its name; "" where OpenCASCADE's transfer cannot trace a face back.
 void labelFaces(XSControl_Reader& reader, const TopoDS_Shape& shape, FaceLabels& labels) {
@@ -400,11 +445,15 @@ void labelFaces(XSControl_Reader& reader, const TopoDS_Shape& shape, FaceLabels&
   const Handle(Interface_InterfaceModel) model = reader.Model();
   const Handle(StepData_StepModel) stepModel = Handle(StepData_StepModel)::DownCast(model);
   const Handle(IGESData_IGESModel) igesModel = Handle(IGESData_IGESModel)::DownCast(model);
-  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
-    if (labels.faces.Contains(ex.Current())) continue;
+  const int before = labels.faces.Extent();
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) labels.faces.Add(ex.Current());
+  // Faces already labelled keep their labels; the new ones (in the explorer's order, each with the orientation of
+  // its first occurrence) are looked up together.
+  TopTools_IndexedMapOfShape added;
+  for (int k = before + 1; k <= labels.faces.Extent(); ++k) added.Add(labels.faces(k));
+  const std::vector<Handle(Standard_Transient)> entities = faceEntities(transfer, added);
+  for (const Handle(Standard_Transient)& entity : entities) {
     FaceLabels::Label label;
-    const Handle(Standard_Transient) entity =
-        transfer.IsNull() ? Handle(Standard_Transient)() : transfer->EntityFromShapeResult(ex.Current(), 1);
     if (!entity.IsNull() && !stepModel.IsNull()) {
       if (const int id = stepModel->IdentLabel(entity); id > 0) label.entity = fmt::format("#{}", id);
       const Handle(StepRepr_RepresentationItem) item = Handle(StepRepr_RepresentationItem)::DownCast(entity);
@@ -416,7 +465,6 @@ void labelFaces(XSControl_Reader& reader, const TopoDS_Shape& shape, FaceLabels&
         if (iges->HasName() && !iges->NameValue().IsNull()) label.name = iges->NameValue()->ToCString();
       }
     }
-    labels.faces.Add(ex.Current());
     labels.labels.push_back(std::move(label));
   }
 }
@@ -631,7 +679,6 @@ Result<CadImport> convertFacesUnguarded(const fs::path& file, const std::vector<
 
 Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Face>& faces,
                                const CadReadOptions& options) {
-  CadImport out;
   if (faces.empty())
     return Status(ErrorCode::kInvalidInput, fmt::format("{}: the file contains no faces or surfaces", file.string()));
   // A crash inside OpenCASCADE (a corrupt face) ends the conversion with an error: the state it leaves is not
@@ -654,13 +701,17 @@ Result<CadImport> convertFaces(const fs::path& file, const std::vector<TopoDS_Fa
 Result<CadImport> convertFacesUnguarded(const fs::path& file, const std::vector<TopoDS_Face>& faces,
                                         const CadReadOptions& options, int& current) {
   CadImport out;
-  // Model size for the approximation tolerance: the parameter-box corners of every face, evaluated.
+  // Model size for the approximation tolerance: the parameter-box corners of every face, evaluated. Each face's
+  // parameter box is kept for the conversion below (BRepTools::UVBounds walks all its pcurves).
   BoundingBox box;
-  for (const TopoDS_Face& f : faces) {
+  std::vector<std::optional<std::array<double, 4>>> uvBounds(faces.size());
+  for (size_t k = 0; k < faces.size(); ++k) {
+    const TopoDS_Face& f = faces[k];
     ++current;
     try {
       double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
       BRepTools::UVBounds(f, u0, u1, v0, v1);
+      uvBounds[k] = std::array{u0, u1, v0, v1};
       const Handle(Geom_Surface) s = BRep_Tool::Surface(f);
       if (s.IsNull()) continue;
       for (double u : {u0, 0.5 * (u0 + u1), u1})
@@ -690,7 +741,14 @@ Result<CadImport> convertFacesUnguarded(const fs::path& file, const std::vector<
       }
       info.surfaceType = surf->DynamicType()->Name();
       double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
-      BRepTools::UVBounds(face, u0, u1, v0, v1);
+      if (const auto& b = uvBounds[static_cast<size_t>(index - 1)]) {
+        u0 = (*b)[0];
+        u1 = (*b)[1];
+        v0 = (*b)[2];
+        v1 = (*b)[3];
+      } else {
+        BRepTools::UVBounds(face, u0, u1, v0, v1);  // it failed above: fails the same way here
+      }
       if (!(u1 > u0) || !(v1 > v0))
         return Status(ErrorCode::kInvalidInput,
                       fmt::format("{}: face {} ({}): empty parameter box [{}, {}] x [{}, {}]", file.string(), index,
