@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -151,6 +152,36 @@ TEST(CheckJson, StreamedTextEqualsDocumentTextByteForByte) {
                  0);
   EXPECT_EQ(out.str(), expected + "\n");
 }
+
+#ifdef SEAM_HAVE_OCCT
+// The B-rep check's JSON as the CLI streams it (writeBRepCheckJson) against the document route (brepCheckJson +
+// withInputFile, what `seam batch` and the Python module return), on a STEP file with free edges, a sewn IGES file
+// and, for each, the full listing and a selection (sorted, cut, with --require).
+TEST(CheckJson, BRepStreamedTextEqualsDocumentTextByteForByte) {
+  const std::filesystem::path data = SEAM_SHARED_DATA_DIR;
+  for (const char* name : {"step/bug28366_fuselage.stp", "iges/BUC50025.igs", "iges/occ22470.igs"}) {
+    const std::filesystem::path file = data / name;
+    const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, {});
+    ASSERT_TRUE(r) << r.status().message();
+    std::vector<const SeamReport*> reports;
+    for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
+    SeamSelection cut;
+    cut.sort = SeamSortKey::kAngle;
+    cut.onlyProblems = true;
+    cut.top = 3;
+    for (const auto& [selection, require] : {std::pair{SeamSelection{}, std::optional<GeometricClass>{}},
+                                             std::pair{cut, std::optional{GeometricClass::kG2}}}) {
+      const std::vector<size_t> order = selectSeams(reports, selection);
+      std::ostringstream out;
+      writeBRepCheckJson(out, file, *r, order, require, selection.creaseAngleDeg);
+      std::string expected;
+      appendJsonText(expected, withInputFile(file, brepCheckJson(*r, order, require, selection.creaseAngleDeg)), 0);
+      EXPECT_EQ(out.str(), expected + "\n") << name;
+      EXPECT_EQ(OrderedJson::parse(out.str())["seams"].size(), order.size()) << name;
+    }
+  }
+}
+#endif
 
 TEST(JsonText, ScalarsAreNlohmannsText) {
   std::mt19937_64 rng(7);

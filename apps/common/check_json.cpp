@@ -435,10 +435,10 @@ void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, c
   out.flush();
 }
 
-OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check) {
+OrderedJson withInputFile(const std::filesystem::path& file, OrderedJson check) {
   OrderedJson out{{"file", file.string()}, {"format", inputFormat(file)}};
-  for (const auto& [key, value] : check.items())
-    if (key != "file") out[key] = value;
+  for (auto& [key, value] : check.items())
+    if (key != "file") out[key] = std::move(value);
   return out;
 }
 
@@ -446,85 +446,118 @@ OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& 
 namespace {
 /// "E<n>": a B-rep edge where a patch model names a patch edge (a_edge, b_edge, free edges).
 std::string brepEdgeName(int edge) { return fmt::format("E{}", edge); }
-}  // namespace
 
-OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size_t>& order,
-                          const std::optional<GeometricClass>& require, double creaseAngleDeg) {
+/// The members of `seam check --json` of a STEP/IGES B-rep after "file" and "format" (brepCheckJson's keys).
+template <class Out>
+void brepCheckFields(Out& o, const occt::BRepCheckReport& r, const std::vector<size_t>& order,
+                     const std::optional<GeometricClass>& require, double creaseAngleDeg) {
   int below = 0;
   for (const occt::BRepSeam& s : r.seams)
     if (require && s.report.geometric < *require) ++below;
   std::vector<const SeamReport*> reports;
   for (const occt::BRepSeam& s : r.seams) reports.push_back(&s.report);
   const Tolerances& tol = r.tolerances;
-  OrderedJson seams = OrderedJson::array();
-  for (size_t k : order) {
+  // Each face by its entity in the file: "#1234" (STEP) or "D17" (IGES directory entry), and its name.
+  auto orNull = [](const std::string& x) { return x.empty() ? OrderedJson(nullptr) : OrderedJson(x); };
+  o.object("model", [&](auto& x) {
+    x.field("patches", r.import.faces.size());
+    x.field("faces", r.import.faces.size());
+    x.field("sewn", r.sewn);
+    x.objects("face_names", r.import.faces.size(), [&](auto& y, size_t k) {
+      const occt::CadFace& f = r.import.faces[k];
+      y.field("patch", f.patch);
+      y.field("entity", orNull(f.entity));
+      y.field("name", orNull(f.entityName));
+    });
+  });
+  o.field("units", unitsJson(r.units));
+  o.object("tolerances", [&](auto& x) {
+    x.field("distance", tol.distance);
+    x.field("distance_source", toString(r.distanceSource));
+    x.field("angle_deg", tol.angleDeg);
+    x.field("curvature_rel", tol.curvatureRel);
+    x.field("crease_angle_deg", creaseAngleDeg);
+  });
+  o.objects("seams", order.size(), [&](auto& x, size_t i) {
+    const size_t k = order[i];
     const occt::BRepSeam& s = r.seams[k];
-    OrderedJson j = OrderedJson::object();
-    DomObject o(j);
     const std::string edge = brepEdgeName(s.edge);  // the shared B-rep edge, the same on both faces
-    seamFields(o, s.report, creaseAngleDeg, edge, edge);
-    j["index"] = k;
-    j["edge"] = s.edge;
-    j["route"] = s.viaPatchEdges ? "patch edges (Bernstein form)" : "pcurves (sampled)";
-    j["occt_continuity"] = s.occtContinuity;
-    seams.push_back(std::move(j));
-  }
-  OrderedJson free = OrderedJson::array();
-  for (const occt::BRepFreeEdge& f : r.freeEdges)
-    free.push_back({{"patch", f.face}, {"edge", brepEdgeName(f.edge)}, {"edge_index", f.edge},
-                    {"midpoint", point(f.midpoint)}});
-  OrderedJson nonManifold = OrderedJson::array();
-  for (const occt::BRepNonManifoldEdge& e : r.nonManifoldEdges)
-    nonManifold.push_back({{"edge", e.edge}, {"faces", e.faces}, {"midpoint", point(e.midpoint)}});
+    seamFields(x, s.report, creaseAngleDeg, edge, edge);
+    x.field("index", k);
+    x.field("edge", s.edge);
+    x.field("route", s.viaPatchEdges ? "patch edges (Bernstein form)" : "pcurves (sampled)");
+    x.field("occt_continuity", s.occtContinuity);
+  });
+  o.field("corners", OrderedJson::array());  // not analysed for B-rep files (summary.corners is null)
+  o.objects("free_edges", r.freeEdges.size(), [&](auto& x, size_t k) {
+    const occt::BRepFreeEdge& f = r.freeEdges[k];
+    x.field("patch", f.face);
+    x.field("edge", brepEdgeName(f.edge));
+    x.field("edge_index", f.edge);
+    x.field("midpoint", f.midpoint);
+  });
+  o.objects("non_manifold_edges", r.nonManifoldEdges.size(), [&](auto& x, size_t k) {
+    const occt::BRepNonManifoldEdge& e = r.nonManifoldEdges[k];
+    x.field("edge", e.edge);
+    x.field("faces", e.faces);
+    x.field("midpoint", e.midpoint);
+  });
   double g0Max = 0.0, g1MaxDeg = 0.0, g2Max = 0.0;
   for (const SeamReport* x : reports) {
     g0Max = std::max(g0Max, x->g0Max);
     g1MaxDeg = std::max(g1MaxDeg, x->g1MaxDeg);
     g2Max = std::max(g2Max, x->g2Max);
   }
-  // Each face by its entity in the file: "#1234" (STEP) or "D17" (IGES directory entry), and its name.
-  OrderedJson faceNames = OrderedJson::array();
-  auto orNull = [](const std::string& x) { return x.empty() ? OrderedJson(nullptr) : OrderedJson(x); };
-  for (const occt::CadFace& f : r.import.faces)
-    faceNames.push_back({{"patch", f.patch}, {"entity", orNull(f.entity)}, {"name", orNull(f.entityName)}});
-  OrderedJson out{{"model", {{"patches", r.import.faces.size()},
-                             {"faces", r.import.faces.size()},
-                             {"sewn", r.sewn},
-                             {"face_names", faceNames}}},
-                  {"units", unitsJson(r.units)},
-                  {"tolerances", {{"distance", tol.distance}, {"distance_source", toString(r.distanceSource)},
-                                  {"angle_deg", tol.angleDeg},
-                                  {"curvature_rel", tol.curvatureRel}, {"crease_angle_deg", creaseAngleDeg}}},
-                  {"seams", seams},
-                  {"corners", OrderedJson::array()},  // not analysed for B-rep files (summary.corners is null)
-                  {"free_edges", free},
-                  {"non_manifold_edges", nonManifold},
-                  {"summary", {{"seams", r.seams.size()},
-                               {"certified", r.certifiedSeams},
-                               {"failed", 0},  // an edge OpenCASCADE fails on is not a seam: unanalysed_edges
-                               {"worst_geometric", std::string(toString(r.worstGeometric))},
-                               {"geometric", {{"none", r.geometric[0]}, {"G0", r.geometric[1]},
-                                              {"G1", r.geometric[2]}, {"G2", r.geometric[3]}}},
-                               {"g0_max", g0Max},
-                               {"g1_max_deg", g1MaxDeg},
-                               {"g2_max", g2Max},
-                               {"corners", nullptr},
-                               {"free_edges", r.freeEdges.size()},
-                               {"non_manifold_edges", r.nonManifoldEdges.size()},
-                               {"degenerate_edges", r.degenerateEdges},
-                               {"loose_edges", r.looseEdges},
-                               {"unanalysed_edges", r.unanalysedEdges},
-                               {"agree_with_occt_g1", r.occtAgreement}}}};
-  out["summary"]["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
-  out["summary"]["below_required"] = below;
-  out["summary"]["verdicts"] = verdictCountsJson(countVerdicts(reports, creaseAngleDeg));
+  OrderedJson summary{{"seams", r.seams.size()},
+                      {"certified", r.certifiedSeams},
+                      {"failed", 0},  // an edge OpenCASCADE fails on is not a seam: unanalysed_edges
+                      {"worst_geometric", std::string(toString(r.worstGeometric))},
+                      {"geometric", {{"none", r.geometric[0]}, {"G0", r.geometric[1]},
+                                     {"G1", r.geometric[2]}, {"G2", r.geometric[3]}}},
+                      {"g0_max", g0Max},
+                      {"g1_max_deg", g1MaxDeg},
+                      {"g2_max", g2Max},
+                      {"corners", nullptr},
+                      {"free_edges", r.freeEdges.size()},
+                      {"non_manifold_edges", r.nonManifoldEdges.size()},
+                      {"degenerate_edges", r.degenerateEdges},
+                      {"loose_edges", r.looseEdges},
+                      {"unanalysed_edges", r.unanalysedEdges},
+                      {"agree_with_occt_g1", r.occtAgreement}};
+  summary["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
+  summary["below_required"] = below;
+  summary["verdicts"] = verdictCountsJson(countVerdicts(reports, creaseAngleDeg));
   const OrderedJson worst = worstJson(reports, creaseAngleDeg, [&](size_t k) {
     const occt::BRepSeam& s = r.seams[k];
     return OrderedJson{{"index", k}, {"a", s.a}, {"a_edge", brepEdgeName(s.edge)}, {"b", s.b},
                        {"b_edge", brepEdgeName(s.edge)}, {"edge", s.edge}};
   });
-  for (const auto& [key, value] : worst.items()) out["summary"][key] = value;
-  return out;
+  for (const auto& [key, value] : worst.items()) summary[key] = value;
+  o.field("summary", summary);
+}
+}  // namespace
+
+OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size_t>& order,
+                          const std::optional<GeometricClass>& require, double creaseAngleDeg) {
+  OrderedJson j = OrderedJson::object();
+  DomObject o(j);
+  brepCheckFields(o, r, order, require, creaseAngleDeg);
+  return j;
+}
+
+void writeBRepCheckJson(std::ostream& out, const std::filesystem::path& file, const occt::BRepCheckReport& r,
+                        const std::vector<size_t>& order, const std::optional<GeometricClass>& require,
+                        double creaseAngleDeg) {
+  JsonTextWriter w(&out);
+  TextObject o(w);
+  w.beginObject();
+  o.field("file", file.string());
+  o.field("format", inputFormat(file));
+  brepCheckFields(o, r, order, require, creaseAngleDeg);
+  w.endObject();
+  w.flush();
+  out << '\n';
+  out.flush();
 }
 #endif
 

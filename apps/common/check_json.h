@@ -53,11 +53,18 @@ OrderedJson unitsJson(const ModelUnits& units);
 /// `seam check --json` of a STEP/IGES B-rep (every shared edge, OpenCASCADE's verdict alongside).
 OrderedJson brepCheckJson(const occt::BRepCheckReport& r, const std::vector<size_t>& order,
                           const std::optional<GeometricClass>& require, double creaseAngleDeg);
+
+/// `seam check FILE --json` of a STEP/IGES B-rep written to `out` as jsonText(withInputFile(file, brepCheckJson(...)))
+/// prints it, byte for byte, without building the document (the same record code as brepCheckJson).
+void writeBRepCheckJson(std::ostream& out, const std::filesystem::path& file, const occt::BRepCheckReport& r,
+                        const std::vector<size_t>& order, const std::optional<GeometricClass>& require,
+                        double creaseAngleDeg);
 #endif
 
 /// `check` with the input named first (issue 17 §3, docs/check.schema.json): {"file": FILE, "format": "json" | "bpt" |
-/// "step" | "iges" (null for another name), ...the keys of `check`}.
-OrderedJson withInputFile(const std::filesystem::path& file, const OrderedJson& check);
+/// "step" | "iges" (null for another name), ...the keys of `check`}. The values are moved out of `check` (a copy of a
+/// large report's tree cost more than writing it).
+OrderedJson withInputFile(const std::filesystem::path& file, OrderedJson check);
 
 /// The check JSON of a model without patches (every key of the schema, empty lists, zero counts, and a `note`).
 OrderedJson noPatchesJson(const std::string& name, const ModelUnits& units = {});

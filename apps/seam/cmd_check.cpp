@@ -331,7 +331,8 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
   const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
   if (o.json) {
-    printJson(withInputFile(o.file, brepCheckJson(*r, selectSeams(reports, sel), require, sel.creaseAngleDeg)));
+    // Streamed (the same bytes as jsonText(withInputFile(file, brepCheckJson(...))), without the document).
+    writeBRepCheckJson(std::cout, o.file, *r, selectSeams(reports, sel), require, sel.creaseAngleDeg);
   } else {
     fmt::print("{}: B-rep of {} faces{}; {}\n", o.file, r->import.faces.size(), r->sewn ? " (sewn)" : "",
                unitLine(r->units, {tol, r->distanceSource, o.tol.preset}, sel.creaseAngleDeg));
