@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <type_traits>
 
 #include "continuity/model_check_internal.h"
 
@@ -45,6 +46,10 @@ struct Jet {
   Vec3 p = Vec3::Zero(), u = Vec3::Zero(), v = Vec3::Zero(), uu = Vec3::Zero(), uv = Vec3::Zero(),
        vv = Vec3::Zero();
 };
+
+/// The integer k as a type (a loop bound or index known at compile time where a function template takes it).
+template <int k>
+constexpr std::integral_constant<int, k> kConst{};
 
 Vec2 cornerUV(const BSplineSurface& s, const PatchCorner& c) {
   const Interval du = s.domainU(), dv = s.domainV();
@@ -101,9 +106,10 @@ Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
     for (const auto* w : {&wu, &wv})
       for (const auto& row : *w)
         for (const double x : row) finite = finite && std::isfinite(x);
-    auto mix = [&](int du, int dv) -> Vec3 {
+    // r = the sum over a < na, b < nb of wu[du][a] wv[dv][b] P[a][b], terms with f = 0 skipped. With int arguments
+    // the bounds are known at run time; with std::integral_constant ones (kConst) at compile time.
+    auto mix = [&](auto du, auto dv, auto na, auto nb) -> Vec3 {
       Vec3 r = Vec3::Zero();
-      const int na = finite ? std::min(ku, du + 1) : ku, nb = finite ? std::min(kv, dv + 1) : kv;
       for (int a = 0; a < na; ++a)
         for (int b = 0; b < nb; ++b) {
           const double f = wu[static_cast<size_t>(du)][static_cast<size_t>(a)] *
@@ -112,31 +118,23 @@ Jet cornerJet(const BSplineSurface& s, const PatchCorner& c) {
         }
       return r;
     };
-    // The same sums with the bounds known at compile time (3 x 3 corner points, finite weights: every Bezier corner).
-    auto mixFixed = [&]<int du, int dv>() -> Vec3 {
-      Vec3 r = Vec3::Zero();
-      for (int a = 0; a <= du; ++a)
-        for (int b = 0; b <= dv; ++b) {
-          const double f = wu[du][static_cast<size_t>(a)] * wv[dv][static_cast<size_t>(b)];
-          if (f != 0.0) r += f * P[static_cast<size_t>(a)][static_cast<size_t>(b)];
-        }
-      return r;
-    };
     Jet j;
     j.p = P[0][0];
-    if (finite && ku == 3 && kv == 3) {
-      j.u = mixFixed.template operator()<1, 0>();
-      j.v = mixFixed.template operator()<0, 1>();
-      j.uu = mixFixed.template operator()<2, 0>();
-      j.uv = mixFixed.template operator()<1, 1>();
-      j.vv = mixFixed.template operator()<0, 2>();
+    if (finite && ku == 3 && kv == 3) {  // 3 x 3 corner points, finite weights (every Bezier corner): a <= du, b <= dv
+      j.u = mix(kConst<1>, kConst<0>, kConst<2>, kConst<1>);
+      j.v = mix(kConst<0>, kConst<1>, kConst<1>, kConst<2>);
+      j.uu = mix(kConst<2>, kConst<0>, kConst<3>, kConst<1>);
+      j.uv = mix(kConst<1>, kConst<1>, kConst<2>, kConst<2>);
+      j.vv = mix(kConst<0>, kConst<2>, kConst<1>, kConst<3>);
       return j;
     }
-    j.u = mix(1, 0);
-    j.v = mix(0, 1);
-    j.uu = mix(2, 0);
-    j.uv = mix(1, 1);
-    j.vv = mix(0, 2);
+    auto na = [&](int du) { return finite ? std::min(ku, du + 1) : ku; };
+    auto nb = [&](int dv) { return finite ? std::min(kv, dv + 1) : kv; };
+    j.u = mix(1, 0, na(1), nb(0));
+    j.v = mix(0, 1, na(0), nb(1));
+    j.uu = mix(2, 0, na(2), nb(0));
+    j.uv = mix(1, 1, na(1), nb(1));
+    j.vv = mix(0, 2, na(0), nb(2));
     return j;
   }
   const Vec2 uv = cornerUV(s, c);

@@ -283,8 +283,8 @@ void makeEdge(EdgeInfo& info, const Patch& patch, int index, Edge e, double coll
   const detail::OneSpanCurve ev(info.curve);
   info.firstPoint = P.row(0).head<3>().transpose();
   info.lastPoint = P.row(P.rows() - 1).head<3>().transpose();
-  info.start = clampedLo ? Vec3(P.row(0).head<3>().transpose()) : ev.point3(info.domain.lo);
-  info.end = clampedHi ? Vec3(P.row(P.rows() - 1).head<3>().transpose()) : ev.point3(info.domain.hi);
+  info.start = clampedLo ? info.firstPoint : ev.point3(info.domain.lo);
+  info.end = clampedHi ? info.lastPoint : ev.point3(info.domain.hi);
   const double step = info.domain.length() / kDepartureDivisor;
   info.startDir = (ev.point3(info.domain.lo + step) - info.start).normalized();
   info.endDir = (ev.point3(info.domain.hi - step) - info.end).normalized();

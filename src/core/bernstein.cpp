@@ -432,26 +432,25 @@ Matrix elevateRows(const Matrix& c, int by) {
   if (by <= 0) return c;
   const int n = static_cast<int>(c.rows()) - 1;
   Matrix out = Matrix::Zero(n + by + 1, c.cols());
-  if (n + by <= kBinomialRowCacheMax) {
-    // On the raw rows with the binomial rows looked up once (binomialRow: binom's values): per value the same
-    // factor C(n, j) C(by, i - j) / C(n + by, i), products and sums in the same order as the row expressions below.
-    const double *bn = binomialRow(n), *bb = binomialRow(by), *bo = binomialRow(n + by);
-    const Eigen::Index d = c.cols();
-    for (int i = 0; i <= n + by; ++i) {
-      const double denom = bo[i];
-      double* o = out.data() + static_cast<Eigen::Index>(i) * d;
-      for (int j = std::max(0, i - by); j <= std::min(n, i); ++j) {
-        const double f = bn[j] * bb[i - j] / denom;
-        const double* x = c.data() + static_cast<Eigen::Index>(j) * d;
-        for (Eigen::Index k = 0; k < d; ++k) o[k] += f * x[k];
-      }
-    }
-    return out;
-  }
+  // The binomial rows C(n, .), C(by, .) and C(n + by, .): binomialRow's within its cache, else filled from binom (the
+  // same values either way). Per value the factor C(n, j) C(by, i - j) / C(n + by, i) times row j, summed over j.
+  std::vector<double> ownN, ownBy, ownOut;
+  auto row = [](int m, std::vector<double>& own) -> const double* {
+    if (m <= kBinomialRowCacheMax) return binomialRow(m);
+    own.resize(static_cast<size_t>(m) + 1);
+    for (int k = 0; k <= m; ++k) own[static_cast<size_t>(k)] = binom(m, k);
+    return own.data();
+  };
+  const double *bn = row(n, ownN), *bb = row(by, ownBy), *bo = row(n + by, ownOut);
+  const Eigen::Index d = c.cols();
   for (int i = 0; i <= n + by; ++i) {
-    const double denom = binom(n + by, i);
-    for (int j = std::max(0, i - by); j <= std::min(n, i); ++j)
-      out.row(i) += (binom(n, j) * binom(by, i - j) / denom) * c.row(j);
+    const double denom = bo[i];
+    double* o = out.data() + static_cast<Eigen::Index>(i) * d;
+    for (int j = std::max(0, i - by); j <= std::min(n, i); ++j) {
+      const double f = bn[j] * bb[i - j] / denom;
+      const double* x = c.data() + static_cast<Eigen::Index>(j) * d;
+      for (Eigen::Index k = 0; k < d; ++k) o[k] += f * x[k];
+    }
   }
   return out;
 }
