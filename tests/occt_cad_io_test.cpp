@@ -53,6 +53,11 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kData = SEAM_SHARED_DATA_DIR;
+/// The real STEP/IGES files of ../shared/data (its README), relative to kData.
+constexpr std::array<const char*, 8> kRealFiles{"step/bug28366_fuselage.stp", "step/trj3_s1-al-214.stp",
+                                                "step/linkrods.step",         "step/boxed_sphere.step",
+                                                "iges/sunglasses_lens.igs",   "iges/BUC50025.igs",
+                                                "iges/occ22470.igs",          "iges/bearing.iges"};
 
 fs::path tempPath(const std::string& name) {
   return fs::temp_directory_path() / ("seam_occt_test_" + std::to_string(::getpid()) + "_" + name);
@@ -239,9 +244,7 @@ TEST(OcctReadModel, FacesAreNamedByTheirEntityInTheFile) {
 // XSControl_TransferReader::EntityFromShapeResult(face, 1), on every real file (the same file read a second time,
 // its faces in the explorer's order).
 TEST(OcctReadModel, FaceEntitiesAreOpenCascadesPerFaceLookup) {
-  for (const char* rel : {"step/bug28366_fuselage.stp", "step/trj3_s1-al-214.stp", "step/linkrods.step",
-                          "step/boxed_sphere.step", "iges/sunglasses_lens.igs", "iges/BUC50025.igs",
-                          "iges/occ22470.igs", "iges/bearing.iges"}) {
+  for (const char* rel : kRealFiles) {
     SCOPED_TRACE(rel);
     const Result<occt::CadImport> r = occt::readCadFile(kData / rel);
     ASSERT_TRUE(r.isOk()) << r.status().message();
@@ -478,9 +481,7 @@ TEST(OcctErrors, MissingBrokenAndEmptyFilesAreClearErrors) {
 
 // Every real STEP/IGES file in ../shared/data reads, and the face counts agree with OpenCASCADE's own count.
 TEST(OcctRealData, EveryFileReadsWithOneExactPatchPerFace) {
-  for (const char* rel : {"step/bug28366_fuselage.stp", "step/trj3_s1-al-214.stp", "step/linkrods.step",
-                          "step/boxed_sphere.step", "iges/sunglasses_lens.igs", "iges/BUC50025.igs",
-                          "iges/occ22470.igs", "iges/bearing.iges"}) {
+  for (const char* rel : kRealFiles) {
     SCOPED_TRACE(rel);
     const Result<occt::CadImport> r = occt::readCadFile(kData / rel);
     ASSERT_TRUE(r.isOk()) << r.status().message();
