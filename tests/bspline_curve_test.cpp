@@ -8,11 +8,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <vector>
 
+#include "spline/spline_internal.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -481,6 +484,43 @@ TEST(BSplineCurve, DecomposeKeepsAClampedBezierSpanAsItIs) {
         for (Eigen::Index i = 0; i < piece.size(); ++i) ASSERT_EQ(piece.data()[i], before.data()[i]);
       }
     }
+}
+
+TEST(BSplineCurve, DecomposeInsertsIntoOneMatrixAsInsertKnotDoes) {
+  // decompose raises each interior breakpoint to multiplicity `degree` in one matrix of the final size
+  // (insertions in place); the route it replaces is clampEnds, then insertKnot(degree, knots, rows, b, degree) per
+  // interior breakpoint b, a new matrix per insertion. The same knots and rows, bit for bit: random curves of
+  // degrees 1-5, clamped or not, some interior knots already of higher multiplicity, with their homogeneous rows
+  // and with random rows of 16 columns (a surface's rows decomposed along one direction).
+  std::mt19937_64 rng(2612);
+  for (int p = 1; p <= 5; ++p)
+    for (bool clamped : {true, false})
+      for (int trial = 0; trial < 4; ++trial) {
+        BSplineCurve c = randomCurve(rng, p, 3, {.rational = trial % 2 == 1, .clamped = clamped, .minSpans = 1,
+                                                 .maxSpans = 6});
+        const std::vector<double> inner = c.knots().interiorBreakpoints(p);
+        if (trial >= 2 && !inner.empty())
+          c = c.withKnotInserted(inner[static_cast<size_t>(uniformInt(rng, 0, static_cast<int>(inner.size()) - 1))],
+                                 uniformInt(rng, 1, p));
+        for (const Matrix& start : {c.homogeneous(), test::randomMatrix(rng, c.numPoints(), 16)}) {
+          std::vector<double> knots = c.knots().values(), oldKnots = knots;
+          Matrix rows = start, oldRows = start;
+          const std::vector<Interval> spans = detail::decompose(p, knots, rows);
+          detail::clampEnds(p, oldKnots, oldRows);
+          const Interval dom = KnotVector(oldKnots).domain(p);
+          std::vector<double> interior;
+          for (double k : oldKnots)
+            if (k > dom.lo && k < dom.hi && (interior.empty() || k != interior.back())) interior.push_back(k);
+          for (double b : interior) detail::insertKnot(p, oldKnots, oldRows, b, p);
+          ASSERT_EQ(spans.size(), interior.size() + 1) << describe(c);
+          ASSERT_EQ(knots, oldKnots) << describe(c);
+          ASSERT_EQ(rows.rows(), oldRows.rows()) << describe(c);
+          ASSERT_EQ(rows.cols(), oldRows.cols()) << describe(c);
+          for (Eigen::Index i = 0; i < rows.size(); ++i)
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(rows.data()[i]), std::bit_cast<std::uint64_t>(oldRows.data()[i]))
+                << describe(c) << " coefficient " << i;
+        }
+      }
 }
 
 // Known kernel bug, reported to the lead (final report of the kernel-test session): two distinct knots closer

@@ -7,11 +7,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <vector>
 
+#include "spline/spline_internal.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -626,6 +629,43 @@ TEST(BSplineSurface, CrossDerivativeRowsOnTheStackAndOffItGiveTheSameBits) {
         ASSERT_EQ(rows.cols(), want.cols());
         for (Eigen::Index i = 0; i < want.size(); ++i)
           ASSERT_EQ(rows.data()[i], want.data()[i]) << describe(s) << " edge " << edgeName(e) << " order " << order;
+      }
+}
+
+TEST(BSplineSurface, PointAndFirstDerivativesWithCompileTimeDegreesGiveTheSameBits) {
+  // pointAndFirstDerivatives runs its loops with the degrees known at compile time up to degree 3: the same
+  // operations in the same order as with run-time degrees, so the same bits. Degrees 1-4 in each direction (4:
+  // the run-time loops on both routes), rational and polynomial, parameters inside, on knots and at the ends.
+  std::mt19937_64 rng(2611);
+  for (int pu = 1; pu <= 4; ++pu)
+    for (int pv = 1; pv <= 4; ++pv)
+      for (bool rational : {false, true}) {
+        const BSplineSurface s =
+            randomSurface(rng, pu, pv, 3, {.rational = rational, .minSpans = 1, .maxSpans = 4});
+        const Interval du = s.domainU(), dv = s.domainV();
+        std::vector<double> us{du.lo, du.hi}, vs{dv.lo, dv.hi};
+        for (double k : s.knotsU().values()) us.push_back(k);
+        for (double k : s.knotsV().values()) vs.push_back(k);
+        for (int i = 0; i < 200; ++i) {
+          us.push_back(uniformReal(rng, du.lo, du.hi));
+          vs.push_back(uniformReal(rng, dv.lo, dv.hi));
+        }
+        for (size_t i = 0; i < us.size(); ++i)
+          for (size_t j : {i % vs.size(), (i * 7 + 3) % vs.size()}) {
+            Vec3 p0, u0, v0, p1, u1, v1, p2, u2, v2;
+            detail::pointAndFirstDerivativesFast(s, us[i], vs[j], false, p0, u0, v0);
+            detail::pointAndFirstDerivativesFast(s, us[i], vs[j], true, p1, u1, v1);
+            s.pointAndFirstDerivatives(us[i], vs[j], p2, u2, v2);
+            auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+            for (int k = 0; k < 3; ++k) {
+              ASSERT_EQ(bits(p0[k]), bits(p1[k])) << describe(s);
+              ASSERT_EQ(bits(u0[k]), bits(u1[k])) << describe(s);
+              ASSERT_EQ(bits(v0[k]), bits(v1[k])) << describe(s);
+              ASSERT_EQ(bits(p1[k]), bits(p2[k])) << describe(s);
+              ASSERT_EQ(bits(u1[k]), bits(u2[k])) << describe(s);
+              ASSERT_EQ(bits(v1[k]), bits(v2[k])) << describe(s);
+            }
+          }
       }
 }
 

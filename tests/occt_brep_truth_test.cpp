@@ -47,6 +47,14 @@
 
 #include "seam/occt/brep_check.h"
 
+#include <bit>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "occt/pcurve_correspondence.h"
+#include "test_helpers.h"
+
 namespace seam {
 namespace {
 
@@ -338,6 +346,36 @@ TEST(OcctTruth, TorusFilletOnAPlaneAlongACircleIsCertifiedG1) {
 }
 
 // A file with a loose 3-D curve beside its faces: the curve is counted, the faces are checked, nothing crashes.
+TEST(OcctTruth, EdgeJetMemoGivesTheJetsOfANewEvaluation) {
+  // correspondInParameterOf evaluates a side's edge jets through EdgeJetMemo, which keeps the latest ones by
+  // parameter. Against edgeJet evaluated anew, bit for bit: random rational and polynomial sides, parameters drawn
+  // from a small pool (repeats near and far beyond the memo's size), the pool's ends at the range's ends.
+  std::mt19937_64 rng(2613);
+  for (bool rational : {false, true}) {
+    const BSplineSurface surface =
+        test::randomSurface(rng, 3, 2, 3, {.rational = rational, .minSpans = 1, .maxSpans = 3});
+    PCurveSide side;
+    side.surface = &surface;
+    side.pcurve = test::randomCurve(rng, 3, 2, {.rational = rational, .minSpans = 1, .maxSpans = 3});
+    side.range = side.pcurve.domain();
+    std::vector<double> pool{side.range.lo, side.range.hi};
+    while (pool.size() < 3 * occt::detail::kEdgeJetMemoSize)
+      pool.push_back(test::uniformReal(rng, side.range.lo, side.range.hi));
+    occt::detail::EdgeJetMemo memo(side);
+    auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+    for (int draw = 0; draw < 2000; ++draw) {
+      // Mostly from the pool's first few values (kept), now and then from all of it (evicted meanwhile).
+      const int top = draw % 5 == 0 ? static_cast<int>(pool.size()) : 4;
+      const double t = pool[static_cast<size_t>(test::uniformInt(rng, 0, top - 1))];
+      const occt::detail::EdgeJet kept = memo.at(t), fresh = occt::detail::edgeJet(side, t);
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(bits(kept.point[k]), bits(fresh.point[k])) << "t " << t;
+        ASSERT_EQ(bits(kept.tangent[k]), bits(fresh.tangent[k])) << "t " << t;
+      }
+    }
+  }
+}
+
 TEST(OcctTruth, LooseEdgesAreCountedNotACrash) {
   const Handle(Geom_SphericalSurface) sphere = new Geom_SphericalSurface(gp_Ax3(gp::XOY()), 2.0);
   const TopoDS_Shape shell = sewn({BRepBuilderAPI_MakeFace(sphere, 0.0, kPi, -kPi / 2, kPi / 2, 1e-9),

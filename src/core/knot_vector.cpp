@@ -66,26 +66,26 @@ Interval KnotVector::domain(int degree) const {
   return {t_[static_cast<size_t>(degree)], t_[static_cast<size_t>(n)]};
 }
 
-int KnotVector::findSpan(int degree, double t) const {
-  const int n = size() - degree - 1;  // number of control points
+int KnotVector::findSpan(std::span<const double> knots, int degree, double t) {
+  const int n = static_cast<int>(knots.size()) - degree - 1;  // number of control points
   assert(n > degree);
-  const double lo = t_[static_cast<size_t>(degree)];
-  const double hi = t_[static_cast<size_t>(n)];
+  const double lo = knots[static_cast<size_t>(degree)];
+  const double hi = knots[static_cast<size_t>(n)];
   if (t >= hi) {
     int k = n - 1;
-    while (k > degree && t_[static_cast<size_t>(k)] == hi) --k;  // last non-empty span
+    while (k > degree && knots[static_cast<size_t>(k)] == hi) --k;  // last non-empty span
     return k;
   }
   if (t <= lo) {
     int k = degree;
-    while (k < n - 1 && t_[static_cast<size_t>(k + 1)] == lo) ++k;  // first non-empty span
+    while (k < n - 1 && knots[static_cast<size_t>(k + 1)] == lo) ++k;  // first non-empty span
     return k;
   }
   // upper_bound over [t_p, t_n]: first knot strictly greater than t, minus one.
-  const auto first = t_.begin() + degree;
-  const auto last = t_.begin() + n + 1;
+  const auto first = knots.begin() + degree;
+  const auto last = knots.begin() + n + 1;
   const auto it = std::upper_bound(first, last, t);
-  return static_cast<int>(it - t_.begin()) - 1;
+  return static_cast<int>(it - knots.begin()) - 1;
 }
 
 int KnotVector::multiplicity(double t) const {

@@ -5,7 +5,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -15,18 +18,7 @@
 
 namespace seam::occt::detail {
 
-namespace {
-
-/// Gauss-Newton steps of a closest-point search along an edge, and the step (relative to the range) that ends it.
-constexpr int kClosestIterations = 40;
-constexpr double kClosestStepRel = 1e-15;
-
-/// A side's edge point S(c(t)) and its derivative along the edge (chain rule; the pcurve clamped to the domain).
-struct EdgeJet {
-  Vec3 point, tangent;
-};
-
-EdgeJet jet(const PCurveSide& s, double t) {
+EdgeJet edgeJet(const PCurveSide& s, double t) {
   Vec2 c, d;
   s.pcurve.derivatives1(t, c, d);
   const Interval du = s.surface->domainU(), dv = s.surface->domainV();
@@ -35,12 +27,31 @@ EdgeJet jet(const PCurveSide& s, double t) {
   return {p, su * d[0] + sv * d[1]};
 }
 
+EdgeJet EdgeJetMemo::at(double t) {
+  const auto key = std::bit_cast<std::uint64_t>(t);
+  for (size_t i = 0; i < count_; ++i)
+    if (keys_[i] == key) return jets_[i];
+  const size_t i = next_;
+  next_ = (next_ + 1) % kEdgeJetMemoSize;
+  count_ = std::max(count_, i + 1);
+  keys_[i] = key;
+  jets_[i] = edgeJet(side_, t);
+  return jets_[i];
+}
+
+namespace {
+
+/// Gauss-Newton steps of a closest-point search along an edge, and the step (relative to the range) that ends it.
+constexpr int kClosestIterations = 40;
+constexpr double kClosestStepRel = 1e-15;
+
 /// The parameter of the point of side `s`'s edge closest to x, from `t` (Gauss-Newton, clamped to the range).
-double closest(const PCurveSide& s, const Vec3& x, double t) {
+double closest(EdgeJetMemo& memo, const Vec3& x, double t) {
+  const PCurveSide& s = memo.side();
   const Interval r = s.range;
   t = std::clamp(t, r.lo, r.hi);
   for (int it = 0; it < kClosestIterations; ++it) {
-    const EdgeJet j = jet(s, t);
+    const EdgeJet j = memo.at(t);
     const double tt = j.tangent.squaredNorm();
     if (!(tt > 0.0)) break;  // a vanishing tangent (a pole of the edge): keep the point reached
     const double next = std::clamp(t + (x - j.point).dot(j.tangent) / tt, r.lo, r.hi);
@@ -74,12 +85,13 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
   if (!(distanceTol > 0.0) || !a.surface || !b.surface) return invalidInput("correspondence: bad sides");
   const Interval ra = a.range, rb = b.range;
   // Orientation from the end points: B's range runs along A's or against it.
-  const Vec3 a0 = jet(a, ra.lo).point, a1 = jet(a, ra.hi).point;
-  const Vec3 b0 = jet(b, rb.lo).point, b1 = jet(b, rb.hi).point;
+  EdgeJetMemo jetA(a), jetB(b);
+  const Vec3 a0 = jetA.at(ra.lo).point, a1 = jetA.at(ra.hi).point;
+  const Vec3 b0 = jetB.at(rb.lo).point, b1 = jetB.at(rb.hi).point;
   const bool reversed = (a0 - b1).norm() + (a1 - b0).norm() < (a0 - b0).norm() + (a1 - b1).norm();
   const double qStart = reversed ? rb.hi : rb.lo, qEnd = reversed ? rb.lo : rb.hi;
   auto linearGuess = [&](double r) { return qStart + (r - ra.lo) / ra.length() * (qEnd - qStart); };
-  auto phiStar = [&](double r, double guess) { return closest(b, jet(a, r).point, guess); };
+  auto phiStar = [&](double r, double guess) { return closest(jetB, jetA.at(r).point, guess); };
 
   // Breakpoints in r: A's pcurve breakpoints and the preimages of B's (so that every piece of phi stays inside one
   // Bezier piece of B's pcurve), with B's parameter there: B's own knot values exactly.
@@ -97,7 +109,7 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
     const double q = p.interval.lo;
     if (!(q > rb.lo + minGap * rb.length() && q < rb.hi - minGap * rb.length())) continue;
     const double guess = ra.lo + (q - qStart) / (qEnd - qStart) * ra.length();
-    breaks.push_back({closest(a, jet(b, q).point, guess), q});
+    breaks.push_back({closest(jetA, jetB.at(q).point, guess), q});
   }
   std::sort(breaks.begin(), breaks.end(), [](const Break& x, const Break& y) { return x.r < y.r; });
   {
@@ -133,7 +145,7 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
       for (const double s : {1.0 / 6.0, 0.5, 5.0 / 6.0}) {
         const double r = r0 + s * h, q = phi.scalar(s);
         const double qs = phiStar(r, q);
-        err = std::max(err, (jet(b, q).point - jet(b, qs).point).norm());
+        err = std::max(err, (jetB.at(q).point - jetB.at(qs).point).norm());
       }
       ok = err <= pairTol;
     }

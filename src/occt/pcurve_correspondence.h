@@ -10,6 +10,9 @@
 // the closest-point correspondence, refined until it matches it within a small fraction of the distance tolerance
 // at check points, so that the bounds stay tight. Details: docs/algorithms/seam-measures.md ("Edges without a
 // common parameter").
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "seam/continuity/seam.h"
@@ -32,6 +35,32 @@ struct Correspondence {
   PCurveSide b;               ///< B's side with pcurve c_B(phi(r)) over A's range
   int pieces = 0;             ///< cubic pieces of phi
   double pairingError = 0.0;  ///< largest |S_B(c_B(phi(r))) - S_B(c_B(phi*(r)))| at the check points (phi* closest)
+};
+
+/// A side's edge point S(c(t)) and its derivative along the edge (chain rule; the pcurve clamped to the domain).
+struct EdgeJet {
+  Vec3 point, tangent;
+};
+EdgeJet edgeJet(const PCurveSide& s, double t);
+
+/// How many of a side's latest jets EdgeJetMemo keeps.
+inline constexpr size_t kEdgeJetMemoSize = 8;
+
+/// edgeJet of one side, the last kEdgeJetMemoSize evaluations kept by parameter (bit pattern): a check point's jet
+/// at phi(s) is where the closest-point search starts, and its jet at phi*(s) often the one the search's last step
+/// evaluated. edgeJet is a pure function of (side, t): a kept jet is the one a new call would return, bit for bit.
+class EdgeJetMemo {
+ public:
+  explicit EdgeJetMemo(const PCurveSide& s) : side_(s) {}
+  [[nodiscard]] const PCurveSide& side() const { return side_; }
+  /// edgeJet(side(), t), from the kept ones when t was among the latest.
+  EdgeJet at(double t);
+
+ private:
+  const PCurveSide& side_;
+  std::array<std::uint64_t, kEdgeJetMemoSize> keys_{};
+  std::array<EdgeJet, kEdgeJetMemoSize> jets_{};
+  size_t count_ = 0, next_ = 0;
 };
 
 /// B's side in A's parameter, as above. `distanceTol` is the model's G0 tolerance (it sets how close phi must pair

@@ -170,7 +170,10 @@ constexpr int kMaxFastDegree = detail::kMaxFastBasisDegree;
 
 // Values and first derivatives of the p+1 non-zero basis functions at t in `span` (Cox-de Boor triangle on the
 // stack; N'_{i,p} = p (N_{i,p-1} / (t_{i+p} - t_i) - N_{i+1,p-1} / (t_{i+p+1} - t_{i+1}))).
-void basisAndDerivative(const std::vector<double>& U, int p, int span, double t, double* N, double* dN) {
+// `p` an int, or a std::integral_constant for the common low degrees (withLowDegree): the same operations in the
+// same order either way, so the same bits; with the degree known at compile time the loops unroll.
+template <class Degree>
+void basisAndDerivative(const std::vector<double>& U, Degree p, int span, double t, double* N, double* dN) {
   double left[kMaxFastDegree + 1], right[kMaxFastDegree + 1], low[kMaxFastDegree + 1];
   N[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
@@ -199,30 +202,39 @@ void basisAndDerivative(const std::vector<double>& U, int p, int span, double t,
     dN[r] = p * d;
   }
 }
-}  // namespace
 
-void BSplineSurface::pointAndFirstDerivatives(double u, double v, Vec3& point, Vec3& du, Vec3& dv) const {
-  assert(dim() == 3);
-  if (pu_ > kMaxFastDegree || pv_ > kMaxFastDegree) {
-    const auto d = derivatives(u, v, 1);
-    point = d[0][0];
-    du = d[1][0];
-    dv = d[0][1];
-    return;
+/// Degrees up to this one get their own compile-time instance of the evaluation loops (withLowDegree).
+constexpr int kUnrolledDegree = 3;
+
+/// f(std::integral_constant<int, p>) for p in [1, kUnrolledDegree], else f(p).
+template <class F>
+decltype(auto) withLowDegree(int p, F&& f) {
+  static_assert(kUnrolledDegree == 3);
+  switch (p) {
+    case 1: return f(std::integral_constant<int, 1>{});
+    case 2: return f(std::integral_constant<int, 2>{});
+    case 3: return f(std::integral_constant<int, 3>{});
+    default: return f(p);
   }
-  const int su = ku_.findSpan(pu_, u), sv = kv_.findSpan(pv_, v);
+}
+
+/// S, S_u, S_v (homogeneous sums, then the quotient rule when rational) from the basis values at (span su, sv):
+/// BSplineSurface::pointAndFirstDerivatives' loops, for int or compile-time degrees (the same operations in the
+/// same order).
+template <class DegU, class DegV>
+void pointAndFirstDerivativesAt(DegU pu, DegV pv, const std::vector<double>& ku, const std::vector<double>& kv,
+                                const double* P, const VecX& weights, bool rational, int nv, double u, double v,
+                                int su, int sv, Vec3& point, Vec3& du, Vec3& dv) {
   double Nu[kMaxFastDegree + 1], dNu[kMaxFastDegree + 1], Nv[kMaxFastDegree + 1], dNv[kMaxFastDegree + 1];
-  basisAndDerivative(ku_.values(), pu_, su, u, Nu, dNu);
-  basisAndDerivative(kv_.values(), pv_, sv, v, Nv, dNv);
-  const bool rational = isRational();
+  basisAndDerivative(ku, pu, su, u, Nu, dNu);
+  basisAndDerivative(kv, pv, sv, v, Nv, dNv);
   double S[4] = {0, 0, 0, 0}, Su[4] = {0, 0, 0, 0}, Sv[4] = {0, 0, 0, 0};
-  const double* P = points_.data();
-  for (int r = 0; r <= pu_; ++r) {
+  for (int r = 0; r <= pu; ++r) {
     double row[4] = {0, 0, 0, 0}, rowV[4] = {0, 0, 0, 0};
-    const int i = su - pu_ + r;
-    for (int c = 0; c <= pv_; ++c) {
-      const int idx = i * nv_ + (sv - pv_ + c);
-      const double w = rational ? weights_[idx] : 1.0;
+    const int i = su - pu + r;
+    for (int c = 0; c <= pv; ++c) {
+      const int idx = i * nv + (sv - pv + c);
+      const double w = rational ? weights[idx] : 1.0;
       const double* x = P + 3 * static_cast<size_t>(idx);
       const double a = Nv[c] * w, b = dNv[c] * w;
       for (int k = 0; k < 3; ++k) {
@@ -250,6 +262,40 @@ void BSplineSurface::pointAndFirstDerivatives(double u, double v, Vec3& point, V
   du = Vec3(Su[0], Su[1], Su[2]);
   dv = Vec3(Sv[0], Sv[1], Sv[2]);
 }
+}  // namespace
+
+void BSplineSurface::pointAndFirstDerivatives(double u, double v, Vec3& point, Vec3& du, Vec3& dv) const {
+  assert(dim() == 3);
+  if (pu_ > kMaxFastDegree || pv_ > kMaxFastDegree) {
+    const auto d = derivatives(u, v, 1);
+    point = d[0][0];
+    du = d[1][0];
+    dv = d[0][1];
+    return;
+  }
+  detail::pointAndFirstDerivativesFast(*this, u, v, true, point, du, dv);
+}
+
+namespace detail {
+
+void pointAndFirstDerivativesFast(const BSplineSurface& s, double u, double v, bool unrolled, Vec3& point, Vec3& du,
+                                  Vec3& dv) {
+  assert(s.dim() == 3 && s.degreeU() <= kMaxFastDegree && s.degreeV() <= kMaxFastDegree);
+  const int pu = s.degreeU(), pv = s.degreeV();
+  const std::vector<double>&ku = s.knotsU().values(), &kv = s.knotsV().values();
+  const int su = s.knotsU().findSpan(pu, u), sv = s.knotsV().findSpan(pv, v);
+  auto eval = [&](auto degU, auto degV) {
+    pointAndFirstDerivativesAt(degU, degV, ku, kv, s.points().data(), s.weights(), s.isRational(), s.numV(), u, v,
+                               su, sv, point, du, dv);
+  };
+  if (!unrolled) {
+    eval(pu, pv);
+    return;
+  }
+  withLowDegree(pu, [&](auto degU) { withLowDegree(pv, [&](auto degV) { eval(degU, degV); }); });
+}
+
+}  // namespace detail
 
 
 void BSplineSurface::secondOrderDerivatives(double u, double v, std::array<Vec3, 6>& out) const {

@@ -12,8 +12,13 @@ namespace seam::detail {
 
 namespace {
 
-int spanOf(int degree, const std::vector<double>& knots, double t) {
-  return KnotVector(knots).findSpan(degree, t);
+int spanOf(int degree, const std::vector<double>& knots, double t) { return KnotVector::findSpan(knots, degree, t); }
+
+/// KnotVector(knots).domain(degree) without the copy.
+Interval domainOf(int degree, const std::vector<double>& knots) {
+  const int n = static_cast<int>(knots.size()) - degree - 1;
+  if (n <= degree || degree < 0) return {0.0, 0.0};
+  return {knots[static_cast<size_t>(degree)], knots[static_cast<size_t>(n)]};
 }
 
 int exactMultiplicity(const std::vector<double>& knots, double t) {
@@ -23,7 +28,7 @@ int exactMultiplicity(const std::vector<double>& knots, double t) {
 // Distinct knot values strictly inside the domain, compared exactly (knot insertion counts multiplicities exactly,
 // so decomposition must too: two knots 1e-14 apart are two breakpoints, however close).
 std::vector<double> exactInteriorBreakpoints(int degree, const std::vector<double>& knots) {
-  const Interval dom = KnotVector(knots).domain(degree);
+  const Interval dom = domainOf(degree, knots);
   std::vector<double> out;
   for (double k : knots)
     if (k > dom.lo && k < dom.hi && (out.empty() || k != out.back())) out.push_back(k);
@@ -46,10 +51,25 @@ void insertOnce(int p, std::vector<double>& knots, Matrix& rows, double t) {
   rows = std::move(out);
 }
 
+// insertOnce on the first n rows of `buf` (at least n + 1 rows), in place: the rows after the span move down by one,
+// the p new ones are formed from the highest down, each from two rows not yet overwritten. The same values as
+// insertOnce (the same operations), without a new matrix per insertion.
+void insertOnceInPlace(int p, std::vector<double>& knots, Matrix& buf, Eigen::Index n, double t) {
+  assert(buf.rows() > n);
+  const int k = spanOf(p, knots, t);
+  for (Eigen::Index i = n; i >= k + 1; --i) buf.row(i) = buf.row(i - 1);
+  for (int i = k; i >= k - p + 1; --i) {
+    const double ti = knots[static_cast<size_t>(i)];
+    const double a = (t - ti) / (knots[static_cast<size_t>(i + p)] - ti);
+    buf.row(i) = (1.0 - a) * buf.row(i - 1) + a * buf.row(i);
+  }
+  knots.insert(knots.begin() + k + 1, t);
+}
+
 }  // namespace
 
 void insertKnot(int degree, std::vector<double>& knots, Matrix& rows, double t, int times) {
-  const Interval dom = KnotVector(knots).domain(degree);
+  const Interval dom = domainOf(degree, knots);
   if (t < dom.lo || t > dom.hi || times <= 0) return;
   const bool atEnd = (t == dom.lo || t == dom.hi);
   const int cap = atEnd ? degree + 1 : degree;
@@ -63,16 +83,15 @@ void refineKnots(int degree, std::vector<double>& knots, Matrix& rows, const std
 }
 
 void clampEnds(int degree, std::vector<double>& knots, Matrix& rows) {
-  const Interval dom = KnotVector(knots).domain(degree);
+  const Interval dom = domainOf(degree, knots);
   const int p = degree;
   for (double t : {dom.lo, dom.hi}) {
     const int s = exactMultiplicity(knots, t);
     for (int i = s; i < p; ++i) insertOnce(p, knots, rows, t);
   }
   // Now both ends have multiplicity >= p: keep the control points of the domain spans only.
-  const KnotVector kv(knots);
-  const int first = kv.findSpan(p, dom.lo) - p;
-  const int last = kv.findSpan(p, dom.hi);
+  const int first = spanOf(p, knots, dom.lo) - p;
+  const int last = spanOf(p, knots, dom.hi);
   Matrix trimmed = rows.middleRows(first, last - first + 1);
   std::vector<double> t(knots.begin() + first, knots.begin() + last + p + 2);
   t.front() = dom.lo;
@@ -93,9 +112,26 @@ std::vector<Interval> decompose(int degree, std::vector<double>& knots, Matrix& 
     return {Interval{knots[p1 - 1], knots[p1]}};
   clampEnds(degree, knots, rows);
   const std::vector<double> interior = exactInteriorBreakpoints(degree, knots);
-  for (double b : interior) insertKnot(degree, knots, rows, b, degree);
+  // Each interior breakpoint raised to multiplicity `degree` (insertKnot(degree, knots, rows, b, degree): b is
+  // inside the domain, and inserting one breakpoint leaves the others' multiplicities), in one matrix of the final
+  // size.
+  std::vector<int> times(interior.size());
+  Eigen::Index added = 0;
+  for (size_t i = 0; i < interior.size(); ++i) {
+    times[i] = std::max(0, degree - exactMultiplicity(knots, interior[i]));
+    added += times[i];
+  }
+  if (added > 0) {
+    Matrix buf(rows.rows() + added, rows.cols());
+    buf.topRows(rows.rows()) = rows;
+    Eigen::Index n = rows.rows();
+    knots.reserve(knots.size() + static_cast<size_t>(added));
+    for (size_t i = 0; i < interior.size(); ++i)
+      for (int r = 0; r < times[i]; ++r) insertOnceInPlace(degree, knots, buf, n++, interior[i]);
+    rows = std::move(buf);
+  }
   std::vector<Interval> spans;
-  const Interval dom = KnotVector(knots).domain(degree);
+  const Interval dom = domainOf(degree, knots);
   double lo = dom.lo;
   for (double b : interior) {
     spans.push_back({lo, b});

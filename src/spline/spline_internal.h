@@ -6,6 +6,10 @@
 #include "seam/core/types.h"
 #include "seam/spline/bspline_curve.h"
 
+namespace seam {
+class BSplineSurface;
+}
+
 namespace seam::detail {
 
 /// Largest degree handled by the allocation-free evaluation paths (higher degrees use the general algorithms).
@@ -35,6 +39,13 @@ inline void basisValuesImpl(const double* U, int p, int span, double t, double* 
     N[j] = saved;
   }
 }
+
+/// BSplineSurface::pointAndFirstDerivatives of a 3-D surface of degrees <= kMaxFastBasisDegree, on the stack:
+/// with `unrolled`, through instances of its loops for the degrees up to 3 known at compile time (what the method
+/// uses), else with the degrees as run-time values. The same operations in the same order either way, so the same
+/// bits (bspline_surface_test compares the two).
+void pointAndFirstDerivativesFast(const BSplineSurface& s, double u, double v, bool unrolled, Vec3& point, Vec3& du,
+                                  Vec3& dv);
 
 /// Makes both domain ends of multiplicity degree+1 and drops control rows outside the domain (same curve).
 void clampEnds(int degree, std::vector<double>& knots, Matrix& rows);

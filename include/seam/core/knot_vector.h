@@ -26,7 +26,9 @@ class KnotVector {
   [[nodiscard]] Interval domain(int degree) const;
   /// The index k with t_k <= t < t_{k+1}, restricted to the domain spans p <= k <= n - 1 (t at or beyond the
   /// right end of the domain returns the last non-empty span; t before the left end the first).
-  [[nodiscard]] int findSpan(int degree, double t) const;
+  [[nodiscard]] int findSpan(int degree, double t) const { return findSpan(t_, degree, t); }
+  /// findSpan of the knot vector `knots` (without copying it into a KnotVector).
+  [[nodiscard]] static int findSpan(std::span<const double> knots, int degree, double t);
   /// How many knots equal t (within kKnotRelTol of the knot-vector length).
   [[nodiscard]] int multiplicity(double t) const;
   /// Distinct knot values in increasing order, and their multiplicities.
