@@ -90,6 +90,30 @@ constexpr bool hasAvx2() { return false; }
 #endif
 #define SEAM_KERNEL [[gnu::always_inline]] inline
 
+// A SEAM_KERNEL compiled twice from its one source: for the baseline instruction set (SSE2) and, in builds with
+// SEAM_BERNSTEIN_AVX2, for AVX2. run(wide, args...) takes the AVX2 copy when `wide` (the loops are long enough for
+// four lanes to pay) and the CPU has AVX2.
+template <auto kernel>
+struct Avx2OrBaseline {
+  template <class... Args>
+  [[gnu::noinline]] static void baseline(Args... args) {
+    kernel(args...);
+  }
+#ifdef SEAM_BERNSTEIN_AVX2
+  template <class... Args>
+  [[gnu::noinline]] SEAM_AVX2_TARGET static void avx2(Args... args) {
+    kernel(args...);
+  }
+#endif
+  template <class... Args>
+  static void run([[maybe_unused]] bool wide, Args... args) {
+#ifdef SEAM_BERNSTEIN_AVX2
+    if (wide && hasAvx2()) return avx2(args...);
+#endif
+    baseline(args...);
+  }
+};
+
 // The de Casteljau levels on w (n rows of d values), leaving the value in the first row.
 SEAM_KERNEL void deCasteljauLevelsKernel(double* w, Eigen::Index n, Eigen::Index d, double t) {
   const double s = 1.0 - t;
@@ -110,12 +134,6 @@ SEAM_KERNEL void deCasteljauLevelsKernel(double* w, Eigen::Index n, Eigen::Index
     default: levels(std::integral_constant<int, 0>{}); break;
   }
 }
-void deCasteljauLevelsDefault(double* w, Eigen::Index n, Eigen::Index d, double t) { deCasteljauLevelsKernel(w, n, d, t); }
-#ifdef SEAM_BERNSTEIN_AVX2
-SEAM_AVX2_TARGET void deCasteljauLevelsAvx2(double* w, Eigen::Index n, Eigen::Index d, double t) {
-  deCasteljauLevelsKernel(w, n, d, t);
-}
-#endif
 #ifdef SEAM_BERNSTEIN_AVX2
 constexpr Eigen::Index kSubdivideScalarAvx2MinDegree = 64;
 // detail::splitHalves four lanes wide from this degree: at t = 1/2 the four-lane levels were as fast as element by
@@ -128,9 +146,8 @@ void deCasteljauLevels(double* w, Eigen::Index n, Eigen::Index d, double t) {
   // One column: the levels are those of the subdivision keeping [t, 1] (w[i] = s w[i] + t w[i + 1]); at high degree
   // its explicit four-lane loop (the same operations per value).
   if (d == 1 && n - 1 >= kSubdivideScalarAvx2MinDegree && hasAvx2()) return subdivideScalarAvx2(w, n - 1, t, false);
-  if (n > 8 && hasAvx2()) return deCasteljauLevelsAvx2(w, n, d, t);
 #endif
-  deCasteljauLevelsDefault(w, n, d, t);
+  Avx2OrBaseline<deCasteljauLevelsKernel>::run(n > 8, w, n, d, t);
 }
 
 // Runs de Casteljau on the rows of `c` (copied) at t; returns the final row. The same s * a + t * b per value as
@@ -176,19 +193,8 @@ SEAM_KERNEL void convolveAddKernel(const double* sa, int n, const double* sb, in
     for (int j = 0; j <= m; ++j) so[i + j] += x * sb[j];
   }
 }
-void convolveAddDefault(const double* sa, int n, const double* sb, int m, double* so) {
-  convolveAddKernel(sa, n, sb, m, so);
-}
-#ifdef SEAM_BERNSTEIN_AVX2
-SEAM_AVX2_TARGET void convolveAddAvx2(const double* sa, int n, const double* sb, int m, double* so) {
-  convolveAddKernel(sa, n, sb, m, so);
-}
-#endif
 void convolveAdd(const double* sa, int n, const double* sb, int m, double* so) {
-#ifdef SEAM_BERNSTEIN_AVX2
-  if (m > 8 && hasAvx2()) return convolveAddAvx2(sa, n, sb, m, so);
-#endif
-  convolveAddDefault(sa, n, sb, m, so);
+  Avx2OrBaseline<convolveAddKernel>::run(m > 8, sa, n, sb, m, so);
 }
 
 // The binomial row C(n, 0..n) for n <= kBinomialRowCacheMax: the table's row or the per-thread cached one.
@@ -230,22 +236,9 @@ SEAM_KERNEL void convolveRowsDispatch(const double* sa, bool aScalar, int n, con
     default: return convolveRowsKernel<0>(sa, aScalar, n, sb, bScalar, m, d, so);
   }
 }
-void convolveRowsDefault(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m, Eigen::Index d,
-                         double* so) {
-  convolveRowsDispatch(sa, aScalar, n, sb, bScalar, m, d, so);
-}
-#ifdef SEAM_BERNSTEIN_AVX2
-SEAM_AVX2_TARGET void convolveRowsAvx2(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m,
-                                       Eigen::Index d, double* so) {
-  convolveRowsDispatch(sa, aScalar, n, sb, bScalar, m, d, so);
-}
-#endif
 void convolveRows(const double* sa, bool aScalar, int n, const double* sb, bool bScalar, int m, Eigen::Index d,
                   double* so) {
-#ifdef SEAM_BERNSTEIN_AVX2
-  if (hasAvx2()) return convolveRowsAvx2(sa, aScalar, n, sb, bScalar, m, d, so);
-#endif
-  convolveRowsDefault(sa, aScalar, n, sb, bScalar, m, d, so);
+  Avx2OrBaseline<convolveRowsDispatch>::run(true, sa, aScalar, n, sb, bScalar, m, d, so);
 }
 
 // so_c[i + j] += (x_i cross y_j)_c for the rows x_i of sa (row-major, 3 values) and y_j of B, i outer: B and the sums
@@ -267,19 +260,8 @@ SEAM_KERNEL void crossRowsKernel(const double* sa, int n, const double* sb, int 
     }
   }
 }
-void crossRowsDefault(const double* sa, int n, const double* sb, int m, double* so) {
-  crossRowsKernel(sa, n, sb, m, so);
-}
-#ifdef SEAM_BERNSTEIN_AVX2
-SEAM_AVX2_TARGET void crossRowsAvx2(const double* sa, int n, const double* sb, int m, double* so) {
-  crossRowsKernel(sa, n, sb, m, so);
-}
-#endif
 void crossRows(const double* sa, int n, const double* sb, int m, double* so) {
-#ifdef SEAM_BERNSTEIN_AVX2
-  if (m > 8 && hasAvx2()) return crossRowsAvx2(sa, n, sb, m, so);
-#endif
-  crossRowsDefault(sa, n, sb, m, so);
+  Avx2OrBaseline<crossRowsKernel>::run(m > 8, sa, n, sb, m, so);
 }
 
 // productRows of an A with several columns goes column by column from this degree of A (and B above degree 8, where
@@ -499,14 +481,6 @@ SEAM_KERNEL void subdivideKernel(double* c, Eigen::Index n, Eigen::Index d, doub
       }
   }
 }
-void subdivideDefault(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
-  subdivideKernel(c, n, d, t, keepLeft);
-}
-#ifdef SEAM_BERNSTEIN_AVX2
-SEAM_AVX2_TARGET void subdivideAvx2(double* c, Eigen::Index n, Eigen::Index d, double t, bool keepLeft) {
-  subdivideKernel(c, n, d, t, keepLeft);
-}
-#endif
 // Scalar polynomials (d = 1: the certified bounds restrict P, Q, R, ... thousands of times per seam) without
 // vectorisation: each level reads the values the level before has just stored, one coefficient over, so vector loads
 // straddle the previous level's vector stores and stall on store forwarding; element by element it runs 1.3-2.4x
@@ -572,10 +546,7 @@ void subdivideInPlace(double* c, Eigen::Index n, Eigen::Index d, double t, bool 
   if (d == 1 && n >= kSubdivideScalarAvx2MinDegree && hasAvx2()) return subdivideScalarAvx2(c, n, t, keepLeft);
 #endif
   if (d == 1) return subdivideScalar(c, n, t, keepLeft);
-#ifdef SEAM_BERNSTEIN_AVX2
-  if (n > 8 && hasAvx2()) return subdivideAvx2(c, n, d, t, keepLeft);
-#endif
-  subdivideDefault(c, n, d, t, keepLeft);
+  Avx2OrBaseline<subdivideKernel>::run(n > 8, c, n, d, t, keepLeft);
 }
 void subdivideInPlace(Matrix& w, double t, bool keepLeft) { subdivideInPlace(w.data(), w.rows() - 1, w.cols(), t, keepLeft); }
 
@@ -603,7 +574,7 @@ Matrix restrictRows(const Matrix& c, double a, double b) {
 }  // namespace
 
 namespace detail {
-// Both halves of one de Casteljau triangle at 1/2: the right-keeping levels of subdivideScalar / subdivideDefault
+// Both halves of one de Casteljau triangle at 1/2: the right-keeping levels of subdivideScalar / subdivideKernel
 // (row i <- (row i + row i+1) / 2, as 0.5 a + 0.5 b: both products exact, one rounding, no overflow near the largest
 // doubles), with each level's first row recorded as the left half's next coefficient.
 void splitHalves(const double* c, Eigen::Index n, Eigen::Index d, double* left, double* right) {
