@@ -5,13 +5,19 @@
 # a crash, a leak or a timeout stops that harness, leaves its input in build-fuzz/artifacts/ and fails the script.
 # The STEP and IGES harnesses (fuzz_step, fuzz_iges: seam's reader over OpenCASCADE, about a hundred inputs a second)
 # run a fixed number of inputs instead, CAD_RUNS (default 400), so that a CI run repeats exactly; CAD_RUNS=0 skips them.
-#   bash scripts/fuzz.sh [SECONDS]          e.g. bash scripts/fuzz.sh 20 (CI), bash scripts/fuzz.sh 600
+# FUZZ_RUNS=N runs every harness for a fixed number of inputs instead of SECONDS: the JSON and .bpt harnesses N each,
+# fuzz_gcn (GiNaC, slower per input) N / 2. With FUZZ_SEED fixed too, such a run repeats input for input on any
+# machine, so CI's verdict does not depend on the machine's speed (a time limit let a slower CI machine's run
+# explore other inputs than the local one).
+#   bash scripts/fuzz.sh [SECONDS]          e.g. bash scripts/fuzz.sh 600
+#   FUZZ_SEED=1 FUZZ_RUNS=100000 bash scripts/fuzz.sh   (CI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 # FUZZ_SEED: libFuzzer's -seed (0, the default: a new random seed each run; CI fixes it so that a run repeats).
 fuzz_seed="${FUZZ_SEED:-0}"
 cad_runs="${CAD_RUNS:-400}"
+fuzz_runs="${FUZZ_RUNS:-0}"
 
 # The fuzzing tool chain (Debian 12): clang-14 and libFuzzer. Only here, not in scripts/setup.sh.
 if ! command -v clang++-14 >/dev/null || ! ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a \
@@ -53,6 +59,11 @@ status=0
 for h in "${harnesses[@]}"; do
   mkdir -p "build-fuzz/corpus/$h"
   limit=(-max_total_time="$seconds" -max_len=65536)
+  if [ "$fuzz_runs" -gt 0 ]; then
+    runs="$fuzz_runs"
+    [ "$h" = gcn ] && runs=$((fuzz_runs / 2))
+    limit=(-runs="$runs" -max_len=65536)
+  fi
   if [ "$h" = step ] || [ "$h" = iges ]; then limit=(-runs="$cad_runs" -max_len=262144); fi
   echo "== fuzz_$h: ${limit[0]}"
   # -rss_limit_mb: the harnesses read at most -max_len bytes, so 2 GB is a leak or a blow-up; -timeout: a single

@@ -4,6 +4,7 @@
 // is GC^n and generically not GC^{n+1} by construction), the paper's published example values (Section 3.1,
 // Section 4.2's bicubic formulas), direct one-variable automatic differentiation of composed maps, and
 // determinants from Eigen. The kernel's Bernstein algebra (tested in bernstein_test) is used to build inputs.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -865,6 +866,114 @@ TEST(ExpressionLimits, DeeplyNestedFunctionsAreRefusedShallowOnesKept) {
   // Parentheses that are not calls do not count as function nesting.
   ExpressionPatch parens{"parens", {nested("(", "u", ")", 50), "v", "0", "1"}, {0, 1}, {0, 1}};
   EXPECT_TRUE(compileExpressionPatch(parens).isOk());
+}
+
+// CI's fuzz_gcn stopped on a timeout inside GMP: GiNaC computes numbers exactly while it parses, at any size
+// (2^9999999 took 1.5 s, 3^(3^15) 3 s, (1 + 2^-99999)^999 more than 20 s, and reading the float literal
+// 1e11111111111 did not finish). Such expressions are refused before GiNaC evaluates anything; the expected bit
+// counts are the exact sizes (2^9999999 has 10^7 bits), far above kMaxExpressionNumberBits.
+TEST(ExpressionLimits, HugeExactNumbersAreRefusedBeforeGiNaCComputesThem) {
+  // The second row: exponents whose exact value differs from the double one (10^25 + 10^9 - 10^25 is 0 in
+  // doubles), comes out of GiNaC's own evaluation (exp(0) = 1, ((10^40)^2)^(1/2) = 10^40), or raises a root
+  // (2^-9/999 is 2^(-1/111) = 1/2 * 2^(110/111) to GiNaC; a local fuzz_gcn run stopped on it after 2 million inputs).
+  for (const char* text : {"2^9999999*u", "3^(3^15)", "(1+2^-99999)^999", "(2^60000*u)^2", "u + 2^(2^20)",
+                           "sin(7^99999*u)", "2^(1000*1000*1000)", "2^((10^25+10^9)-10^25)", "7^(exp(0)*10^40)",
+                           "7^(((10^40)^2)^(1/2))", "(2^-9/999)^9111111105-11*u", "(2^(1/3))^99999999"}) {
+    ExpressionPatch p{"big", {text, "v", "0", "1"}, {0, 1}, {0, 1}};
+    const auto r = compileExpressionPatch(p);
+    ASSERT_FALSE(r.isOk()) << text;
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+    EXPECT_NE(r.status().message().find(fmt::format("expression patch \"big\": x = \"{}\"", text)),
+              std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find(fmt::format("more than the {} accepted", kMaxExpressionNumberBits)),
+              std::string::npos) << r.status().message();
+  }
+  for (const char* text : {"1e11111111111", "1e-11111111111", "u*1e400", "u + 2.5E+309"}) {
+    ExpressionPatch p{"range", {text, "v", "0", "1"}, {0, 1}, {0, 1}};
+    const auto r = compileExpressionPatch(p);
+    ASSERT_FALSE(r.isOk()) << text;
+    EXPECT_TRUE(r.status().message().find("out of range") != std::string::npos ||
+                r.status().message().find("beyond the range of a double") != std::string::npos)
+        << r.status().message();
+  }
+  for (const char* text : {"1e", "1.2.3", "3.5e-", "u*1ex"}) {
+    ExpressionPatch p{"malformed", {text, "v", "0", "1"}, {0, 1}, {0, 1}};
+    const auto r = compileExpressionPatch(p);
+    ASSERT_FALSE(r.isOk()) << text;
+    EXPECT_NE(r.status().message().find("is not a number"), std::string::npos) << r.status().message();
+  }
+}
+
+TEST(ExpressionLimits, LargeButBoundedNumbersAreComputedExactly) {
+  // Values at (u, v) = (0.5, 0.5), each from arithmetic done by hand.
+  const std::vector<std::pair<std::string, double>> cases{
+      {"2^1000/2^999*u", 1.0},            // 2 exactly
+      {"3.5e2*u", 175.0},                 // a float literal with an exponent
+      {"(3/7)^3000 + u", 0.5},            // an exact rational of 7 300 bits, below any double: 0
+      {"u^(2^70)", 0.0},                  // an integer exponent beyond a long: std::pow
+      {"2^sin(1)*u", 0.5 * std::pow(2.0, std::sin(1.0))},  // GiNaC keeps 2^sin(1) symbolic
+      {"u # 2^999999999", 0.5},           // a comment, as GiNaC's lexer reads it
+      {"(u + 1)^20000 - (u + 1)^20000 + u", 0.5},
+      {"10^300*u/10^300", 0.5},
+      {"(4^(1/2))^3*u", 4.0},             // GiNaC's exact root: 2^3
+      {"(2^(1/3))^3000*u/2^999", 1.0},    // 2^1000 / 2^999 = 2
+      {"sin(0) + exp(0)*u", 0.5}};
+  for (const auto& [text, expected] : cases) {
+    ExpressionPatch p{"ok", {text, "v", "0", "1"}, {0, 1}, {0, 1}};
+    const auto s = compileExpressionPatch(p);
+    ASSERT_TRUE(s.isOk()) << text << ": " << s.status().message();
+    const auto d = s->derivatives(0.5, 0.5, 1);
+    ASSERT_TRUE(d.isOk()) << text << ": " << d.status().message();
+    EXPECT_DOUBLE_EQ((*d)[0][0][0], expected) << text;
+  }
+  // A parse error after a number: GiNaC's message, with the literal as written (the check parses the text with the
+  // numbers replaced by symbols, and must not show their names).
+  ExpressionPatch p{"bad", {"u*2 3.5e2", "v", "0", "1"}, {0, 1}, {0, 1}};
+  const auto r = compileExpressionPatch(p);
+  ASSERT_FALSE(r.isOk());
+  EXPECT_NE(r.status().message().find("got: \"3.5e2\""), std::string::npos) << r.status().message();
+  EXPECT_EQ(r.status().message().find("seam_number"), std::string::npos) << r.status().message();
+  EXPECT_EQ(r.status().message().find('\n'), std::string::npos) << r.status().message();
+}
+
+// The product rule multiplies the terms: the third derivative of a product of 100 factors took 23 s and 840 MB
+// under `seam gcn` (its default order is 3). An order whose derivatives would pass kMaxDerivativeNodes is refused
+// before GiNaC forms it; the orders below it are exact.
+TEST(ExpressionLimits, DerivativesTooLargeToFormAreRefusedSmallerOrdersExact) {
+  const auto product = [](int m) {
+    std::string s;
+    for (int i = 1; i <= m; ++i) s += fmt::format("{}(u+{})", i > 1 ? "*" : "", i);
+    return s;
+  };
+  ExpressionPatch wide{"wide", {product(100), "v", "0", "1"}, {0, 1}, {0, 1}};
+  const auto s = compileExpressionPatch(wide);
+  ASSERT_TRUE(s.isOk()) << s.status().message();
+  // f = prod (u + i): f' = f S1, f'' = f (S1^2 - S2) with S1 = sum 1/(u + i), S2 = sum 1/(u + i)^2.
+  const auto exact = [](int m, double u) {
+    double f = 1.0, s1 = 0.0, s2 = 0.0;
+    for (int i = 1; i <= m; ++i) {
+      f *= u + i;
+      s1 += 1.0 / (u + i);
+      s2 += 1.0 / ((u + i) * (u + i));
+    }
+    return std::array<double, 3>{f, f * s1, f * (s1 * s1 - s2)};
+  };
+  const auto d1 = s->derivatives(0.5, 0.5, 1);
+  ASSERT_TRUE(d1.isOk()) << d1.status().message();
+  EXPECT_NEAR((*d1)[1][0][0] / exact(100, 0.5)[1], 1.0, 1e-12);
+  const auto d3 = s->derivatives(0.5, 0.5, 3);
+  ASSERT_FALSE(d3.isOk());
+  EXPECT_EQ(d3.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_NE(d3.status().message().find("expression patch \"wide\": the derivatives of order"), std::string::npos)
+      << d3.status().message();
+  EXPECT_NE(d3.status().message().find(fmt::format("more than the {} accepted", kMaxDerivativeNodes)),
+            std::string::npos) << d3.status().message();
+  ExpressionPatch narrow{"narrow", {product(30), "v", "0", "1"}, {0, 1}, {0, 1}};
+  const auto t = compileExpressionPatch(narrow);
+  ASSERT_TRUE(t.isOk()) << t.status().message();
+  const auto d2 = t->derivatives(0.5, 0.5, 2);
+  ASSERT_TRUE(d2.isOk()) << d2.status().message();
+  EXPECT_NEAR((*d2)[2][0][0] / exact(30, 0.5)[2], 1.0, 1e-12);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <ginac/ginac.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <string_view>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 
 #include "seam/io/file.h"
@@ -24,6 +26,9 @@ const std::set<std::string>& allowedFunctions() {
   static const std::set<std::string> f{"sin", "cos", "exp", "log"};  // sqrt parses to a power
   return f;
 }
+
+/// Largest integer exponent TreeEvaluator takes by repeated squaring (numeric::to_long is undefined beyond a long).
+constexpr long kLongExponent = 1L << 62;
 
 /// Numeric value of a GiNaC expression in the symbols u, v: a direct walk of the expression tree (sums, products,
 /// powers, the allowed functions, numbers, pi), much faster than subs + evalf.
@@ -54,7 +59,8 @@ class TreeEvaluator {
     if (is_a<power>(e)) {
       const double b = (*this)(e.op(0), u, v);
       const ex& x = e.op(1);
-      if (is_a<numeric>(x) && ex_to<numeric>(x).is_integer()) {
+      // An integer exponent by repeated squaring, when it fits a long (u^(2^70) is a valid expression too).
+      if (is_a<numeric>(x) && ex_to<numeric>(x).is_integer() && abs(ex_to<numeric>(x)) <= numeric(kLongExponent)) {
         const long k = ex_to<numeric>(x).to_long();
         double r = 1.0, base = k >= 0 ? b : 1.0 / b;
         for (long m = std::labs(k); m > 0; m >>= 1) {
@@ -91,21 +97,51 @@ struct ExpressionState {
   int formed = 0;
   std::mutex mutex;
 
-  void formUpTo(int order) {
+  /// Forms the derivatives up to `order`, each order from the one before; refuses an order whose derivatives would
+  /// exceed kMaxDerivativeNodes (predicted from the one before, so that the refusal comes before GiNaC's work).
+  Status formUpTo(int order) {
     std::lock_guard<std::mutex> lock(mutex);
     for (int n = formed + 1; n <= order; ++n) {
+      const auto source = [&](int a, int k) -> const GiNaC::ex& {
+        const int b = n - a;
+        return b > 0 ? d[static_cast<size_t>(a)][static_cast<size_t>(b - 1)][static_cast<size_t>(k)]
+                     : d[static_cast<size_t>(a - 1)][0][static_cast<size_t>(k)];
+      };
+      double predicted = 0.0;
+      for (int a = 0; a <= n; ++a)
+        for (int k = 0; k < 4; ++k) predicted += predictedDerivativeNodes(source(a, k), n - a > 0 ? v : u);
+      if (predicted > static_cast<double>(kMaxDerivativeNodes))
+        return invalidInput(fmt::format("expression patch \"{}\": the derivatives of order {} would hold about {:.3g} "
+                                        "expression nodes, more than the {} accepted (the expression is too large to "
+                                        "differentiate symbolically to that order; a product of m factors has "
+                                        "about m^n terms in its n-th derivative)",
+                                        name, n, predicted, kMaxDerivativeNodes));
       d.resize(static_cast<size_t>(n + 1));
       for (int a = 0; a <= n; ++a) {
         auto& row = d[static_cast<size_t>(a)];
         row.resize(static_cast<size_t>(n - a + 1));
-        const int b = n - a;
         for (int k = 0; k < 4; ++k)
-          row[static_cast<size_t>(b)][static_cast<size_t>(k)] =
-              b > 0 ? d[static_cast<size_t>(a)][static_cast<size_t>(b - 1)][static_cast<size_t>(k)].diff(v)
-                    : d[static_cast<size_t>(a - 1)][0][static_cast<size_t>(k)].diff(u);
+          row[static_cast<size_t>(n - a)][static_cast<size_t>(k)] = source(a, k).diff(n - a > 0 ? v : u);
       }
       formed = n;
     }
+    return Status::ok();
+  }
+
+  /// A bound on the size of e's derivative, from e's size as a tree (GiNaC shares subexpressions, its derivative
+  /// rules walk them as a tree) and its widest product: the product rule turns a product of m factors into m
+  /// products, the chain rule f(g) into f'(g) g'. Counted up to kMaxDerivativeNodes + 1 nodes; 1 when e does not
+  /// depend on the variable.
+  static double predictedDerivativeNodes(const GiNaC::ex& e, const GiNaC::symbol& variable) {
+    size_t nodes = 0, factors = 2;
+    bool depends = false;
+    for (auto it = e.preorder_begin(); it != e.preorder_end() && nodes <= kMaxDerivativeNodes; ++it) {
+      ++nodes;
+      if (GiNaC::is_a<GiNaC::mul>(*it)) factors = std::max(factors, it->nops());
+      depends = depends || it->is_equal(variable);
+    }
+    if (!depends && nodes <= kMaxDerivativeNodes) return 1.0;  // the derivative is 0
+    return static_cast<double>(nodes) * static_cast<double>(factors + 2);
   }
 };
 
@@ -152,6 +188,252 @@ Status checkExpressionSize(std::string_view text, const std::string& where) {
   return Status::ok();
 }
 
+/// What the number check knows of a node of the guard parse (see checkExpressionNumbers).
+struct NumberBound {
+  bool constant = false;  ///< no u, no v
+  double bits = 0.0;      ///< bound on the bits of the exact numbers the node holds (its value, or its coefficients)
+  GiNaC::ex value;        ///< a constant's value as GiNaC forms it (formed only once `bits` is checked)
+};
+
+/// Binary length of an exact rational n / d, numerator plus denominator (0 -> 1, +-1 -> 2, 2 and 1/2 -> 3).
+double exactBits(const GiNaC::numeric& n) {
+  return static_cast<double>(GiNaC::abs(n.numer()).int_length() + n.denom().int_length());
+}
+
+/// Bits of a number: an exact rational's binary length, 0 for a float; 0 for a symbolic constant (pi, sin(2)),
+/// which the walk uses only where GiNaC keeps it symbolic.
+double valueBits(const GiNaC::ex& value) {
+  if (!GiNaC::is_a<GiNaC::numeric>(value)) return 0.0;
+  const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(value);
+  return n.is_rational() ? exactBits(n) : 0.0;
+}
+
+/// Walks the guard parse bottom-up (sums, products, powers, the functions, numbers, u, v, the number symbols) and
+/// bounds, before anything is computed, the size of every exact number GiNaC's evaluation would form: the bits of a
+/// sum or a product are at most the sum of the operands' bits (plus one per term); an exact rational power k of a
+/// number, or of a product with an exact coefficient (GiNaC raises it too), at most |k| + 1 times the base's; 0, 1
+/// and -1 stay small; (a + b)^k is kept unexpanded. A constant's value is then formed with GiNaC's own operations,
+/// so that an exponent is known exactly (10^25 + 10^9 - 10^25 is 10^9, not 0 as in doubles; exp(0) is 1). The
+/// first bound above kMaxExpressionNumberBits stops the walk, with a message in `tooLarge`.
+class NumberBoundWalk {
+ public:
+  /// `numbers`: the number symbols of the guard parse and each literal's value.
+  explicit NumberBoundWalk(std::map<GiNaC::ex, NumberBound, GiNaC::ex_is_less> numbers)
+      : numbers_(std::move(numbers)) {}
+
+  NumberBound operator()(const GiNaC::ex& e) {
+    using namespace GiNaC;
+    if (!tooLarge.empty() || !undefined.empty()) return {};
+    if (is_a<numeric>(e) || is_a<constant>(e)) return {true, valueBits(e), e};
+    if (is_a<symbol>(e)) {
+      const auto it = numbers_.find(e);
+      return it != numbers_.end() ? it->second : NumberBound{};  // a number literal, or u, v
+    }
+    if (is_a<add>(e) || is_a<mul>(e)) {
+      const bool sum = is_a<add>(e);
+      std::vector<NumberBound> operands;
+      operands.reserve(e.nops());
+      NumberBound out{true, 0.0, {}};
+      for (size_t i = 0; i < e.nops(); ++i) {
+        operands.push_back((*this)(e.op(i)));
+        out.constant = out.constant && operands.back().constant;
+        out.bits += operands.back().bits + (sum ? 1.0 : 0.0);
+      }
+      if (!check(out, sum ? "a sum" : "a product") || !out.constant || !undefined.empty()) return out;
+      out.value = sum ? ex(0) : ex(1);
+      for (const NumberBound& b : operands) out.value = sum ? out.value + b.value : out.value * b.value;
+      if (is_a<numeric>(out.value)) out.bits = valueBits(out.value);
+      return out;
+    }
+    if (is_a<power>(e)) {
+      const NumberBound base = (*this)(e.op(0)), exponent = (*this)(e.op(1));
+      if (!tooLarge.empty() || !undefined.empty()) return {};
+      NumberBound out{base.constant && exponent.constant, base.bits, {}};
+      const bool rationalExponent = exponent.constant && is_a<numeric>(exponent.value) &&
+                                    ex_to<numeric>(exponent.value).is_rational();
+      const bool unit = base.constant && is_a<numeric>(base.value) &&
+                        (ex_to<numeric>(base.value).is_zero() || abs(ex_to<numeric>(base.value)).is_equal(1));
+      const bool sum = is_a<add>(e.op(0)) && !base.constant;
+      if (rationalExponent && !unit && !sum && base.bits > 0.0) {
+        const numeric& k = ex_to<numeric>(exponent.value);
+        const double magnitude = abs(k).to_double();  // at most 2^65536: may be infinite
+        out.bits = (magnitude + (k.is_integer() ? 0.0 : 1.0)) * base.bits;
+        if (!(out.bits >= 0.0)) out.bits = HUGE_VAL;
+      }
+      if (!check(out, "a power") || !out.constant) return out;
+      // 0 to a power that is not positive: GiNaC's power::eval throws there, and the power it allocated leaks.
+      if (is_a<numeric>(base.value) && ex_to<numeric>(base.value).is_zero() && is_a<numeric>(exponent.value) &&
+          !ex_to<numeric>(exponent.value).is_positive()) {
+        undefined = ex_to<numeric>(exponent.value).is_zero() ? "0^0 is undefined" : "division by zero";
+        return {};
+      }
+      out.value = pow(base.value, exponent.value);
+      // A number: its size. Otherwise the bound stays: 2^(-1/111) is 1/2 * 2^(110/111), whose powers grow.
+      if (is_a<numeric>(out.value)) out.bits = valueBits(out.value);
+      return out;
+    }
+    if (is_a<function>(e)) {
+      const NumberBound argument = (*this)(e.op(0));
+      if (!tooLarge.empty() || !undefined.empty() || !argument.constant) return {false, 0.0, {}};
+      // sin(0) and exp(0) are exact, sin(2) stays symbolic, sin(2.0) is a float: as GiNaC evaluates them.
+      const std::string name = ex_to<function>(e).get_name();
+      ex value = name == "sin"   ? sin(argument.value)
+                 : name == "cos" ? cos(argument.value)
+                 : name == "exp" ? exp(argument.value)
+                 : name == "log" ? log(argument.value)
+                                 : ex(e);  // another function: refused after the parse
+      return {true, valueBits(value), value};
+    }
+    return {};
+  }
+
+  std::string tooLarge;   ///< the first refusal's message (empty: none)
+  std::string undefined;  ///< a constant part that has no value (0^-1, 0^0), as GiNaC would report it
+
+ private:
+  bool check(const NumberBound& b, const char* what) {
+    if (tooLarge.empty() && !(b.bits <= static_cast<double>(kMaxExpressionNumberBits)))
+      tooLarge = fmt::format("{} whose exact value would take {} bits, more than the {} accepted", what,
+                             std::isfinite(b.bits) ? fmt::format("{:.0f}", b.bits) : std::string("over 1e308"),
+                             kMaxExpressionNumberBits);
+    return tooLarge.empty();
+  }
+
+  std::map<GiNaC::ex, NumberBound, GiNaC::ex_is_less> numbers_;
+};
+
+/// GiNaC's parser message without the source location it appends ("\n[GiNaC::ex GiNaC::parser::operator()...]").
+std::string parserMessage(const std::exception& ex) {
+  std::string message = ex.what();
+  if (const size_t at = message.find("\n["); at != std::string::npos) message.erase(at);
+  return message;
+}
+
+/// A token for a message: at most 40 characters, anything but printable ASCII as '?'.
+std::string printable(std::string_view token) {
+  std::string out(token.substr(0, 40));
+  for (char& c : out)
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  return token.size() > 40 ? out.substr(0, 37) + "..." : out;
+}
+
+/// Refuses, before GiNaC evaluates it, an expression whose numbers GiNaC's exact arithmetic cannot take in bounded
+/// time: GiNaC evaluates numbers while it parses (2^9999999 ran for 1.5 s, 3^(3^15) for 3 s, (1 + 2^-99999)^999
+/// for more than 20 s, and reading the literal 1e11111111111 did not finish; found by fuzz_gcn). The check parses
+/// the text once with every number literal replaced by a symbol, so that nothing is computed, and bounds the size of
+/// every exact number the real parse would form (NumberBoundWalk). A float literal's decimal exponent is limited
+/// to kMaxExpressionNumberBits * log10(2) (about 19 728). The number tokens are found as GiNaC's lexer finds them
+/// ([0-9.]+, then E, one character and digits), and '#' comments are skipped; a malformed number ("1.2.3", "1e",
+/// "1ex") is refused here with its text (GiNaC's message would show its internal form and the end-of-file byte).
+Status checkExpressionNumbers(std::string_view text, const std::string& where) {
+  const double maxDecimalExponent = static_cast<double>(kMaxExpressionNumberBits) * std::log10(2.0);
+  std::string guarded;
+  guarded.reserve(text.size() + 16);
+  std::vector<std::string> literals;
+  std::vector<NumberBound> bounds;
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == '#') {  // a comment, to the end of the line
+      const size_t end = text.find_first_of("\n\r", i);
+      guarded.append(text.substr(i, end == std::string_view::npos ? std::string_view::npos : end - i));
+      i = end == std::string_view::npos ? text.size() : end;
+    } else if (std::isalpha(c)) {  // an identifier: [a-zA-Z][a-zA-Z0-9_]*
+      const size_t start = i;
+      while (i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_')) ++i;
+      guarded.append(text.substr(start, i - start));
+    } else if (std::isdigit(c) || c == '.') {
+      const size_t start = i;
+      while (i < text.size() && (std::isdigit(static_cast<unsigned char>(text[i])) || text[i] == '.')) ++i;
+      const size_t mantissaEnd = i;
+      size_t exponentStart = i;
+      if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+        ++i;
+        if (i < text.size()) ++i;  // a sign, a digit or anything: GiNaC's lexer takes it
+        exponentStart = i - 1;
+        while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i;
+      }
+      const std::string_view token = text.substr(start, i - start);
+      const std::string_view mantissa = text.substr(start, mantissaEnd - start);
+      const std::string_view exponent = text.substr(exponentStart, i - exponentStart);  // empty without E
+      const bool wellFormed =
+          std::count(mantissa.begin(), mantissa.end(), '.') <= 1 && mantissa != "." &&
+          (exponent.empty() || (std::isdigit(static_cast<unsigned char>(exponent[0])) ||
+                                ((exponent[0] == '+' || exponent[0] == '-') && exponent.size() >= 2)));
+      if (!wellFormed)
+        return invalidInput(fmt::format("{}: \"{}\" is not a number (digits with at most one decimal point, then "
+                                        "optionally e, a sign and digits)", where, printable(token)));
+      const bool exact = exponent.empty() && mantissa.find('.') == std::string_view::npos;
+      if (!exponent.empty()) {
+        // The decimal exponent's size, without converting an arbitrarily long digit string.
+        const std::string_view digits = exponent.substr(exponent[0] == '+' || exponent[0] == '-' ? 1 : 0);
+        const size_t first = std::min(digits.find_first_not_of('0'), digits.size());
+        const double magnitude =
+            digits.size() - first > 9 ? HUGE_VAL : std::strtod(std::string(digits).c_str(), nullptr);
+        if (magnitude > maxDecimalExponent)
+          return invalidInput(fmt::format("{}: the number {} is out of range (decimal exponents up to {:.0f} are "
+                                          "accepted; a double holds up to 1e308)",
+                                          where, printable(token), std::floor(maxDecimalExponent)));
+      }
+      // A float literal beyond a double: GiNaC would carry it in its own float format, where exp(1e19000) is 1.
+      if (!exact && !std::isfinite(std::strtod(std::string(token).c_str(), nullptr)))
+        return invalidInput(fmt::format("{}: the number {} is beyond the range of a double (about 1.8e308)", where,
+                                        printable(token)));
+      // The literal as GiNaC's lexer hands it to numeric: E, and + before an unsigned exponent. An exact literal has
+      // at most kMaxExpressionChars digits, a float one a checked exponent: cheap to form.
+      std::string normalised(mantissa);
+      if (!exponent.empty())
+        normalised += std::string("E") + (std::isdigit(static_cast<unsigned char>(exponent[0])) ? "+" : "") +
+                      std::string(exponent);
+      const GiNaC::numeric value(normalised.c_str());
+      bounds.push_back({true, valueBits(value), value});
+      guarded += fmt::format(" seam_number_{}_ ", literals.size());
+      literals.emplace_back(token);
+    } else {
+      guarded.push_back(static_cast<char>(c));
+      ++i;
+    }
+  }
+  if (literals.empty()) return Status::ok();  // nothing GiNaC would compute at large size
+  GiNaC::symbol u("u"), v("v");
+  GiNaC::symtab table;
+  table["u"] = u;
+  table["v"] = v;
+  table["pi"] = GiNaC::Pi;
+  std::map<GiNaC::ex, NumberBound, GiNaC::ex_is_less> numbers;
+  for (size_t k = 0; k < literals.size(); ++k) {
+    const GiNaC::symbol number(fmt::format("seam_number_{}_", k));
+    table[number.get_name()] = number;
+    numbers.emplace(number, bounds[k]);
+  }
+  GiNaC::ex e;
+  try {
+    GiNaC::parser reader(table, /*strict=*/true);
+    e = reader(guarded);
+  } catch (const std::exception& ex) {
+    // The real parse would fail too, but only after computing what comes before the error: report it from here,
+    // with the literals put back into GiNaC's message.
+    std::string message = parserMessage(ex);
+    for (size_t k = literals.size(); k-- > 0;) {
+      const std::string name = fmt::format("seam_number_{}_", k);
+      for (size_t at = message.find(name); at != std::string::npos; at = message.find(name, at))
+        message.replace(at, name.size(), literals[k]);
+    }
+    return invalidInput(fmt::format("{}: cannot parse ({}); allowed: numbers, u, v, pi, + - * / ^, sin, cos, exp, "
+                                    "log, sqrt", where, message));
+  }
+  NumberBoundWalk walk(std::move(numbers));
+  try {
+    walk(e);
+  } catch (const std::exception& ex) {  // GiNaC's evaluation of a constant part, e.g. 0^(-1): division by zero
+    return invalidInput(fmt::format("{}: cannot evaluate ({})", where, parserMessage(ex)));
+  }
+  if (!walk.undefined.empty()) return invalidInput(fmt::format("{}: cannot evaluate ({})", where, walk.undefined));
+  if (!walk.tooLarge.empty())
+    return invalidInput(fmt::format("{}: the expression holds {}; GiNaC computes exact numbers at any size and would "
+                                    "not finish (a double holds up to 1e308)", where, walk.tooLarge));
+  return Status::ok();
+}
+
 }  // namespace
 
 Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) {
@@ -171,12 +453,14 @@ Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) 
                                           fmt::format("expression patch \"{}\": {}", patch.name, kCoordinateNames[k]));
         !size)
       return size;
+    if (Status numbers = checkExpressionNumbers(patch.homogeneous[static_cast<size_t>(k)], where); !numbers)
+      return numbers;
     GiNaC::ex e;
     try {
       e = reader(patch.homogeneous[static_cast<size_t>(k)]);
     } catch (const std::exception& ex) {
       return invalidInput(fmt::format("{}: cannot parse ({}); allowed: numbers, u, v, pi, + - * / ^, sin, cos, exp, "
-                                      "log, sqrt", where, ex.what()));
+                                      "log, sqrt", where, parserMessage(ex)));
     }
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
       if (GiNaC::is_a<GiNaC::function>(*it)) {
@@ -195,7 +479,7 @@ Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) 
     return invalidInput(fmt::format("expression patch \"{}\": the domain [[{}, {}], [{}, {}]] is empty or not finite",
                                     patch.name, patch.u.lo, patch.u.hi, patch.v.lo, patch.v.hi));
   HomogeneousSurface::Evaluator ev = [st](double u, double v, int order) -> Result<DerivativeTable> {
-    st->formUpTo(order);
+    if (Status formed = st->formUpTo(order); !formed) return formed;
     const TreeEvaluator eval(st->u, st->v);
     DerivativeTable out(static_cast<size_t>(order + 1));
     for (int a = 0; a <= order; ++a) {

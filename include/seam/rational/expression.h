@@ -29,6 +29,17 @@ inline constexpr int kMaxExpressionNesting = 200;
 /// with the nesting (`seam gcn --order 8` with sin nested 3, 4, 8 deep: 1.3 s, 2.9 s, more than 60 s).
 inline constexpr int kMaxFunctionNesting = 4;
 
+/// Largest exact number, in bits, that an expression may hold or that GiNaC's exact arithmetic may form from its
+/// numbers while parsing (2^9999999 or 3^(3^15) take seconds, (1 + 2^-99999)^999 more than 20 s): 65 536 bits,
+/// about 19 700 decimal digits, far beyond the range of a double (1e308). Float literals' decimal exponents are
+/// limited to the same size (about 19 728). Checked before GiNaC evaluates anything.
+inline constexpr int kMaxExpressionNumberBits = 1 << 16;
+
+/// Largest size (expression-tree nodes) accepted for the symbolic derivatives of one order, predicted from the order
+/// before: the product rule multiplies the terms (the third derivative of a product of 100 factors took 23 s and
+/// 840 MB; the second, 0.5 s). About 2 million nodes, a few tens of MB and a fraction of a second to evaluate.
+inline constexpr size_t kMaxDerivativeNodes = size_t{1} << 21;
+
 /// The data of an expression patch as written in the file.
 struct ExpressionPatch {
   std::string name;
@@ -39,9 +50,9 @@ struct ExpressionPatch {
 
 /// Parses and checks the four expressions (only u, v, pi and the functions above; anything else is an error
 /// naming the patch, the coordinate and GiNaC's message; an expression beyond kMaxExpressionChars,
-/// kMaxExpressionNesting or kMaxFunctionNesting is refused before GiNaC sees it) and returns the homogeneous
-/// surface. Derivatives are symbolic (GiNaC), evaluated in double precision; a point where a value is not finite is
-/// an error.
+/// kMaxExpressionNesting, kMaxFunctionNesting or kMaxExpressionNumberBits is refused before GiNaC evaluates it) and
+/// returns the homogeneous surface. Derivatives are symbolic (GiNaC), formed on demand (an order beyond
+/// kMaxDerivativeNodes is an error), evaluated in double precision; a point where a value is not finite is an error.
 Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch);
 
 /// A model plus its expression patches. Until the JSON reader of seam::io knows the "expression" type (see
