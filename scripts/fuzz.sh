@@ -5,10 +5,9 @@
 # a crash, a leak or a timeout stops that harness, leaves its input in build-fuzz/artifacts/ and fails the script.
 # The STEP and IGES harnesses (fuzz_step, fuzz_iges: seam's reader over OpenCASCADE, about a hundred inputs a second)
 # run a fixed number of inputs instead, CAD_RUNS (default 400), so that a CI run repeats exactly; CAD_RUNS=0 skips them.
-# FUZZ_RUNS=N runs every harness for a fixed number of inputs instead of SECONDS: the JSON and .bpt harnesses N each,
-# fuzz_gcn (GiNaC, slower per input) N / 2. With FUZZ_SEED fixed too, such a run repeats input for input on any
-# machine, so CI's verdict does not depend on the machine's speed (a time limit let a slower CI machine's run
-# explore other inputs than the local one).
+# FUZZ_RUNS=N runs the JSON, .bpt and expression harnesses for N inputs each instead of SECONDS. With FUZZ_SEED fixed
+# too, such a run repeats input for input on any machine, so CI's verdict does not depend on the machine's speed (a
+# time limit let a slower CI machine's run explore other inputs than the local one).
 #   bash scripts/fuzz.sh [SECONDS]          e.g. bash scripts/fuzz.sh 600
 #   FUZZ_SEED=1 FUZZ_RUNS=100000 bash scripts/fuzz.sh   (CI)
 set -euo pipefail
@@ -59,11 +58,7 @@ status=0
 for h in "${harnesses[@]}"; do
   mkdir -p "build-fuzz/corpus/$h"
   limit=(-max_total_time="$seconds" -max_len=65536)
-  if [ "$fuzz_runs" -gt 0 ]; then
-    runs="$fuzz_runs"
-    [ "$h" = gcn ] && runs=$((fuzz_runs / 2))
-    limit=(-runs="$runs" -max_len=65536)
-  fi
+  [ "$fuzz_runs" -gt 0 ] && limit=(-runs="$fuzz_runs" -max_len=65536)
   if [ "$h" = step ] || [ "$h" = iges ]; then limit=(-runs="$cad_runs" -max_len=262144); fi
   echo "== fuzz_$h: ${limit[0]}"
   # -rss_limit_mb: the harnesses read at most -max_len bytes, so 2 GB is a leak or a blow-up; -timeout: a single

@@ -27,6 +27,20 @@ const std::set<std::string>& allowedFunctions() {
   return f;
 }
 
+/// GiNaC's parser table cut down to what an expression may call: sin, cos, exp, log, sqrt (and pow, the same as ^).
+/// The default table holds every GiNaC function, and the parser evaluates them while it reads: binomial(9999999,
+/// 4999999) took 5.8 s and factorial of a large number longer, before the check of the allowed functions ran.
+const GiNaC::prototype_table& expressionFunctions() {
+  static const GiNaC::prototype_table table = [] {
+    GiNaC::prototype_table t;
+    for (const auto& [prototype, reader] : GiNaC::get_default_reader())
+      if (allowedFunctions().count(prototype.first) || prototype.first == "sqrt" || prototype.first == "pow")
+        t.emplace(prototype, reader);
+    return t;
+  }();
+  return table;
+}
+
 /// Largest integer exponent TreeEvaluator takes by repeated squaring (numeric::to_long is undefined beyond a long).
 constexpr long kLongExponent = 1L << 62;
 
@@ -211,8 +225,9 @@ double valueBits(const GiNaC::ex& value) {
 /// Walks the guard parse bottom-up (sums, products, powers, the functions, numbers, u, v, the number symbols) and
 /// bounds, before anything is computed, the size of every exact number GiNaC's evaluation would form: the bits of a
 /// sum or a product are at most the sum of the operands' bits (plus one per term); an exact rational power k of a
-/// number, or of a product with an exact coefficient (GiNaC raises it too), at most |k| + 1 times the base's; 0, 1
-/// and -1 stay small; (a + b)^k is kept unexpanded. A constant's value is then formed with GiNaC's own operations,
+/// number, or of a product or a sum (GiNaC raises a product's coefficient, and the content, the gcd of the
+/// coefficients, that it takes out of a sum: (5/6 u + 1/6 v)^k is (1/6)^k (5 u + v)^k), at most |k| + 1 times the
+/// base's; 0, 1 and -1 stay small. A constant's value is then formed with GiNaC's own operations,
 /// so that an exponent is known exactly (10^25 + 10^9 - 10^25 is 10^9, not 0 as in doubles; exp(0) is 1). The
 /// first bound above kMaxExpressionNumberBits stops the walk, with a message in `tooLarge`.
 class NumberBoundWalk {
@@ -253,8 +268,7 @@ class NumberBoundWalk {
                                     ex_to<numeric>(exponent.value).is_rational();
       const bool unit = base.constant && is_a<numeric>(base.value) &&
                         (ex_to<numeric>(base.value).is_zero() || abs(ex_to<numeric>(base.value)).is_equal(1));
-      const bool sum = is_a<add>(e.op(0)) && !base.constant;
-      if (rationalExponent && !unit && !sum && base.bits > 0.0) {
+      if (rationalExponent && !unit && base.bits > 0.0) {
         const numeric& k = ex_to<numeric>(exponent.value);
         const double magnitude = abs(k).to_double();  // at most 2^65536: may be infinite
         out.bits = (magnitude + (k.is_integer() ? 0.0 : 1.0)) * base.bits;
@@ -317,6 +331,21 @@ std::string printable(std::string_view token) {
   return token.size() > 40 ? out.substr(0, 37) + "..." : out;
 }
 
+/// Index of the next character of `text` from `i` that GiNaC's lexer does not skip (white space, '#' comments to the
+/// end of the line); text.size() when none.
+size_t nextToken(std::string_view text, size_t i) {
+  while (i < text.size()) {
+    if (text[i] == '#') {
+      i = text.find_first_of("\n\r", i);
+      if (i == std::string_view::npos) return text.size();
+    } else if (!std::isspace(static_cast<unsigned char>(text[i]))) {
+      return i;
+    }
+    ++i;
+  }
+  return text.size();
+}
+
 /// Refuses, before GiNaC evaluates it, an expression whose numbers GiNaC's exact arithmetic cannot take in bounded
 /// time: GiNaC evaluates numbers while it parses (2^9999999 ran for 1.5 s, 3^(3^15) for 3 s, (1 + 2^-99999)^999
 /// for more than 20 s, and reading the literal 1e11111111111 did not finish; found by fuzz_gcn). The check parses
@@ -325,6 +354,8 @@ std::string printable(std::string_view token) {
 /// to kMaxExpressionNumberBits * log10(2) (about 19 728). The number tokens are found as GiNaC's lexer finds them
 /// ([0-9.]+, then E, one character and digits), and '#' comments are skipped; a malformed number ("1.2.3", "1e",
 /// "1ex") is refused here with its text (GiNaC's message would show its internal form and the end-of-file byte).
+/// A call of a function other than sin, cos, exp, log, sqrt (pow) is refused here too, and so is one without an
+/// argument ("sin()" crashed GiNaC's parser).
 Status checkExpressionNumbers(std::string_view text, const std::string& where) {
   const double maxDecimalExponent = static_cast<double>(kMaxExpressionNumberBits) * std::log10(2.0);
   std::string guarded;
@@ -340,7 +371,17 @@ Status checkExpressionNumbers(std::string_view text, const std::string& where) {
     } else if (std::isalpha(c)) {  // an identifier: [a-zA-Z][a-zA-Z0-9_]*
       const size_t start = i;
       while (i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_')) ++i;
-      guarded.append(text.substr(start, i - start));
+      const std::string_view name = text.substr(start, i - start);
+      guarded.append(name);
+      // A call: only the allowed functions, and never without an argument (GiNaC's parser matches "sin()" to sin
+      // and evaluates it with no argument: a null dereference).
+      if (size_t open = nextToken(text, i); open < text.size() && text[open] == '(') {
+        if (!allowedFunctions().count(std::string(name)) && name != "sqrt" && name != "pow")
+          return invalidInput(fmt::format("{}: function \"{}\" is not supported (allowed: sin, cos, exp, log, sqrt)",
+                                          where, printable(name)));
+        if (size_t close = nextToken(text, open + 1); close < text.size() && text[close] == ')')
+          return invalidInput(fmt::format("{}: {}() has no argument", where, printable(name)));
+      }
     } else if (std::isdigit(c) || c == '.') {
       const size_t start = i;
       while (i < text.size() && (std::isdigit(static_cast<unsigned char>(text[i])) || text[i] == '.')) ++i;
@@ -407,7 +448,7 @@ Status checkExpressionNumbers(std::string_view text, const std::string& where) {
   }
   GiNaC::ex e;
   try {
-    GiNaC::parser reader(table, /*strict=*/true);
+    GiNaC::parser reader(table, /*strict=*/true, expressionFunctions());
     e = reader(guarded);
   } catch (const std::exception& ex) {
     // The real parse would fail too, but only after computing what comes before the error: report it from here,
@@ -443,7 +484,7 @@ Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) 
   table["u"] = st->u;
   table["v"] = st->v;
   table["pi"] = GiNaC::Pi;
-  GiNaC::parser reader(table, /*strict=*/true);
+  GiNaC::parser reader(table, /*strict=*/true, expressionFunctions());
   st->d.resize(1);
   st->d[0].resize(1);
   for (int k = 0; k < 4; ++k) {

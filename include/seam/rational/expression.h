@@ -48,11 +48,12 @@ struct ExpressionPatch {
   Interval v{0.0, 1.0};
 };
 
-/// Parses and checks the four expressions (only u, v, pi and the functions above; anything else is an error
-/// naming the patch, the coordinate and GiNaC's message; an expression beyond kMaxExpressionChars,
-/// kMaxExpressionNesting, kMaxFunctionNesting or kMaxExpressionNumberBits is refused before GiNaC evaluates it) and
-/// returns the homogeneous surface. Derivatives are symbolic (GiNaC), formed on demand (an order beyond
-/// kMaxDerivativeNodes is an error), evaluated in double precision; a point where a value is not finite is an error.
+/// Parses and checks the four expressions (only u, v, pi and the functions above, each called with its argument;
+/// anything else is an error naming the patch, the coordinate and the problem or GiNaC's message; an expression
+/// beyond kMaxExpressionChars, kMaxExpressionNesting, kMaxFunctionNesting or kMaxExpressionNumberBits is refused
+/// before GiNaC evaluates it) and returns the homogeneous surface. Derivatives are symbolic (GiNaC), formed on demand
+/// (an order beyond kMaxDerivativeNodes is an error), evaluated in double precision; a point where a value is not
+/// finite is an error.
 Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch);
 
 /// A model plus its expression patches. Until the JSON reader of seam::io knows the "expression" type (see
