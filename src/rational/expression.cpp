@@ -13,7 +13,6 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <map>
-#include <set>
 
 #include "seam/io/file.h"
 #include "seam/io/json.h"
@@ -22,20 +21,18 @@ namespace seam::rational {
 
 namespace {
 
-const std::set<std::string>& allowedFunctions() {
-  static const std::set<std::string> f{"sin", "cos", "exp", "log"};  // sqrt parses to a power
-  return f;
+/// What an expression may call: sin, cos, exp, log, sqrt (a power to GiNaC) and pow (the same as ^).
+bool callable(std::string_view name) {
+  return name == "sin" || name == "cos" || name == "exp" || name == "log" || name == "sqrt" || name == "pow";
 }
 
-/// GiNaC's parser table cut down to what an expression may call: sin, cos, exp, log, sqrt (and pow, the same as ^).
-/// The default table holds every GiNaC function, and the parser evaluates them while it reads: binomial(9999999,
-/// 4999999) took 5.8 s and factorial of a large number longer, before the check of the allowed functions ran.
+/// GiNaC's parser table cut down to the callable functions. The default table holds every GiNaC function, and the
+/// parser evaluates them while it reads: binomial(9999999, 4999999) took 5.8 s, factorial of a large number longer.
 const GiNaC::prototype_table& expressionFunctions() {
   static const GiNaC::prototype_table table = [] {
     GiNaC::prototype_table t;
     for (const auto& [prototype, reader] : GiNaC::get_default_reader())
-      if (allowedFunctions().count(prototype.first) || prototype.first == "sqrt" || prototype.first == "pow")
-        t.emplace(prototype, reader);
+      if (callable(prototype.first)) t.emplace(prototype, reader);
     return t;
   }();
   return table;
@@ -291,11 +288,11 @@ class NumberBoundWalk {
       if (!tooLarge.empty() || !undefined.empty() || !argument.constant) return {false, 0.0, {}};
       // sin(0) and exp(0) are exact, sin(2) stays symbolic, sin(2.0) is a float: as GiNaC evaluates them.
       const std::string name = ex_to<function>(e).get_name();
-      ex value = name == "sin"   ? sin(argument.value)
-                 : name == "cos" ? cos(argument.value)
-                 : name == "exp" ? exp(argument.value)
-                 : name == "log" ? log(argument.value)
-                                 : ex(e);  // another function: refused after the parse
+      // Only these four reach here: the scan refuses other calls, and sqrt and pow are powers.
+      const ex value = name == "sin"   ? sin(argument.value)
+                       : name == "cos" ? cos(argument.value)
+                       : name == "exp" ? exp(argument.value)
+                                       : log(argument.value);
       return {true, valueBits(value), value};
     }
     return {};
@@ -322,6 +319,16 @@ std::string parserMessage(const std::exception& ex) {
   if (const size_t at = message.find("\n["); at != std::string::npos) message.erase(at);
   return message;
 }
+
+/// The error for a text GiNaC cannot parse.
+Status parseError(const std::string& where, const std::string& message) {
+  return invalidInput(fmt::format("{}: cannot parse ({}); allowed: numbers, u, v, pi, + - * / ^, sin, cos, exp, log, "
+                                  "sqrt", where, message));
+}
+
+/// Name of the symbol that stands for the k-th number literal in the check's parse (an identifier GiNaC's lexer
+/// reads whole; a user's text using it is refused by the real parse, which does not know it).
+std::string numberSymbol(size_t k) { return fmt::format("seam_number_{}_", k); }
 
 /// A token for a message: at most 40 characters, anything but printable ASCII as '?'.
 std::string printable(std::string_view token) {
@@ -376,7 +383,7 @@ Status checkExpressionNumbers(std::string_view text, const std::string& where) {
       // A call: only the allowed functions, and never without an argument (GiNaC's parser matches "sin()" to sin
       // and evaluates it with no argument: a null dereference).
       if (size_t open = nextToken(text, i); open < text.size() && text[open] == '(') {
-        if (!allowedFunctions().count(std::string(name)) && name != "sqrt" && name != "pow")
+        if (!callable(name))
           return invalidInput(fmt::format("{}: function \"{}\" is not supported (allowed: sin, cos, exp, log, sqrt)",
                                           where, printable(name)));
         if (size_t close = nextToken(text, open + 1); close < text.size() && text[close] == ')')
@@ -427,7 +434,7 @@ Status checkExpressionNumbers(std::string_view text, const std::string& where) {
                       std::string(exponent);
       const GiNaC::numeric value(normalised.c_str());
       bounds.push_back({true, valueBits(value), value});
-      guarded += fmt::format(" seam_number_{}_ ", literals.size());
+      guarded += " " + numberSymbol(literals.size()) + " ";
       literals.emplace_back(token);
     } else {
       guarded.push_back(static_cast<char>(c));
@@ -442,7 +449,7 @@ Status checkExpressionNumbers(std::string_view text, const std::string& where) {
   table["pi"] = GiNaC::Pi;
   std::map<GiNaC::ex, NumberBound, GiNaC::ex_is_less> numbers;
   for (size_t k = 0; k < literals.size(); ++k) {
-    const GiNaC::symbol number(fmt::format("seam_number_{}_", k));
+    const GiNaC::symbol number(numberSymbol(k));
     table[number.get_name()] = number;
     numbers.emplace(number, bounds[k]);
   }
@@ -455,12 +462,11 @@ Status checkExpressionNumbers(std::string_view text, const std::string& where) {
     // with the literals put back into GiNaC's message.
     std::string message = parserMessage(ex);
     for (size_t k = literals.size(); k-- > 0;) {
-      const std::string name = fmt::format("seam_number_{}_", k);
+      const std::string name = numberSymbol(k);
       for (size_t at = message.find(name); at != std::string::npos; at = message.find(name, at))
         message.replace(at, name.size(), literals[k]);
     }
-    return invalidInput(fmt::format("{}: cannot parse ({}); allowed: numbers, u, v, pi, + - * / ^, sin, cos, exp, "
-                                    "log, sqrt", where, message));
+    return parseError(where, message);
   }
   NumberBoundWalk walk(std::move(numbers));
   try {
@@ -500,19 +506,12 @@ Result<HomogeneousSurface> compileExpressionPatch(const ExpressionPatch& patch) 
     try {
       e = reader(patch.homogeneous[static_cast<size_t>(k)]);
     } catch (const std::exception& ex) {
-      return invalidInput(fmt::format("{}: cannot parse ({}); allowed: numbers, u, v, pi, + - * / ^, sin, cos, exp, "
-                                      "log, sqrt", where, parserMessage(ex)));
+      return parseError(where, parserMessage(ex));
     }
-    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-      if (GiNaC::is_a<GiNaC::function>(*it)) {
-        const std::string fn = GiNaC::ex_to<GiNaC::function>(*it).get_name();
-        if (!allowedFunctions().count(fn))
-          return invalidInput(fmt::format("{}: function \"{}\" is not supported (allowed: sin, cos, exp, log, sqrt)",
-                                          where, fn));
-      } else if (GiNaC::is_a<GiNaC::numeric>(*it) && !GiNaC::ex_to<GiNaC::numeric>(*it).is_real()) {
+    // Other functions were refused by checkExpressionNumbers and are not in the parser's table; I is not.
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::numeric>(*it) && !GiNaC::ex_to<GiNaC::numeric>(*it).is_real())
         return invalidInput(fmt::format("{}: complex numbers are not supported", where));
-      }
-    }
     st->d[0][0][static_cast<size_t>(k)] = e;
   }
   if (!(patch.u.length() > 0.0) || !(patch.v.length() > 0.0) || !std::isfinite(patch.u.length()) ||
