@@ -4,7 +4,8 @@
 find_path(OCCT_INCLUDE_DIR Standard_Version.hxx PATH_SUFFIXES opencascade REQUIRED)
 set(SEAM_OCCT_TOOLKITS
   TKernel TKMath TKG2d TKG3d TKGeomBase TKBRep TKGeomAlgo TKTopAlgo TKPrim TKShHealing TKBO TKBool TKMesh
-  TKXSBase TKSTEPBase TKSTEPAttr TKSTEP209 TKSTEP TKIGES)
+  TKXSBase TKSTEPBase TKSTEPAttr TKSTEP209 TKSTEP TKIGES
+  TKCDF TKLCAF TKCAF TKXCAF TKXDESTEP TKXDEIGES)  # XDE: names, colours and layers kept by convert and heal
 add_library(seam_occt_toolkits INTERFACE)
 target_include_directories(seam_occt_toolkits SYSTEM INTERFACE ${OCCT_INCLUDE_DIR})
 foreach(tk IN LISTS SEAM_OCCT_TOOLKITS)

@@ -11,6 +11,7 @@ PACKAGES=(
   libglpk-dev libgmp-dev libtbb-dev
   libginac-dev libcln-dev libboost-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
+  libocct-ocaf-dev   # XDE documents (names, colours, layers of STEP/IGES kept by convert and heal)
   python3-jsonschema
   pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed   # the Python module (python/)
   nodejs chromium chromium-driver   # the report's 3-D view (web/: three.js bundled at build time) and its browser test

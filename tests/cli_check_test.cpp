@@ -494,6 +494,33 @@ TEST_F(CliVerdicts, StepFileHasMillimetresAndTheAbsoluteDefault) {
   for (int k = 0; k < 3; ++k)
     EXPECT_NEAR(q[k].get<double>(), 1000.0 * p[k].get<double>(), 1e-6 * (1.0 + 1000.0 * std::abs(p[k].get<double>())));
 }
+
+// Issue 34 §1: a trimmed model is never written as patches. convert and heal to JSON exit 2 and write nothing; convert
+// and heal to STEP keep the B-rep (their face counts read back by `seam info` of the output match the input's).
+TEST_F(CliVerdicts, ATrimmedModelIsNeverWrittenUntrimmed) {
+  const std::string in = std::string(SEAM_SHARED_DATA_DIR) + "/step/linkrods.step";
+  if (!std::filesystem::exists(in)) {
+    GTEST_SKIP() << in;
+  }
+  const std::string json = (dir_ / "linkrods.json").string(), step = (dir_ / "linkrods.step").string();
+  const CliRun c = runSeam("convert \"" + in + "\" \"" + json + "\"", true);
+  EXPECT_EQ(c.exitCode, 2) << c.out;
+  EXPECT_NE(c.out.find("20 faces of the model are trimmed"), std::string::npos) << c.out;
+  EXPECT_FALSE(std::filesystem::exists(json));
+  EXPECT_EQ(runSeam("heal \"" + in + "\" -o \"" + json + "\"").exitCode, 2);
+  EXPECT_FALSE(std::filesystem::exists(json));
+  const CliRun k = runSeam("convert \"" + in + "\" \"" + step + "\"");
+  ASSERT_EQ(k.exitCode, 0) << k.out;
+  EXPECT_NE(k.out.find("37 faces, 20 of them trimmed"), std::string::npos) << k.out;
+  const CliRun h = runSeam("heal \"" + in + "\" -o \"" + (dir_ / "healed.step").string() + "\" --json");
+  ASSERT_NE(h.exitCode, 2) << h.out;
+  const nlohmann::json j = nlohmann::json::parse(h.out);
+  EXPECT_EQ(j["route"], "brep");
+  EXPECT_EQ(j["counts"]["faces"][0], 37);
+  EXPECT_EQ(j["counts"]["faces"][1], 37);
+  EXPECT_EQ(j["counts"]["trimmed_faces"][1], 20);
+  EXPECT_EQ(j["seams_worse"], 0);
+}
 #endif
 
 }  // namespace

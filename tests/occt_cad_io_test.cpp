@@ -46,18 +46,15 @@
 #include "seam/io/file.h"
 #include "seam/occt/brep_check.h"
 #include "seam/occt/cad_io.h"
+#include "real_cad_files.h"
 
 namespace seam {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kData = SEAM_SHARED_DATA_DIR;
-/// The real STEP/IGES files of ../shared/data (its README), relative to kData.
-constexpr std::array<const char*, 8> kRealFiles{"step/bug28366_fuselage.stp", "step/trj3_s1-al-214.stp",
-                                                "step/linkrods.step",         "step/boxed_sphere.step",
-                                                "iges/sunglasses_lens.igs",   "iges/BUC50025.igs",
-                                                "iges/occ22470.igs",          "iges/bearing.iges"};
+using test::kData;
+using test::kRealFiles;
 
 fs::path tempPath(const std::string& name) {
   return fs::temp_directory_path() / ("seam_occt_test_" + std::to_string(::getpid()) + "_" + name);
@@ -345,6 +342,32 @@ TEST(OcctReadModel, SewnFacesKeepTheirEntity) {
 
 // Issue 15: the writer's temporary is io::temporaryPathFor's short ".seam-<pid>-<n>.tmp", not the output's name plus
 // a suffix, so the longest legal name (255 bytes) works; afterwards the folder holds the output and nothing else.
+// Issue 35 §4: a STEP file whose only defect is a malformed header line (as one CAD exporter writes it) is read, with
+// a warning, because every entity instance of its DATA section is loaded; the same file cut short is still refused.
+TEST(OcctReadModel, AMalformedHeaderIsAWarningWhileATruncatedFileIsRefused) {
+  const fs::path good = tempPath("header_good.step"), bad = tempPath("header_bad.step"), cut = tempPath("cut.step");
+  ASSERT_TRUE(occt::writeCadFile(randomModel(3), good, occt::CadFormat::kStep));
+  std::ifstream is(good);
+  std::string text((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
+  const size_t from = text.find("FILE_DESCRIPTION"), to = text.find('\n', from);  // one line, as OpenCASCADE writes it
+  ASSERT_NE(from, std::string::npos);
+  text.replace(from, to - from, "FILE_DESCRIPTION((('seam test')),'2;1');");
+  std::ofstream(bad) << text;
+  Result<occt::CadImport> r = occt::readCadFile(bad);
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_EQ(r->model.patches.size(), 2u);
+  const bool warned = std::any_of(r->warnings.begin(), r->warnings.end(),
+                                  [](const std::string& w) { return w.find("malformed header") != std::string::npos; });
+  // OpenCASCADE 7.6 fails on the line ("Parameter n0.1 (description) not a quoted String"): seam warns.
+  EXPECT_TRUE(warned);
+  const size_t data = text.find("DATA;");
+  std::ofstream(cut) << text.substr(0, data + (text.size() - data) / 2);
+  EXPECT_FALSE(occt::readCadFile(cut));
+  fs::remove(good);
+  fs::remove(bad);
+  fs::remove(cut);
+}
+
 TEST(OcctWrite, LongestLegalOutputNameWorksAndLeavesNoTemporary) {
   const fs::path dir = tempPath("longname_dir");
   fs::remove_all(dir);

@@ -1,13 +1,19 @@
 // seam convert IN OUT: converts a model between JSON, .bpt (read only), STEP and IGES, by extension.
 // STEP/IGES need OpenCASCADE (SEAM_WITH_OCCT=ON). The input is never modified; the output is written atomically.
+// STEP/IGES -> STEP/IGES keeps the whole B-rep (occt::convertCadFile); an output that holds patches only (JSON, or
+// STEP/IGES from patches) is refused with exit 2 when the input has trimmed faces (Model::trimmedFaces).
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <string>
 
 #include "cli_util.h"
 #include "command_registry.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/cad_io.h"
+#endif
 
 namespace seam::cli {
 
@@ -33,6 +39,28 @@ void addConvert(CLI::App& app, int& exit) {
       printError(fmt::format("{}: unknown output format (use .json, .step/.stp or .iges/.igs)", out.string()));
       exit = kExitBadInput;
       return;
+    }
+    if (isCadFile(in) && isCadFile(out)) {
+      // STEP/IGES -> STEP/IGES keeps the B-rep: every face, trim, edge, shell and solid, names and colours.
+#ifdef SEAM_HAVE_OCCT
+      if (!checkInputPath(in)) return;
+      Result<occt::CadConvertReport> r = [&] {
+        const CadTimeLimit limit(in, "converting");
+        return occt::convertCadFile(in, out);
+      }();
+      if (!r) {
+        printError(r.status().message());
+        exit = kExitBadInput;
+        return;
+      }
+      for (const std::string& w : r->warnings) std::cerr << "seam: warning: " << w << "\n";
+      fmt::print("wrote {} (B-rep kept: {} faces, {} of them trimmed, {} edges, {} shells, {} solids; area {} mm²; "
+                 "unit {})\n",
+                 out.string(), r->faces, r->trimmedFaces, r->edges, r->shells, r->solids, formatNumber(r->area),
+                 r->writtenUnit);
+      exit = kExitOk;
+      return;
+#endif
     }
     const std::optional<Model> model = loadModel(in);
     if (!model) {

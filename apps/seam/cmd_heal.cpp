@@ -7,9 +7,12 @@
 // every seam before and after in plain words (gap, kink angle, crease, fold), every region and how far the surfaces
 // moved. Exit 0 when every such seam meets the requested continuity, 1 otherwise (OUT.json is still written and
 // holds everything achieved), 2 bad input.
+// STEP/IGES -> STEP/IGES is healed as a B-rep (occt::healBRepFile: every face, trim, edge and solid kept, faces
+// moved along their pcurves); STEP/IGES with trimmed faces -> JSON is refused (the JSON would lose the trims).
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,19 +26,145 @@
 #include "seam/repair/heal.h"
 #include "seam/repair/join.h"
 #include "seam/repair/report_json_value.h"
+#ifdef SEAM_HAVE_OCCT
+#include "seam/occt/brep_heal.h"
+#endif
 
 namespace seam::cli {
 
 namespace {
 
+struct HealCliOptions {
+  std::string file, out, continuity = "G1", method = "auto";
+  std::optional<double> maxGap, maxAngle;
+  double fairness = kDefaultG2Fairness;
+  ToleranceOverrides tol;  // --tol-* / --preset / --units, as `seam check`
+  bool json = false;
+};
+
+#ifdef SEAM_HAVE_OCCT
+/// One seam's state in plain words (B-rep heal).
+std::string brepState(const SeamReport& x, double creaseDeg) {
+  if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
+  if (!meets(x.geometric, GeometricClass::kG1)) return x.g1MaxDeg > creaseDeg ? "crease" : "kink";
+  return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
+}
+
+OrderedJson brepSeamJson(const SeamReport& r, double creaseDeg) {
+  OrderedJson j;
+  j["gap"] = r.g0Max;
+  j["angle_deg"] = r.g1MaxDeg;
+  j["class"] = std::string(toString(r.geometric));
+  j["state"] = brepState(r, creaseDeg);
+  j["certified"] = r.certified;
+  return j;
+}
+
+/// `seam heal` of a STEP/IGES file into STEP/IGES: the B-rep kept (occt::healBRepFile). Returns the exit code.
+int healBRep(const HealCliOptions& o, const HealOptions& ho) {
+  occt::BRepHealOptions bo;
+  bo.tolerances = o.tol;
+  bo.continuity = ho.continuity;
+  bo.maxGap = o.maxGap;
+  if (o.maxAngle) bo.creaseAngleDeg = *o.maxAngle;
+  if (o.method != "auto")
+    return printError("--method: a STEP/IGES B-rep is healed face by face along its pcurves (--method auto only)"),
+           kExitBadInput;
+  Result<occt::BRepHealReport> res = [&] {
+    const CadTimeLimit limit(o.file, "healing");
+    return occt::healBRepFile(o.file, o.out, bo);
+  }();
+  if (!res) return printError(res.status().message()), kExitBadInput;
+  const occt::BRepHealReport& r = *res;
+  for (const std::string& w : r.warnings) std::cerr << "seam: warning: " << w << "\n";
+  if (o.json) {
+    OrderedJson j;
+    j["input"] = o.file;
+    j["output"] = o.out;
+    j["route"] = "brep";
+    j["requested"] = std::string(toString(r.requested));
+    j["unit"] = r.unit;
+    j["tolerances"] = {{"distance_mm", r.tolerances.distance}, {"angle_deg", r.tolerances.angleDeg}};
+    j["max_gap_mm"] = r.maxGap;
+    j["crease_angle_deg"] = r.creaseAngleDeg;
+    OrderedJson seams = OrderedJson::array();
+    for (const occt::BRepHealSeam& s : r.seams) {
+      OrderedJson x;
+      x["edge"] = s.edge;
+      x["a"] = s.a;
+      x["b"] = s.b;
+      x["entity_a"] = s.entityA;
+      x["entity_b"] = s.entityB;
+      x["action"] = s.action;
+      x["moved"] = s.moved;
+      x["before"] = brepSeamJson(s.before, r.creaseAngleDeg);
+      x["after"] = s.after ? brepSeamJson(*s.after, r.creaseAngleDeg) : OrderedJson();
+      x["worse"] = s.worse;
+      seams.push_back(std::move(x));
+    }
+    j["seams"] = std::move(seams);
+    j["faces_changed"] = r.facesChanged;
+    j["faces_reverted"] = r.facesReverted;
+    j["max_surface_displacement_mm"] = r.maxSurfaceDisplacement;
+    j["counts"] = {{"faces", {r.facesBefore, r.facesAfter}},
+                   {"trimmed_faces", {r.trimmedFacesBefore, r.trimmedFacesAfter}},
+                   {"edges", {r.edgesBefore, r.edgesAfter}},
+                   {"solids", {r.solidsBefore, r.solidsAfter}},
+                   {"area_mm2", {r.areaBefore, r.areaAfter}},
+                   {"valid", {r.validBefore, r.validAfter}}};
+    j["seams_to_heal"] = r.seamsToHeal;
+    j["seams_healed"] = r.seamsHealed;
+    j["seams_worse"] = r.seamsWorse;
+    j["notes"] = r.notes;
+    j["achieved"] = r.achieved;
+    printJson(j);
+  } else {
+    std::vector<std::vector<std::string>> rows;
+    for (const occt::BRepHealSeam& s : r.seams) {
+      if (s.action == "already G1" || s.action == "already G0" || s.action == "crease kept") continue;
+      rows.push_back({std::to_string(s.edge), s.a + (s.entityA.empty() ? "" : " " + s.entityA),
+                      s.b + (s.entityB.empty() ? "" : " " + s.entityB), s.moved.empty() ? "-" : s.moved,
+                      formatNumber(s.before.g0Max), formatNumber(s.before.g1MaxDeg),
+                      brepState(s.before, r.creaseAngleDeg), s.after ? formatNumber(s.after->g0Max) : "?",
+                      s.after ? formatNumber(s.after->g1MaxDeg) : "?",
+                      s.after ? brepState(*s.after, r.creaseAngleDeg) : "?", s.action, s.worse ? "WORSE" : ""});
+    }
+    std::string text = fmt::format("seam heal {} (B-rep kept; {} requested, gaps up to {} mm, creases above {} deg "
+                                   "keep their angle; tolerances {} mm, {} deg)\n",
+                                   o.file, toString(r.requested), formatNumber(r.maxGap),
+                                   formatNumber(r.creaseAngleDeg), formatNumber(r.tolerances.distance),
+                                   formatNumber(r.tolerances.angleDeg));
+    text += rows.empty() ? std::string("no seam needs healing\n")
+                         : formatTable({"edge", "face A", "face B", "moved", "gap before (mm)", "angle before (deg)",
+                                        "before", "gap after (mm)", "angle after (deg)", "after", "action", ""},
+                                       rows,
+                                       {true, false, false, false, true, true, false, true, true, false, false, false});
+    std::string changed;
+    for (const std::string& f : r.facesChanged) changed += (changed.empty() ? "" : ", ") + f;
+    text += fmt::format("\nfaces changed: {}\n", changed.empty() ? "none" : changed);
+    text += fmt::format("largest surface displacement: {} mm (a bound: the largest control-point move)\n",
+                        formatNumber(r.maxSurfaceDisplacement));
+    text += fmt::format("kept: faces {} -> {}, trimmed faces {} -> {}, edges {} -> {}, solids {} -> {}; area {} -> "
+                        "{} mm²; OpenCASCADE's BRepCheck valid {} -> {}\n",
+                        r.facesBefore, r.facesAfter, r.trimmedFacesBefore, r.trimmedFacesAfter, r.edgesBefore,
+                        r.edgesAfter, r.solidsBefore, r.solidsAfter, formatNumber(r.areaBefore),
+                        formatNumber(r.areaAfter), r.validBefore ? "yes" : "no", r.validAfter ? "yes" : "no");
+    text += fmt::format("seams to heal: {}; reaching {}: {}; worse than before: {}\n", r.seamsToHeal,
+                        toString(r.requested), r.seamsHealed, r.seamsWorse);
+    for (const std::string& n : r.notes) text += "note: " + n + "\n";
+    text += fmt::format("output: {} (unit {})\n", o.out, r.unit);
+    text += r.achieved ? fmt::format("{} achieved on every seam to heal\n", toString(r.requested))
+                       : fmt::format("requested {} NOT achieved on every seam; the output holds what was achieved, "
+                                     "the rest is left as it was\n",
+                                     toString(r.requested));
+    fmt::print("{}", text);
+  }
+  return r.achieved ? kExitOk : kExitGeometryProblem;
+}
+#endif
+
 void addHeal(CLI::App& app, int& exit) {
-  struct Options {
-    std::string file, out, continuity = "G1", method = "auto";
-    std::optional<double> maxGap, maxAngle;
-    double fairness = kDefaultG2Fairness;
-    ToleranceOverrides tol;  // --tol-* / --preset / --units, as `seam check`
-    bool json = false;
-  };
+  using Options = HealCliOptions;
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("heal", "Close the gaps and kinks of every seam of a model (G0/G1)");
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
@@ -72,6 +201,12 @@ void addHeal(CLI::App& app, int& exit) {
       return printError("--fairness must be a finite number >= 0");
     ho.g2Fairness = o->fairness;
     if (!checkOutputPath(o->file, o->out)) return;
+    if (isCadFile(o->file) && isCadFile(o->out)) {
+#ifdef SEAM_HAVE_OCCT
+      exit = healBRep(*o, ho);
+      return;
+#endif
+    }
     ModelUnits units;
     const std::optional<Model> model = loadModel(o->file, o->tol, &units);
     if (!model) return;

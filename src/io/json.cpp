@@ -967,6 +967,7 @@ std::string modelToJson(const Model& model) {
 }
 
 Status writeModelJson(const Model& model, const std::filesystem::path& file) {
+  if (Status st = checkNoTrimsLost(model, file.string()); !st) return st;
   return writeFileAtomically(file, modelToJson(model));
 }
 

@@ -49,6 +49,7 @@
 #include <tbb/task_group.h>
 
 #include "continuity/sampling.h"
+#include "occt/brep_check_internal.h"
 #include "occt/cad_internal.h"
 #include "occt/face_mesh.h"
 #include "occt/pcurve_correspondence.h"
@@ -601,10 +602,34 @@ struct EdgeCertificate {
   const PCurveSide *a = nullptr, *b = nullptr;           ///< the sides composed, when the route was tried
   std::optional<Result<PCurveSeamBounds>> bounds;        ///< certifyPCurveSeam(*a, *b, opt), when tried
   std::string failure;                                   ///< the note when the route could not be tried
+  /// The certified gap at equal edge parameters, when it was above the tolerance and the closest-point pairing
+  /// certified a smaller one (which replaced it); 0 otherwise.
+  double equalParameterGap = 0.0;
   /// G0 and G1 (g2: and G2) values will come from the certified route (unless reconcileVerdict withdraws them).
   [[nodiscard]] bool certifies() const { return bounds && bounds->isOk(); }
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
 };
+
+/// Pairs the two sides of `c` by a monotone piecewise-cubic correspondence: the master keeps its parameter; the
+/// other is composed with a cubic (its degree triples): master = the side with its own parameter, or of the higher
+/// pcurve degree. Sets c.a and c.b, or c.failure (c.a stays null).
+void pairByCorrespondence(EdgeCertificate& c) {
+  const FacePCurve& sa = **c.sideA;
+  const FacePCurve& sb = **c.sideB;
+  c.byCorrespondence = true;
+  c.masterA = sa.ownParameter != sb.ownParameter ? sa.ownParameter : sa.side.pcurve.degree() >= sb.side.pcurve.degree();
+  const FacePCurve& master = c.masterA ? sa : sb;
+  const FacePCurve& other = c.masterA ? sb : sa;
+  c.correspondence.emplace(detail::correspondInParameterOf(master.side, other.side, c.opt.tol.distance));
+  if (!*c.correspondence) {
+    c.failure = fmt::format("not certified: no common parameter for the two edges: {}",
+                            c.correspondence->status().message());
+    return;
+  }
+  c.opt.maxBoundWork = std::min(c.opt.maxBoundWork, detail::kCorrespondenceBoundWork);
+  c.a = c.masterA ? &master.side : &(*c.correspondence)->b;
+  c.b = c.masterA ? &(*c.correspondence)->b : &master.side;
+}
 
 void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const FaceBoxCache& boxes, int fa,
                     int fb, const BSplineSurface& pa, const BSplineSurface& pb,
@@ -624,23 +649,29 @@ void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, co
   if (c.sameParameter && !sa->ownParameter && !sb->ownParameter) {
     c.a = &sa->side;
     c.b = &sb->side;
+    c.bounds.emplace(certifyPCurveSeam(*c.a, *c.b, c.opt, spans.at(patchA), spans.at(patchB)));
+    // Equal edge parameters pair points that a drifting SameParameter pcurve puts apart (issue 35 §1: certified
+    // gaps of 0.0138 where the boundaries are 5e-6 apart): a gap above the tolerance is measured again between the
+    // boundaries themselves, through the closest-point correspondence, and the smaller certified bound is kept.
+    if (!c.certifies() || (*c.bounds)->g0Bound <= opt.tol.distance) return;
+    EdgeCertificate closest;
+    closest.sideA = c.sideA;
+    closest.sideB = c.sideB;
+    closest.sameParameter = true;
+    closest.opt = opt;
+    pairByCorrespondence(closest);
+    if (closest.a == nullptr) return;
+    closest.bounds.emplace(certifyPCurveSeam(*closest.a, *closest.b, closest.opt, spans.at(patchA), spans.at(patchB)));
+    if (!closest.certifies() || !((*closest.bounds)->g0Bound < (*c.bounds)->g0Bound)) return;
+    closest.equalParameterGap = (*c.bounds)->g0Bound;
+    c = std::move(closest);
+    // a and b point into the moved optionals' values: point them again.
+    c.a = c.masterA ? &(*c.sideA)->side : &(*c.correspondence)->b;
+    c.b = c.masterA ? &(*c.correspondence)->b : &(*c.sideB)->side;
+    return;
   } else {
-    // The master keeps its parameter; the other is composed with a cubic (its degree triples): master = the side
-    // with its own parameter, or of the higher pcurve degree.
-    c.byCorrespondence = true;
-    c.masterA = sa->ownParameter != sb->ownParameter ? sa->ownParameter
-                                                     : sa->side.pcurve.degree() >= sb->side.pcurve.degree();
-    const FacePCurve& master = c.masterA ? *sa : *sb;
-    const FacePCurve& other = c.masterA ? *sb : *sa;
-    c.correspondence.emplace(detail::correspondInParameterOf(master.side, other.side, opt.tol.distance));
-    if (!*c.correspondence) {
-      c.failure = fmt::format("not certified: no common parameter for the two edges: {}",
-                              c.correspondence->status().message());
-      return;
-    }
-    c.opt.maxBoundWork = std::min(c.opt.maxBoundWork, detail::kCorrespondenceBoundWork);
-    c.a = c.masterA ? &master.side : &(*c.correspondence)->b;
-    c.b = c.masterA ? &(*c.correspondence)->b : &master.side;
+    pairByCorrespondence(c);
+    if (c.a == nullptr) return;
   }
   // A's side is on pa and B's on pb (the correspondence keeps the other side's surface); spans of another
   // surface would be ignored by certifyPCurveSeam.
@@ -661,7 +692,11 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
   const detail::Correspondence& corr = **c.correspondence;
   const bool masterA = c.masterA;
   std::string why = !c.sameParameter ? "the edge's pcurves do not share its parameter (no SameParameter / SameRange)"
-                                     : "";
+                     : c.equalParameterGap > 0.0
+                         ? fmt::format("at equal edge parameters the pcurves' images are up to {:.4g} apart, a drift "
+                                       "of the SameParameter pcurves, not a gap between the boundaries",
+                                       c.equalParameterGap)
+                         : "";
   for (const auto& [s, name] : {std::pair{&a, &nameA}, std::pair{&b, &nameB}})
     if (s->ownParameter)
       why += fmt::format("{}{}'s edge is {}", why.empty() ? "" : "; ", *name, s->how);
@@ -727,6 +762,14 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
   Result<TopoDS_Shape> read =
       detail::readShape(file, *format, &readWarnings, detail::kTransferTimeLimit, &labels, &units);
   if (!read) return read.status();
+  return detail::checkBRepShape(*read, file, std::move(labels), units, readWarnings, options);
+}
+
+namespace detail {
+
+Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path& file, FaceLabels labels,
+                                       const FileUnits& units, const std::vector<std::string>& readWarnings,
+                                       const BRepCheckOptions& options) {
   BRepCheckReport out;
   // Every OpenCASCADE call of the check (bounding box, sewing, BRepLib::ContinuityOfFaces, pcurves, evaluation of
   // the faces' surfaces) runs under the guard: a signal inside it comes back as a Standard_Failure of kind
@@ -735,13 +778,13 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
   detail::OcctSignalGuard guard;
   try {
     OCC_CATCH_SIGNALS
-    TopoDS_Shape shape = *read;
+    TopoDS_Shape shape = input;
     Bnd_Box box;
     BRepBndLib::Add(shape, box);
     const double diag = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
     TopTools_IndexedMapOfShape faceMap;
     TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
-    if (faceMap.Extent() > 1 && countFreeEdges(shape) > 0) {
+    if (options.sewFreeEdges && faceMap.Extent() > 1 && countFreeEdges(shape) > 0) {
       BRepBuilderAPI_Sewing sewing(options.sewingRelTol * diag);
       sewing.Add(shape);
       sewing.Perform();
@@ -1010,5 +1053,7 @@ Result<BRepCheckReport> checkBRepFile(const fs::path& file, const BRepCheckOptio
   }
   return out;
 }
+
+}  // namespace detail
 
 }  // namespace seam::occt

@@ -1,5 +1,6 @@
 #pragma once
 // Shared by the OpenCASCADE readers and the B-rep check.
+#include <TDocStd_Document.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
@@ -72,10 +73,48 @@ struct FileUnits {
 
 /// With `units`, the header's length unit and precision are read, and a shape whose stated unit differs from the
 /// header's is scaled (BRepBuilderAPI_Transform) so that it is in millimetres; `labels` follow the scaled faces.
+/// With `document` (newCadDocument), the file is read through OpenCASCADE's XDE readers into it (names, colours and
+/// layers kept; the document is not rescaled: only the returned shape is, for a stated unit) and the shape returned
+/// is the document's (documentShape).
 Result<TopoDS_Shape> readShape(const std::filesystem::path& file, CadFormat format,
                                std::vector<std::string>* warnings = nullptr,
                                std::chrono::seconds timeLimit = kTransferTimeLimit, FaceLabels* labels = nullptr,
-                               FileUnits* units = nullptr);
+                               FileUnits* units = nullptr, const Handle(TDocStd_Document)* document = nullptr);
+
+/// A new, empty XDE document (XCAFApp_Application, format MDTV-XCAF).
+Handle(TDocStd_Document) newCadDocument();
+/// The shapes of a document's free (top-level) labels: the one shape, or a compound of them; null when none.
+TopoDS_Shape documentShape(const Handle(TDocStd_Document)& document);
+
+/// Counts of a shape, all by OpenCASCADE: what a conversion or a repair must keep (issue 34 §1).
+struct ShapeCounts {
+  int faces = 0, trimmedFaces = 0, wires = 0, edges = 0, freeEdges = 0, shells = 0, solids = 0;
+  double area = 0.0;  ///< BRepGProp::SurfaceProperties, in the shape's unit squared
+};
+ShapeCounts countShape(const TopoDS_Shape& shape);
+
+/// Writes `document` as STEP (AP214) or IGES (5.3) into `file` atomically, with names, colours and layers, every
+/// real with 17 significant digits (surfaces are kept bit for bit), in the length unit `unitName` ("MM", "INCH",
+/// "FT", "M", "CM"; the document is in millimetres). What was written is read back and must have the counts
+/// `expected` (faces, trimmed faces, solids; area within kKeptAreaRelTol, IGES kKeptAreaRelTolIges): else nothing is
+/// written and the error says what OpenCASCADE lost. IGES: B-rep mode (solids) first, else the faces mode, with a
+/// line in `notes` saying that the solids are written as their faces. `areaRelTol` > 0 replaces the area tolerance
+/// (when it is larger).
+Status writeCadDocument(const Handle(TDocStd_Document)& document, const std::filesystem::path& file,
+                        CadFormat format, const std::string& unitName, const ShapeCounts& expected,
+                        std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0);
+
+/// A written STEP B-rep's area may differ from what was written by this much (relative): surfaces written with 17
+/// significant digits come back bit for bit, the trims are rebuilt from the 3-D curves by the reader (occ22470.igs ->
+/// STEP: 1.5e-9); a lost or untrimmed face changes the area by far more.
+inline constexpr double kKeptAreaRelTol = 1e-8;
+/// The same for IGES: OpenCASCADE's IGES reader rebuilds trims from the 3-D curves, which move them by up to the
+/// edge tolerances (trj3_s1-al-214.stp: 1e-5 of the area). Face and trimmed-face counts are compared exactly.
+inline constexpr double kKeptAreaRelTolIges = 1e-4;
+
+/// The STEP/IGES unit name of a length unit given in millimetres (1 -> "MM", 25.4 -> "INCH", 304.8 -> "FT",
+/// 1000 -> "M", 10 -> "CM"); "MM" for anything else.
+std::string cadUnitName(double millimetresPerUnit, CadFormat format);
 
 /// Copies the entity and name of each face (CadFace::faceIndex, 1-based into `faces`) from `labels`.
 void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, const FaceLabels& labels);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "seam/core/result.h"
 #include "seam/core/types.h"
 #include "seam/spline/bspline_curve.h"
 #include "seam/spline/bspline_surface.h"
@@ -47,11 +48,20 @@ BoundingBox controlBox(const BSplineCurve& c);
 struct Model {
   std::vector<Patch> patches;
   std::vector<Curve> curves;
+  /// Faces of the source B-rep (STEP/IGES) that are trimmed: each of them is held here as the patch of its
+  /// parameter box, without its trim loops. A writer that holds only patches (JSON, the patch route to STEP/IGES)
+  /// would write those faces untrimmed, so it refuses such a model (issue 34 §1: never a lossy output); the B-rep
+  /// routes of src/occt (convertCadFile, healBRepFile) keep the trims. 0 for JSON and .bpt models.
+  int trimmedFaces = 0;
 
   [[nodiscard]] const Patch* findPatch(const std::string& name) const;
   [[nodiscard]] const Curve* findCurve(const std::string& name) const;
   /// Box of every control point of every patch and curve.
   [[nodiscard]] BoundingBox boundingBox() const;
 };
+
+/// Ok when `model` holds no trimmed B-rep faces; else kInvalidInput naming `output` and the number of trimmed faces
+/// that a patch-only output would write untrimmed (issue 34 §1). Every patch writer calls it first.
+Status checkNoTrimsLost(const Model& model, const std::string& output);
 
 }  // namespace seam

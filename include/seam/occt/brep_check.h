@@ -60,6 +60,9 @@ struct BRepCheckOptions {
   /// Sewing tolerance relative to the model diagonal, used when the file leaves free edges (1e-4: gaps up to this
   /// are sewn, then measured and classified with the distance tolerance).
   double sewingRelTol = 1e-4;
+  /// Sew a model with free edges before the check (as above). Off: the shape's own topology is checked as it is
+  /// (the B-rep heal checks the shape it writes, whose topology it keeps).
+  bool sewFreeEdges = true;
   CadReadOptions read;
   /// Threads for the shared edges (analysed kProgressEdgeStep at a time, merged in edge order: the report is the same
   /// for every value): 0 = all hardware threads (the default: 25-30 % less wall time on 2 idle cores for the larger

@@ -12,7 +12,9 @@
 // coordinates multiplied by 25.4. The unit the file declares and its declared precision are kept (CadUnits).
 //
 // Export: B-spline faces (one per patch, knots and control points unchanged) sewn into a shell with the
-// distance tolerance, written as STEP (AP214) or IGES (5.3, B-rep mode); written atomically.
+// distance tolerance, written as STEP (AP214) or IGES (5.3, B-rep mode); written atomically. A model with trimmed
+// faces (Model::trimmedFaces) is refused: its patches are the faces' parameter boxes. STEP/IGES -> STEP/IGES goes
+// through convertCadFile instead, which keeps the B-rep.
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -97,5 +99,24 @@ struct CadWriteOptions {
 /// Writes the patches of `model` as B-spline faces sewn into a shell (STEP or IGES by `format`).
 Status writeCadFile(const Model& model, const std::filesystem::path& file, CadFormat format,
                     const CadWriteOptions& options = {});
+
+/// What convertCadFile read and wrote (counted by OpenCASCADE on the input; the output, read back, has the same
+/// faces, trimmed faces, solids and area, else nothing is written).
+struct CadConvertReport {
+  int faces = 0, trimmedFaces = 0, edges = 0, freeEdges = 0, shells = 0, solids = 0;
+  double area = 0.0;        ///< total face area, mm²
+  CadUnits units;           ///< the input's unit
+  std::string writtenUnit;  ///< the unit the output declares ("MM", "INCH"/"IN", ...): the input's own
+  std::vector<std::string> warnings;
+};
+
+/// STEP/IGES -> STEP/IGES keeping the B-rep (issue 34 §1): every face with its wires, shared edges and vertices,
+/// shells and solids, read and written through OpenCASCADE's XDE (STEPCAFControl / IGESCAFControl), so names,
+/// colours and layers survive where XDE carries them. Surfaces and pcurves are written with 17 significant digits:
+/// bit for bit. The output is in the input's length unit. Written atomically, then read back and compared with the
+/// input (faces, trimmed faces, solids, area); a writer that would lose anything is an error and nothing is written.
+/// `options.statedUnitMm` (--units) is refused: it rescales, and a conversion keeps the file as it is.
+Result<CadConvertReport> convertCadFile(const std::filesystem::path& in, const std::filesystem::path& out,
+                                        const CadReadOptions& options = {});
 
 }  // namespace seam::occt

@@ -1,0 +1,1011 @@
+// OCC_CATCH_SIGNALS converts a signal raised inside OpenCASCADE into a Standard_Failure only when this macro is set
+// (as in cad_io.cpp; see docs/reliability.md, "OpenCASCADE guards").
+#ifndef OCC_CONVERT_SIGNALS
+#define OCC_CONVERT_SIGNALS
+#endif
+#include "seam/occt/brep_heal.h"
+
+#include <fmt/format.h>
+
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <BRepLib.hxx>
+#include <BRepTools.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Adaptor3d_CurveOnSurface.hxx>
+#include <BSplCLib.hxx>
+#include <GeomLib.hxx>
+#include <Geom_Curve.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom2dAdaptor_Curve.hxx>
+#include <Geom2d_Curve.hxx>
+#include <GeomAdaptor_Surface.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
+#include <OSD_Signal.hxx>
+#include <ShapeAnalysis_Edge.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <ShapeBuild_Edge.hxx>
+#include <ShapeFix_Edge.hxx>
+#include <Standard_ErrorHandler.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <Geom_Curve.hxx>
+#include <math_Matrix.hxx>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+
+#include "occt/brep_check_internal.h"
+#include "occt/cad_internal.h"
+#include "seam/io/file.h"
+#include "seam/continuity/model_check.h"
+
+namespace seam::occt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+/// Condition samples per healed edge at most (a long edge across many knot spans).
+constexpr int kMaxEdgeSamples = 400;
+/// Samples per knot span crossed (the conditions are exact at samples only; the check after certifies the rest).
+constexpr int kSamplesPerSpan = 3;
+/// Gauss-Newton steps (and relative step at which they stop) of the closest point on the partner's boundary.
+constexpr int kPartnerIterations = 16;
+constexpr double kPartnerStepRel = 1e-14;
+/// Regularisation of the normal equations relative to their largest diagonal entry: the least-squares solution of
+/// least norm to about this precision (the conditions are scaled to tolerances, so 1e-10 is far below them).
+constexpr double kRidgeRel = 1e-10;
+/// A seam is worse after the heal when its gap (angle) grows by more than this fraction of the tolerance beyond
+/// max(before, tolerance): a tenth of a tolerance is below what the tolerance says about the geometry.
+constexpr double kWorseSlackRel = 0.1;
+/// Weight of the conditions that hold a face's other seams, against 1 for those of the seams it heals: where the two
+/// meet (a shared vertex of a kinked seam and a smooth one) the compromise keeps the smooth seam.
+constexpr double kHeldWeight = 10.0;
+/// Points of an edge's 3-D curve tested against a surface (is a gap one of the trims alone?).
+constexpr int kCurveOnSurfaceSamples = 32;
+/// Rounds of "revert the faces that made something worse, check again".
+constexpr int kMaxRevertRounds = 3;
+/// A normal shorter than this fraction of |S_u| |S_v| (a pole) gives no G1 or fold condition there.
+constexpr double kPoleNormalRel = 1e-8;
+/// Samples of ShapeAnalysis_Edge::CheckSameParameter when an edge's tolerance is recomputed, and the margin put on
+/// the deviation found (it samples).
+constexpr int kToleranceSamples = 23;
+constexpr double kToleranceMargin = 1.5;
+/// A rebuilt 3-D edge curve is approximated within this fraction of the distance tolerance (readers that rebuild
+/// pcurves from it then find the trims where they were); one that stays further than the tolerance is not used.
+constexpr double kCurveRebuildRel = 1e-3;
+
+bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
+
+/// The B-spline surface of a face that heal may edit (in its own frame: the face's location maps it to the model),
+/// or why not.
+struct Editable {
+  Handle(Geom_BSplineSurface) surface;
+  gp_Trsf toLocal;    ///< model -> the surface's frame
+  gp_Trsf toModel;    ///< the surface's frame -> model
+};
+
+Result<Editable> editableSurface(const TopoDS_Face& face) {
+  TopLoc_Location loc;
+  Handle(Geom_Surface) g = BRep_Tool::Surface(face, loc);
+  if (g.IsNull()) return invalidInput("the face has no surface");
+  while (const auto t = Handle(Geom_RectangularTrimmedSurface)::DownCast(g)) {
+    if (t.IsNull()) break;
+    g = t->BasisSurface();
+  }
+  const auto bs = Handle(Geom_BSplineSurface)::DownCast(g);
+  if (bs.IsNull())
+    return invalidInput(fmt::format("its surface is a {}, not a B-spline surface (analytic surfaces are kept)",
+                                    g->DynamicType()->Name()));
+  Editable e;
+  e.surface = bs;
+  e.toModel = loc.Transformation();
+  e.toLocal = e.toModel.Inverted();
+  return e;
+}
+
+/// The rational basis functions R_ij of a B-spline surface at (u, v) and their u and v derivatives, for the
+/// (p+1) x (q+1) functions that do not vanish there: S = sum R_ij P_ij exactly (weights fixed), so every condition
+/// on S, S_u, S_v is linear in the control points.
+struct BasisAt {
+  int firstU = 1, firstV = 1;            ///< 1-based indices of the first non-zero functions
+  int nu = 0, nv = 0;
+  std::vector<double> r, ru, rv;         ///< row-major nu x nv
+};
+
+class SurfaceBasis {
+ public:
+  explicit SurfaceBasis(const Handle(Geom_BSplineSurface)& s)
+      : s_(s),
+        flatU_(1, flatLength(s->UMultiplicities(), s->UDegree(), s->IsUPeriodic())),
+        flatV_(1, flatLength(s->VMultiplicities(), s->VDegree(), s->IsVPeriodic())) {
+    s->UKnotSequence(flatU_);
+    s->VKnotSequence(flatV_);
+    s->Bounds(u0_, u1_, v0_, v1_);
+  }
+  /// The 1-based pole index of basis function k (periodic surfaces wrap around).
+  [[nodiscard]] int poleU(int k) const { return wrap(k, s_->NbUPoles(), s_->IsUPeriodic()); }
+  [[nodiscard]] int poleV(int k) const { return wrap(k, s_->NbVPoles(), s_->IsVPeriodic()); }
+  [[nodiscard]] BasisAt at(double u, double v) const {
+    u = std::clamp(u, u0_, u1_);
+    v = std::clamp(v, v0_, v1_);
+    const int p = s_->UDegree(), q = s_->VDegree();
+    math_Matrix bu(1, 2, 1, p + 1), bv(1, 2, 1, q + 1);
+    BasisAt b;
+    BSplCLib::EvalBsplineBasis(1, p + 1, flatU_, u, b.firstU, bu, s_->IsUPeriodic());
+    BSplCLib::EvalBsplineBasis(1, q + 1, flatV_, v, b.firstV, bv, s_->IsVPeriodic());
+    b.nu = p + 1;
+    b.nv = q + 1;
+    const size_t n = static_cast<size_t>(b.nu * b.nv);
+    b.r.resize(n);
+    b.ru.resize(n);
+    b.rv.resize(n);
+    double W = 0, Wu = 0, Wv = 0;
+    for (int i = 0; i < b.nu; ++i)
+      for (int j = 0; j < b.nv; ++j) {
+        const double w = s_->Weight(poleU(b.firstU + i), poleV(b.firstV + j));
+        W += w * bu(1, i + 1) * bv(1, j + 1);
+        Wu += w * bu(2, i + 1) * bv(1, j + 1);
+        Wv += w * bu(1, i + 1) * bv(2, j + 1);
+      }
+    for (int i = 0; i < b.nu; ++i)
+      for (int j = 0; j < b.nv; ++j) {
+        const double w = s_->Weight(poleU(b.firstU + i), poleV(b.firstV + j));
+        const double n0 = bu(1, i + 1) * bv(1, j + 1), nU = bu(2, i + 1) * bv(1, j + 1),
+                     nV = bu(1, i + 1) * bv(2, j + 1);
+        const size_t k = static_cast<size_t>(i * b.nv + j);
+        b.r[k] = w * n0 / W;
+        b.ru[k] = w * (nU * W - n0 * Wu) / (W * W);
+        b.rv[k] = w * (nV * W - n0 * Wv) / (W * W);
+      }
+    return b;
+  }
+
+ private:
+  static int flatLength(const TColStd_Array1OfInteger& mults, int degree, bool periodic) {
+    return BSplCLib::KnotSequenceLength(mults, degree, periodic);
+  }
+  static int wrap(int k, int n, bool periodic) { return periodic ? ((k - 1) % n + n) % n + 1 : k; }
+  Handle(Geom_BSplineSurface) s_;
+  TColStd_Array1OfReal flatU_, flatV_;
+  double u0_ = 0, u1_ = 0, v0_ = 0, v1_ = 0;
+};
+
+/// One face seen from an edge: surface and pcurve evaluators, the orientation's sign.
+struct Side {
+  TopoDS_Face face;
+  Handle(Geom2d_Curve) pcurve;
+  double first = 0, last = 0;
+  GeomAdaptor_Surface surface;  ///< in model coordinates (BRep_Tool::Surface(face): location applied)
+  Geom2dAdaptor_Curve curve;
+};
+
+std::optional<Side> sideOf(const TopoDS_Edge& edge, const TopoDS_Face& face) {
+  Side s;
+  s.face = face;
+  s.pcurve = BRep_Tool::CurveOnSurface(edge, face, s.first, s.last);
+  const Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
+  if (s.pcurve.IsNull() || surf.IsNull() || !(s.last > s.first)) return std::nullopt;
+  s.surface.Load(surf);
+  s.curve.Load(s.pcurve, s.first, s.last);
+  return s;
+}
+
+/// The parameter of the point of G's boundary image closest to x, from `s` (Gauss-Newton on |S_G(c_G(s)) - x|^2).
+double closestOnSide(const Side& G, const gp_Pnt& x, double s) {
+  const double range = G.last - G.first;
+  for (int it = 0; it < kPartnerIterations; ++it) {
+    gp_Pnt2d uv;
+    gp_Vec2d d;
+    G.curve.D1(s, uv, d);
+    gp_Pnt q;
+    gp_Vec su, sv;
+    G.surface.D1(uv.X(), uv.Y(), q, su, sv);
+    const gp_Vec c1 = su * d.X() + sv * d.Y();
+    const double c1n2 = c1.SquareMagnitude();
+    if (!(c1n2 > 0.0)) break;
+    const double next = std::clamp(s + gp_Vec(q, x).Dot(c1) / c1n2, G.first, G.last);
+    if (!std::isfinite(next)) break;
+    const bool done = std::abs(next - s) <= kPartnerStepRel * range;
+    s = next;
+    if (done) break;
+  }
+  return s;
+}
+
+/// The linear least-squares system of one face's move: rows over the band's control points (3 unknowns each).
+class MoveSystem {
+ public:
+  MoveSystem(const Editable& e, double sigmaPos, double sigmaAngle)
+      : e_(e), basis_(e.surface), sigmaPos_(sigmaPos), sigmaAngle_(sigmaAngle) {}
+
+  /// Adds the band's columns for the basis functions that do not vanish at (u, v).
+  void addToBand(double u, double v) {
+    const BasisAt b = basis_.at(u, v);
+    for (int i = 0; i < b.nu; ++i)
+      for (int j = 0; j < b.nv; ++j) {
+        const std::pair<int, int> key{basis_.poleU(b.firstU + i), basis_.poleV(b.firstV + j)};
+        if (!column_.count(key)) column_.emplace(key, static_cast<int>(column_.size()));
+      }
+  }
+  /// The weight of the rows added from now on.
+  void setWeight(double w) { weight_ = w; }
+  /// S(u, v) = x (model coordinates).
+  void position(double u, double v, const gp_Pnt& x) {
+    const BasisAt b = basis_.at(u, v);
+    gp_Pnt s = e_.surface->Value(u, v);
+    const gp_XYZ target = x.Transformed(e_.toLocal).XYZ() - s.XYZ();
+    for (int c = 0; c < 3; ++c) {
+      Row row;
+      for (size_t k = 0; k < b.r.size(); ++k) add(row, b, k, c, b.r[k] / sigmaPos_);
+      row.rhs = target.Coord(c + 1) / sigmaPos_;
+      push(std::move(row));
+    }
+  }
+  /// n . S_u = n . S_v = `keep` ? their present values : 0 (n a unit normal in model coordinates): the tangent plane
+  /// of the surface contains the plane normal to n (keep = false), or does not turn about it (keep = true).
+  void tangentPlane(double u, double v, const gp_Dir& nModel, bool keep) {
+    const BasisAt b = basis_.at(u, v);
+    gp_Pnt p;
+    gp_Vec su, sv;
+    e_.surface->D1(u, v, p, su, sv);
+    const gp_Dir n = nModel.Transformed(e_.toLocal);
+    for (int d = 0; d < 2; ++d) {
+      const gp_Vec& sd = d == 0 ? su : sv;
+      const double len = sd.Magnitude();
+      if (!(len > 0.0)) continue;
+      const double scale = 1.0 / (len * sigmaAngle_);
+      Row row;
+      for (size_t k = 0; k < b.r.size(); ++k) {
+        const double coef = (d == 0 ? b.ru[k] : b.rv[k]) * scale;
+        for (int c = 0; c < 3; ++c) add(row, b, k, c, coef * n.Coord(c + 1));
+      }
+      row.rhs = keep ? 0.0 : -gp_Vec(n).Dot(sd) * scale;
+      push(std::move(row));
+    }
+  }
+  /// The displacement of every band control point (model-frame lengths), or nothing when the band is empty.
+  [[nodiscard]] std::map<std::pair<int, int>, gp_Vec> solve() const {
+    std::map<std::pair<int, int>, gp_Vec> out;
+    const Eigen::Index n = 3 * static_cast<Eigen::Index>(column_.size());
+    if (n == 0 || rows_.empty()) return out;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+    for (const Row& r : rows_) {
+      for (size_t a = 0; a < r.cols.size(); ++a) {
+        rhs(r.cols[a]) += r.vals[a] * r.rhs;
+        for (size_t b = 0; b < r.cols.size(); ++b) M(r.cols[a], r.cols[b]) += r.vals[a] * r.vals[b];
+      }
+    }
+    const double ridge = kRidgeRel * std::max(M.diagonal().maxCoeff(), std::numeric_limits<double>::min());
+    M.diagonal().array() += ridge;
+    const Eigen::VectorXd x = M.ldlt().solve(rhs);
+    for (const auto& [key, col] : column_) {
+      const gp_Vec d(x(3 * col), x(3 * col + 1), x(3 * col + 2));
+      out.emplace(key, d);
+    }
+    return out;
+  }
+
+ private:
+  struct Row {
+    std::vector<Eigen::Index> cols;
+    std::vector<double> vals;
+    double rhs = 0.0;
+  };
+  void add(Row& row, const BasisAt& b, size_t k, int c, double value) const {
+    const int i = static_cast<int>(k) / b.nv, j = static_cast<int>(k) % b.nv;
+    const auto it = column_.find({basis_.poleU(b.firstU + i), basis_.poleV(b.firstV + j)});
+    if (it == column_.end() || value == 0.0) return;  // a control point outside the band does not move
+    row.cols.push_back(3 * static_cast<Eigen::Index>(it->second) + c);
+    row.vals.push_back(value);
+  }
+  void push(Row&& row) {
+    if (row.cols.empty()) return;
+    for (double& v : row.vals) v *= weight_;
+    row.rhs *= weight_;
+    rows_.push_back(std::move(row));
+  }
+  double weight_ = 1.0;
+  const Editable& e_;
+  SurfaceBasis basis_;
+  double sigmaPos_, sigmaAngle_;
+  std::map<std::pair<int, int>, int> column_;
+  std::vector<Row> rows_;
+};
+
+/// The unit normal of a side at its pcurve parameter t, oriented as the face, or nothing at a pole.
+std::optional<gp_Dir> normalAt(const Side& s, double t) {
+  const gp_Pnt2d uv = s.curve.Value(t);
+  gp_Pnt p;
+  gp_Vec su, sv;
+  s.surface.D1(uv.X(), uv.Y(), p, su, sv);
+  const gp_Vec n = su.Crossed(sv);
+  if (!(n.Magnitude() > kPoleNormalRel * su.Magnitude() * sv.Magnitude()) || !(n.Magnitude() > 0.0))
+    return std::nullopt;
+  const gp_Dir d(n);
+  return s.face.Orientation() == TopAbs_REVERSED ? d.Reversed() : d;
+}
+
+/// Samples of an edge for the conditions: more where the face's knot spans are many.
+int edgeSamples(const Editable& e, int perEdge) {
+  return std::clamp(kSamplesPerSpan * (e.surface->NbUKnots() + e.surface->NbVKnots()), perEdge, kMaxEdgeSamples);
+}
+
+/// What to do with one seam.
+struct Plan {
+  enum Kind { kNothing, kHeal, kCreaseGap } kind = kNothing;
+  int mover = 0;    ///< 1-based face index of the face that moves
+  int partner = 0;  ///< the other face
+};
+
+/// A face's state before the heal (to put it back) and its area.
+struct Saved {
+  Handle(Geom_BSplineSurface) copy;
+  double area = 0.0;
+};
+
+double faceArea(const TopoDS_Face& f) {
+  GProp_GProps props;
+  BRepGProp::SurfaceProperties(f, props);
+  return props.Mass();
+}
+
+/// True when the surface's normal inside the face's trims reverses against `before` somewhere on a grid.
+bool folds(const TopoDS_Face& face, const Handle(Geom_BSplineSurface)& now, const Handle(Geom_BSplineSurface)& before) {
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  BRepTools::UVBounds(face, u0, u1, v0, v1);
+  BRepTopAdaptor_FClass2d inside(face, Precision::PConfusion());
+  for (int i = 0; i <= kHealFoldGrid; ++i)
+    for (int j = 0; j <= kHealFoldGrid; ++j) {
+      const double u = u0 + (u1 - u0) * i / kHealFoldGrid, v = v0 + (v1 - v0) * j / kHealFoldGrid;
+      if (inside.Perform(gp_Pnt2d(u, v)) == TopAbs_OUT) continue;
+      gp_Pnt p;
+      gp_Vec au, av, bu, bv;
+      now->D1(u, v, p, au, av);
+      before->D1(u, v, p, bu, bv);
+      const gp_Vec na = au.Crossed(av), nb = bu.Crossed(bv);
+      if (!(nb.Magnitude() > kPoleNormalRel * bu.Magnitude() * bv.Magnitude())) continue;  // a pole before
+      if (!(na.Dot(nb) > 0.0)) return true;
+    }
+  return false;
+}
+
+/// The edge's 3-D curve rebuilt as the image of its pcurve on `face` (GeomLib::BuildCurve3d within `tolerance`),
+/// and its tolerance set to what its pcurves now need (ShapeAnalysis_Edge::CheckSameParameter). An edge whose curve
+/// cannot be built keeps its curve and gets the tolerance its deviation needs.
+void rebuildEdgeCurve(const TopoDS_Edge& edge, const TopoDS_Face& face, double tolerance) {
+  double first = 0, last = 0;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, face, first, last);
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+  BRep_Builder builder;
+  if (!pc.IsNull() && !surface.IsNull() && last > first) {
+    Adaptor3d_CurveOnSurface cos(new Geom2dAdaptor_Curve(pc, first, last), new GeomAdaptor_Surface(surface));
+    Handle(Geom_Curve) curve;
+    double maxDeviation = 0, averageDeviation = 0;
+    GeomLib::BuildCurve3d(kCurveRebuildRel * tolerance, cos, first, last, curve, maxDeviation, averageDeviation);
+    if (!curve.IsNull() && maxDeviation <= tolerance) {
+      builder.UpdateEdge(edge, curve, TopLoc_Location(), BRep_Tool::Tolerance(edge));
+      builder.Range(edge, first, last, /*Only3d=*/true);
+    }
+  }
+  double deviation = 0.0;
+  ShapeAnalysis_Edge().CheckSameParameter(edge, deviation, kToleranceSamples);
+  builder.UpdateEdge(edge, std::max(deviation * kToleranceMargin, Precision::Confusion()));
+}
+
+/// Puts a vertex at the mean of its edges' curve ends that touch it, its tolerance covering them all.
+void placeVertex(const TopoDS_Vertex& vertex, const TopTools_IndexedDataMapOfShapeListOfShape& vertexEdges) {
+  const int k = vertexEdges.FindIndex(vertex);
+  if (k == 0) return;
+  std::vector<gp_Pnt> ends;
+  for (TopTools_ListOfShape::Iterator it(vertexEdges.FindFromIndex(k)); it.More(); it.Next()) {
+    const TopoDS_Edge edge = TopoDS::Edge(it.Value());
+    if (BRep_Tool::Degenerated(edge)) continue;
+    double first = 0, last = 0;
+    const Handle(Geom_Curve) c = BRep_Tool::Curve(edge, first, last);
+    if (c.IsNull()) continue;
+    TopoDS_Vertex v0, v1;
+    TopExp::Vertices(edge, v0, v1);
+    if (v0.IsSame(vertex)) ends.push_back(c->Value(first));
+    if (v1.IsSame(vertex)) ends.push_back(c->Value(last));
+  }
+  if (ends.empty()) return;
+  gp_XYZ mean(0, 0, 0);
+  for (const gp_Pnt& p : ends) mean += p.XYZ();
+  mean /= static_cast<double>(ends.size());
+  double reach = 0.0;
+  for (const gp_Pnt& p : ends) reach = std::max(reach, p.Distance(gp_Pnt(mean)));
+  BRep_Builder().UpdateVertex(vertex, gp_Pnt(mean), std::max(reach * kToleranceMargin, Precision::Confusion()));
+}
+
+/// True when the edge's 3-D curve lies on the face's surface within `tolerance` at kCurveOnSurfaceSamples points.
+bool curveOnSurface(const TopoDS_Edge& edge, const TopoDS_Face& face, double tolerance) {
+  double first = 0, last = 0;
+  const Handle(Geom_Curve) c = BRep_Tool::Curve(edge, first, last);
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+  if (c.IsNull() || surface.IsNull()) return false;
+  const Handle(ShapeAnalysis_Surface) sas = new ShapeAnalysis_Surface(surface);
+  for (int i = 0; i <= kCurveOnSurfaceSamples; ++i) {
+    sas->ValueOfUV(c->Value(first + (last - first) * i / kCurveOnSurfaceSamples), tolerance);
+    if (!(sas->Gap() <= tolerance)) return false;
+  }
+  return true;
+}
+
+/// The pcurves of an edge on two faces before they were projected again, to put them back.
+struct TrimFix {
+  TopoDS_Edge edge;
+  TopoDS_Face fa, fb;
+  Handle(Geom2d_Curve) pa, pb;
+  double tolerance = 0.0;
+};
+
+/// Puts a TrimFix's pcurves and tolerance back.
+void restore(const TrimFix& fix) {
+  BRep_Builder b;
+  b.UpdateEdge(fix.edge, fix.pa, fix.fa, fix.tolerance);
+  b.UpdateEdge(fix.edge, fix.pb, fix.fb, fix.tolerance);
+  b.UpdateEdge(fix.edge, fix.tolerance);
+}
+
+/// Projects the edge's 3-D curve onto both faces as their new pcurves (ShapeFix_Edge), then makes the edge
+/// same-parameter; nothing when a projection fails (and then nothing changes).
+std::optional<TrimFix> reprojectPCurves(const TopoDS_Edge& edge, const TopoDS_Face& fa, const TopoDS_Face& fb,
+                                        double tolerance) {
+  TrimFix fix;
+  fix.edge = edge;
+  fix.fa = fa;
+  fix.fb = fb;
+  double f = 0, l = 0;
+  fix.pa = BRep_Tool::CurveOnSurface(edge, fa, f, l);
+  fix.pb = BRep_Tool::CurveOnSurface(edge, fb, f, l);
+  fix.tolerance = BRep_Tool::Tolerance(edge);
+  if (fix.pa.IsNull() || fix.pb.IsNull()) return std::nullopt;
+  ShapeFix_Edge sfe;
+  for (const TopoDS_Face& face : {fa, fb}) {
+    ShapeBuild_Edge().RemovePCurve(edge, face);  // ShapeFix_Edge::FixRemovePCurve removes only mismatched ones
+    if (!sfe.FixAddPCurve(edge, face, false, tolerance) || BRep_Tool::CurveOnSurface(edge, face, f, l).IsNull()) {
+      restore(fix);  // FixAddPCurve returns true when it added the pcurve
+      return std::nullopt;
+    }
+  }
+  sfe.FixSameParameter(edge);
+  return fix;
+}
+
+bool faceValid(const TopoDS_Face& face) { return BRepCheck_Analyzer(face).IsValid(); }
+
+/// Why the seam got worse, "" when it did not.
+/// A crease (angle above `creaseDeg`) is worse when its angle changes by more than the angle tolerance either way
+/// (its angle is the design's); any other seam when its angle grows beyond max(before, tolerance).
+std::string worseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg) {
+  const double gapLimit = std::max(before.g0Max, tol.distance) + kWorseSlackRel * tol.distance;
+  if (after.g0Max > gapLimit) return fmt::format("its gap would grow from {:.3g} to {:.3g}", before.g0Max, after.g0Max);
+  if (before.g1MaxDeg > creaseDeg) {
+    if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > tol.angleDeg)
+      return fmt::format("its crease angle would change from {:.4g} to {:.4g} deg", before.g1MaxDeg, after.g1MaxDeg);
+    return {};
+  }
+  const double angleLimit = std::max(before.g1MaxDeg, tol.angleDeg) + kWorseSlackRel * tol.angleDeg;
+  if (after.g1MaxDeg > angleLimit)
+    return fmt::format("its angle would grow from {:.3g} to {:.3g} deg", before.g1MaxDeg, after.g1MaxDeg);
+  return {};
+}
+
+}  // namespace
+
+namespace {
+
+/// The heal of a shape in memory (healBRepFile between reading and writing). `report` is filled in.
+Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::FaceLabels& labels,
+                 const detail::FileUnits& units, const std::vector<std::string>& readWarnings,
+                 const BRepHealOptions& options, BRepHealReport& report) {
+  BRepCheckOptions co;
+  co.tolerances = options.tolerances;
+  co.threads = options.threads;
+  co.sewFreeEdges = false;  // the file's topology is what is written
+  Result<BRepCheckReport> before = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+  if (!before) return before.status();
+  const Tolerances tol = before->tolerances;
+  report.tolerances = tol;
+  report.warnings = before->import.warnings;
+  report.freeEdges = static_cast<int>(before->freeEdges.size());
+  std::map<std::string, std::string> entityOf;
+  for (const CadFace& f : before->import.faces) entityOf[f.patch] = f.entity;
+
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  // Which faces can move, and which surfaces are shared (an in-place edit would move every face on it).
+  std::map<const Standard_Transient*, int> surfaceUsers;
+  std::vector<std::optional<Editable>> editable(static_cast<size_t>(faceMap.Extent()) + 1);
+  std::vector<std::string> whyNot(editable.size());
+  for (int i = 1; i <= faceMap.Extent(); ++i) {
+    Result<Editable> e = editableSurface(TopoDS::Face(faceMap(i)));
+    if (e) {
+      ++surfaceUsers[e->surface.get()];
+      editable[static_cast<size_t>(i)] = *e;
+    } else {
+      whyNot[static_cast<size_t>(i)] = e.status().message();
+    }
+  }
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+    if (auto& e = editable[static_cast<size_t>(i)]; e && surfaceUsers[e->surface.get()] > 1) {
+      e.reset();
+      whyNot[static_cast<size_t>(i)] = "its surface is shared with another face";
+    }
+  auto faceIndex = [](const std::string& name) { return std::stoi(name.substr(1)); };
+
+  std::map<int, size_t> seamOfEdge;
+  for (size_t k = 0; k < before->seams.size(); ++k) seamOfEdge[before->seams[k].edge] = k;
+  // Stage 1: gaps of the trims alone. Where the 3-D edge lies on both surfaces (within the distance tolerance) but
+  // the two pcurves' images are further apart, the surfaces meet and the trims are off: both pcurves are projected
+  // again from the 3-D curve (ShapeFix_Edge), nothing moves. A seam that gets worse, or a face OpenCASCADE then
+  // finds invalid where it was valid, gets its pcurves back.
+  std::map<int, TrimFix> trimFixes;  // by edge index
+  for (const BRepSeam& s : before->seams) {
+    const int ia = faceIndex(s.a), ib = faceIndex(s.b);
+    if (ia == ib || !(s.report.g0Max > tol.distance) || s.report.g0Max > report.maxGap) continue;
+    const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(s.edge));
+    const TopoDS_Face fa = TopoDS::Face(faceMap(ia)), fb = TopoDS::Face(faceMap(ib));
+    if (!curveOnSurface(edge, fa, tol.distance) || !curveOnSurface(edge, fb, tol.distance)) continue;
+    std::optional<TrimFix> fix = reprojectPCurves(edge, fa, fb, tol.distance);
+    if (fix) trimFixes.emplace(s.edge, std::move(*fix));
+  }
+  Result<BRepCheckReport> mid = before;
+  if (!trimFixes.empty()) {
+    mid = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+    if (!mid) return mid.status();
+    bool reverted = false;
+    for (const BRepSeam& s : mid->seams) {
+      const auto fixed = trimFixes.find(s.edge);
+      if (fixed == trimFixes.end()) continue;
+      const std::string why = worseThan(s.report, before->seams[seamOfEdge.at(s.edge)].report, tol,
+                                        options.creaseAngleDeg);
+      const bool invalid = !faceValid(fixed->second.fa) || !faceValid(fixed->second.fb);
+      if (why.empty() && !invalid && s.report.g0Max < before->seams[seamOfEdge.at(s.edge)].report.g0Max) continue;
+      restore(fixed->second);
+      trimFixes.erase(fixed);
+      reverted = true;
+    }
+    if (reverted) {
+      mid = trimFixes.empty() ? before : detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+      if (!mid) return mid.status();
+    }
+  }
+  std::map<int, const SeamReport*> midOfEdge;
+  for (const BRepSeam& s : mid->seams) midOfEdge[s.edge] = &s.report;
+
+  // The plan of every seam.
+  std::vector<Plan> plans(before->seams.size());
+  for (size_t k = 0; k < before->seams.size(); ++k) {
+    const BRepSeam& s = before->seams[k];
+    const SeamReport& now = midOfEdge.count(s.edge) ? *midOfEdge.at(s.edge) : s.report;
+    BRepHealSeam hs;
+    hs.edge = s.edge;
+    hs.a = s.a;
+    hs.b = s.b;
+    hs.entityA = entityOf[s.a];
+    hs.entityB = entityOf[s.b];
+    hs.before = s.report;
+    if (!s.curve.empty()) hs.midpoint = s.curve[s.curve.size() / 2];
+    const double gap = now.g0Max, angle = now.g1MaxDeg;
+    const bool trimFixed = trimFixes.count(s.edge) > 0;
+    const bool crease = angle > options.creaseAngleDeg;
+    const bool needG0 = gap > tol.distance;
+    const bool needG1 = options.continuity >= GeometricClass::kG1 && !crease && angle > tol.angleDeg;
+    const int ia = faceIndex(s.a), ib = faceIndex(s.b);
+    if (crease) ++report.creasesKept;
+    if (!needG0 && !needG1 && trimFixed) {
+      hs.action = "trims projected again: gap closed";
+      ++report.seamsToHeal;
+    } else if (!needG0 && !needG1) {
+      hs.action = crease ? "crease kept" : options.continuity >= GeometricClass::kG1 ? "already G1" : "already G0";
+    } else if (gap > report.maxGap) {
+      hs.action = fmt::format("left: the gap is above --max-gap ({:.4g})", report.maxGap);
+      ++report.seamsToHeal;
+    } else if (ia == ib) {
+      hs.action = "left: the seam of a closed face with itself";
+      ++report.seamsToHeal;
+    } else {
+      ++report.seamsToHeal;
+      const auto& ea = editable[static_cast<size_t>(ia)];
+      const auto& eb = editable[static_cast<size_t>(ib)];
+      if (!ea && !eb) {
+        hs.action = fmt::format("left: neither face can move ({}: {}; {}: {}); the edge's tolerance covers the gap",
+                                s.a, whyNot[static_cast<size_t>(ia)], s.b, whyNot[static_cast<size_t>(ib)]);
+      } else {
+        const bool moveA = ea && (!eb || ea->surface->NbUPoles() * ea->surface->NbVPoles() >=
+                                             eb->surface->NbUPoles() * eb->surface->NbVPoles());
+        plans[k] = {crease ? Plan::kCreaseGap : Plan::kHeal, moveA ? ia : ib, moveA ? ib : ia};
+        hs.action = crease ? "crease: gap closed" : "healed";
+        hs.moved = moveA ? s.a : s.b;
+      }
+    }
+    report.seams.push_back(std::move(hs));
+  }
+
+  // Each moving face once, in face order; the seams of faces moved before it are held.
+  std::map<int, std::vector<size_t>> byMover;
+  for (size_t k = 0; k < plans.size(); ++k)
+    if (plans[k].kind != Plan::kNothing) byMover[plans[k].mover].push_back(k);
+  std::map<int, Saved> saved;
+  std::map<int, double> displacement;
+  const double sigmaAngle = tol.angleDeg * kDegToRad;
+  for (const auto& [fi, seamIdx] : byMover) {
+    const TopoDS_Face face = TopoDS::Face(faceMap(fi));
+    const Editable& e = *editable[static_cast<size_t>(fi)];
+    MoveSystem sys(e, tol.distance, sigmaAngle);
+    const int n = edgeSamples(e, options.samplesPerEdge);
+    std::set<int> targetEdges;
+    // Targets: the band along each edge to heal, then its conditions.
+    struct Target {
+      Side self, other;
+      bool crease;
+    };
+    std::vector<Target> targets;
+    for (size_t k : seamIdx) {
+      const int ei = before->seams[k].edge;
+      const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(ei));
+      TopoDS_Face other = TopoDS::Face(faceMap(plans[k].partner));
+      // The face as it is bound to this edge (orientation of its occurrence in the ancestors' list).
+      std::optional<Side> a = sideOf(edge, face), b = sideOf(edge, other);
+      if (!a || !b) continue;
+      targets.push_back({*a, *b, plans[k].kind == Plan::kCreaseGap});
+      targetEdges.insert(ei);
+      for (int i = 0; i <= n; ++i) {
+        const gp_Pnt2d uv = a->curve.Value(a->first + (a->last - a->first) * i / n);
+        sys.addToBand(uv.X(), uv.Y());
+      }
+    }
+    for (const Target& t : targets) {
+      for (int i = 0; i <= n; ++i) {
+        const double ta = t.self.first + (t.self.last - t.self.first) * i / n;
+        const gp_Pnt2d uv = t.self.curve.Value(ta);
+        const gp_Pnt x = t.self.surface.Value(uv.X(), uv.Y());
+        const double tb0 = t.other.first + (ta - t.self.first) / (t.self.last - t.self.first) *
+                                               (t.other.last - t.other.first);
+        const double tb = closestOnSide(t.other, x, tb0);
+        const gp_Pnt2d uvb = t.other.curve.Value(tb);
+        const gp_Pnt target = t.other.surface.Value(uvb.X(), uvb.Y());
+        // (u, v) in the editable surface's own parameters: the face's pcurve is in them (a trimmed wrapper keeps
+        // its basis surface's parameters).
+        sys.position(uv.X(), uv.Y(), target);
+        if (t.crease) {
+          if (const auto nf = normalAt(t.self, ta)) sys.tangentPlane(uv.X(), uv.Y(), *nf, true);
+        } else if (options.continuity >= GeometricClass::kG1) {
+          if (const auto ng = normalAt(t.other, tb)) sys.tangentPlane(uv.X(), uv.Y(), *ng, false);
+        } else if (const auto nf = normalAt(t.self, ta)) {
+          sys.tangentPlane(uv.X(), uv.Y(), *nf, true);  // G0 only: the gap closes, the angle is kept
+        }
+      }
+    }
+    // Held: every other edge of the face.
+    TopTools_IndexedMapOfShape faceEdges;
+    TopExp::MapShapes(face, TopAbs_EDGE, faceEdges);
+    for (int k = 1; k <= faceEdges.Extent(); ++k) {
+      const TopoDS_Edge edge = TopoDS::Edge(faceEdges(k));
+      if (BRep_Tool::Degenerated(edge) || targetEdges.count(edgeFaces.FindIndex(edge))) continue;
+      // A free edge (the model's own boundary) is not held: where a seam's kink reaches it, it turns with the face.
+      if (edgeFaces.FindFromIndex(edgeFaces.FindIndex(edge)).Extent() < 2) continue;
+      const std::optional<Side> s = sideOf(edge, face);
+      if (!s) continue;
+      sys.setWeight(kHeldWeight);
+      for (int i = 0; i <= n; ++i) {
+        const double t = s->first + (s->last - s->first) * i / n;
+        const gp_Pnt2d uv = s->curve.Value(t);
+        sys.position(uv.X(), uv.Y(), s->surface.Value(uv.X(), uv.Y()));
+        if (const auto nf = normalAt(*s, t)) sys.tangentPlane(uv.X(), uv.Y(), *nf, true);
+      }
+      sys.setWeight(1.0);
+    }
+    const auto moves = sys.solve();
+    if (moves.empty()) continue;
+    Saved sv;
+    sv.copy = Handle(Geom_BSplineSurface)::DownCast(e.surface->Copy());
+    sv.area = faceArea(face);
+    double largest = 0.0;
+    for (const auto& [key, d] : moves) {
+      const gp_Pnt p = e.surface->Pole(key.first, key.second);
+      e.surface->SetPole(key.first, key.second, gp_Pnt(p.XYZ() + d.XYZ()));
+      largest = std::max(largest, d.Magnitude() * std::abs(e.toModel.ScaleFactor()));
+    }
+    saved.emplace(fi, sv);
+    displacement[fi] = largest;
+  }
+
+  // Check again; put back every face that made something worse, folded or changed its area too much.
+  auto putBack = [&](int fi) {
+    const Editable& e = *editable[static_cast<size_t>(fi)];
+    const Saved& sv = saved.at(fi);
+    for (int i = 1; i <= e.surface->NbUPoles(); ++i)
+      for (int j = 1; j <= e.surface->NbVPoles(); ++j) e.surface->SetPole(i, j, sv.copy->Pole(i, j));
+    saved.erase(fi);
+    displacement.erase(fi);
+  };
+  std::map<int, std::string> reverted;
+  Result<BRepCheckReport> after = before;
+  for (int round = 0; !saved.empty(); ++round) {
+    after = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+    if (!after) return after.status();
+    std::map<int, std::string> bad;
+    for (const auto& [fi, sv] : saved) {
+      const TopoDS_Face face = TopoDS::Face(faceMap(fi));
+      if (folds(face, editable[static_cast<size_t>(fi)]->surface, sv.copy))
+        bad[fi] = fmt::format("the face would fold (its normal reverses inside its trims; its largest control-point "
+                              "move was {:.3g})",
+                              displacement[fi]);
+      const double area = faceArea(face);
+      if (!bad.count(fi) && std::abs(area - sv.area) > kHealFaceAreaRel * std::abs(sv.area))
+        bad[fi] = fmt::format("the face's area would change by {:.3g} %", 100.0 * (area - sv.area) / sv.area);
+    }
+    for (const BRepSeam& s : after->seams) {
+      const auto it = seamOfEdge.find(s.edge);
+      if (it == seamOfEdge.end()) continue;
+      const std::string why = worseThan(s.report, before->seams[it->second].report, tol, options.creaseAngleDeg);
+      if (why.empty()) continue;
+      for (const std::string& name : {s.a, s.b}) {
+        const int fi = faceIndex(name);
+        if (saved.count(fi) && !bad.count(fi)) bad[fi] = fmt::format("seam of edge {} got worse: {}", s.edge, why);
+      }
+    }
+    if (bad.empty()) break;
+    if (round + 1 >= kMaxRevertRounds)  // still not settled: every moved face goes back
+      for (const auto& [fi, sv] : saved)
+        if (!bad.count(fi)) bad[fi] = "the faces around it could not be healed without a seam getting worse";
+    for (const auto& [fi, why] : bad) {
+      putBack(fi);
+      reverted[fi] = why;
+    }
+    if (saved.empty()) after = before;
+  }
+
+  // The 3-D curves of the moved faces' edges are built again on a face that did not move where there is one (the
+  // partner of a healed seam), else on the moved face, so that a reader that rebuilds pcurves from them finds the
+  // same trims; then each edge's tolerance is what its geometry needs, and the vertices' tolerances follow.
+  std::set<int> movedFaces;
+  for (const auto& [fi, sv] : saved) movedFaces.insert(fi);
+  for (const int fi : movedFaces) {
+    for (TopExp_Explorer ex(faceMap(fi), TopAbs_EDGE); ex.More(); ex.Next()) {
+      const TopoDS_Edge edge = TopoDS::Edge(ex.Current());
+      if (BRep_Tool::Degenerated(edge)) continue;
+      TopoDS_Face anchor = TopoDS::Face(faceMap(fi));
+      const int ei = edgeFaces.FindIndex(edge);
+      for (TopTools_ListOfShape::Iterator it(edgeFaces.FindFromIndex(ei)); it.More(); it.Next())
+        if (!movedFaces.count(faceMap.FindIndex(it.Value()))) anchor = TopoDS::Face(it.Value());
+      rebuildEdgeCurve(edge, anchor, tol.distance);
+    }
+  }
+  // Their vertices: at the mean of the ends of their edges' curves, with the tolerance that covers the ends (a
+  // reader that trims edges at their vertices' projections, as OpenCASCADE's STEP reader does, finds the same ends).
+  TopTools_IndexedMapOfShape vertices;
+  for (const int fi : movedFaces) TopExp::MapShapes(faceMap(fi), TopAbs_VERTEX, vertices);
+  TopTools_IndexedDataMapOfShapeListOfShape vertexEdges;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_VERTEX, TopAbs_EDGE, vertexEdges);
+  for (int k = 1; k <= vertices.Extent(); ++k) placeVertex(TopoDS::Vertex(vertices(k)), vertexEdges);
+  if (!saved.empty()) BRepLib::UpdateTolerances(shape, /*verifyFaceTolerance=*/false);
+
+  // The report.
+  std::map<int, const BRepSeam*> afterOfEdge;
+  for (const BRepSeam& s : after->seams) afterOfEdge[s.edge] = &s;
+  report.achieved = true;
+  for (size_t k = 0; k < report.seams.size(); ++k) {
+    BRepHealSeam& hs = report.seams[k];
+    if (const auto it = afterOfEdge.find(hs.edge); it != afterOfEdge.end()) hs.after = it->second->report;
+    const bool wasPlanned = plans[k].kind != Plan::kNothing;
+    if (wasPlanned && reverted.count(plans[k].mover)) {
+      hs.action = fmt::format("left: {} put back as it was: {}", hs.moved, reverted[plans[k].mover]);
+      hs.moved.clear();
+    } else if (wasPlanned && !saved.count(plans[k].mover)) {
+      hs.action = "left: no condition could be set along the edge";
+      hs.moved.clear();
+    }
+    if (hs.after) hs.worse = !worseThan(*hs.after, hs.before, tol, options.creaseAngleDeg).empty();
+    report.seamsWorse += hs.worse ? 1 : 0;
+    const bool target = hs.action != "crease kept" && hs.action.rfind("already", 0) != 0;
+    if (!target) continue;
+    const GeometricClass want = plans[k].kind == Plan::kCreaseGap || hs.before.g1MaxDeg > options.creaseAngleDeg
+                                    ? GeometricClass::kG0
+                                    : options.continuity;
+    const bool reached = hs.after && meets(hs.after->geometric, want);
+    report.seamsHealed += reached ? 1 : 0;
+    report.achieved = report.achieved && reached;
+  }
+  for (const auto& [fi, d] : displacement) {
+    report.facesChanged.push_back(fmt::format("F{}", fi));
+    report.maxSurfaceDisplacement = std::max(report.maxSurfaceDisplacement, d);
+  }
+  for (const auto& [fi, why] : reverted) {
+    report.facesReverted.push_back(fmt::format("F{}", fi));
+    report.notes.push_back(fmt::format("F{} put back as it was: {}", fi, why));
+  }
+  report.trimsReprojected = static_cast<int>(trimFixes.size());
+  if (!trimFixes.empty())
+    report.notes.push_back(fmt::format("{} edges had gaps of their trims alone (the 3-D edge lies on both surfaces): "
+                                       "their pcurves were projected again from it; no surface moved for them",
+                                       trimFixes.size()));
+  if (report.freeEdges > 0)
+    report.notes.push_back(fmt::format("{} free edges (bounding one face) are left as they are: the heal keeps the "
+                                       "file's topology and heals the seams it has",
+                                       report.freeEdges));
+  return Status::ok();
+}
+
+}  // namespace
+
+namespace {
+
+/// "" when every seam of the written file `file` is no worse than the input's seam whose edge midpoint is nearest;
+/// else the first that is, in words.
+std::string worseWhenReadBack(const fs::path& file, CadFormat format, const BRepHealReport& report,
+                              const BRepHealOptions& options) {
+  std::vector<std::string> warnings;
+  detail::FaceLabels labels;
+  detail::FileUnits units;
+  Result<TopoDS_Shape> back = detail::readShape(file, format, &warnings, detail::kTransferTimeLimit, &labels, &units);
+  if (!back) return "it could not be read back: " + back.status().message();
+  BRepCheckOptions co;
+  co.tolerances = options.tolerances;
+  co.threads = options.threads;
+  co.sewFreeEdges = false;
+  Result<BRepCheckReport> check = detail::checkBRepShape(*back, file, labels, units, warnings, co);
+  if (!check) return "it could not be checked: " + check.status().message();
+  for (const BRepSeam& s : check->seams) {
+    if (s.curve.empty()) continue;
+    const Vec3 mid = s.curve[s.curve.size() / 2];
+    // The input's seams at the nearest midpoint (coincident edges of touching solids share it): worse only when
+    // worse than every one of them.
+    double best = std::numeric_limits<double>::infinity();
+    for (const BRepHealSeam& h : report.seams) best = std::min(best, (h.midpoint - mid).norm());
+    std::string why;
+    const BRepHealSeam* blamed = nullptr;
+    for (const BRepHealSeam& h : report.seams) {
+      if ((h.midpoint - mid).norm() > best + report.tolerances.distance) continue;
+      const std::string w = worseThan(s.report, h.before, report.tolerances, options.creaseAngleDeg);
+      if (w.empty()) {
+        why.clear();
+        blamed = nullptr;
+        break;
+      }
+      if (blamed == nullptr) {
+        why = w;
+        blamed = &h;
+      }
+    }
+    if (blamed != nullptr)
+      return fmt::format("the seam of {} and {} (edge {} of the input): {}", blamed->a, blamed->b, blamed->edge, why);
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, const BRepHealOptions& options) {
+  const std::optional<CadFormat> inFormat = cadFormatOf(in), outFormat = cadFormatOf(out);
+  if (!inFormat || !outFormat)
+    return invalidInput(fmt::format("{} -> {}: the B-rep heal reads and writes STEP/IGES", in.string(),
+                                    out.string()));
+  if (options.continuity != GeometricClass::kG0 && options.continuity != GeometricClass::kG1)
+    return invalidInput(fmt::format("{}: the heal of a trimmed B-rep reaches G0 or G1 (G2 works on untrimmed patch "
+                                    "models: JSON or .bpt)",
+                                    in.string()));
+  if (options.tolerances.units)
+    return invalidInput(fmt::format("{}: --units rescales the model; the B-rep heal keeps the file's own "
+                                    "coordinates and unit, so it takes no --units",
+                                    in.string()));
+  BRepHealReport report;
+  report.requested = options.continuity;
+  report.creaseAngleDeg = options.creaseAngleDeg;
+  std::vector<std::string> readWarnings;
+  detail::FaceLabels labels;
+  detail::FileUnits units;
+  const Handle(TDocStd_Document) doc = detail::newCadDocument();
+  Result<TopoDS_Shape> read =
+      detail::readShape(in, *inFormat, &readWarnings, detail::kTransferTimeLimit, &labels, &units, &doc);
+  if (!read) return read.status();
+  const TopoDS_Shape shape = *read;
+  report.unit = detail::cadUnitName(units.units.millimetresPerFileUnit, *outFormat);
+  report.maxGap = options.maxGap.value_or(kDefaultBRepMaxGapMm);  // the model is in millimetres
+  detail::ShapeCounts countsAfter;
+  {
+    detail::OcctSignalGuard guard;
+    try {
+      OCC_CATCH_SIGNALS
+      const detail::ShapeCounts c = detail::countShape(shape);
+      report.facesBefore = c.faces;
+      report.trimmedFacesBefore = c.trimmedFaces;
+      report.edgesBefore = c.edges;
+      report.solidsBefore = c.solids;
+      report.areaBefore = c.area;
+      report.validBefore = BRepCheck_Analyzer(shape).IsValid();
+      if (Status st = healShape(shape, in, labels, units, readWarnings, options, report); !st) return st;
+      countsAfter = detail::countShape(shape);
+      report.facesAfter = countsAfter.faces;
+      report.trimmedFacesAfter = countsAfter.trimmedFaces;
+      report.edgesAfter = countsAfter.edges;
+      report.solidsAfter = countsAfter.solids;
+      report.areaAfter = countsAfter.area;
+      report.validAfter = BRepCheck_Analyzer(shape).IsValid();
+    } catch (const Standard_Failure& f) {
+      return invalidInput(fmt::format("{}: OpenCASCADE {} during the heal: {}", in.string(),
+                                      isSignal(f) ? "crashed (the file is corrupt)" : "failed", f.GetMessageString()));
+    }
+  }
+  if (report.validBefore && !report.validAfter)
+    return invalidInput(fmt::format("{}: not written: the healed model fails OpenCASCADE's BRepCheck_Analyzer, "
+                                    "which the input passes",
+                                    out.string()));
+  if (report.facesChanged.empty() && report.trimsReprojected == 0) {
+    if (Status st = detail::writeCadDocument(doc, out, *outFormat, report.unit, countsAfter, &report.notes); !st)
+      return st;
+    return report;
+  }
+  // What was written is read back and checked again: a STEP or IGES reader rebuilds the trims from the written 3-D
+  // edge curves and vertices, so the seams of the file can differ from those of the model in memory. Every seam of
+  // the file (paired with the input's by the midpoint of its edge) must be no worse than in the input; else nothing
+  // of the heal is written: the input is written unchanged (as `seam convert` writes it) and every seam says why.
+  const fs::path temp = io::temporaryPathFor(out);
+  struct RemoveTemporary {
+    const fs::path& path;
+    ~RemoveTemporary() {
+      std::error_code ec;
+      fs::remove(path, ec);
+    }
+  } removeTemporary{temp};
+  if (Status st = detail::writeCadDocument(doc, temp, *outFormat, report.unit, countsAfter, &report.notes,
+                                           kHealWrittenAreaRelTol);
+      !st) {
+    std::string message = st.message();  // it names the temporary file: name the output instead
+    for (size_t at = message.find(temp.string()); at != std::string::npos; at = message.find(temp.string()))
+      message.replace(at, temp.string().size(), out.string());
+    return Status(st.code(), message);
+  }
+  const std::string worse = worseWhenReadBack(temp, *outFormat, report, options);
+  if (worse.empty()) {
+    std::error_code ec;
+    fs::rename(temp, out, ec);
+    if (ec) return invalidInput(fmt::format("{}: cannot replace file: {}", out.string(), ec.message()));
+    return report;
+  }
+  Result<CadConvertReport> unchanged = convertCadFile(in, out);
+  if (!unchanged) return unchanged.status();
+  for (BRepHealSeam& s : report.seams) {
+    if (s.moved.empty() && s.action.rfind("trims projected", 0) != 0) continue;
+    s.action = "left: the healed file, read back, had a seam worse than the input (" + worse + ")";
+    s.moved.clear();
+    s.after = s.before;
+  }
+  report.notes.push_back(fmt::format("nothing of the heal was written: read back from the written file, {}; the "
+                                     "output is the input, unchanged",
+                                     worse));
+  std::erase_if(report.notes, [](const std::string& n) { return n.find("projected again") != std::string::npos; });
+  report.facesReverted.insert(report.facesReverted.end(), report.facesChanged.begin(), report.facesChanged.end());
+  report.facesChanged.clear();
+  report.maxSurfaceDisplacement = 0.0;
+  report.trimsReprojected = 0;
+  report.seamsHealed = 0;
+  report.achieved = report.seamsToHeal == 0;
+  report.areaAfter = report.areaBefore;
+  report.validAfter = report.validBefore;
+  return report;
+}
+
+}  // namespace seam::occt
