@@ -412,7 +412,9 @@ TEST(CadConvert, RealFilesKeepEveryFaceTrimAndSolidAndStepToStepIsBitForBit) {
       else
         EXPECT_FALSE(r->warnings.empty()) << rel << ext;
       EXPECT_NEAR(c1.area, c0.area, (std::string(ext) == ".step" ? 1e-6 : 1e-4) * c0.area) << rel << ext;
-      if (c0.valid) EXPECT_TRUE(c1.valid) << rel << ext;
+      if (c0.valid) {
+        EXPECT_TRUE(c1.valid) << rel << ext;
+      }
       if (std::string(ext) == ".step" && std::string(rel).rfind("step/", 0) == 0) {
         // Every B-spline surface of the input is in the output with the same control points, bit for bit (the
         // faces may come in another order: XDE writes a model's parts in its own order).
@@ -491,7 +493,9 @@ TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
     EXPECT_EQ(c1.trimmed, c0.trimmed) << rel;
     EXPECT_EQ(c1.solids, c0.solids) << rel;
     EXPECT_NEAR(c1.area, c0.area, occt::kHealFaceAreaRel * c0.area) << rel;
-    if (c0.valid) EXPECT_TRUE(c1.valid) << rel;
+    if (c0.valid) {
+      EXPECT_TRUE(c1.valid) << rel;
+    }
     // The probe on every shared edge whose faces changed (edges paired by their midpoints: the writer may order
     // them otherwise): no angle or gap of the surfaces grows beyond the tolerance. (The pcurve images' gap is not
     // compared: the STEP reader rebuilds pcurves within the edge tolerances, trj3 edge 49: 0.0028 -> 0.0082 mm after
