@@ -67,14 +67,18 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
   bo.continuity = ho.continuity;
   bo.maxGap = o.maxGap;
   if (o.maxAngle) bo.creaseAngleDeg = *o.maxAngle;
-  if (o.method != "auto")
-    return printError("--method: a STEP/IGES B-rep is healed face by face along its pcurves (--method auto only)"),
-           kExitBadInput;
+  if (o.method != "auto") {
+    printError("--method: a STEP/IGES B-rep is healed face by face along its pcurves (--method auto only)");
+    return kExitBadInput;
+  }
   Result<occt::BRepHealReport> res = [&] {
     const CadTimeLimit limit(o.file, "healing");
     return occt::healBRepFile(o.file, o.out, bo);
   }();
-  if (!res) return printError(res.status().message()), kExitBadInput;
+  if (!res) {
+    printError(res.status().message());
+    return kExitBadInput;
+  }
   const occt::BRepHealReport& r = *res;
   for (const std::string& w : r.warnings) std::cerr << "seam: warning: " << w << "\n";
   if (o.json) {
@@ -106,12 +110,10 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
     j["faces_changed"] = r.facesChanged;
     j["faces_reverted"] = r.facesReverted;
     j["max_surface_displacement_mm"] = r.maxSurfaceDisplacement;
-    j["counts"] = {{"faces", {r.facesBefore, r.facesAfter}},
-                   {"trimmed_faces", {r.trimmedFacesBefore, r.trimmedFacesAfter}},
-                   {"edges", {r.edgesBefore, r.edgesAfter}},
-                   {"solids", {r.solidsBefore, r.solidsAfter}},
-                   {"area_mm2", {r.areaBefore, r.areaAfter}},
-                   {"valid", {r.validBefore, r.validAfter}}};
+    const occt::BRepCounts &b = r.before, &a = r.after;
+    j["counts"] = {{"faces", {b.faces, a.faces}},       {"trimmed_faces", {b.trimmedFaces, a.trimmedFaces}},
+                   {"edges", {b.edges, a.edges}},       {"solids", {b.solids, a.solids}},
+                   {"area_mm2", {b.area, a.area}},      {"valid", {b.valid, a.valid}}};
     j["seams_to_heal"] = r.seamsToHeal;
     j["seams_healed"] = r.seamsHealed;
     j["seams_worse"] = r.seamsWorse;
@@ -146,9 +148,9 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
                         formatNumber(r.maxSurfaceDisplacement));
     text += fmt::format("kept: faces {} -> {}, trimmed faces {} -> {}, edges {} -> {}, solids {} -> {}; area {} -> "
                         "{} mm²; OpenCASCADE's BRepCheck valid {} -> {}\n",
-                        r.facesBefore, r.facesAfter, r.trimmedFacesBefore, r.trimmedFacesAfter, r.edgesBefore,
-                        r.edgesAfter, r.solidsBefore, r.solidsAfter, formatNumber(r.areaBefore),
-                        formatNumber(r.areaAfter), r.validBefore ? "yes" : "no", r.validAfter ? "yes" : "no");
+                        r.before.faces, r.after.faces, r.before.trimmedFaces, r.after.trimmedFaces, r.before.edges,
+                        r.after.edges, r.before.solids, r.after.solids, formatNumber(r.before.area),
+                        formatNumber(r.after.area), r.before.valid ? "yes" : "no", r.after.valid ? "yes" : "no");
     text += fmt::format("seams to heal: {}; reaching {}: {}; worse than before: {}\n", r.seamsToHeal,
                         toString(r.requested), r.seamsHealed, r.seamsWorse);
     for (const std::string& n : r.notes) text += "note: " + n + "\n";

@@ -898,6 +898,14 @@ std::string worseWhenReadBack(const fs::path& file, CadFormat format, const BRep
 
 }  // namespace
 
+namespace {
+
+BRepCounts countsOf(const TopoDS_Shape& shape, const detail::ShapeCounts& c) {
+  return {c.faces, c.trimmedFaces, c.edges, c.solids, c.area, BRepCheck_Analyzer(shape).IsValid()};
+}
+
+}  // namespace
+
 Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, const BRepHealOptions& options) {
   const std::optional<CadFormat> inFormat = cadFormatOf(in), outFormat = cadFormatOf(out);
   if (!inFormat || !outFormat)
@@ -929,27 +937,16 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     detail::OcctSignalGuard guard;
     try {
       OCC_CATCH_SIGNALS
-      const detail::ShapeCounts c = detail::countShape(shape);
-      report.facesBefore = c.faces;
-      report.trimmedFacesBefore = c.trimmedFaces;
-      report.edgesBefore = c.edges;
-      report.solidsBefore = c.solids;
-      report.areaBefore = c.area;
-      report.validBefore = BRepCheck_Analyzer(shape).IsValid();
+      report.before = countsOf(shape, detail::countShape(shape));
       if (Status st = healShape(shape, in, labels, units, readWarnings, options, report); !st) return st;
       countsAfter = detail::countShape(shape);
-      report.facesAfter = countsAfter.faces;
-      report.trimmedFacesAfter = countsAfter.trimmedFaces;
-      report.edgesAfter = countsAfter.edges;
-      report.solidsAfter = countsAfter.solids;
-      report.areaAfter = countsAfter.area;
-      report.validAfter = BRepCheck_Analyzer(shape).IsValid();
+      report.after = countsOf(shape, countsAfter);
     } catch (const Standard_Failure& f) {
       return invalidInput(fmt::format("{}: OpenCASCADE {} during the heal: {}", in.string(),
                                       isSignal(f) ? "crashed (the file is corrupt)" : "failed", f.GetMessageString()));
     }
   }
-  if (report.validBefore && !report.validAfter)
+  if (report.before.valid && !report.after.valid)
     return invalidInput(fmt::format("{}: not written: the healed model fails OpenCASCADE's BRepCheck_Analyzer, "
                                     "which the input passes",
                                     out.string()));
@@ -1003,8 +1000,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
   report.trimsReprojected = 0;
   report.seamsHealed = 0;
   report.achieved = report.seamsToHeal == 0;
-  report.areaAfter = report.areaBefore;
-  report.validAfter = report.validBefore;
+  report.after = report.before;
   return report;
 }
 

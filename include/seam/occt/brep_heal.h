@@ -65,6 +65,13 @@ struct BRepHealOptions {
   int threads = 0;
 };
 
+/// What a heal must keep, counted by OpenCASCADE.
+struct BRepCounts {
+  int faces = 0, trimmedFaces = 0, edges = 0, solids = 0;
+  double area = 0.0;   ///< mm²
+  bool valid = false;  ///< BRepCheck_Analyzer
+};
+
 /// One seam before and after.
 struct BRepHealSeam {
   int edge = 0;                     ///< as `seam check` numbers it
@@ -94,10 +101,7 @@ struct BRepHealReport {
   int seamsToHeal = 0, seamsHealed = 0, seamsWorse = 0, creasesKept = 0;
   /// Edges whose trims alone had a gap (their 3-D curve on both surfaces): their pcurves were projected again.
   int trimsReprojected = 0;
-  int facesBefore = 0, trimmedFacesBefore = 0, edgesBefore = 0, solidsBefore = 0;
-  int facesAfter = 0, trimmedFacesAfter = 0, edgesAfter = 0, solidsAfter = 0;
-  double areaBefore = 0.0, areaAfter = 0.0;  ///< mm²
-  bool validBefore = false, validAfter = false;  ///< BRepCheck_Analyzer
+  BRepCounts before, after;        ///< the model as read and as written
   int freeEdges = 0;               ///< edges bounding one face (not healed: the file's topology is kept)
   std::vector<std::string> notes;
   std::vector<std::string> warnings;
