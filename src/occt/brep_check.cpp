@@ -448,14 +448,16 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
     Matrix pts(bs->NbPoles(), 2);
     for (int i = 1; i <= bs->NbPoles(); ++i) pts.row(i - 1) << bs->Pole(i).X(), bs->Pole(i).Y();
     // On a periodic surface a pcurve may use another period than the patch's domain: shift it by whole periods so
-    // that its middle lies in the domain (the surface is the same there).
+    // that its middle lies in the domain (the surface is the same there). A pcurve already in the domain stays:
+    // the two pcurves of a closed seam lie on its two ends (v = 0 and v = 1), and on a surface that is only C0
+    // across its period (OCC17026-2.igs: a 90-degree crease) the two ends are two different one-sided surfaces.
     {
       const gp_Pnt2d mid = f.pcurve->Value(0.5 * (f.first + f.last));
       const Interval dom[2] = {patch.domainU(), patch.domainV()};
       const bool periodic[2] = {f.surface->IsUPeriodic(), f.surface->IsVPeriodic()};
       const double at[2] = {mid.X(), mid.Y()};
       for (int k = 0; k < 2; ++k) {
-        if (!periodic[k]) continue;
+        if (!periodic[k] || (at[k] >= dom[k].lo && at[k] <= dom[k].hi)) continue;
         const double period = k == 0 ? f.surface->UPeriod() : f.surface->VPeriod();
         if (!(period > 0.0)) continue;
         const double shift = period * std::floor((dom[k].hi - at[k]) / period);

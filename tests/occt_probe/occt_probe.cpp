@@ -73,7 +73,12 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kSewingRelTol = 1e-4;     // sewing tolerance = this x bounding-box diagonal
 constexpr double kUntrimmedRelTol = 1e-7;  // "on the UV box boundary" within this x box size
 constexpr double kEndExclusion = 0.02;  // fraction of samples at each end left out of the interior max angle
-constexpr int kPcurveChecks = 11;       // pcurve points tested when deciding whether a face is trimmed
+constexpr int kPcurveChecks = 11;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kAngleWindow = 0.1;  // boundary normals are paired within this fraction of the edge
+constexpr double kPoleSine = 1e-6;    // a surface point with |Su x Sv| below this x |Su| |Sv| is singular (a pole)
+constexpr double kPoleStep = 1e-6;    // ... and its normal is taken this fraction of the edge further in
+constexpr double kKnotNudgeRel = 1e-9;  // a normal on a knot line is taken this x knot range inside the face       // pcurve points tested when deciding whether a face is trimmed
 
 // ---------------------------------------------------------------------------------------------------------------
 // Reading
@@ -274,6 +279,7 @@ struct Side {
   Handle(Geom2d_Curve) pcurve;
   double pf = 0, pl = 0;  // pcurve range
   bool reversed = false;  // face orientation is TopAbs_REVERSED: flip the normal
+  double box[4] = {0, 0, 0, 0};  // the face's UV box (BRepTools::UVBounds): umin, umax, vmin, vmax
 };
 
 std::optional<Side> makeSide(const TopoDS_Edge& edge, const TopoDS_Face& face) {
@@ -285,6 +291,7 @@ std::optional<Side> makeSide(const TopoDS_Edge& edge, const TopoDS_Face& face) {
   s.adaptor = new GeomAdaptor_Surface(s.surface);
   s.analysis = new ShapeAnalysis_Surface(s.surface);
   s.reversed = face.Orientation() == TopAbs_REVERSED;
+  BRepTools::UVBounds(face, s.box[0], s.box[1], s.box[2], s.box[3]);
   return s;
 }
 
@@ -293,6 +300,7 @@ struct SideSample {
   gp_Pnt boundary;  // surface at the pcurve point (the face's image of its boundary)
   gp_Pnt foot;      // projection of the edge point onto the surface
   gp_Vec normal;    // unit oriented normal there
+  std::optional<gp_Vec> boundaryNormal;  // unit oriented normal at the pcurve point (none at a pole)
 };
 
 // Projects p onto the side's surface: a local search (Extrema_GenLocateExtPS, normal-projection criterion)
@@ -309,6 +317,30 @@ gp_Pnt2d projectNear(const Side& s, const gp_Pnt2d& uv0, const gp_Pnt& p, double
   return s.analysis->NextValueOfUV(uv0, p, precision);
 }
 
+// On a B-spline surface a point on a knot line (or on the closing line of a periodic surface) has two one-sided
+// derivatives, which differ where the surface is only C0 there: two faces cut from one surface along a C0 knot line,
+// or the two sides of a periodic surface's seam. The face's own normal is the one from its side. This moves such a
+// coordinate by kKnotNudgeRel of the knot range toward the middle of the face's UV box (the face lies on that
+// side of a knot line through its boundary), so that OpenCASCADE evaluates the span inside the face.
+gp_Pnt2d insideKnotLines(const Side& s, const gp_Pnt2d& uv) {
+  const auto bs = Handle(Geom_BSplineSurface)::DownCast(s.surface);
+  if (bs.IsNull()) return uv;
+  double at[2] = {uv.X(), uv.Y()};
+  const double mid[2] = {0.5 * (s.box[0] + s.box[1]), 0.5 * (s.box[2] + s.box[3])};
+  for (int k = 0; k < 2; ++k) {
+    const int n = k == 0 ? bs->NbUKnots() : bs->NbVKnots();
+    const double k0 = k == 0 ? bs->UKnot(1) : bs->VKnot(1), k1 = k == 0 ? bs->UKnot(n) : bs->VKnot(n);
+    const double step = kKnotNudgeRel * (k1 - k0);
+    for (int i = 1; i <= n; ++i) {
+      const double knot = k == 0 ? bs->UKnot(i) : bs->VKnot(i);
+      if (std::abs(at[k] - knot) > step) continue;
+      at[k] = knot + (mid[k] >= knot ? step : -step);
+      break;
+    }
+  }
+  return {at[0], at[1]};
+}
+
 // Evaluates one side at the given fraction of the edge (mapped linearly onto the pcurve range; the identity
 // for same-parameter edges). The normal is taken at the projection of the edge point, or at the pcurve point
 // when that is nearer (a projection that went astray). Throws Standard_Failure, or returns nullopt when the
@@ -318,17 +350,36 @@ std::optional<SideSample> sampleSide(const Side& s, double fraction, const gp_Pn
   const gp_Pnt boundary = s.surface->Value(uv0.X(), uv0.Y());
   gp_Pnt2d uv = projectNear(s, uv0, p, precision);
   if (p.Distance(s.surface->Value(uv.X(), uv.Y())) > p.Distance(boundary)) uv = uv0;
+  uv = insideKnotLines(s, uv);
   GeomLProp_SLProps props(s.surface, uv.X(), uv.Y(), 1, precision);
   if (!props.IsNormalDefined()) return std::nullopt;
   gp_Vec n(props.Normal());
   if (s.reversed) n.Reverse();
-  return SideSample{boundary, props.Value(), n};
+  SideSample out{boundary, props.Value(), n, std::nullopt};
+  // The normal at the pcurve point; where the surface is singular there (a pole: a collapsed row, a cone's apex,
+  // |S_u x S_v| below kPoleSine |S_u| |S_v|) its limit along the edge from inside, taken kPoleStep of the edge
+  // further in (OpenCASCADE's normal at the singular point itself can be any direction: 24.6 deg at the
+  // fuselage's nose).
+  for (const double step : {0.0, kPoleStep}) {
+    const double f = fraction < 0.5 ? fraction + step : fraction - step;
+    const gp_Pnt2d uvb = insideKnotLines(s, s.pcurve->Value(s.pf + (s.pl - s.pf) * f));
+    GeomLProp_SLProps atBoundary(s.surface, uvb.X(), uvb.Y(), 1, precision);
+    const gp_Vec su = atBoundary.D1U(), sv = atBoundary.D1V();
+    if (!(su.Crossed(sv).Magnitude() > kPoleSine * su.Magnitude() * sv.Magnitude())) continue;
+    if (!atBoundary.IsNormalDefined()) continue;
+    out.boundaryNormal = gp_Vec(atBoundary.Normal());
+    if (s.reversed) out.boundaryNormal->Reverse();
+    break;
+  }
+  return out;
 }
 
 // Both sides sampled at N points of the edge (ends included); skipped samples leave no entry.
 struct SeamSamples {
   std::vector<gp_Pnt> boundaryA, boundaryB;
   std::vector<double> angle, param, position;  // angle (deg), edge parameter, index / (N-1)
+  // Unit normals at each side's pcurve points (aligned with boundaryA / boundaryB; NaN vector at a pole).
+  std::vector<gp_Vec> boundaryNormalA, boundaryNormalB;
   double maxDistance = 0;                      // largest distance from the edge to either surface
   double maxFootGap = 0;  // largest distance between the two projections of an edge point
   int skipped = 0;
@@ -354,6 +405,9 @@ SeamSamples sampleSeam(const TopoDS_Edge& edge, const Side& a, const Side& b, in
       out.boundaryA.push_back(sa->boundary);
       out.boundaryB.push_back(sb->boundary);
       out.angle.push_back(std::acos(c) * 180.0 / kPi);
+      const gp_Vec none(kNaN, kNaN, kNaN);
+      out.boundaryNormalA.push_back(sa->boundaryNormal.value_or(none));
+      out.boundaryNormalB.push_back(sb->boundaryNormal.value_or(none));
       out.param.push_back(t);
       out.position.push_back(fraction);
       out.maxDistance = std::max({out.maxDistance, p.Distance(sa->foot), p.Distance(sb->foot)});
@@ -471,6 +525,55 @@ bool poleAtEdgeEnd(const TopoDS_Face& face, const TopoDS_Edge& edge) {
   return false;
 }
 
+// Points of the 3-D edge at 0, 1/32, ..., 1 of its range: where the edge is, for matching it with another tool's
+// report of the same seam without relying on edge numbers.
+Json edgePoints(const TopoDS_Edge& edge) {
+  constexpr int kPoints = 33;
+  const BRepAdaptor_Curve c(edge);
+  Json pts = Json::array();
+  for (int i = 0; i < kPoints; ++i) {
+    const gp_Pnt p = c.Value(c.FirstParameter() + (c.LastParameter() - c.FirstParameter()) * i / (kPoints - 1));
+    pts.push_back({p.X(), p.Y(), p.Z()});
+  }
+  return pts;
+}
+
+// The largest angle (deg) between the normal at a boundary sample of one face and the normal at the other face's
+// boundary sample nearest to it in space, among the samples within kAngleWindow of the same fraction of the edge
+// (the window keeps a boundary that passes through one point twice, e.g. a closed one, from pairing its two ends;
+// inside it no parameter correspondence is assumed); -1 when no pair has both normals.
+double boundaryAngle(const std::vector<gp_Pnt>& from, const std::vector<gp_Vec>& fromNormal,
+                     const std::vector<double>& position, const std::vector<gp_Pnt>& to,
+                     const std::vector<gp_Vec>& toNormal, double* where = nullptr, bool interiorOnly = false) {
+  double worst = -1;
+  size_t lo = 0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (interiorOnly && (position[i] < kEndExclusion || position[i] > 1.0 - kEndExclusion)) continue;
+    while (lo < to.size() && position[lo] < position[i] - kAngleWindow) ++lo;
+    // The nearest point of the other boundary's sample polyline within the window, and the normal there
+    // interpolated between the segment's two samples (a sample alone would be off by half a spacing: 0.3 deg on a
+    // 0.3 mm sphere in 300 samples).
+    double best = std::numeric_limits<double>::infinity();
+    gp_Vec normal(kNaN, kNaN, kNaN);
+    for (size_t j = lo; j < to.size() && position[j] <= position[i] + kAngleWindow; ++j) {
+      const size_t k = j + 1 < to.size() ? j + 1 : j;
+      const double t = k == j ? 0.0 : segmentParameter(from[i], to[j], to[k]);
+      const double d = from[i].Distance(to[j].Translated(gp_Vec(to[j], to[k]) * t));
+      if (d < best) {
+        best = d;
+        normal = toNormal[j] * (1 - t) + toNormal[k] * t;
+      }
+    }
+    const double len = normal.Magnitude();
+    const double c = len > 0 ? fromNormal[i].Dot(normal) / len : kNaN;
+    if (std::isnan(c)) continue;
+    const double angle = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+    if (angle > worst && where) *where = position[i];
+    worst = std::max(worst, angle);
+  }
+  return worst;
+}
+
 // JSON number or null for NaN (no valid sample).
 Json number(double x) { return std::isnan(x) ? Json(nullptr) : Json(x); }
 
@@ -490,6 +593,16 @@ Json seamRecord(const SeamSamples& s, int samples) {
       interior = std::max(interior, s.angle[i]);
   }
   const bool any = !s.angle.empty();
+  double whereAB = 0, whereBA = 0;
+  const double ab = boundaryAngle(s.boundaryA, s.boundaryNormalA, s.position, s.boundaryB, s.boundaryNormalB, &whereAB);
+  const double ba = boundaryAngle(s.boundaryB, s.boundaryNormalB, s.position, s.boundaryA, s.boundaryNormalA, &whereBA);
+  const double boundaryMax = std::max(ab, ba);
+  j["max_angle_boundary_at"] = boundaryMax < 0 ? Json(nullptr) : Json(ab >= ba ? whereAB : whereBA);
+  const double interiorMax =
+      std::max(boundaryAngle(s.boundaryA, s.boundaryNormalA, s.position, s.boundaryB, s.boundaryNormalB, nullptr, true),
+               boundaryAngle(s.boundaryB, s.boundaryNormalB, s.position, s.boundaryA, s.boundaryNormalA, nullptr, true));
+  j["max_angle_boundary_interior_deg"] = interiorMax >= 0 ? Json(interiorMax) : Json(nullptr);
+  j["max_angle_boundary_deg"] = boundaryMax >= 0 ? Json(boundaryMax) : Json(nullptr);
   j["max_angle_deg"] = any ? Json(maxAngle) : Json(nullptr);
   j["max_angle_param"] = any ? Json(maxParam) : Json(nullptr);
   j["max_angle_interior_deg"] = interior >= 0 ? Json(interior) : Json(nullptr);
@@ -579,6 +692,7 @@ Json seamsOf(const TopoDS_Shape& shape, const std::vector<int>& faceIndex, const
       j.update(seamRecord(sampleSeam(edge, *a, *b, opt.samples, precision), opt.samples));
       j["edge_tolerance"] = BRep_Tool::Tolerance(edge);
       j["pole"] = poleAtEdgeEnd(use->faceA, edge) || poleAtEdgeEnd(use->faceB, edge);
+      j["points"] = edgePoints(edge);
       list.push_back(std::move(j));
     } catch (const Standard_Failure&) {
       ++failed;
