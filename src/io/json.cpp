@@ -465,6 +465,23 @@ class ModelReader {
     return Status::ok();
   }
 
+  /// The degrees against the size of a patch's grid (nu rows of nv points), before its points are read: the
+  /// messages of readPatch's later checks, given first. A malformed "degree" is left to readPatch.
+  Status checkGridShape(const J& j, const std::string& where, size_t nu, size_t nv) const {
+    const int numU = static_cast<int>(nu);
+    const int numV = static_cast<int>(nv);
+    const auto& t = j["type"];
+    if (t.is_string() && t.template get<std::string>() == "bezier") {
+      if (Status s = checkDegree(numU - 1, numU, where, "u "); !s) return s;
+      return checkDegree(numV - 1, numV, where, "v ");
+    }
+    if (!j.contains("degree")) return Status::ok();
+    const auto& d = j["degree"];
+    if (!d.is_array() || d.size() != 2 || !asInteger(d[0]) || !asInteger(d[1])) return Status::ok();
+    if (Status s = checkDegree(*asInteger(d[0]), numU, where, "u "); !s) return s;
+    return checkDegree(*asInteger(d[1]), numV, where, "v ");
+  }
+
   /// "points" (and "weights") of a patch: points[i][j] = [x, y, z], i along u.
   Status readPatchGrid(const J& j, const std::string& where, PointGrid& grid) const {
     if (!j.contains("points")) return fail(where, "missing \"points\"");
@@ -474,26 +491,34 @@ class ModelReader {
                   "\"points\" must be a non-empty array of rows of points [[[x, y, z], ...], ...], found " +
                       brief(rows));
     }
+    const size_t rowSize = rows[0].is_array() ? rows[0].size() : 0;
     for (size_t i = 0; i < rows.size(); ++i) {
-      if (!rows[i].is_array() || rows[i].empty()) {
+      const auto& r = rows[i];
+      if (!r.is_array() || r.empty()) {
         return fail(where, fmt::format("\"points\"[{}] must be a non-empty array of points [[x, y, z], ...], "
                                        "found {}",
-                                       i, brief(rows[i])));
+                                       i, brief(r)));
       }
-      if (rows[i].size() != rows[0].size()) {
-        return fail(where, fmt::format("ragged point grid: row {} has {} points, row 0 has {}", i,
-                                       rows[i].size(), rows[0].size()));
+      if (r.size() != rowSize) {
+        return fail(where, fmt::format("ragged point grid: row {} has {} points, row 0 has {}", i, r.size(),
+                                       rowSize));
       }
     }
+    // The size of the grid is checked against the degrees before any point is read, so that a hostile shape (a
+    // single row of 10^6 points) is refused before work that grows with it.
+    if (Status s = checkGridShape(j, where, rows.size(), rowSize); !s) return s;
     grid.nu = static_cast<int>(rows.size());
-    grid.nv = static_cast<int>(rows[0].size());
+    grid.nv = static_cast<int>(rowSize);
     grid.dim = 3;
     grid.points.resize(static_cast<Eigen::Index>(grid.nu) * grid.nv, 3);
     for (int i = 0; i < grid.nu; ++i) {
+      // One value per row, indexed by k: the fast route's value lists a long row's elements once (SimdValue's
+      // operator[]); taking rows[i] again for each point walked the row from its start (quadratic in its length).
+      const auto& row = rows[static_cast<size_t>(i)];
       for (int k = 0; k < grid.nv; ++k) {
-        const Eigen::Index row = static_cast<Eigen::Index>(i) * grid.nv + k;
-        if (Status s = readPoint(rows[static_cast<size_t>(i)][static_cast<size_t>(k)], where,
-                                 fmt::format("point [{}][{}]", i, k), grid.dim, grid.points.row(row).data());
+        const Eigen::Index at = static_cast<Eigen::Index>(i) * grid.nv + k;
+        if (Status s = readPoint(row[static_cast<size_t>(k)], where, fmt::format("point [{}][{}]", i, k),
+                                 grid.dim, grid.points.row(at).data());
             !s) {
           return s;
         }
