@@ -198,8 +198,13 @@ void printError(std::string_view message) {
 
 namespace {
 
+std::string& activityText() {
+  static std::string text;
+  return text;
+}
+
 std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const ToleranceOverrides& overrides,
-                                        ModelUnits* units) {
+                                        ModelUnits* units, std::vector<std::string>* warnings) {
   if (units != nullptr) {
     *units = {};
     if (overrides.units) {
@@ -222,6 +227,7 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
       return std::nullopt;
     }
     for (const std::string& w : cad->warnings) std::cerr << "seam: warning: " << w << "\n";
+    if (warnings != nullptr) *warnings = cad->warnings;
     int trimmed = 0, approximated = 0;
     for (const occt::CadFace& f : cad->faces) {
       trimmed += f.trimmed ? 1 : 0;
@@ -254,10 +260,21 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
 
 std::optional<Model> loadModel(const std::filesystem::path& file) { return loadModel(file, {}, nullptr); }
 
+void setActivity(std::string text) { activityText() = std::move(text); }
+const std::string& activity() { return activityText(); }
+
 std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
-                               ModelUnits* units) {
+                               ModelUnits* units, std::vector<std::string>* warnings) {
   try {
-    return loadModelUnguarded(file, overrides, units);
+    setActivity(fmt::format("{}: reading the model", file.string()));
+    std::optional<Model> model = loadModelUnguarded(file, overrides, units, warnings);
+    if (model) {
+      Eigen::Index points = 0;
+      for (const Patch& p : model->patches) points += p.surface.points().rows();
+      setActivity(fmt::format("{}: working on its model of {} patches and {} curves ({} control points)",
+                              file.string(), model->patches.size(), model->curves.size(), points));
+    }
+    return model;
   } catch (const std::bad_alloc&) {
     printError(fmt::format("{}: the model is too large: out of memory while reading it", file.string()));
     return std::nullopt;
