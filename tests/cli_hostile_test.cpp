@@ -313,6 +313,54 @@ TEST(CliHostile, FifoDeviceAndDirectoryAsInput) {
   }
 }
 
+// `seam batch` on a folder (issue 39 §4, §5): what it skips is said (a FIFO, a dangling link, a link to /dev/zero),
+// and a file name with a newline stays on one line of the table (escaped "\n"); the JSON keeps the name as it is.
+TEST(CliHostile, BatchSaysWhatItSkipsAndKeepsEachRowOnOneLine) {
+  TempDir dir;
+  const fs::path model = fs::path(SEAM_EXAMPLES_DIR) / "models" / "two_patches.json";
+  fs::copy_file(model, dir.path() / "good.json");
+  fs::copy_file(model, dir.path() / "new\nline.json");
+  ASSERT_EQ(::mkfifo((dir.path() / "pipe.json").c_str(), 0600), 0);
+  fs::create_symlink(dir.path() / "absent.json", dir.path() / "dangling.json");
+  fs::create_symlink("/dev/zero", dir.path() / "zero.json");
+  const std::vector<std::string> args = {"batch", dir.path().string(), "-j", "1"};
+  const RunResult r = run(args);
+  EXPECT_LE(r.exitCode, 1) << describe(args, r);  // both models are read (gaps or kinks would be exit 1)
+  EXPECT_THAT(r.err, HasSubstr("pipe.json: skipped: a FIFO, not a regular file")) << describe(args, r);
+  EXPECT_THAT(r.err, HasSubstr("dangling.json: skipped: a dangling symbolic link")) << describe(args, r);
+  EXPECT_THAT(r.err, HasSubstr("zero.json: skipped: a symbolic link to a character device (/dev/zero)"))
+      << describe(args, r);
+  EXPECT_THAT(r.out, HasSubstr("new\\nline.json")) << describe(args, r);
+  std::istringstream lines(r.out + r.err);
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_NE(line.rfind("line.json", 0), 0u) << "a row was broken by the newline:\n" << describe(args, r);
+  const std::vector<std::string> json = {"batch", dir.path().string(), "-j", "1", "--json"};
+  const RunResult j = run(json);
+  const nlohmann::json rows = nlohmann::json::parse(j.out, nullptr, false);
+  ASSERT_TRUE(rows.is_object()) << describe(json, j);
+  ASSERT_EQ(rows["files"].size(), 2u) << describe(json, j);
+  EXPECT_EQ(rows["files"][1]["file"], (dir.path() / "new\nline.json").string());
+}
+
+// A seam whose analysis fails (issue 39 goal 3): patches 1e300 long, whose shared edge seam's analysis finds to
+// "collapse to a point" (its length overflows), were an "ok" row; a failed seam is a problem of the file.
+TEST(CliHostile, BatchCountsAFailedSeamAsAProblem) {
+  TempDir dir;
+  const fs::path file = dir.path() / "huge.json";
+  writeText(file, R"({"patches": [
+    {"name": "A", "type": "bezier", "points": [[[0,0,0],[0,1e300,0]],[[1e300,0,0],[1e300,1e300,0]]]},
+    {"name": "B", "type": "bezier", "points": [[[1e300,0,0],[1e300,1e300,0]],[[2e300,0,0],[2e300,1e300,1e299]]]}]})");
+  const RunResult check = run({"check", file.string()});
+  EXPECT_THAT(check.out, HasSubstr("collapses to a point")) << describe({"check"}, check);
+  const std::vector<std::string> args = {"batch", file.string(), "--json"};
+  const RunResult r = run(args);
+  EXPECT_EQ(r.exitCode, 1) << describe(args, r);
+  const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(j.is_object()) << describe(args, r);
+  EXPECT_EQ(j["files"][0]["status"], "problem");
+  EXPECT_EQ(j["files"][0]["failed"], 1);
+}
+
 TEST(CliHostile, FileAboveTheSizeLimit) {
   TempDir dir;
   const fs::path file = dir.path() / "huge.json";

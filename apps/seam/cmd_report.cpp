@@ -80,8 +80,10 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
     printError(page.status().message());
     return kExitBadInput;
   }
+  for (const std::string& w : page->warnings) std::cerr << "seam: warning: " << w << "\n";
   if (!writeOutputFile(o.out, page->html)) return kExitBadInput;
-  fmt::print("wrote {} ({} B-rep seams, worst {})\n", o.out, page->seams, toString(page->worst));
+  fmt::print("wrote {} ({} B-rep seams, worst {}{})\n", o.out, page->seams, toString(page->worst),
+             page->warnings.empty() ? "" : fmt::format("; {} reader warnings, in the report", page->warnings.size()));
   return kExitOk;
 }
 #endif
@@ -101,7 +103,8 @@ int runReport(const ReportOptions& o) {
   }
 #endif
   ModelUnits units;
-  const std::optional<Model> model = loadModel(o.file, o.tol, &units);
+  std::vector<std::string> warnings;
+  const std::optional<Model> model = loadModel(o.file, o.tol, &units, &warnings);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {
     fmt::print("{}: the model has no patches: nothing to check (no report written)\n", o.file);
@@ -119,6 +122,7 @@ int runReport(const ReportOptions& o) {
   }
   report::ReportData d = report::reportData(*model, *report, ro.samplesPerEdge);
   setReportUnits(d, units, resolved);
+  d.warnings = warnings;
   if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
   fmt::print("wrote {} ({} seams, worst {})\n", o.out, report->seams.size(), toString(report->summary.worstGeometric));
   return kExitOk;
