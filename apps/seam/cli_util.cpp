@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -44,11 +45,17 @@ constexpr double kLongestTimeLimitSeconds = 1e7;
 void addTimeLimitOption(CLI::App& app) {
   // Inherited by the subcommands added after this: `seam check f.step --time-limit 60` reaches this option.
   app.fallthrough();
-  app.add_option_function<double>(
+  // Read as decimal text (std::from_chars): CLI11's number conversion takes "0x10" as 16 and "0b11" as 3.
+  app.add_option_function<std::string>(
       "--time-limit",
-      [](double seconds) {
-        if (!std::isfinite(seconds) || seconds < 0.0)
-          throw CLI::ValidationError("--time-limit", "must be a number of seconds >= 0 (0: no limit)");
+      [](const std::string& text) {
+        double seconds = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, seconds, std::chars_format::general);
+        if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(seconds) || seconds < 0.0)
+          throw CLI::ValidationError("--time-limit", fmt::format("\"{}\" is not a decimal number of seconds >= 0 "
+                                                                 "(0: no limit)",
+                                                                 text));
         cadTimeLimitSeconds = seconds;
       },
       fmt::format("Seconds that reading and analysing one STEP/IGES file may take before seam stops with exit code "
