@@ -177,7 +177,7 @@ std::string shapeText(const py::array& a) {
 
 /// The (n, 2) parameter array of evaluate/derivatives: a (2,) array is one point.
 py::array_t<double> asUV(const py::object& uvIn, const std::string& object) {
-  const RealArray uv = asRealArray(uvIn, object, "uv");
+  RealArray uv = asRealArray(uvIn, object, "uv");
   if (uv.ndim() == 1 && uv.shape(0) == 2) return uv.reshape({py::ssize_t{1}, py::ssize_t{2}});
   if (uv.ndim() != 2 || uv.shape(1) != 2)
     throw py::value_error(fmt::format("{}: uv must be an array of shape (n, 2) (pairs u, v), not of {} dimensions",
@@ -247,7 +247,7 @@ py::array_t<double> evaluateCurve(const PyModel& m, const std::string& name, con
   if (c == nullptr) throw py::value_error(fmt::format("{}: no curve named \"{}\"", m.source, name));
   const std::string object = fmt::format("{}: curve \"{}\"", m.source, name);
   if (order < 0 || order > 32) throw py::value_error(fmt::format("{}: derivative order {} is not in 0..32", object, order));
-  const RealArray tIn = asRealArray(tObj, object, "t");
+  RealArray tIn = asRealArray(tObj, object, "t");
   // A number or an (n,) array; a (2, 2) array was flattened into 4 parameters: refused, its shape is not a list.
   if (tIn.ndim() > 1)
     throw py::value_error(fmt::format("{}: t must be a number or an array of shape (n,), not of shape {}", object,
