@@ -152,9 +152,32 @@ PyModel load(const std::filesystem::path& file) {
   return m;
 }
 
+using RealArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// Parameters given as any array-like of real numbers (integers or floats), as doubles. Complex numbers (whose
+/// imaginary part a cast to double would drop), booleans, strings and objects are refused with a ValueError.
+RealArray asRealArray(const py::object& x, const std::string& object, const char* what) {
+  py::array a = py::array::ensure(x);
+  if (!a) throw py::value_error(fmt::format("{}: {} must be an array of real numbers", object, what));
+  const char kind = a.dtype().kind();
+  if (kind == 'c')
+    throw py::value_error(fmt::format("{}: {} holds complex numbers; parameters must be real", object, what));
+  if (kind != 'i' && kind != 'u' && kind != 'f')
+    throw py::value_error(fmt::format("{}: {} must be an array of real numbers, not of dtype {}", object, what,
+                                      py::str(a.dtype()).cast<std::string>()));
+  return RealArray::ensure(a);
+}
+
+/// The shape of an array as numpy prints it: "(2, 2)".
+std::string shapeText(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) s += fmt::format("{}{}", k == 0 ? "" : ", ", a.shape(k));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
 /// The (n, 2) parameter array of evaluate/derivatives: a (2,) array is one point.
-py::array_t<double> asUV(py::array_t<double, py::array::c_style | py::array::forcecast> uv,
-                         const std::string& object) {
+py::array_t<double> asUV(const py::object& uvIn, const std::string& object) {
+  RealArray uv = asRealArray(uvIn, object, "uv");
   if (uv.ndim() == 1 && uv.shape(0) == 2) return uv.reshape({py::ssize_t{1}, py::ssize_t{2}});
   if (uv.ndim() != 2 || uv.shape(1) != 2)
     throw py::value_error(fmt::format("{}: uv must be an array of shape (n, 2) (pairs u, v), not of {} dimensions",
@@ -182,8 +205,7 @@ void checkParameter(const std::string& object, const char* name, double value, c
 
 /// All derivatives up to `order` at n parameter pairs: shape (n, order+1, order+1, dim), [i, k, l] =
 /// d^(k+l) S / du^k dv^l at uv[i]; entries with k + l > order are NaN (not computed).
-py::array_t<double> derivatives(const PyModel& m, const std::string& name, const py::array_t<double>& uvIn,
-                                int order) {
+py::array_t<double> derivatives(const PyModel& m, const std::string& name, const py::object& uvIn, int order) {
   const Patch& p = findPatch(m, name);
   const std::string object = fmt::format("{}: patch \"{}\"", m.source, name);
   constexpr int kMaxOrder = 32;
@@ -214,19 +236,22 @@ py::array_t<double> derivatives(const PyModel& m, const std::string& name, const
   return out;
 }
 
-py::array_t<double> evaluate(const PyModel& m, const std::string& name, const py::array_t<double>& uvIn) {
+py::array_t<double> evaluate(const PyModel& m, const std::string& name, const py::object& uvIn) {
   py::array_t<double> d = derivatives(m, name, uvIn, 0);
   return d.reshape({d.shape(0), d.shape(3)});
 }
 
 /// Curve points and derivatives: shape (n, order+1, dim), [i, k] = d^k C / dt^k at t[i].
-py::array_t<double> evaluateCurve(const PyModel& m, const std::string& name,
-                                  py::array_t<double, py::array::c_style | py::array::forcecast> tIn,
-                                  int order) {
+py::array_t<double> evaluateCurve(const PyModel& m, const std::string& name, const py::object& tObj, int order) {
   const Curve* c = m.model.findCurve(name);
   if (c == nullptr) throw py::value_error(fmt::format("{}: no curve named \"{}\"", m.source, name));
   const std::string object = fmt::format("{}: curve \"{}\"", m.source, name);
   if (order < 0 || order > 32) throw py::value_error(fmt::format("{}: derivative order {} is not in 0..32", object, order));
+  RealArray tIn = asRealArray(tObj, object, "t");
+  // A number or an (n,) array; a (2, 2) array was flattened into 4 parameters: refused, its shape is not a list.
+  if (tIn.ndim() > 1)
+    throw py::value_error(fmt::format("{}: t must be a number or an array of shape (n,), not of shape {}", object,
+                                      shapeText(tIn)));
   const py::array_t<double> t = tIn.reshape({tIn.size()});
   const auto in = t.unchecked<1>();
   for (py::ssize_t i = 0; i < t.shape(0); ++i) checkParameter(object, "t", in(i), c->curve.domain());

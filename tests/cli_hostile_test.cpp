@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -73,12 +75,13 @@ class TempDir {
   fs::path path_;
 };
 
-/// Runs `seam args...` with stdin from /dev/null and a time limit (a hang is a failure, not a stuck test).
-RunResult run(const std::vector<std::string>& args) {
+/// Runs `seam args...` with stdin from /dev/null and a time limit (a hang is a failure, not a stuck test);
+/// `wrapper` (e.g. "prlimit --as=110000000") goes between the time limit and seam.
+RunResult run(const std::vector<std::string>& args, const std::string& wrapper = "") {
   static int counter = 0;
   const fs::path errFile =
       fs::temp_directory_path() / fmt::format("seam_cli_hostile_{}_{}.stderr", ::getpid(), counter++);
-  std::string command = "timeout 120 " + shellQuote(SEAM_CLI_PATH);
+  std::string command = "timeout 120 " + (wrapper.empty() ? "" : wrapper + " ") + shellQuote(SEAM_CLI_PATH);
   for (const std::string& a : args) command += ' ' + shellQuote(a);
   command += " </dev/null 2>" + shellQuote(errFile.string());
   RunResult result;
@@ -310,12 +313,122 @@ TEST(CliHostile, FifoDeviceAndDirectoryAsInput) {
   }
 }
 
+// `seam batch` on a folder (issue 39 §4, §5): what it skips is said (a FIFO, a dangling link, a link to /dev/zero),
+// and a file name with a newline stays on one line of the table (escaped "\n"); the JSON keeps the name as it is.
+TEST(CliHostile, BatchSaysWhatItSkipsAndKeepsEachRowOnOneLine) {
+  TempDir dir;
+  const fs::path model = fs::path(SEAM_EXAMPLES_DIR) / "models" / "two_patches.json";
+  fs::copy_file(model, dir.path() / "good.json");
+  fs::copy_file(model, dir.path() / "new\nline.json");
+  ASSERT_EQ(::mkfifo((dir.path() / "pipe.json").c_str(), 0600), 0);
+  fs::create_symlink(dir.path() / "absent.json", dir.path() / "dangling.json");
+  fs::create_symlink("/dev/zero", dir.path() / "zero.json");
+  const std::vector<std::string> args = {"batch", dir.path().string(), "-j", "1"};
+  const RunResult r = run(args);
+  EXPECT_LE(r.exitCode, 1) << describe(args, r);  // both models are read (gaps or kinks would be exit 1)
+  EXPECT_THAT(r.err, HasSubstr("pipe.json: skipped: a FIFO, not a regular file")) << describe(args, r);
+  EXPECT_THAT(r.err, HasSubstr("dangling.json: skipped: a dangling symbolic link")) << describe(args, r);
+  EXPECT_THAT(r.err, HasSubstr("zero.json: skipped: a symbolic link to a character device (/dev/zero)"))
+      << describe(args, r);
+  EXPECT_THAT(r.out, HasSubstr("new\\nline.json")) << describe(args, r);
+  std::istringstream lines(r.out + r.err);
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_NE(line.rfind("line.json", 0), 0u) << "a row was broken by the newline:\n" << describe(args, r);
+  const std::vector<std::string> json = {"batch", dir.path().string(), "-j", "1", "--json"};
+  const RunResult j = run(json);
+  const nlohmann::json rows = nlohmann::json::parse(j.out, nullptr, false);
+  ASSERT_TRUE(rows.is_object()) << describe(json, j);
+  ASSERT_EQ(rows["files"].size(), 2u) << describe(json, j);
+  EXPECT_EQ(rows["files"][1]["file"], (dir.path() / "new\nline.json").string());
+}
+
+// A seam whose analysis fails (issue 39 goal 3): patches 1e300 long, whose shared edge seam's analysis finds to
+// "collapse to a point" (its length overflows), were an "ok" row; a failed seam is a problem of the file.
+TEST(CliHostile, BatchCountsAFailedSeamAsAProblem) {
+  TempDir dir;
+  const fs::path file = dir.path() / "huge.json";
+  writeText(file, R"({"patches": [
+    {"name": "A", "type": "bezier", "points": [[[0,0,0],[0,1e300,0]],[[1e300,0,0],[1e300,1e300,0]]]},
+    {"name": "B", "type": "bezier", "points": [[[1e300,0,0],[1e300,1e300,0]],[[2e300,0,0],[2e300,1e300,1e299]]]}]})");
+  const RunResult check = run({"check", file.string()});
+  EXPECT_THAT(check.out, HasSubstr("collapses to a point")) << describe({"check"}, check);
+  const std::vector<std::string> args = {"batch", file.string(), "--json"};
+  const RunResult r = run(args);
+  EXPECT_EQ(r.exitCode, 1) << describe(args, r);
+  const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(j.is_object()) << describe(args, r);
+  EXPECT_EQ(j["files"][0]["status"], "problem");
+  EXPECT_EQ(j["files"][0]["failed"], 1);
+}
+
 TEST(CliHostile, FileAboveTheSizeLimit) {
   TempDir dir;
   const fs::path file = dir.path() / "huge.json";
   writeText(file, "{}");
   fs::resize_file(file, (std::uintmax_t{256} << 20) + 1);  // sparse: takes no disk space
   expectRefusedByEveryCommand(file, "huge.json: cannot read file: too large (268435457 bytes");
+}
+
+// Out of memory (issue 39 goal 4): a valid model of about 10 MB read under address-space caps from 60 MB (where
+// the process can hardly start) to 250 MB (where it reads). Each run must end with exit code 0, or 2 with a message
+// that names the file and says "out of memory"; never a signal (bad_alloc thrown again while a document unwinds
+// used to abort) and never the bare "std::bad_alloc".
+TEST(CliHostile, OutOfMemoryIsAnErrorNamingTheFileUnderAnyCap) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no address-space cap can be tested";
+#else
+  if (std::system("command -v prlimit >/dev/null 2>&1") != 0) GTEST_SKIP() << "no prlimit (util-linux)";
+  TempDir dir;
+  const fs::path file = dir.path() / "big_model.json";
+  {
+    // 130 bicubic B-spline patches of 40 x 40 points, every coordinate with 17 significant digits.
+    constexpr int kPatches = 130, kPoints = 40;
+    std::string knots = "[0, 0, 0, 0";
+    for (int k = 1; k < kPoints - 3; ++k) knots += fmt::format(", {}", k);
+    knots += fmt::format(", {0}, {0}, {0}, {0}]", kPoints - 3);
+    std::string text = "{\"patches\": [\n";
+    for (int p = 0; p < kPatches; ++p) {
+      text += fmt::format("{{\"name\": \"P{}\", \"type\": \"bspline\", \"degree\": [3, 3], \"knots\": [{}, {}], "
+                          "\"points\": [",
+                          p, knots, knots);
+      for (int i = 0; i < kPoints; ++i) {
+        text += i == 0 ? "[" : ",\n[";
+        for (int j = 0; j < kPoints; ++j)
+          text += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", j == 0 ? "" : ", ", p * 50.0 + i * 1.0000000000000002,
+                              j * 0.99999999999999989, std::sin(0.1 * i) * std::cos(0.1 * j + p));
+        text += "]";
+      }
+      text += p + 1 < kPatches ? "]},\n" : "]}\n";
+    }
+    writeText(file, text + "]}\n");
+  }
+  ASSERT_GT(fs::file_size(file), 9u << 20);
+  int read = 0, refused = 0, started = 0;
+  for (const long long capMb : {60, 80, 110, 130, 150, 250}) {
+    const std::string cap = fmt::format("prlimit --as={}", capMb * 1000000);
+    // Below about 100 MB the dynamic loader cannot map seam's libraries (OpenCASCADE's are about 87 MB): the process
+    // never starts (exit 127, "error while loading shared libraries"), which no code of seam can change. Such a
+    // cap is skipped; every cap at which `seam --version` starts is tested.
+    if (run({"--version"}, cap).exitCode != kExitOk) continue;
+    ++started;
+    const std::vector<std::string> args = {"info", file.string()};
+    const RunResult r = run(args, cap);
+    const std::string what = fmt::format("cap {} MB\n{}", capMb, describe(args, r));
+    ASSERT_TRUE(r.exitCode == kExitOk || r.exitCode == kExitBadInput) << what;
+    EXPECT_THAT(r.err, Not(HasSubstr("std::bad_alloc"))) << what;
+    if (r.exitCode == kExitBadInput) {
+      ++refused;
+      EXPECT_THAT(r.err, HasSubstr(file.string())) << what;
+      EXPECT_THAT(r.err, HasSubstr("out of memory")) << what;
+    } else {
+      ++read;
+      EXPECT_THAT(r.out, HasSubstr("130 patches")) << what;
+    }
+  }
+  EXPECT_GE(started, 3) << "seam did not start under most caps";
+  EXPECT_GE(read, 1) << "no cap was large enough to read the model";
+  EXPECT_GE(refused + read, started);
+#endif
 }
 
 // ---------------------------------------------------------------------------------------------------------------

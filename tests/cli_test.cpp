@@ -601,4 +601,40 @@ TEST(CliErrors, BadUsage) {
   }
 }
 
+// Minor refusals of issue 39 §5 (each: exit 2 and a message naming the problem).
+TEST(CliErrors, TimeLimitIsADecimalNumber) {
+  TempDir dir;
+  const std::string file = writeModel(dir);
+  // CLI11 reads "0x10" as 16 and "0b11" as 3: refused, as are words and negative numbers.
+  for (const char* bad : {"0x10", "0X1A", "0b11", "ten", "-1", "inf", "nan", ""}) {
+    const RunResult r = run({"--time-limit", bad, "info", file});
+    EXPECT_EQ(r.exitCode, 2) << bad << "\n" << describe(r);
+    EXPECT_THAT(r.err, HasSubstr("--time-limit")) << bad;
+  }
+  for (const char* good : {"16", "0", "1.5", "1e3"}) {
+    const RunResult r = run({"--time-limit", good, "info", file});
+    EXPECT_EQ(r.exitCode, 0) << good << "\n" << describe(r);
+  }
+}
+
+TEST(CliErrors, ExportMeshPerSpanIsBounded) {
+  TempDir dir;
+  const std::string file = writeModel(dir);
+  const std::string out = (dir.path() / "m.obj").string();
+  const RunResult big = run({"export-mesh", file, "-o", out, "--per-span", "1024"});
+  expectBadInput(big, "--per-span");
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(run({"export-mesh", file, "-o", out, "--per-span", "64"}).exitCode, 0);
+  fs::remove(out);
+  // The whole mesh is bounded too: 2 000 patches of one span at 64 cells per direction are 8.45 M vertices.
+  std::string text = R"({"patches": [)";
+  for (int k = 0; k < 2000; ++k)
+    text += fmt::format(R"({}{{"name": "P{}", "type": "bezier", "points": [[[0,0,{}],[1,0,0]],[[0,1,0],[1,1,0]]]}})",
+                        k == 0 ? "" : ",", k, k);
+  const std::string many = writeModel(dir, "many.json", text + "]}");
+  const RunResult r = run({"export-mesh", many, "-o", out, "--per-span", "64"});
+  expectBadInput(r, many + ": --per-span 64 would make a mesh of 8450000 vertices");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace

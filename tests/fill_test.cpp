@@ -710,6 +710,9 @@ TEST(Fillet, Errors) {
   const Model m = stripsModel(g, s1, s2);
   EXPECT_TRUE(test::failsMentioning(fillFillet(m, s1, {"b0"}).status(), {"equal length"}));
   EXPECT_TRUE(test::failsMentioning(fillFillet(m, {"a0", "x"}, s2).status(), {"\"x\""}));
+  // A patch in both strips, or twice in one (issue 39: `--fillet a0,b0 a0,b0` wrote a degenerate fillet).
+  EXPECT_TRUE(test::failsMentioning(fillFillet(m, s1, s1).status(), {"\"" + s1[0] + "\" is given twice"}));
+  EXPECT_TRUE(test::failsMentioning(fillFillet(m, {s1[0], s1[0]}, {s2[0], s2[1]}).status(), {"given twice"}));
 }
 
 // ---------------------------------------------------------------------------------------------------------------

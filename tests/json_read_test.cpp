@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -378,6 +380,108 @@ TEST(JsonReadRoutes, NestingAtTheDepthLimitIsReadAlikeOnBothRoutes) {
   EXPECT_FALSE(expectSameOnBothRoutes(std::string(R"({"patches":[]})") + '\0', "nul.json"));
   EXPECT_FALSE(expectSameOnBothRoutes(std::string(R"({"patches":[],"$schema":"a)") + '\0' + "\"}", "nul.json"));
   EXPECT_FALSE(expectSameOnBothRoutes("{\"patches\":[],\"$schema\":\"a\tb\"}", "tab.json"));
+}
+
+
+// Long rows (issue 39 goal 2): a patch of 2 rows of 100 000 points and a curve of 100 000 points, read on both
+// routes. Every coordinate and knot is a number the test writes from a formula (integers and binary fractions,
+// exact in decimal), and each value read is compared with the formula: not with another reader.
+double longRowX(int i) { return i * 0.5 + 0.25; }
+double longRowY(int j) { return j * 0.0009765625; }  // j / 2^10
+double longRowZ(int i, int j) { return ((i + j) % 7) * 0.125 - 0.5; }
+
+std::string longRowKnots(int n) {  // uniform cubic, clamped: 0 0 0 0 1 2 ... n-4 n-3 n-3 n-3 n-3
+  std::string knots = "[0, 0, 0, 0";
+  for (int k = 1; k < n - 3; ++k) knots += fmt::format(", {}", k);
+  return knots + fmt::format(", {0}, {0}, {0}, {0}]", n - 3);
+}
+
+std::string longRow(int i, int n) {
+  std::string row = "[";
+  for (int j = 0; j < n; ++j)
+    row += fmt::format("{}[{}, {}, {}]", j == 0 ? "" : ", ", longRowX(i), longRowY(j), longRowZ(i, j));
+  return row + "]";
+}
+
+void expectLongRowKnots(const std::vector<double>& t, int n) {
+  ASSERT_EQ(t.size(), static_cast<size_t>(n + 4));
+  for (int k = 0; k < n + 4; ++k) EXPECT_EQ(t[static_cast<size_t>(k)], std::clamp(k - 3, 0, n - 3)) << "knot " << k;
+}
+
+TEST(JsonReadLongRows, TwoRowsOf100000PointsAreReadExactlyOnBothRoutes) {
+  constexpr int kPoints = 100000;
+  const std::string text =
+      fmt::format(R"({{"patches": [{{"name": "long", "type": "bspline", "degree": [1, 3], )"
+                  R"("knots": [[0, 0, 1, 1], {}], "points": [{}, {}]}}]}})",
+                  longRowKnots(kPoints), longRow(0, kPoints), longRow(1, kPoints));
+  const std::optional<Model> fast = io::detail::parseModelJsonFast(text, "long.json");
+  const Result<Model> slow = io::detail::parseModelJsonNlohmann(text, "long.json");
+  ASSERT_TRUE(fast.has_value());
+  ASSERT_TRUE(slow.isOk()) << slow.status().message();
+  for (const Model* m : {&*fast, &*slow}) {
+    ASSERT_EQ(m->patches.size(), 1u);
+    const BSplineSurface& s = m->patches[0].surface;
+    ASSERT_EQ(s.numU(), 2);
+    ASSERT_EQ(s.numV(), kPoints);
+    EXPECT_EQ(s.degreeU(), 1);
+    EXPECT_EQ(s.degreeV(), 3);
+    expectLongRowKnots(s.knotsV().values(), kPoints);
+    int wrong = 0;
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < kPoints; ++j) {
+        const auto p = s.point(i, j);
+        if (p(0) != longRowX(i) || p(1) != longRowY(j) || p(2) != longRowZ(i, j)) {
+          if (++wrong <= 3) ADD_FAILURE() << "point [" << i << "][" << j << "] = " << p.transpose();
+        }
+      }
+    }
+    EXPECT_EQ(wrong, 0);
+  }
+}
+
+TEST(JsonReadLongRows, ACurveOf100000PointsIsReadExactlyOnBothRoutes) {
+  constexpr int kPoints = 100000;
+  const std::string text =
+      fmt::format(R"({{"curves": [{{"name": "c", "type": "bspline", "degree": 3, "knots": {}, "points": {}}}]}})",
+                  longRowKnots(kPoints), longRow(1, kPoints));
+  const std::optional<Model> fast = io::detail::parseModelJsonFast(text, "curve.json");
+  const Result<Model> slow = io::detail::parseModelJsonNlohmann(text, "curve.json");
+  ASSERT_TRUE(fast.has_value());
+  ASSERT_TRUE(slow.isOk()) << slow.status().message();
+  for (const Model* m : {&*fast, &*slow}) {
+    ASSERT_EQ(m->curves.size(), 1u);
+    const BSplineCurve& c = m->curves[0].curve;
+    ASSERT_EQ(c.numPoints(), kPoints);
+    expectLongRowKnots(c.knots().values(), kPoints);
+    int wrong = 0;
+    for (int j = 0; j < kPoints; ++j) {
+      if (c.points()(j, 0) != longRowX(1) || c.points()(j, 1) != longRowY(j) || c.points()(j, 2) != longRowZ(1, j))
+        ++wrong;
+    }
+    EXPECT_EQ(wrong, 0);
+  }
+}
+
+// A hostile shape is refused before its points are read: one row of 200 000 points whose last point is not a
+// number gets the degree's message (which needs only the counts), not the point's (which needs every point read).
+TEST(JsonReadLongRows, ASingleLongRowIsRefusedBeforeItsPointsAreRead) {
+  constexpr int kPoints = 200000;
+  std::string row = longRow(0, kPoints);
+  row.replace(row.rfind(']', row.size() - 2), 1, ", \"x\"]");  // the last point gets a fourth, non-number entry
+  const std::string text =
+      fmt::format(R"({{"patches": [{{"name": "row", "type": "bspline", "degree": [1, 3], )"
+                  R"("knots": [[0, 0, 1, 1], {}], "points": [{}]}}]}})",
+                  longRowKnots(kPoints), row);
+  const Result<Model> m = io::parseModelJson(text, "row.json");
+  ASSERT_FALSE(m.isOk());
+  EXPECT_EQ(m.status().message(), "row.json: patch \"row\": u degree 1 needs at least 2 control points in that "
+                                  "direction, found 1");
+  // The bezier case: a 1 x n bezier patch has u degree 0.
+  const std::string bezier =
+      fmt::format(R"({{"patches": [{{"name": "b", "type": "bezier", "points": [{}]}}]}})", row);
+  const Result<Model> b = io::parseModelJson(bezier, "row.json");
+  ASSERT_FALSE(b.isOk());
+  EXPECT_EQ(b.status().message(), "row.json: patch \"b\": u degree is 0, must be at least 1");
 }
 
 }  // namespace

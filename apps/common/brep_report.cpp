@@ -37,6 +37,7 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, bo);
   if (!r) return r.status();
   report::ReportData d;
+  d.warnings = r->import.warnings;
   d.tolerances = r->tolerances;
   setReportUnits(d, r->units, {r->tolerances, r->distanceSource, tol.preset});
   d.extraHeader = "OpenCASCADE";

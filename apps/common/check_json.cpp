@@ -362,7 +362,9 @@ namespace {
 template <class Out>
 void modelCheckFields(Out& o, const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
                       const std::optional<GeometricClass>& require, std::optional<double> pairing,
-                      double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
+                      double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource,
+                      const std::vector<std::string>& warnings) {
+  o.field("warnings", warnings);
   o.object("model", [&](auto& x) { x.field("patches", m.patches.size()); });
   o.field("units", unitsJson(units));
   o.field("tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg, distanceSource));
@@ -412,23 +414,25 @@ OrderedJson inputFormat(const std::filesystem::path& file) {
 
 OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
                            const std::optional<GeometricClass>& require, std::optional<double> pairing,
-                           double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
+                           double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource,
+                           const std::vector<std::string>& warnings) {
   OrderedJson j = OrderedJson::object();
   DomObject o(j);
-  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource);
+  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource, warnings);
   return j;
 }
 
 void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, const Model& m,
                          const ModelCheckReport& report, const std::vector<size_t>& order,
                          const std::optional<GeometricClass>& require, std::optional<double> pairing,
-                         double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource) {
+                         double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource,
+                         const std::vector<std::string>& warnings) {
   JsonTextWriter w(&out);
   TextObject o(w);
   w.beginObject();
   o.field("file", file.string());
   o.field("format", inputFormat(file));
-  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource);
+  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource, warnings);
   w.endObject();
   w.flush();
   out << '\n';
@@ -437,8 +441,10 @@ void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, c
 
 OrderedJson withInputFile(const std::filesystem::path& file, OrderedJson check) {
   OrderedJson out{{"file", file.string()}, {"format", inputFormat(file)}};
+  // The reader's warnings third, on every output (an empty list when there are none).
+  out["warnings"] = check.contains("warnings") ? std::move(check["warnings"]) : OrderedJson::array();
   for (auto& [key, value] : check.items())
-    if (key != "file") out[key] = std::move(value);
+    if (key != "file" && key != "warnings") out[key] = std::move(value);
   return out;
 }
 
@@ -459,6 +465,7 @@ void brepCheckFields(Out& o, const occt::BRepCheckReport& r, const std::vector<s
   const Tolerances& tol = r.tolerances;
   // Each face by its entity in the file: "#1234" (STEP) or "D17" (IGES directory entry), and its name.
   auto orNull = [](const std::string& x) { return x.empty() ? OrderedJson(nullptr) : OrderedJson(x); };
+  o.field("warnings", r.import.warnings);  // the reader's and the check's (entities lost, roots not transferred, ...)
   o.object("model", [&](auto& x) {
     x.field("patches", r.import.faces.size());
     x.field("faces", r.import.faces.size());
@@ -619,6 +626,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
   }
   Result<FileCheck> checked = checkModel(model, file.string(), o, units);
   if (!checked) return checked;
+  checked->json["warnings"] = out.warnings;  // a STEP/IGES file read as patches: the reader's warnings
   checked->warnings = std::move(out.warnings);
   return checked;
 }

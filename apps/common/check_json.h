@@ -32,7 +32,8 @@ std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r);
 OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& r, const std::vector<size_t>& order,
                            const std::optional<GeometricClass>& require, std::optional<double> pairing,
                            double creaseAngleDeg, const ModelUnits& units = {},
-                           DistanceSource distanceSource = DistanceSource::kRelative);
+                           DistanceSource distanceSource = DistanceSource::kRelative,
+                           const std::vector<std::string>& warnings = {});
 
 /// `seam check FILE --json` of a patch model written to `out` as jsonText(withInputFile(file, modelCheckJson(...)))
 /// prints it, byte for byte, without building the document: each seam and corner record is written as it is
@@ -42,7 +43,8 @@ void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, c
                          const ModelCheckReport& r, const std::vector<size_t>& order,
                          const std::optional<GeometricClass>& require, std::optional<double> pairing,
                          double creaseAngleDeg, const ModelUnits& units = {},
-                         DistanceSource distanceSource = DistanceSource::kRelative);
+                         DistanceSource distanceSource = DistanceSource::kRelative,
+                         const std::vector<std::string>& warnings = {});
 
 /// `seam check --json`'s "units" (issue 17 §2): {"length": "mm" | null (unit-less), "file_unit": the STEP/IGES
 /// header's name ("MM", "INCH") | null, "source": "file header" | "--units" | "none (unit-less model)",
@@ -62,7 +64,8 @@ void writeBRepCheckJson(std::ostream& out, const std::filesystem::path& file, co
 #endif
 
 /// `check` with the input named first (issue 17 §3, docs/check.schema.json): {"file": FILE, "format": "json" | "bpt" |
-/// "step" | "iges" (null for another name), ...the keys of `check`}. The values are moved out of `check` (a copy of a
+/// "step" | "iges" (null for another name), "warnings": the reader's warnings (check's own "warnings", else []),
+/// ...the other keys of `check`}. The values are moved out of `check` (a copy of a
 /// large report's tree cost more than writing it).
 OrderedJson withInputFile(const std::filesystem::path& file, OrderedJson check);
 

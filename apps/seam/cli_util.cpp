@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -44,11 +45,17 @@ constexpr double kLongestTimeLimitSeconds = 1e7;
 void addTimeLimitOption(CLI::App& app) {
   // Inherited by the subcommands added after this: `seam check f.step --time-limit 60` reaches this option.
   app.fallthrough();
-  app.add_option_function<double>(
+  // Read as decimal text (std::from_chars): CLI11's number conversion takes "0x10" as 16 and "0b11" as 3.
+  app.add_option_function<std::string>(
       "--time-limit",
-      [](double seconds) {
-        if (!std::isfinite(seconds) || seconds < 0.0)
-          throw CLI::ValidationError("--time-limit", "must be a number of seconds >= 0 (0: no limit)");
+      [](const std::string& text) {
+        double seconds = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, seconds, std::chars_format::general);
+        if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(seconds) || seconds < 0.0)
+          throw CLI::ValidationError("--time-limit", fmt::format("\"{}\" is not a decimal number of seconds >= 0 "
+                                                                 "(0: no limit)",
+                                                                 text));
         cadTimeLimitSeconds = seconds;
       },
       fmt::format("Seconds that reading and analysing one STEP/IGES file may take before seam stops with exit code "
@@ -198,8 +205,13 @@ void printError(std::string_view message) {
 
 namespace {
 
+std::string& activityText() {
+  static std::string text;
+  return text;
+}
+
 std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const ToleranceOverrides& overrides,
-                                        ModelUnits* units) {
+                                        ModelUnits* units, std::vector<std::string>* warnings) {
   if (units != nullptr) {
     *units = {};
     if (overrides.units) {
@@ -222,6 +234,7 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
       return std::nullopt;
     }
     for (const std::string& w : cad->warnings) std::cerr << "seam: warning: " << w << "\n";
+    if (warnings != nullptr) *warnings = cad->warnings;
     int trimmed = 0, approximated = 0;
     for (const occt::CadFace& f : cad->faces) {
       trimmed += f.trimmed ? 1 : 0;
@@ -254,10 +267,21 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
 
 std::optional<Model> loadModel(const std::filesystem::path& file) { return loadModel(file, {}, nullptr); }
 
+void setActivity(std::string text) { activityText() = std::move(text); }
+const std::string& activity() { return activityText(); }
+
 std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
-                               ModelUnits* units) {
+                               ModelUnits* units, std::vector<std::string>* warnings) {
   try {
-    return loadModelUnguarded(file, overrides, units);
+    setActivity(fmt::format("{}: reading the model", file.string()));
+    std::optional<Model> model = loadModelUnguarded(file, overrides, units, warnings);
+    if (model) {
+      Eigen::Index points = 0;
+      for (const Patch& p : model->patches) points += p.surface.points().rows();
+      setActivity(fmt::format("{}: working on its model of {} patches and {} curves ({} control points)",
+                              file.string(), model->patches.size(), model->curves.size(), points));
+    }
+    return model;
   } catch (const std::bad_alloc&) {
     printError(fmt::format("{}: the model is too large: out of memory while reading it", file.string()));
     return std::nullopt;

@@ -82,8 +82,15 @@ std::optional<Model> loadModel(const std::filesystem::path& file);
 /// loadModel with the units: a STEP/IGES file is read with `overrides.units` as the unit of its coordinates (when
 /// given); `units` (when not null) receives the model's length unit: mm from the header (or --units) for STEP/IGES,
 /// `overrides.units` or none for JSON/.bpt.
+/// `warnings` (when not null) receives the reader's warnings (STEP/IGES: entities lost, roots not transferred,
+/// faces skipped or approximated), which are also printed on stderr.
 std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
-                               ModelUnits* units);
+                               ModelUnits* units, std::vector<std::string>* warnings = nullptr);
+
+/// What the command is working on, for the message of an out-of-memory that reaches main ("FILE: reading the
+/// model", "FILE: working on its model of 12 patches"); loadModel sets it. Empty before any file is read.
+void setActivity(std::string text);
+const std::string& activity();
 
 /// --units alone (for commands without tolerances, e.g. info): sets overrides.units.
 void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides);

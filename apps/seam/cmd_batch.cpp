@@ -4,7 +4,8 @@
 // process; a file that crashes the reader or runs past --timeout costs only its own row), N children at a time.
 // One line per file as it finishes (stderr), then the combined table (stdout), or with --json one object holding
 // a row per file (the keys of seam.batch.check_file in the Python module) and the totals.
-// Exit codes: 0 every file read and free of gaps and kinks, 1 some file has a gap or a kink (or a seam below
+// Exit codes: 0 every file read and free of gaps and kinks, 1 some file has a gap, a kink or a seam whose analysis
+// failed (a degenerate edge: "collapses to a point") (or a seam below
 // --require), 2 bad usage, no files, or some file unreadable / invalid / crashed / timed out. A bad file never
 // stops the batch.
 #include <fcntl.h>
@@ -56,23 +57,76 @@ bool isModelFile(const fs::path& p) {
   return ext == ".json" || ext == ".bpt" || isCadFile(p);
 }
 
+/// A file name or message on one line: a control character (a newline in a file name) as a C escape ("\\n",
+/// "\\x1b"), a backslash doubled, so that a row is always one line.
+std::string oneLine(std::string_view s) {
+  std::string out;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\\') {
+      out += "\\\\";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (u < 0x20 || u == 0x7f) {
+      out += fmt::format("\\x{:02x}", u);
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+/// Why a path with a model file's name is not checked ("a FIFO", "a dangling symbolic link", "a symbolic link to
+/// a character device (/dev/zero)"), or "" for a regular file (or a link to one).
+std::string notARegularFile(const fs::path& p) {
+  std::error_code ec;
+  const fs::file_status link = fs::symlink_status(p, ec);
+  if (ec) return "cannot be examined: " + ec.message();
+  const bool isLink = fs::is_symlink(link);
+  const fs::file_status target = isLink ? fs::status(p, ec) : link;
+  if (isLink && (ec || !fs::exists(target))) return "a dangling symbolic link";
+  if (fs::is_regular_file(target)) return "";
+  std::string kind = fs::is_directory(target)           ? "a directory"
+                     : fs::is_fifo(target)               ? "a FIFO"
+                     : fs::is_character_file(target)     ? "a character device"
+                     : fs::is_block_file(target)         ? "a block device"
+                     : fs::is_socket(target)             ? "a socket"
+                                                         : "not a regular file";
+  if (!isLink) return kind;
+  const fs::path to = fs::read_symlink(p, ec);
+  return fmt::format("a symbolic link to {}{}", kind, ec ? "" : " (" + to.string() + ")");
+}
+
 /// The model files of the inputs (directories recursively, else glob patterns), sorted, without duplicates; an
-/// input that names no model file is an error (a typo must not look like an empty, successful batch).
+/// input that names no model file is an error (a typo must not look like an empty, successful batch). A path with
+/// a model file's name that is not a regular file (a FIFO, a device, a dangling link) is skipped with a warning.
 std::optional<std::vector<std::string>> collectFiles(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
+  auto consider = [&](const fs::path& p) {
+    if (!isModelFile(p)) return;
+    const std::string why = notARegularFile(p);
+    if (why.empty()) {
+      files.push_back(p.string());
+    } else if (!fs::is_directory(p)) {
+      std::cerr << fmt::format("seam: warning: {}: skipped: {}, not a regular file\n", oneLine(p.string()), why);
+    }
+  };
   for (const std::string& in : inputs) {
     size_t before = files.size();
     std::error_code ec;
     if (fs::is_directory(in, ec)) {
       for (auto it = fs::recursive_directory_iterator(in, fs::directory_options::skip_permission_denied, ec);
            !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-        if (it->is_regular_file(ec) && isModelFile(it->path())) files.push_back(it->path().string());
+        consider(it->path());
       }
     } else {
       glob_t g{};
       if (::glob(in.c_str(), 0, nullptr, &g) == 0)
-        for (size_t k = 0; k < g.gl_pathc; ++k)
-          if (fs::is_regular_file(g.gl_pathv[k], ec) && isModelFile(g.gl_pathv[k])) files.emplace_back(g.gl_pathv[k]);
+        for (size_t k = 0; k < g.gl_pathc; ++k) consider(g.gl_pathv[k]);
       globfree(&g);
     }
     if (files.size() == before) {
@@ -92,6 +146,8 @@ struct Row {
   std::string error;
   int seams = 0;
   std::array<int, 5> verdicts{};  // gap, kink, crease, G1, G2
+  int failed = 0;                  // seams whose analysis failed (a degenerate edge: "collapses to a point")
+  std::vector<std::string> warnings;  // the reader's (a partly read STEP/IGES file is never "ok" without them)
   std::optional<double> worstGap, worstAngleDeg;
   std::string unit;                    // the model's length unit ("mm"; "" for a unit-less model)
   std::optional<double> gapTolerance;  // the distance tolerance the gaps were judged by, in `unit`
@@ -138,8 +194,13 @@ void fillFromJson(Row& row, const std::string& text, bool require) {
   if (units.is_object() && units.contains("length") && units["length"].is_string())
     row.unit = units["length"].get<std::string>();
   row.gapTolerance = number(j.value("tolerances", nlohmann::json()), "distance");
+  row.failed = summary.value("failed", 0);
+  const nlohmann::json warnings = j.value("warnings", nlohmann::json::array());
+  if (warnings.is_array())
+    for (const nlohmann::json& w : warnings)
+      if (w.is_string()) row.warnings.push_back(w.get<std::string>());
   const bool below = require && summary.value("below_required", 0) > 0;
-  row.status = row.verdicts[0] > 0 || row.verdicts[1] > 0 || below ? "problem" : "ok";
+  row.status = row.verdicts[0] > 0 || row.verdicts[1] > 0 || row.failed > 0 || below ? "problem" : "ok";
 }
 
 /// A running child: `seam check FILE --json` with stdout and stderr in temporary files.
@@ -201,13 +262,22 @@ std::string length(const std::optional<double>& x, const Row& r) {
   return x && !r.unit.empty() ? formatNumber(*x) + " " + r.unit : number(x);
 }
 
+/// A warning of the row's file without the file name in front (the row names the file already).
+std::string warningOf(const Row& r, const std::string& w) {
+  const std::string prefix = r.file + ": ";
+  return oneLine(w.rfind(prefix, 0) == 0 ? w.substr(prefix.size()) : w);
+}
+
 std::string rowLine(const Row& r) {
-  if (r.status == "error") return fmt::format("{}: error: {}", r.file, r.error);
-  return fmt::format("{}: {}: {} seams (gap {}, kink {}, crease {}, G1 {}, G2 {}), worst gap {}, worst kink {} deg, "
-                     "gap tolerance {}, {:.2f} s",
-                     r.file, r.status, r.seams, r.verdicts[0], r.verdicts[1], r.verdicts[2], r.verdicts[3],
-                     r.verdicts[4], length(r.worstGap, r), number(r.worstAngleDeg), length(r.gapTolerance, r),
-                     r.seconds);
+  if (r.status == "error") return fmt::format("{}: error: {}", oneLine(r.file), oneLine(r.error));
+  std::string line =
+      fmt::format("{}: {}: {} seams (gap {}, kink {}, crease {}, G1 {}, G2 {}{}), worst gap {}, worst kink {} deg, "
+                  "gap tolerance {}, {:.2f} s",
+                  oneLine(r.file), r.status, r.seams, r.verdicts[0], r.verdicts[1], r.verdicts[2], r.verdicts[3],
+                  r.verdicts[4], r.failed > 0 ? fmt::format(", failed {}", r.failed) : "", length(r.worstGap, r),
+                  number(r.worstAngleDeg), length(r.gapTolerance, r), r.seconds);
+  for (const std::string& w : r.warnings) line += "\n  warning: " + warningOf(r, w);
+  return line;
 }
 
 OrderedJson rowJson(const Row& r) {
@@ -217,6 +287,8 @@ OrderedJson rowJson(const Row& r) {
                 {"error", r.status == "error" ? OrderedJson(r.error) : OrderedJson(nullptr)},
                 {"seams", r.seams}};
   for (size_t k = 0; k < 5; ++k) j[kVerdictKeys[k]] = r.verdicts[k];
+  j["failed"] = r.failed;
+  j["warnings"] = r.warnings;
   j["worst_gap"] = opt(r.worstGap);
   j["worst_angle_deg"] = opt(r.worstAngleDeg);
   j["length_unit"] = r.unit.empty() ? OrderedJson(nullptr) : OrderedJson(r.unit);
@@ -343,22 +415,26 @@ int runBatch(const BatchOptions& o) {
     std::vector<std::vector<std::string>> table;
     for (const Row& r : rows) {
       if (r.status == "error") {
-        table.push_back(
-            {r.file, "error", "-", "-", "-", "-", "-", "-", "-", "-", "-", fmt::format("{:.2f}", r.seconds)});
+        table.push_back({oneLine(r.file), "error", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-",
+                         fmt::format("{:.2f}", r.seconds)});
         continue;
       }
-      std::vector<std::string> line{r.file, r.status, std::to_string(r.seams)};
+      std::vector<std::string> line{oneLine(r.file), r.status, std::to_string(r.seams)};
       for (int v : r.verdicts) line.push_back(std::to_string(v));
-      line.insert(line.end(), {length(r.worstGap, r), number(r.worstAngleDeg), length(r.gapTolerance, r),
-                               fmt::format("{:.2f}", r.seconds)});
+      line.insert(line.end(), {std::to_string(r.failed), std::to_string(r.warnings.size()), length(r.worstGap, r),
+                               number(r.worstAngleDeg), length(r.gapTolerance, r), fmt::format("{:.2f}", r.seconds)});
       table.push_back(line);
     }
-    fmt::print("{}", formatTable({"file", "status", "seams", "gap", "kink", "crease", "G1", "G2", "worst gap",
-                                  "worst kink (deg)", "gap tolerance", "seconds"},
-                                 table, {false, false, true, true, true, true, true, true, true, true, true, true}));
-    for (const Row& r : rows)
-      if (r.status == "error") fmt::print("{}: error: {}\n", r.file, r.error);
-    fmt::print("\n{} files: {} ok, {} with gaps or kinks, {} unreadable; {:.2f} s with {} jobs ({:.3g} files/s)\n",
+    fmt::print("{}", formatTable({"file", "status", "seams", "gap", "kink", "crease", "G1", "G2", "failed",
+                                  "warnings", "worst gap", "worst kink (deg)", "gap tolerance", "seconds"},
+                                 table,
+                                 {false, false, true, true, true, true, true, true, true, true, true, true, true,
+                                  true}));
+    for (const Row& r : rows) {
+      if (r.status == "error") fmt::print("{}: error: {}\n", oneLine(r.file), oneLine(r.error));
+      for (const std::string& w : r.warnings) fmt::print("{}: warning: {}\n", oneLine(r.file), warningOf(r, w));
+    }
+    fmt::print("\n{} files: {} ok, {} with gaps, kinks or failed seams, {} unreadable; {:.2f} s with {} jobs ({:.3g} files/s)\n",
                rows.size(), ok, problem, error, seconds, jobs, static_cast<double>(rows.size()) / seconds);
   }
   return error > 0 ? kExitBadInput : problem > 0 ? kExitGeometryProblem : kExitOk;
@@ -377,7 +453,7 @@ void addBatch(CLI::App& app, int& exit) {
   cmd->add_option("--require", o->require, "A file with a seam below this class (G0, G1 or G2) is a problem");
   addToleranceOptions(*cmd, o->tol);
   cmd->add_flag("--patches", o->patches, "STEP/IGES: check the faces as patches instead of the B-rep edges");
-  cmd->footer("Exit codes: 0 all files ok, 1 some file has a gap or a kink (or a seam below --require), 2 bad usage "
+  cmd->footer("Exit codes: 0 all files ok, 1 some file has a gap, a kink or a failed seam (or a seam below --require), 2 bad usage "
               "or some file unreadable, invalid, crashed or timed out.");
   cmd->callback([o, &exit]() { exit = runBatch(*o); });
 }

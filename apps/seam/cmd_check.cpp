@@ -307,6 +307,15 @@ std::optional<EdgeRef> parseSeamSide(const Model& m, const std::string& file, co
   return std::nullopt;
 }
 
+/// The reader's warnings at the end of the table output (also on stderr as they happen): a partly read file must
+/// not look complete. "" when there are none.
+std::string warningLines(const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return "";
+  std::string out = fmt::format("\nreader warnings ({}): the results are for what was read\n", warnings.size());
+  for (const std::string& w : warnings) out += "  " + w + "\n";
+  return out;
+}
+
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: every edge shared by two faces of the (sewn) B-rep, with OpenCASCADE's verdict next to seam's.
 int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require, const SeamSelection& sel) {
@@ -388,6 +397,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                  const occt::BRepSeam& s = r->seams[k];
                  return fmt::format("edge {} ({} / {})", s.edge, face(s.a), face(s.b));
                }));
+    fmt::print("{}", warningLines(r->import.warnings));
   }
   return require && below > 0 ? kExitGeometryProblem : kExitOk;
 }
@@ -414,12 +424,15 @@ int runCheck(const CheckOptions& o) {
   if (isCadFile(o.file) && !o.patches && o.seam.empty()) return runBRepCheck(o, require, *sel);
 #endif
   ModelUnits units;
-  const std::optional<Model> model = loadModel(o.file, o.tol, &units);
+  std::vector<std::string> warnings;  // a STEP/IGES file read as patches: the reader's (also on stderr)
+  const std::optional<Model> model = loadModel(o.file, o.tol, &units, &warnings);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {  // only curves, or "patches": []: as `report` and `heal` (issue 15)
     const std::string note = fmt::format("{}: the model has no patches: nothing to check", o.file);
+    OrderedJson none = noPatchesJson(o.file, units);
+    none["warnings"] = warnings;
     if (o.json)
-      printJson(withInputFile(o.file, noPatchesJson(o.file, units)));
+      printJson(withInputFile(o.file, std::move(none)));
     else
       fmt::print("{}\n", note);
     return kExitOk;
@@ -483,12 +496,13 @@ int runCheck(const CheckOptions& o) {
     // Streamed record by record (the DOM of a 10 000-patch check took ~300 MB and 3 s); the same bytes as
     // jsonText(withInputFile(file, modelCheckJson(...))), which the Python module returns as a dict.
     writeModelCheckJson(std::cout, o.file, *model, report, selectSeams(reportsOf(report), *sel), require, pairing,
-                        sel->creaseAngleDeg, units, resolved.distanceSource);
+                        sel->creaseAngleDeg, units, resolved.distanceSource, warnings);
   } else {
     std::string out = fmt::format("{}: {}\n", o.file, unitLine(units, resolved, sel->creaseAngleDeg, pairing));
     out += seamTable(*model, report, *sel, units);
     if (o.seam.empty()) out += cornerTable(*model, report) + edgeLists(*model, report);
     out += summaryLine(*model, report, require, sel->creaseAngleDeg, units);
+    out += warningLines(warnings);
     fmt::print("{}", out);
   }
   return require && report.summary.belowRequired > 0 ? kExitGeometryProblem : kExitOk;

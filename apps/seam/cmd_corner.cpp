@@ -154,7 +154,7 @@ void addCorner(CLI::App& app, int& exit) {
       const ThreePatchCorner c{s->patch, t->patch, h->patch, s->edges[0], t->edges[0], s->edges[1], t->edges[1],
                                h->edges[0]};
       auto res = joinThreePatchCorner(*model, c, co);
-      if (!res) return printError(res.status().message());
+      if (!res) return printError(fmt::format("{}: {}", o->file, res.status().message()));
       if (!saveModel(res->model, o->out)) return;
       achieved = res->report.achieved;
       if (o->json) {
@@ -189,7 +189,7 @@ void addCorner(CLI::App& app, int& exit) {
         c.toPrev[k] = p->edges[1];
       }
       auto res = joinFourPatchCorner(*model, c, co);
-      if (!res) return printError(res.status().message());
+      if (!res) return printError(fmt::format("{}: {}", o->file, res.status().message()));
       if (!saveModel(res->model, o->out)) return;
       achieved = res->report.achieved;
       if (o->json) {

@@ -120,7 +120,7 @@ void addJoin(CLI::App& app, int& exit) {
     const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());
     jo.tolerances = resolved.tolerances;
     auto res = joinSeam(*model, mv->patch, mv->edge, to->patch, to->edge, jo);
-    if (!res) return printError(res.status().message());
+    if (!res) return printError(fmt::format("{}: {}", o->file, res.status().message()));  // the file, then why
     const JoinReport& r = res->report;
     if (!saveModel(res->model, o->out)) return;  // .json, .step/.stp, .iges/.igs by extension
     if (o->json) {

@@ -80,8 +80,10 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
     printError(page.status().message());
     return kExitBadInput;
   }
+  for (const std::string& w : page->warnings) std::cerr << "seam: warning: " << w << "\n";
   if (!writeOutputFile(o.out, page->html)) return kExitBadInput;
-  fmt::print("wrote {} ({} B-rep seams, worst {})\n", o.out, page->seams, toString(page->worst));
+  fmt::print("wrote {} ({} B-rep seams, worst {}{})\n", o.out, page->seams, toString(page->worst),
+             page->warnings.empty() ? "" : fmt::format("; {} reader warnings, in the report", page->warnings.size()));
   return kExitOk;
 }
 #endif
@@ -101,7 +103,8 @@ int runReport(const ReportOptions& o) {
   }
 #endif
   ModelUnits units;
-  const std::optional<Model> model = loadModel(o.file, o.tol, &units);
+  std::vector<std::string> warnings;
+  const std::optional<Model> model = loadModel(o.file, o.tol, &units, &warnings);
   if (!model) return kExitBadInput;
   if (model->patches.empty()) {
     fmt::print("{}: the model has no patches: nothing to check (no report written)\n", o.file);
@@ -119,6 +122,7 @@ int runReport(const ReportOptions& o) {
   }
   report::ReportData d = report::reportData(*model, *report, ro.samplesPerEdge);
   setReportUnits(d, units, resolved);
+  d.warnings = warnings;
   if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
   fmt::print("wrote {} ({} seams, worst {})\n", o.out, report->seams.size(), toString(report->summary.worstGeometric));
   return kExitOk;
@@ -142,6 +146,28 @@ void addReport(CLI::App& app, int& exit) {
   cmd->callback([o, &exit]() { exit = runReport(*o); });
 }
 
+/// export-mesh's bounds: grid cells per span and direction, vertices of the whole mesh (about 120 bytes of OBJ text
+/// each with its normal and two triangles: 2 000 000 vertices are about 230 MB).
+constexpr int kMaxPerSpan = 64;
+constexpr long long kMaxMeshVertices = 2'000'000;
+constexpr long long kObjBytesPerVertex = 120;
+
+/// The vertices report::objMesh makes for `model` (per patch and direction: samplesPerSpan x spans cells, at most
+/// maxSamplesPerPatch).
+long long meshVertices(const Model& model, const report::MeshOptions& mo) {
+  long long total = 0;
+  for (const Patch& p : model.patches) {
+    const BSplineSurface& s = p.surface;
+    const auto spans = [](const KnotVector& k, int degree) {
+      return static_cast<long long>(k.interiorBreakpoints(degree).size()) + 1;
+    };
+    const long long cu = std::min<long long>(mo.samplesPerSpan * spans(s.knotsU(), s.degreeU()), mo.maxSamplesPerPatch);
+    const long long cv = std::min<long long>(mo.samplesPerSpan * spans(s.knotsV(), s.degreeV()), mo.maxSamplesPerPatch);
+    total += (cu + 1) * (cv + 1);
+  }
+  return total;
+}
+
 void addExportMesh(CLI::App& app, int& exit) {
   struct Options {
     std::string file, out;
@@ -151,8 +177,11 @@ void addExportMesh(CLI::App& app, int& exit) {
   CLI::App* cmd = app.add_subcommand("export-mesh", "Tessellate the patches into a Wavefront OBJ mesh with normals");
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "OBJ file to write")->required();
-  cmd->add_option("--per-span", o->perSpan, "Grid cells per Bezier span and direction (default 8)")
-      ->check(CLI::Range(1, 1024));
+  cmd->add_option("--per-span", o->perSpan,
+                  fmt::format("Grid cells per Bezier span and direction (default 8, at most {}; the whole mesh at "
+                              "most {} vertices)",
+                              kMaxPerSpan, kMaxMeshVertices))
+      ->check(CLI::Range(1, kMaxPerSpan));
   cmd->callback([o, &exit]() {
     if (!checkOutputPath(o->file, o->out)) {
       exit = kExitBadInput;
@@ -175,6 +204,17 @@ void addExportMesh(CLI::App& app, int& exit) {
     }
     report::MeshOptions mo;
     mo.samplesPerSpan = o->perSpan;
+    // The size of the mesh before it is made: a fine --per-span on a model of many spans is refused with a message,
+    // not written as hundreds of megabytes.
+    const long long vertices = meshVertices(*model, mo);
+    if (vertices > kMaxMeshVertices) {
+      printError(fmt::format("{}: --per-span {} would make a mesh of {} vertices (about {} MB of OBJ text), more than "
+                             "the limit of {}; use a smaller --per-span",
+                             o->file, o->perSpan, vertices, vertices * kObjBytesPerVertex / (1 << 20),
+                             kMaxMeshVertices));
+      exit = kExitBadInput;
+      return;
+    }
     const Result<std::string> obj = report::objMesh(*model, mo);
     if (!obj) {
       printError(fmt::format("{}: {}", o->file, obj.status().message()));

@@ -2,6 +2,7 @@
 // CLI11 application, parses, and maps errors to exit codes (0 ok, 1 geometry problem, 2 bad usage or input).
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -52,8 +53,15 @@ int main(int argc, char** argv) {
     }
     return exitCode;
   } catch (const std::bad_alloc&) {
-    std::cout.flush();
-    std::cerr << "seam: error: out of memory: the input is too large for this machine\n";
+    // Written without allocating (memory may still be short): the file and the stage, then the problem.
+    std::fflush(stdout);
+    const std::string& where = seam::cli::activity();
+    std::fputs("seam: error: ", stderr);
+    if (!where.empty()) {
+      std::fputs(where.c_str(), stderr);
+      std::fputs(": ", stderr);
+    }
+    std::fputs("out of memory (the input is too large for the memory this process may use)\n", stderr);
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cout.flush();

@@ -25,7 +25,8 @@ from ._seam import (Model, __version__, corner, derivatives, dumps, evaluate, ev
 
 _TIMEOUT_DOC = """
 
-timeout: seconds the call may take (reading the file included), or None (the default) for no limit. With a number,
+timeout: seconds the call may take (reading the file included), or None (the default) for no limit (math.inf: in
+the child process, no limit; zero, negative, NaN or a bool: ValueError). With a number,
 the call runs in a separate Python process that is stopped when the time is up, raising TimeoutError (an OSError):
 OpenCASCADE can spend minutes on a corrupt STEP/IGES file and cannot be interrupted otherwise. It costs the start of
 that process (about 0.3 s). Only for a file path, not for a Model."""

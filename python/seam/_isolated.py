@@ -9,6 +9,7 @@ warnings the call issued are issued again here. A process (not multiprocessing) 
 workers, which are daemonic processes and may not have multiprocessing children. docs/reliability.md, "Time limit".
 """
 import json
+import math
 import os
 import signal
 import subprocess
@@ -28,15 +29,19 @@ def run(function: str, path, timeout: float, /, **kwargs):
     """The result of seam's `function` ("load", "check", "report") on `path` with `kwargs`, computed in a child
     process given `timeout` seconds. Raises TimeoutError (an OSError) when the time is up."""
     path = os.fspath(path)
-    if not (isinstance(timeout, (int, float)) and timeout > 0 and timeout == timeout):
+    if isinstance(timeout, bool) or not (isinstance(timeout, (int, float)) and timeout > 0 and timeout == timeout):
         raise ValueError(f"timeout must be a positive number of seconds, not {timeout!r}")
+    try:
+        limit = None if math.isinf(timeout) else float(timeout)  # inf: the child process, with no limit
+    except OverflowError:  # an int beyond a float (10**400): no limit either
+        limit = None
     request = json.dumps({"function": function, "path": path, "kwargs": kwargs})
     package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env = dict(os.environ)
     env["PYTHONPATH"] = package_parent + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     try:
         done = subprocess.run([sys.executable, "-m", "seam._isolated"], input=request, capture_output=True, text=True,
-                              timeout=timeout, env=env, check=False)
+                              timeout=limit, env=env, check=False)
     except subprocess.TimeoutExpired:
         raise TimeoutError(f"{path}: {function} took longer than the time limit of {_number(timeout)} s and was "
                            "stopped (a corrupt STEP/IGES file can keep OpenCASCADE's shape healing busy for "

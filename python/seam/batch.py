@@ -8,8 +8,10 @@
         rows = seam.batch.check_files(files, client=client)   # the same rows, computed on the workers
 
 Each row is the per-file summary of `seam batch --json` (same keys): file, status ("ok", "problem": some seam is a
-gap or a kink, or below `require`; "error": unreadable or invalid, with the message in "error"), seams, the verdict
-counts, the worst gap and angle, seconds. A bad file gives an "error" row; it never stops the batch.
+gap or a kink, or failed to be analysed (a degenerate edge), or below `require`; "error": unreadable or invalid, with
+the message in "error"), seams, the verdict counts, "failed" (seams whose analysis failed), "warnings" (the reader's:
+entities lost, roots not transferred; a partly read file is never "ok" without them), the worst gap and angle,
+seconds. A bad file gives an "error" row; it never stops the batch.
 
 On a cluster, every worker must import the same seam module (build/python on its path) and see the files under the
 same path. OpenCASCADE's readers keep global state, so a worker reads one STEP/IGES file at a time (the module
@@ -20,6 +22,7 @@ from __future__ import annotations
 import glob
 import os
 import time
+import warnings
 
 #: The extensions `seam batch` and find_files pick up (any case).
 EXTENSIONS = (".json", ".bpt", ".step", ".stp", ".iges", ".igs")
@@ -35,7 +38,12 @@ def find_files(where: str) -> list[str]:
         found = [os.path.join(root, name) for root, _, names in os.walk(where) for name in names]
     else:
         found = glob.glob(where, recursive=True)
-    files = sorted(f for f in found if os.path.splitext(f)[1].lower() in EXTENSIONS and os.path.isfile(f))
+    named = [f for f in found if os.path.splitext(f)[1].lower() in EXTENSIONS]
+    for f in named:
+        if not os.path.isfile(f) and not os.path.isdir(f):  # a FIFO, a device, a dangling link: said, not checked
+            warnings.warn(f"{f}: skipped: not a regular file (a FIFO, a device or a dangling symbolic link)",
+                          stacklevel=2)
+    files = sorted(f for f in named if os.path.isfile(f))
     if not files:
         raise ValueError(f"{where}: no .json/.bpt/.step/.stp/.iges/.igs files")
     return files
@@ -48,11 +56,14 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
     worst_gap = summary.get("worst_gap") or {}
     worst_kink = summary.get("worst_kink") or {}
     below = summary.get("below_required", 0) if require else 0
-    problem = any(verdicts.get(v, 0) > 0 for v in PROBLEM_VERDICTS) or bool(below)
+    failed = summary.get("failed", 0)  # seams whose analysis failed (a degenerate edge): a problem
+    problem = any(verdicts.get(v, 0) > 0 for v in PROBLEM_VERDICTS) or bool(below) or failed > 0
     row = {"file": path, "status": "problem" if problem else "ok", "error": None,
            "seams": summary.get("seams", 0)}
     for v in ("gap", "kink", "crease", "G1", "G2"):
         row[v] = verdicts.get(v, 0)
+    row["failed"] = failed
+    row["warnings"] = list(result.get("warnings") or [])  # the reader's: a partly read file is never a bare "ok"
     row["worst_gap"] = worst_gap.get("gap")
     row["worst_angle_deg"] = worst_kink.get("angle_deg")
     row["length_unit"] = (result.get("units") or {}).get("length")
@@ -64,7 +75,7 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
 def error_row(path: str, message: str, seconds: float = 0.0) -> dict:
     """The row of a file that could not be checked."""
     return {"file": path, "status": "error", "error": message, "seams": 0, "gap": 0, "kink": 0, "crease": 0, "G1": 0,
-            "G2": 0, "worst_gap": None, "worst_angle_deg": None, "length_unit": None,
+            "G2": 0, "failed": 0, "warnings": [], "worst_gap": None, "worst_angle_deg": None, "length_unit": None,
             "gap_tolerance": None, "seconds": seconds}
 
 

@@ -453,6 +453,20 @@ Result<FillResult> fillFillet(const Model& model, const std::vector<std::string>
       bz[s].push_back(std::move(b).value());
     }
   }
+  // A patch in both strips (or twice in one) would face itself: the fillet between them is degenerate.
+  for (size_t s = 0; s < 2; ++s) {
+    for (size_t k = 0; k < n; ++k) {
+      for (size_t t = s; t < 2; ++t) {
+        for (size_t j = t == s ? k + 1 : 0; j < n; ++j) {
+          if (idx[s][k] != idx[t][j]) continue;
+          return invalidInput(fmt::format(
+              "fill --fillet: patch \"{}\" is given twice ({} of strip {} and {} of strip {}); the two strips must "
+              "be different patches facing each other",
+              model.patches[static_cast<size_t>(idx[s][k])].name, k + 1, s + 1, j + 1, t + 1));
+        }
+      }
+    }
+  }
   // The facing edges: for each k, the edges of strip1[k] and strip2[k] not shared with their strip
   // neighbours, the pair with the closest middle points.
   auto candidateEdges = [&](size_t s, size_t k) {

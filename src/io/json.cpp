@@ -34,13 +34,6 @@ std::string quote(const std::string& s) {
   return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
-/// Compact JSON text of a value, shortened for messages.
-std::string brief(const Json& j) {
-  constexpr size_t kMaxChars = 40;
-  std::string s = j.dump(-1, ' ', false, Json::error_handler_t::replace);
-  if (s.size() > kMaxChars) s = s.substr(0, kMaxChars) + "...";
-  return s;
-}
 
 // ---------------------------------------------------------------------------------------------------------------
 // The fast parser's DOM (simdjson) behind the member names of nlohmann::json that ModelReader uses, so that one
@@ -168,6 +161,285 @@ std::string brief(const SimdValue& j) {
   return s;
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// The nlohmann route's document: a compact tree built from nlohmann's SAX events (16 bytes a value, one array of
+// values and one of child indices, both reserved once from a count of the text's commas, brackets and colons), behind
+// the member names of nlohmann::json that ModelReader uses. Not nlohmann's own DOM: a node of it is a heap object
+// per value (3 to 5 times the text), and destroying a partly built one allocates, so an out-of-memory during parsing
+// threw again while unwinding and aborted the process (issue 39 goal 4).
+
+class CompactDoc {
+ public:
+  enum class Type : std::uint8_t { kNull, kBool, kInteger, kUnsigned, kFloat, kString, kArray, kObject };
+  struct Node {
+    Type type = Type::kNull;
+    std::uint32_t count = 0;  ///< elements of an array, members of an object, bytes of a string
+    union {
+      std::int64_t integer;
+      std::uint64_t unsignedValue;
+      double floating;
+      std::uint64_t offset;  ///< into children_ (arrays: element indices; objects: key, value pairs) or strings_
+      bool boolean;
+    };
+    Node() : offset(0) {}
+  };
+  static_assert(sizeof(Node) == 16);
+
+  /// Capacities for a text of `values` values (keys included): nothing grows while parsing.
+  void reserve(size_t values) {
+    nodes_.reserve(values);
+    children_.reserve(values);
+  }
+
+  const Node& node(std::uint32_t k) const { return nodes_[k]; }
+  std::uint32_t child(const Node& n, size_t i) const { return children_[n.offset + i]; }
+  std::string_view text(const Node& n) const { return std::string_view(strings_).substr(n.offset, n.count); }
+
+  class Builder;
+
+ private:
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> children_;
+  std::string strings_;
+};
+
+/// nlohmann's SAX interface filling a CompactDoc; a parse error is kept (with nlohmann's message and id) and stops
+/// the parse.
+class CompactDoc::Builder {
+ public:
+  using number_integer_t = Json::number_integer_t;
+  using number_unsigned_t = Json::number_unsigned_t;
+  using number_float_t = Json::number_float_t;
+  using string_t = Json::string_t;
+  using binary_t = Json::binary_t;
+
+  explicit Builder(CompactDoc& doc) : doc_(doc) {}
+
+  bool null() { return add(Node()); }
+  bool boolean(bool b) {
+    Node n;
+    n.type = Type::kBool;
+    n.boolean = b;
+    return add(n);
+  }
+  bool number_integer(number_integer_t v) {
+    Node n;
+    n.type = Type::kInteger;
+    n.integer = v;
+    return add(n);
+  }
+  bool number_unsigned(number_unsigned_t v) {
+    Node n;
+    n.type = Type::kUnsigned;
+    n.unsignedValue = v;
+    return add(n);
+  }
+  bool number_float(number_float_t v, const string_t& /*literal*/) {
+    Node n;
+    n.type = Type::kFloat;
+    n.floating = v;
+    return add(n);
+  }
+  bool string(string_t& v) { return add(stringNode(v)); }
+  bool binary(binary_t& /*unused*/) { return false; }  // never in JSON text
+  bool key(string_t& k) {
+    pending_.push_back(static_cast<std::uint32_t>(doc_.nodes_.size()));
+    doc_.nodes_.push_back(stringNode(k));
+    return true;
+  }
+  bool start_object(std::size_t /*unknown*/) { return open(Type::kObject); }
+  bool end_object() { return close(); }
+  bool start_array(std::size_t /*unknown*/) { return open(Type::kArray); }
+  bool end_array() { return close(); }
+  bool parse_error(std::size_t /*position*/, const std::string& /*last_token*/,
+                   const nlohmann::detail::exception& ex) {
+    errorId = ex.id;
+    error = ex.what();
+    return false;
+  }
+
+  int errorId = 0;    ///< nlohmann's exception id (1xx: syntax, 406: a number that overflows a double)
+  std::string error;  ///< nlohmann's exception text
+
+ private:
+  Node stringNode(const std::string& v) {
+    Node n;
+    n.type = Type::kString;
+    n.offset = doc_.strings_.size();
+    n.count = static_cast<std::uint32_t>(v.size());
+    doc_.strings_ += v;
+    return n;
+  }
+  bool add(const Node& n) {
+    if (!frames_.empty()) pending_.push_back(static_cast<std::uint32_t>(doc_.nodes_.size()));
+    doc_.nodes_.push_back(n);
+    return true;
+  }
+  bool open(Type type) {
+    Node n;
+    n.type = type;
+    add(n);
+    frames_.push_back({static_cast<std::uint32_t>(doc_.nodes_.size() - 1), pending_.size()});
+    return true;
+  }
+  bool close() {
+    const Frame f = frames_.back();
+    frames_.pop_back();
+    Node& n = doc_.nodes_[f.node];
+    const size_t count = pending_.size() - f.start;
+    n.count = static_cast<std::uint32_t>(n.type == Type::kObject ? count / 2 : count);
+    n.offset = doc_.children_.size();
+    doc_.children_.insert(doc_.children_.end(), pending_.begin() + static_cast<std::ptrdiff_t>(f.start),
+                          pending_.end());
+    pending_.resize(f.start);
+    return true;
+  }
+
+  struct Frame {
+    std::uint32_t node;  ///< the open array or object
+    size_t start;        ///< its first child in pending_
+  };
+  CompactDoc& doc_;
+  std::vector<Frame> frames_;
+  std::vector<std::uint32_t> pending_;  ///< children of the open containers, innermost last
+};
+
+/// A value of a CompactDoc with the member names of nlohmann::json that ModelReader uses (const access; a key or
+/// index not found reads as null, as nlohmann's const operator[] would not be asked for one: every access is
+/// checked first). Objects behave as nlohmann's: keys in sorted order, a repeated key keeps its last value.
+class DocValue {
+ public:
+  using Type = CompactDoc::Type;
+  DocValue() = default;
+  DocValue(const CompactDoc* doc, std::uint32_t node) : doc_(doc), node_(node) {}
+
+  bool is_object() const { return type() == Type::kObject; }
+  bool is_array() const { return type() == Type::kArray; }
+  bool is_string() const { return type() == Type::kString; }
+  bool is_number() const { return is_number_integer() || type() == Type::kFloat; }
+  bool is_number_unsigned() const { return type() == Type::kUnsigned; }
+  bool is_number_integer() const { return type() == Type::kInteger || type() == Type::kUnsigned; }
+
+  const char* type_name() const {
+    switch (type()) {
+      case Type::kNull: return "null";
+      case Type::kBool: return "boolean";
+      case Type::kString: return "string";
+      case Type::kArray: return "array";
+      case Type::kObject: return "object";
+      default: return "number";
+    }
+  }
+
+  size_t size() const {
+    switch (type()) {
+      case Type::kNull: return 0;
+      case Type::kArray: return node().count;
+      case Type::kObject: return members().size();
+      default: return 1;
+    }
+  }
+  bool empty() const { return size() == 0; }
+
+  DocValue operator[](size_t i) const {
+    if (!is_array() || i >= node().count) return {};
+    return {doc_, doc_->child(node(), i)};
+  }
+  DocValue operator[](std::string_view key) const {
+    DocValue found;
+    if (!is_object()) return found;
+    for (std::uint32_t m = 0; m < node().count; ++m) {
+      if (doc_->text(doc_->node(doc_->child(node(), 2 * m))) == key) found = {doc_, doc_->child(node(), 2 * m + 1)};
+    }
+    return found;
+  }
+  bool contains(std::string_view key) const { return is_object() && operator[](key).doc_ != nullptr; }
+  std::vector<std::pair<std::string, DocValue>> items() const { return members(); }
+
+  template <class T>
+  T get() const {
+    const CompactDoc::Node& n = node();
+    if constexpr (std::is_same_v<T, double>) {
+      switch (n.type) {
+        case Type::kFloat: return n.floating;
+        case Type::kInteger: return static_cast<double>(n.integer);
+        case Type::kUnsigned: return static_cast<double>(n.unsignedValue);
+        default: return 0.0;
+      }
+    } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+      return n.type == Type::kUnsigned ? n.unsignedValue : static_cast<std::uint64_t>(n.integer);
+    } else if constexpr (std::is_same_v<T, std::int64_t>) {
+      return n.type == Type::kUnsigned ? static_cast<std::int64_t>(n.unsignedValue) : n.integer;
+    } else {
+      static_assert(std::is_same_v<T, std::string>);
+      return is_string() ? std::string(doc_->text(n)) : std::string();
+    }
+  }
+  template <class T>
+  std::string get_ref() const {
+    return get<std::string>();
+  }
+
+  /// nlohmann's dump() (compact, invalid UTF-8 replaced), stopped once longer than `limit` characters.
+  void dump(std::string& out, size_t limit) const {
+    if (out.size() > limit) return;
+    const CompactDoc::Node& n = node();
+    switch (type()) {
+      case Type::kNull: out += "null"; return;
+      case Type::kBool: out += n.boolean ? "true" : "false"; return;
+      case Type::kInteger: out += std::to_string(n.integer); return;
+      case Type::kUnsigned: out += std::to_string(n.unsignedValue); return;
+      case Type::kFloat: out += Json(n.floating).dump(); return;
+      case Type::kString: out += quote(std::string(doc_->text(n))); return;
+      case Type::kArray:
+        out += '[';
+        for (std::uint32_t k = 0; k < n.count && out.size() <= limit; ++k) {
+          if (k > 0) out += ',';
+          operator[](k).dump(out, limit);
+        }
+        out += ']';
+        return;
+      case Type::kObject: {
+        out += '{';
+        bool first = true;
+        for (const auto& [key, value] : members()) {
+          if (out.size() > limit) break;
+          if (!first) out += ',';
+          first = false;
+          out += quote(key) + ':';
+          value.dump(out, limit);
+        }
+        out += '}';
+        return;
+      }
+    }
+  }
+
+ private:
+  Type type() const { return doc_ == nullptr ? Type::kNull : node().type; }
+  const CompactDoc::Node& node() const { return doc_->node(node_); }
+  /// The members in nlohmann's order (sorted by key), a repeated key with its last value.
+  std::vector<std::pair<std::string, DocValue>> members() const {
+    std::map<std::string, DocValue> sorted;
+    if (is_object()) {
+      for (std::uint32_t m = 0; m < node().count; ++m)
+        sorted[std::string(doc_->text(doc_->node(doc_->child(node(), 2 * m))))] = {doc_, doc_->child(node(), 2 * m + 1)};
+    }
+    return {sorted.begin(), sorted.end()};
+  }
+
+  const CompactDoc* doc_ = nullptr;
+  std::uint32_t node_ = 0;
+};
+
+std::string brief(const DocValue& j) {
+  constexpr size_t kMaxChars = 40;
+  std::string s;
+  j.dump(s, kMaxChars);
+  if (s.size() > kMaxChars) s = s.substr(0, kMaxChars) + "...";
+  return s;
+}
+
 /// Shortest text that reads back as the same double ("0.5", "1e+300", "inf").
 std::string num(double x) { return fmt::format("{}", x); }
 
@@ -201,9 +473,12 @@ constexpr int kMaxJsonDepth = 256;
 
 /// Rejects what no model file holds and what would harm the parser: a NUL byte anywhere (text after it would be
 /// silently ignored by some readers) and arrays/objects nested deeper than kMaxJsonDepth.
-Status scanJsonText(std::string_view text, std::string_view src) {
+/// `values` (when given): an upper bound of the number of values and keys in the text, exact for valid JSON (one
+/// more than its commas, colons and opening brackets outside strings), for CompactDoc::reserve.
+Status scanJsonText(std::string_view text, std::string_view src, size_t* values = nullptr) {
   bool inString = false;
   int depth = 0;
+  size_t separators = 0;
   for (size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\0') {
@@ -222,7 +497,10 @@ Status scanJsonText(std::string_view text, std::string_view src) {
     }
     if (c == '"') {
       inString = true;
+    } else if (c == ',' || c == ':') {
+      ++separators;
     } else if (c == '[' || c == '{') {
+      ++separators;
       if (++depth > kMaxJsonDepth) {
         return invalidInput(fmt::format("{}: not valid as a model: {}: arrays and objects nested more than {} "
                                         "deep (a model needs 6 levels)",
@@ -232,6 +510,7 @@ Status scanJsonText(std::string_view text, std::string_view src) {
       --depth;
     }
   }
+  if (values != nullptr) *values = separators + 1;
   return Status::ok();
 }
 
@@ -336,7 +615,21 @@ class ModelReader {
  public:
   explicit ModelReader(std::string source) : src_(std::move(source)) {}
 
+  /// The model of `root`; out of memory is a message naming the object being read, never an exception.
   Result<Model> read(const J& root) {
+    try {
+      return readUnguarded(root);
+    } catch (const std::bad_alloc&) {
+      return invalidInput(fmt::format("{}: {}: out of memory while building its control points and knots (the model "
+                                      "is too large for the memory this process may use; raise the limit or split "
+                                      "the model)",
+                                      src_, current_));
+    }
+  }
+
+ private:
+  Result<Model> readUnguarded(const J& root) {
+    current_ = "the top-level object";
     if (!root.is_object()) {
       return top(std::string("the top level must be an object with \"patches\" and/or \"curves\", found ") +
                  root.type_name());
@@ -374,7 +667,6 @@ class ModelReader {
     return model;
   }
 
- private:
   Status top(const std::string& problem) const { return invalidInput(src_ + ": " + problem); }
   Status fail(const std::string& where, const std::string& problem) const {
     return invalidInput(src_ + ": " + where + ": " + problem);
@@ -385,6 +677,7 @@ class ModelReader {
   Status readName(const J& j, const char* kind, const char* array, size_t index, std::string& name,
                   std::string& where) {
     where = fmt::format("{}[{}]", array, index);
+    current_ = where;
     if (!j.is_object()) return fail(where, std::string("must be an object, found ") + j.type_name());
     if (!j.contains("name")) return fail(where, "missing \"name\"");
     const auto& n = j["name"];
@@ -393,6 +686,7 @@ class ModelReader {
     }
     name = n.template get<std::string>();
     where = std::string(kind) + " " + quote(name);
+    current_ = where;
     const auto [it, inserted] = usedNames_.emplace(name, where);
     if (!inserted) return fail(where, "duplicate name (already used by " + it->second + ")");
     return Status::ok();
@@ -465,6 +759,23 @@ class ModelReader {
     return Status::ok();
   }
 
+  /// The degrees against the size of a patch's grid (nu rows of nv points), before its points are read: the
+  /// messages of readPatch's later checks, given first. A malformed "degree" is left to readPatch.
+  Status checkGridShape(const J& j, const std::string& where, size_t nu, size_t nv) const {
+    const int numU = static_cast<int>(nu);
+    const int numV = static_cast<int>(nv);
+    const auto& t = j["type"];
+    if (t.is_string() && t.template get<std::string>() == "bezier") {
+      if (Status s = checkDegree(numU - 1, numU, where, "u "); !s) return s;
+      return checkDegree(numV - 1, numV, where, "v ");
+    }
+    if (!j.contains("degree")) return Status::ok();
+    const auto& d = j["degree"];
+    if (!d.is_array() || d.size() != 2 || !asInteger(d[0]) || !asInteger(d[1])) return Status::ok();
+    if (Status s = checkDegree(*asInteger(d[0]), numU, where, "u "); !s) return s;
+    return checkDegree(*asInteger(d[1]), numV, where, "v ");
+  }
+
   /// "points" (and "weights") of a patch: points[i][j] = [x, y, z], i along u.
   Status readPatchGrid(const J& j, const std::string& where, PointGrid& grid) const {
     if (!j.contains("points")) return fail(where, "missing \"points\"");
@@ -474,26 +785,34 @@ class ModelReader {
                   "\"points\" must be a non-empty array of rows of points [[[x, y, z], ...], ...], found " +
                       brief(rows));
     }
+    const size_t rowSize = rows[0].is_array() ? rows[0].size() : 0;
     for (size_t i = 0; i < rows.size(); ++i) {
-      if (!rows[i].is_array() || rows[i].empty()) {
+      const auto& r = rows[i];
+      if (!r.is_array() || r.empty()) {
         return fail(where, fmt::format("\"points\"[{}] must be a non-empty array of points [[x, y, z], ...], "
                                        "found {}",
-                                       i, brief(rows[i])));
+                                       i, brief(r)));
       }
-      if (rows[i].size() != rows[0].size()) {
-        return fail(where, fmt::format("ragged point grid: row {} has {} points, row 0 has {}", i,
-                                       rows[i].size(), rows[0].size()));
+      if (r.size() != rowSize) {
+        return fail(where, fmt::format("ragged point grid: row {} has {} points, row 0 has {}", i, r.size(),
+                                       rowSize));
       }
     }
+    // The size of the grid is checked against the degrees before any point is read, so that a hostile shape (a
+    // single row of 10^6 points) is refused before work that grows with it.
+    if (Status s = checkGridShape(j, where, rows.size(), rowSize); !s) return s;
     grid.nu = static_cast<int>(rows.size());
-    grid.nv = static_cast<int>(rows[0].size());
+    grid.nv = static_cast<int>(rowSize);
     grid.dim = 3;
     grid.points.resize(static_cast<Eigen::Index>(grid.nu) * grid.nv, 3);
     for (int i = 0; i < grid.nu; ++i) {
+      // One value per row, indexed by k: the fast route's value lists a long row's elements once (SimdValue's
+      // operator[]); taking rows[i] again for each point walked the row from its start (quadratic in its length).
+      const auto& row = rows[static_cast<size_t>(i)];
       for (int k = 0; k < grid.nv; ++k) {
-        const Eigen::Index row = static_cast<Eigen::Index>(i) * grid.nv + k;
-        if (Status s = readPoint(rows[static_cast<size_t>(i)][static_cast<size_t>(k)], where,
-                                 fmt::format("point [{}][{}]", i, k), grid.dim, grid.points.row(row).data());
+        const Eigen::Index at = static_cast<Eigen::Index>(i) * grid.nv + k;
+        if (Status s = readPoint(row[static_cast<size_t>(k)], where, fmt::format("point [{}][{}]", i, k),
+                                 grid.dim, grid.points.row(at).data());
             !s) {
           return s;
         }
@@ -757,6 +1076,7 @@ class ModelReader {
   }
 
   std::string src_;
+  std::string current_;  ///< the object being read (`patch "S1"`), for an out-of-memory message
   std::map<std::string, std::string> usedNames_;  ///< name -> `patch "S1"` / `curve "C1"`
 };
 
@@ -884,54 +1204,107 @@ std::string jsonExceptionText(const char* what) {
   return s;
 }
 
+namespace {
+
+/// The message of an out-of-memory while reading `src`: the file, what was being built, and what to do.
+Status outOfMemory(const std::string& src, const std::string& what) {
+  return invalidInput(fmt::format("{}: out of memory while {} (the model is too large for the memory this process "
+                                  "may use; raise the limit or split the model)",
+                                  src, what));
+}
+
+/// Parses `text` into `doc` through nlohmann's SAX parser. False with `builder`'s error when the text is not JSON.
+bool parseCompact(std::string_view text, size_t values, CompactDoc& doc, int& errorId, std::string& error) {
+  doc = CompactDoc();
+  try {
+    doc.reserve(values);
+  } catch (const std::bad_alloc&) {
+    doc = CompactDoc();  // too much at once for this process: the arrays grow as the text is read
+  }
+  CompactDoc::Builder builder(doc);
+  if (Json::sax_parse(text, &builder)) return true;
+  errorId = builder.errorId;
+  error = builder.error;
+  return false;
+}
+
+}  // namespace
+
 Result<Model> detail::parseModelJsonNlohmann(std::string_view text, std::string_view source) {
   const std::string src(source);
-  if (Status s = scanJsonText(text, src); !s) return s;
-  Json root;
+  size_t values = 0;
+  if (Status s = scanJsonText(text, src, &values); !s) return s;
+  std::string stage = fmt::format("building the document of its JSON text ({} bytes, {} values)", text.size(), values);
   try {
-    root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    return invalidInput(src + ": not valid JSON: " + jsonExceptionText(e.what()));
-  } catch (const Json::exception& e) {
-    // nlohmann rejects number literals that overflow a double (1e999) without a position: mark them and
-    // retry, so that the model reader names the object that holds the number.
-    const OverflowScan scan = rewriteOverflowingNumbers(text);
-    if (scan.count == 0) return invalidInput(src + ": not valid JSON: " + jsonExceptionText(e.what()));
-    try {
-      root = Json::parse(scan.text);
-    } catch (const Json::exception&) {
-      return invalidInput(src + ": not valid JSON: " + lineColumn(text, scan.firstOffset) + ": number " +
-                          scan.firstLiteral + " is not a finite number (it overflows a double)");
+    CompactDoc doc;
+    int errorId = 0;
+    std::string error;
+    if (!parseCompact(text, values, doc, errorId, error)) {
+      // nlohmann's parse_error ids are 1xx; a number literal that overflows a double (1e999) is out_of_range 406,
+      // without a position: mark such literals and parse again, so that the model reader names the object that
+      // holds the number.
+      constexpr int kParseErrorIds = 100;
+      if (errorId / kParseErrorIds == 1) return invalidInput(src + ": not valid JSON: " + jsonExceptionText(error.c_str()));
+      stage = "rewriting the number literals that overflow a double";
+      const OverflowScan scan = rewriteOverflowingNumbers(text);
+      if (scan.count == 0) return invalidInput(src + ": not valid JSON: " + jsonExceptionText(error.c_str()));
+      stage = fmt::format("building the document of its JSON text ({} bytes, {} values)", scan.text.size(), values);
+      if (!parseCompact(scan.text, values, doc, errorId, error)) {
+        return invalidInput(src + ": not valid JSON: " + lineColumn(text, scan.firstOffset) + ": number " +
+                            scan.firstLiteral + " is not a finite number (it overflows a double)");
+      }
     }
-  }
-  try {
-    return ModelReader<Json>(src).read(root);
+    return ModelReader<DocValue>(src).read(DocValue(&doc, 0));
+  } catch (const std::bad_alloc&) {
+    return outOfMemory(src, stage);
   } catch (const std::exception& e) {
     // Not expected (every access is checked first); never let an exception leave the library.
     return invalidInput(src + ": " + e.what());
   }
 }
 
-std::optional<Model> detail::parseModelJsonFast(std::string_view text, std::string_view source) {
+namespace {
+
+/// The fast route on `size` bytes of `text`. `padded`: text holds simdjson's padding after them (readModelJson),
+/// so simdjson parses it in place instead of copying it; then, once parsed, `owner` (the text's string) is freed
+/// and so is the parser's index of the text, before the model is built: the peak is the text and simdjson's tape,
+/// not the text twice, the tape, the index and the model (issue 39 goal 4).
+std::optional<Model> fastRoute(const char* text, size_t size, bool padded, std::string* owner,
+                               std::string_view source) {
   const std::string src(source);
   // A \u escape (only names and types hold strings) goes the nlohmann way: the two parsers differ on lone
   // surrogates, and models rarely have one.
-  if (text.find("\\u") != std::string_view::npos) return std::nullopt;
+  if (std::string_view(text, size).find("\\u") != std::string_view::npos) return std::nullopt;
   // scanJsonText's checks without its pass over the text: simdjson refuses a NUL byte (outside a string it is no
   // JSON, inside one an unescaped control character) and, with this limit, nesting deeper than kMaxJsonDepth.
-  simdjson::dom::parser parser;
-  if (parser.allocate(text.size(), kMaxJsonDepth) != simdjson::SUCCESS) return std::nullopt;
-  simdjson::dom::element root;
-  // Syntax errors, numbers that overflow a double, integers beyond 64 bits, invalid UTF-8, a byte-order mark:
-  // declined, the nlohmann route gives its message or reads it as before.
-  if (parser.parse(text.data(), text.size(), true).get(root) != simdjson::SUCCESS) return std::nullopt;
+  // Out of memory anywhere here declines too: the nlohmann route needs less, and says what it could not build.
+  simdjson::dom::document doc;
+  {
+    simdjson::dom::parser parser;
+    if (parser.allocate(size, kMaxJsonDepth) != simdjson::SUCCESS) return std::nullopt;
+    simdjson::dom::element parsed;
+    // Syntax errors, numbers that overflow a double, integers beyond 64 bits, invalid UTF-8, a byte-order mark:
+    // declined, the nlohmann route gives its message or reads it as before.
+    if (parser.parse(text, size, !padded).get(parsed) != simdjson::SUCCESS) return std::nullopt;
+    doc = std::move(parser.doc);  // the tape and strings; the parser's index of the text goes with the parser
+  }
+  if (owner != nullptr) {
+    owner->clear();
+    owner->shrink_to_fit();
+  }
   try {
-    Result<Model> model = ModelReader<SimdValue>(src).read(SimdValue(root));
+    Result<Model> model = ModelReader<SimdValue>(src).read(SimdValue(doc.root()));
     if (!model) return std::nullopt;  // the message comes from the nlohmann route, exactly as before
     return std::move(model).value();
   } catch (const std::exception&) {
     return std::nullopt;  // not expected (every access is checked first); the nlohmann route decides
   }
+}
+
+}  // namespace
+
+std::optional<Model> detail::parseModelJsonFast(std::string_view text, std::string_view source) {
+  return fastRoute(text.data(), text.size(), false, nullptr, source);
 }
 
 Result<Model> parseModelJson(std::string_view text, std::string_view source) {
@@ -944,7 +1317,22 @@ Status checkJsonText(std::string_view text, std::string_view source) { return sc
 Result<Model> readModelJson(const std::filesystem::path& file) {
   Result<std::string> text = readFile(file);
   if (!text) return text.status();
-  return parseModelJson(*text, file.string());
+  const size_t size = text->size();
+  try {
+    text->append(simdjson::SIMDJSON_PADDING, '\0');  // simdjson reads past the end: parsed in place, not copied
+  } catch (const std::bad_alloc&) {
+    return outOfMemory(file.string(), fmt::format("reading its text ({} bytes)", size));
+  }
+  if (std::optional<Model> model = fastRoute(text->data(), size, true, &*text, file.string()))
+    return std::move(*model);
+  // Declined: the nlohmann route, on the text (read again when the fast route freed it after parsing).
+  if (text->size() == size + simdjson::SIMDJSON_PADDING) {
+    text->resize(size);
+  } else {
+    text = readFile(file);
+    if (!text) return text.status();
+  }
+  return detail::parseModelJsonNlohmann(*text, file.string());
 }
 
 std::string modelToJson(const Model& model) {

@@ -45,6 +45,7 @@
 #include <GeomConvert_ApproxSurface.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <gp.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -98,6 +99,7 @@
 #include <cfenv>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <csignal>
 #include <fstream>
 #include <functional>
@@ -360,9 +362,14 @@ namespace {
 Status verifyWritten(const fs::path& temp, const fs::path& file, CadFormat format, int faces) {
   std::vector<std::string> warnings;
   Result<TopoDS_Shape> back = detail::readShape(temp, format, &warnings, detail::kTransferTimeLimit);
-  if (!back)
+  if (!back) {
+    // The reader's message names the temporary file, which the user never sees: name the output instead.
+    std::string why = back.status().message();
+    for (size_t at = why.find(temp.string()); at != std::string::npos; at = why.find(temp.string(), at))
+      why.replace(at, temp.string().size(), file.string());
     return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
-                                    file.string(), back.status().message()));
+                                    file.string(), why));
+  }
   int n = 0;
   for (TopExp_Explorer ex(*back, TopAbs_FACE); ex.More(); ex.Next()) ++n;
   if (n != faces)
@@ -910,17 +917,86 @@ Result<CadImport> convertFacesUnguarded(const fs::path& file, const std::vector<
 
 namespace {
 
+/// OpenCASCADE's own words for what it refuses in a surface or a shape, said in the user's words (issue 39 goal 5);
+/// its text stays at the end, in parentheses, for a bug report.
+std::string occtInPlainWords(const std::string& occt) {
+  struct Known {
+    const char* fragment;
+    const char* words;
+  };
+  static const Known kKnown[] = {
+      {"Weights values too small", "a weight is too small for OpenCASCADE (at most 1e-290 is refused)"},
+      {"interval values too close", "two distinct knots are closer than OpenCASCADE can tell apart"},
+      {"invalid degree", "a degree is outside OpenCASCADE's range 1..25"},
+      {"FindFromKey", "OpenCASCADE lost track of a face while sewing or writing (patches that coincide or fold "
+                      "onto themselves)"},
+  };
+  for (const Known& k : kKnown)
+    if (occt.find(k.fragment) != std::string::npos) return fmt::format("{} (OpenCASCADE: {})", k.words, occt);
+  return fmt::format("OpenCASCADE failed (its message: {})", occt.empty() ? "none" : occt);
+}
+
+/// The smallest weight that OpenCASCADE's IGES writer and reader carry through a round trip: a patch with a weight
+/// of 1e-9 is read back, one of 1e-10 is written as an entity that its reader transfers to nothing (measured
+/// 2026-11-28 with OpenCASCADE 7.6, a bilinear patch with three weights 1; whatever the other weights are).
+constexpr double kIgesMinWeight = 1e-9;
+
+/// Why OpenCASCADE cannot take patch `s` as a Geom_BSplineSurface, in the user's words, or "" when it can: the
+/// checks of Geom_BSplineSurface's constructor (degree at most Geom_BSplineSurface::MaxDegree(), every weight above
+/// gp::Resolution(), distinct knots at least two representable numbers apart) and, for IGES, weights of at least
+/// kIgesMinWeight; made before the patch is handed over so that no error comes back as OpenCASCADE's text.
+std::string exportProblem(const BSplineSurface& s, CadFormat format) {
+  const int maxDegree = Geom_BSplineSurface::MaxDegree();
+  for (const auto& [dir, degree] : {std::pair{"u", s.degreeU()}, std::pair{"v", s.degreeV()}}) {
+    if (degree > maxDegree)
+      return fmt::format("its {} degree {} is above {}, the largest that OpenCASCADE (and so STEP/IGES export) "
+                         "supports; approximate it by a patch of lower degree, or keep the model as JSON",
+                         dir, degree, maxDegree);
+  }
+  if (s.isRational()) {
+    const double least = format == CadFormat::kIges ? kIgesMinWeight : gp::Resolution();
+    for (int i = 0; i < s.numU(); ++i)
+      for (int j = 0; j < s.numV(); ++j)
+        if (s.weight(i, j) < least || s.weight(i, j) <= gp::Resolution())
+          return fmt::format("weight [{}][{}] = {} is too small for OpenCASCADE's {} (weights must be at least {}); "
+                             "scale all the weights of the patch up by one factor (the surface stays the same)",
+                             i, j, s.weight(i, j), format == CadFormat::kIges ? "IGES" : "STEP", least);
+  }
+  for (const auto& [dir, knots] : {std::pair{"u", &s.knotsU()}, std::pair{"v", &s.knotsV()}}) {
+    const std::vector<double>& t = knots->values();
+    for (size_t k = 1; k < t.size(); ++k) {
+      const double a = t[k - 1], b = t[k];
+      // OpenCASCADE's test (BSplCLib): distinct knots closer than Epsilon(|a|), one unit in the last place.
+      if (b != a && b - a <= std::nextafter(std::abs(a), std::numeric_limits<double>::infinity()) - std::abs(a))
+        return fmt::format("{} knots {} ({}) and {} ({}) differ by one unit in the last place, which OpenCASCADE "
+                           "cannot tell apart; make them equal or move them apart",
+                           dir, k - 1, a, k, b);
+    }
+  }
+  return "";
+}
+
 /// The patches as B-spline faces, sewn with `tol` into a shell (a compound when sewing gives nothing).
-Result<TopoDS_Shape> sewnPatchShape(const Model& model, const fs::path& file, double tol) {
+Result<TopoDS_Shape> sewnPatchShape(const Model& model, const fs::path& file, CadFormat format, double tol) {
   std::vector<TopoDS_Face> faces;
     for (const Patch& p : model.patches) {
       if (p.surface.dim() != 3)
         return invalidInput(fmt::format("{}: patch \"{}\" is not 3-D", file.string(), p.name));
-      const Handle(Geom_BSplineSurface) s = toOcct(p.surface);
-      BRepBuilderAPI_MakeFace mf(s, Precision::Confusion());
-      if (!mf.IsDone())
-        return invalidInput(fmt::format("{}: patch \"{}\": OpenCASCADE cannot make a face of it", file.string(), p.name));
-      faces.push_back(mf.Face());
+      if (const std::string why = exportProblem(p.surface, format); !why.empty())
+        return invalidInput(fmt::format("{}: patch \"{}\" cannot be written as STEP/IGES: {}; nothing written",
+                                        file.string(), p.name, why));
+      try {
+        OCC_CATCH_SIGNALS
+        const Handle(Geom_BSplineSurface) s = toOcct(p.surface);
+        BRepBuilderAPI_MakeFace mf(s, Precision::Confusion());
+        if (!mf.IsDone())
+          return invalidInput(fmt::format("{}: patch \"{}\": OpenCASCADE cannot make a face of it; nothing written",
+                                          file.string(), p.name));
+        faces.push_back(mf.Face());
+      } catch (const Standard_Failure& f) {
+        return invalidInput(fmt::format("{}: patch \"{}\" cannot be written as STEP/IGES: {}; nothing written",
+                                        file.string(), p.name, occtInPlainWords(f.GetMessageString())));
+      }
     }
     TopoDS_Shape shape;
     if (faces.size() == 1) return TopoDS_Shape(faces.front());
@@ -976,8 +1052,9 @@ Status writeAtomically(const fs::path& file, const std::function<bool(std::ostre
       ok = ok && !os.fail();
       if (!ok) return ioError(file, "OpenCASCADE could not write the file");
     } catch (const Standard_Failure& f) {
-      return invalidInput(fmt::format("{}: OpenCASCADE {} writing the model: {}", file.string(),
-                                      isSignal(f) ? "crashed" : "failed", f.GetMessageString()));
+      return invalidInput(fmt::format("{}: {} while writing the model; nothing written", file.string(),
+                                      isSignal(f) ? fmt::format("OpenCASCADE crashed ({})", f.GetMessageString())
+                                                  : occtInPlainWords(f.GetMessageString())));
     }
   }
   if (Status st = verify(temp); !st) return st;
@@ -1016,12 +1093,15 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
     detail::OcctSignalGuard guard;
     try {
       OCC_CATCH_SIGNALS
-      Result<TopoDS_Shape> made = sewnPatchShape(model, file, tol);
+      Result<TopoDS_Shape> made = sewnPatchShape(model, file, format, tol);
       if (!made) return made.status();
       shape = *made;
     } catch (const Standard_Failure& f) {
-      return invalidInput(fmt::format("{}: OpenCASCADE {} making the faces: {}", file.string(),
-                                      isSignal(f) ? "crashed" : "failed", f.GetMessageString()));
+      return invalidInput(fmt::format("{}: {} while sewing the {} patches into one shell; nothing written",
+                                      file.string(),
+                                      isSignal(f) ? fmt::format("OpenCASCADE crashed ({})", f.GetMessageString())
+                                                  : occtInPlainWords(f.GetMessageString()),
+                                      model.patches.size()));
     }
   }
   const int faces = static_cast<int>(model.patches.size());

@@ -394,6 +394,15 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   h += fmt::format("<title>{}</title><style>{}</style></head><body>\n", escape(options.title), kStyle);
   h += fmt::format("<h1>{}</h1>\n", escape(options.title));
 
+  // ---- the reader's warnings first: a partly read file must not look complete (issue 39 goal 3)
+  if (!data.warnings.empty()) {
+    h += fmt::format("<h2 id=\"warnings\">Warnings ({})</h2>\n<p>The file was not read in full or not exactly; the "
+                     "results below are for what was read.</p>\n<ul class=\"warnings\">",
+                     data.warnings.size());
+    for (const std::string& w : data.warnings) h += "<li>" + escape(w) + "</li>";
+    h += "</ul>\n";
+  }
+
   // ---- summary
   h += "<h2 id=\"summary\">Summary</h2>\n<table>";
   auto row = [&](const std::string& k, const std::string& v) {
@@ -425,6 +434,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   row("largest angle (G1, degrees)", num(g1));
   row("largest curvature jump (G2)", fmt::format("{} (relative {})", num(g2), num(g2rel)));
   row("free edges / degenerate edges", fmt::format("{} / {}", data.freeEdges.size(), data.degenerateEdges.size()));
+  if (!data.warnings.empty()) row("reader warnings", fmt::format("<a href=\"#warnings\">{}</a>", data.warnings.size()));
   for (const auto& [k, v] : data.facts) row(k, escape(v));
   if (!data.unitNote.empty()) row("length unit", escape(data.unitNote));
   row("tolerances", fmt::format("distance {}{}, angle {}&deg;, curvature {} relative", len(tol.distance),

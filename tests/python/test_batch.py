@@ -11,7 +11,7 @@ import pytest
 import seam
 import seam.batch
 
-ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "worst_gap",
+ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "failed", "warnings", "worst_gap",
             "worst_angle_deg", "length_unit", "gap_tolerance", "seconds"]
 
 
@@ -167,3 +167,43 @@ def test_cli_batch_timeout_is_an_error_row(cli, shared_data):
     assert p.returncode == 2, p.stderr
     row = json.loads(p.stdout)["files"][0]
     assert row["status"] == "error" and "timed out" in row["error"] and row["seconds"] < 60
+
+
+HOSTILE_CAD = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data", "hostile_cad")
+
+
+@pytest.mark.skipif(not seam.has_occt, reason="STEP/IGES need a build with OpenCASCADE")
+def test_a_partly_read_file_is_never_ok_without_its_warning(cli):
+    """iges_truncated_3_of_7.igs lost 4 of its 7 root entities (issue 39 goal 3): the check dict, the in-process row
+    and the CLI's row all carry the reader's warning."""
+    path = os.path.join(HOSTILE_CAD, "iges_truncated_3_of_7.igs")
+    with pytest.warns(UserWarning, match="only 3 of 7 root entities"):
+        result = seam.check(path)
+    assert len(result["warnings"]) == 2 and "only 3 of 7 root entities" in result["warnings"][1]
+    with pytest.warns(UserWarning):
+        row = seam.batch.check_files([path])[0]
+    assert row["warnings"] == result["warnings"]
+    cli_row = json.loads(subprocess.run([cli, "batch", path, "--json"], capture_output=True, text=True,
+                                        timeout=300).stdout)["files"][0]
+    assert cli_row["warnings"] == row["warnings"] and cli_row["status"] == row["status"]
+
+
+def test_failed_seams_are_a_problem():
+    """A seam whose analysis failed (summary.failed > 0) makes the row a problem, with the count."""
+    result = {"summary": {"seams": 1, "failed": 1, "verdicts": {}}, "warnings": []}
+    row = seam.batch.summarize("m.json", result, 0.0)
+    assert row["status"] == "problem" and row["failed"] == 1
+    assert seam.batch.summarize("m.json", {"summary": {"seams": 1, "failed": 0}}, 0.0)["status"] == "ok"
+
+
+def test_find_files_warns_about_what_it_skips(tmp_path, examples):
+    os.symlink(os.path.join(examples, "models", "two_patches.json"), tmp_path / "good.json")
+    os.mkfifo(tmp_path / "pipe.json")
+    os.symlink(tmp_path / "absent.json", tmp_path / "dangling.json")
+    os.symlink("/dev/zero", tmp_path / "zero.json")
+    with pytest.warns(UserWarning) as caught:
+        files = seam.batch.find_files(str(tmp_path))
+    assert files == [str(tmp_path / "good.json")]
+    said = " ".join(str(w.message) for w in caught)
+    for name in ("pipe.json", "dangling.json", "zero.json"):
+        assert name in said

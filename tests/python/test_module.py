@@ -1,5 +1,6 @@
 """The Python module against the CLI: load, evaluate and check reach the same numbers and dicts by the CLI's route
 (`seam eval --json`, `seam check --json`), and bad input raises exceptions that name the problem."""
+import json
 import math
 import os
 import subprocess
@@ -227,3 +228,20 @@ def test_report_writes_html(examples, tmp_path):
         seam.report(m, tmp_path)  # a directory is not an output file
     with pytest.raises(ValueError, match="save writes .json"):
         seam.save(m, tmp_path / "m.step")
+
+
+def test_curve_parameters_are_a_number_or_a_list_of_reals(examples):
+    """evaluate_curve (issue 39 §5): (2, 2) used to be flattened into 4 parameters and complex input lost its
+    imaginary part; both are a ValueError now. A number and an (n,) list still work."""
+    m = seam.loads(json.dumps({"curves": [{"name": "line", "type": "bezier", "points": [[0, 0, 0], [2, 4, 6]]}]}),
+                   "line")
+    assert np.allclose(seam.evaluate_curve(m, "line", 0.5)[0, 0], [1, 2, 3])  # the straight line, by hand
+    assert seam.evaluate_curve(m, "line", [0.25, 0.5]).shape == (2, 1, 3)
+    with pytest.raises(ValueError, match=r"shape \(n,\), not of shape \(2, 2\)"):
+        seam.evaluate_curve(m, "line", np.full((2, 2), 0.5))
+    with pytest.raises(ValueError, match="complex"):
+        seam.evaluate_curve(m, "line", np.array([0.5 + 0.25j]))
+    with pytest.raises(ValueError, match="complex"):
+        seam.evaluate(seam.load(os.path.join(examples, "models", "two_patches.json")), "A", [[0.5 + 1j, 0.5]])
+    with pytest.raises(ValueError, match="real numbers"):
+        seam.evaluate_curve(m, "line", ["a"])

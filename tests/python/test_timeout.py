@@ -81,3 +81,12 @@ def test_timeout_works_inside_a_dask_worker(step_file):
         late = seam.batch.check_files([step_file], client=client, timeout=0.01)
     assert all(r["status"] in ("ok", "problem") for r in rows), rows
     assert late[0]["status"] == "error" and "time limit" in late[0]["error"]
+
+
+def test_an_infinite_timeout_is_no_limit_and_bad_ones_are_value_errors(step_file):
+    """timeout=inf (issue 39 §5) used to raise OverflowError; it runs the call in the child process without a limit."""
+    import math
+    assert seam.check(step_file, timeout=math.inf) == seam.check(step_file)
+    for bad in (0, -1, float("nan"), True, "60"):
+        with pytest.raises(ValueError, match="timeout"):
+            seam.check(step_file, timeout=bad)

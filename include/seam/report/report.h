@@ -67,6 +67,9 @@ struct ReportData {
   std::vector<const CornerReport*> corners;     ///< not owned
   std::vector<std::string> cornerPatchNames;    ///< per corner: the names of its patches, space separated
   std::vector<ReportMesh> meshes;               ///< shaded surfaces of the 3-D view (may be empty)
+  /// The reader's warnings (entities lost, roots not transferred, faces skipped): a section of their own at the top
+  /// of the page and a summary row; none: neither.
+  std::vector<std::string> warnings;
 };
 
 /// True when this build inlines the 3-D view (three.js) into reports; false: the 2-D drawing only.

@@ -1,0 +1,74 @@
+// Reading JSON models with long rows (issue 39 goal 2): a B-spline patch of 2 rows of n points and a curve of n
+// points, n up to 10^5, on both routes of the reader (src/io/json.cpp). The time per point must stay flat as n
+// grows: before issue 39 the fast route walked each row from its start for every point (2 x 30 000: 38 s).
+//
+//   BM_ReadLongRowPatch/n         io::parseModelJson (the fast route, simdjson) of a 2 x n patch
+//   BM_ReadLongRowPatchNlohmann/n the nlohmann route (SAX into a compact document) of the same text
+//   BM_ReadLongCurve/n            io::parseModelJson of a curve of n points
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <string>
+
+#include "io/json_read.h"
+#include "seam/io/json.h"
+
+namespace {
+
+/// Text of a uniform cubic B-spline patch of 2 x n points (degree [1, 3]) or of a curve of n points.
+std::string longRowText(int n, bool curve) {
+  std::string knots = "[0, 0, 0, 0";
+  for (int k = 1; k < n - 3; ++k) knots += fmt::format(", {}", k);
+  knots += fmt::format(", {0}, {0}, {0}, {0}]", n - 3);
+  auto row = [&](int i) {
+    std::string r = "[";
+    for (int j = 0; j < n; ++j)
+      r += fmt::format("{}[{}, {}, {}]", j == 0 ? "" : ", ", i * 0.5 + 0.25, j * 0.0009765625, (i + j) % 7 * 0.125);
+    return r + "]";
+  };
+  if (curve)
+    return fmt::format(R"({{"curves": [{{"name": "c", "type": "bspline", "degree": 3, "knots": {}, "points": {}}}]}})",
+                       knots, row(0));
+  return fmt::format(R"({{"patches": [{{"name": "p", "type": "bspline", "degree": [1, 3], "knots": [[0, 0, 1, 1], {}], )"
+                     R"("points": [{}, {}]}}]}})",
+                     knots, row(0), row(1));
+}
+
+void BM_ReadLongRowPatch(benchmark::State& state) {
+  const std::string text = longRowText(static_cast<int>(state.range(0)), false);
+  for (auto _ : state) {
+    auto m = seam::io::parseModelJson(text, "bench.json");
+    if (!m) state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+  state.SetItemsProcessed(state.iterations() * 2 * state.range(0));
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(text.size()));
+}
+BENCHMARK(BM_ReadLongRowPatch)->Arg(1000)->Arg(10000)->Arg(30000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+void BM_ReadLongRowPatchNlohmann(benchmark::State& state) {
+  const std::string text = longRowText(static_cast<int>(state.range(0)), false);
+  for (auto _ : state) {
+    auto m = seam::io::detail::parseModelJsonNlohmann(text, "bench.json");
+    if (!m) state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+  state.SetItemsProcessed(state.iterations() * 2 * state.range(0));
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(text.size()));
+}
+BENCHMARK(BM_ReadLongRowPatchNlohmann)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+void BM_ReadLongCurve(benchmark::State& state) {
+  const std::string text = longRowText(static_cast<int>(state.range(0)), true);
+  for (auto _ : state) {
+    auto m = seam::io::parseModelJson(text, "bench.json");
+    if (!m) state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_ReadLongCurve)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
