@@ -374,7 +374,9 @@ TEST(JsonReadRoutes, NestingAtTheDepthLimitIsReadAlikeOnBothRoutes) {
     const std::string text = R"({"patches":[],"$schema":)" + nested + "}";
     const bool fast = expectSameOnBothRoutes(text, "deep.json");
     EXPECT_EQ(io::detail::parseModelJsonNlohmann(text, "deep.json").isOk(), depth <= 256);
-    if (depth > 256) EXPECT_FALSE(fast);
+    if (depth > 256) {
+      EXPECT_FALSE(fast);
+    }
   }
   // A NUL byte, outside and inside a string.
   EXPECT_FALSE(expectSameOnBothRoutes(std::string(R"({"patches":[]})") + '\0', "nul.json"));

@@ -117,6 +117,48 @@ TEST(OcctTruth, SphereHalvesMeetG2AcrossMeridiansThroughThePoles) {
   }
 }
 
+// The seam edge of a surface that is periodic but only C0 across its period: a square tube, degree 1 around (v,
+// periodic, knots 0..4) and along (u). Its closing edge runs along a corner of the square, so the two sides of the
+// seam (v = 0 from above, v = 4 from below) meet at 90 degrees by construction; a periodic quadratic tube (C1 across
+// the period) closes tangent (0 degrees). Issue 35: the pcurve on v = 0 was shifted by one period onto v = 4 and both
+// sides were evaluated there: the 90-degree crease was certified G2 (OCC17026-2.igs). At three scales.
+TEST(OcctTruth, TheSeamOfAPeriodicSurfaceComparesItsTwoSides) {
+  for (const double size : {1e-3, 1.0, 1e4}) {
+    for (const int degree : {1, 2}) {
+      SCOPED_TRACE(::testing::Message() << "size " << size << ", degree " << degree);
+      const double corner[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
+      TColgp_Array2OfPnt poles(1, 3, 1, 4);
+      for (int i = 1; i <= 3; ++i)
+        for (int j = 1; j <= 4; ++j)
+          poles(i, j) = gp_Pnt(size * corner[j - 1][0], size * corner[j - 1][1], size * 1.5 * (i - 1));
+      TColStd_Array1OfReal uKnots(1, 3), vKnots(1, 5);
+      TColStd_Array1OfInteger uMults(1, 3), vMults(1, 5);
+      uKnots(1) = 0.0, uKnots(2) = 0.5, uKnots(3) = 1.0, uMults(1) = uMults(3) = 2, uMults(2) = 1;
+      for (int k = 1; k <= 5; ++k) vKnots(k) = k - 1.0, vMults(k) = 1;
+      const Handle(Geom_BSplineSurface) tube =
+          new Geom_BSplineSurface(poles, uKnots, vKnots, uMults, vMults, 1, degree, false, true);
+      ASSERT_TRUE(tube->IsVPeriodic());
+      const TopoDS_Face face = BRepBuilderAPI_MakeFace(tube, 1e-9 * size);
+      const fs::path f = writeStep(face, "periodic_tube");
+      const Result<occt::BRepCheckReport> r = occt::checkBRepFile(f);
+      fs::remove(f);
+      ASSERT_TRUE(r.isOk()) << r.status().message();
+      ASSERT_EQ(r->seams.size(), 1u) << "the closing edge";
+      const SeamReport& q = r->seams[0].report;
+      EXPECT_TRUE(q.certified) << "edge " << r->seams[0].edge;
+      EXPECT_LE(q.g0Max, 1e-9 * size);
+      if (degree == 1) {
+        EXPECT_NEAR(q.g1MaxDeg, 90.0, 1e-6) << "a corner of the square";
+        EXPECT_EQ(q.geometric, GeometricClass::kG0);
+      } else {
+        EXPECT_LE(q.g1MaxDeg, 1e-6) << "C1 across the period";
+        EXPECT_GE(q.geometric, GeometricClass::kG1);
+      }
+      expectConsistent(*r);
+    }
+  }
+}
+
 // A hemisphere (in two halves) on a cylinder of its radius: tangent along the equator (G1; curvature 1/R across
 // on the sphere, 0 on the cylinder: not G2), G2 along the sphere's meridians (through the pole) and the cylinder's
 // lines.
