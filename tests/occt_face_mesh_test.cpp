@@ -260,5 +260,32 @@ TEST(OcctFaceMesh, CheckBRepFileMeshesEveryFaceOfTrj3) {
             8);
 }
 
+// Issue 35 §4: the view's meshing has a budget. With a budget of 1 ns OpenCASCADE's mesher is told to stop at its
+// first progress poll; the report still gets a mesh of every face (seam's grid over the trims, counted against the
+// 94 faces the file has, OpenCASCADE's own count), says that the mesher was stopped, and takes about as long as
+// the check.
+TEST(OcctFaceMesh, AMesherPastItsBudgetLeavesEveryFaceToTheGrid) {
+  const fs::path file = kData / "step" / "trj3_s1-al-214.stp";
+  if (!fs::exists(file)) GTEST_SKIP() << file << " missing";
+  occt::BRepCheckOptions o;
+  o.meshFaces = true;
+  o.meshBudgetFactor = 1e-12;
+  o.meshBudgetMinSeconds = 1e-9;
+  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_GT(r->meshStoppedAfterSeconds, 0.0);
+  EXPECT_LE(r->meshStoppedAfterSeconds, 1e-6);
+  ASSERT_EQ(r->faceMeshes.size(), 94u);
+  const auto grid = std::count_if(r->faceMeshes.begin(), r->faceMeshes.end(),
+                                  [](const occt::BRepFaceMesh& m) { return m.gridFallback; });
+  EXPECT_GT(grid, 8) << "more faces than the 8 OpenCASCADE cannot mesh at all come from the grid";
+  for (const occt::BRepFaceMesh& m : r->faceMeshes) EXPECT_FALSE(m.triangles.empty()) << m.face;
+  // Without a budget (factor 0) the mesher runs to the end, as before.
+  o.meshBudgetFactor = 0.0;
+  const Result<occt::BRepCheckReport> full = occt::checkBRepFile(file, o);
+  ASSERT_TRUE(full.isOk()) << full.status().message();
+  EXPECT_EQ(full->meshStoppedAfterSeconds, 0.0);
+}
+
 }  // namespace
 }  // namespace seam

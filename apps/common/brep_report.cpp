@@ -83,9 +83,13 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
         fmt::format("{} of {} trimmed faces shaded from OpenCASCADE's triangulation (deflection {}){}",
                     r->faceMeshes.size() - static_cast<size_t>(fallback), trimmed,
                     withUnit(formatNumber(r->meshDeflection), r->units),
-                    fallback > 0 ? fmt::format("; {} more, which OpenCASCADE could not mesh, from seam's grid over "
-                                               "their trims",
-                                               fallback)
+                    fallback > 0 ? fmt::format("; {} more, which OpenCASCADE could not mesh{}, from seam's grid "
+                                               "over their trims",
+                                               fallback,
+                                               r->meshStoppedAfterSeconds > 0.0
+                                                   ? fmt::format(" within its budget of {} s (3 x the check)",
+                                                                 formatNumber(r->meshStoppedAfterSeconds))
+                                                   : std::string())
                                  : std::string()));
   }
   BRepReportPage page;

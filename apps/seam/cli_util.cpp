@@ -9,6 +9,8 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
+#include <pthread.h>
 #include <thread>
 #include <cctype>
 #include <charconv>
@@ -36,11 +38,115 @@ std::function<void(int, int, int)> brepProgressPrinter(const std::filesystem::pa
 }
 
 namespace {
-/// The value of --time-limit (seconds, 0 = none), set while the command line is parsed.
-std::atomic<double> cadTimeLimitSeconds{kDefaultCadTimeLimitSeconds};
 /// Limits above this (about 115 days) are no limit: steady_clock durations must not overflow.
 constexpr double kLongestTimeLimitSeconds = 1e7;
+
+/// The whole-run time limit (issue 39 §1): one watcher thread per process, started by startRunTimeLimit before the
+/// command line is parsed, with the default limit; --time-limit moves its deadline (0 removes it). The stage is what
+/// the command says it is doing (setActivity, CadTimeLimit). Leaked on purpose: the detached watcher may still wait on
+/// it while the process exits.
+struct RunLimit {
+  std::mutex mutex;
+  std::condition_variable changed;
+  /// From the first stage on (the command's first file): parsing the command line is not counted, so that the
+  /// message always names a file and a stage.
+  std::optional<std::chrono::steady_clock::time_point> start;
+  double seconds = kDefaultCadTimeLimitSeconds;  // 0: none
+  bool explicitLimit = false;                    // --time-limit was given
+  std::string stage;                             // "FILE: reading", ...
+};
+RunLimit& runLimit() {
+  static RunLimit* r = new RunLimit;
+  return *r;
+}
+
+constexpr size_t kWatcherStackBytes = 256 * 1024;
+
+[[noreturn]] void stopAtTheLimit(const std::string& stage, double seconds) {
+  // The main thread may be inside OpenCASCADE, which cannot be interrupted: remove the temporary files of outputs
+  // being written (no output exists before its rename), say where the time ran out and end the process.
+  io::removeTemporaryFiles();
+  const std::string message = fmt::format(
+      "seam: error: {}{}took longer than the time limit of {} s and was stopped (--time-limit bounds the whole "
+      "command: reading, analysing, repairing, meshing and writing; a corrupt STEP/IGES file can keep OpenCASCADE's "
+      "shape healing busy for minutes); allow more time with --time-limit SECONDS, or 0 for no limit\n",
+      stage, stage.empty() ? "the command " : " ", formatNumber(seconds));
+  size_t written = 0;
+  while (written < message.size()) {
+    const ssize_t n = ::write(STDERR_FILENO, message.data() + written, message.size() - written);
+    if (n <= 0) break;
+    written += static_cast<size_t>(n);
+  }
+  ::_exit(kExitBadInput);
+}
+
+void setStage(std::string stage) {
+  RunLimit& r = runLimit();
+  bool first = false;
+  {
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    r.stage = std::move(stage);
+    first = !r.start.has_value();
+    if (first) r.start = std::chrono::steady_clock::now();
+  }
+  if (first) r.changed.notify_all();
+}
+
+std::string currentStage() {
+  RunLimit& r = runLimit();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  return r.stage;
+}
 }  // namespace
+
+namespace {
+void runTimeLimitWatcher() {
+  RunLimit& r = runLimit();
+  std::unique_lock<std::mutex> lock(r.mutex);
+  for (;;) {
+    if (!r.start || !(r.seconds > 0.0) || r.seconds > kLongestTimeLimitSeconds) {
+      r.changed.wait(lock);
+      continue;
+    }
+    const auto deadline = *r.start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                        std::chrono::duration<double>(r.seconds));
+    if (r.changed.wait_until(lock, deadline) == std::cv_status::timeout &&
+        std::chrono::steady_clock::now() >= deadline)
+      stopAtTheLimit(r.stage, r.seconds);
+  }
+}
+}  // namespace
+
+void startRunTimeLimit() {
+  // A small stack (the thread only waits and writes one message): under an address-space cap (prlimit --as) a
+  // default 8 MB stack would be taken from what the command may use.
+  pthread_attr_t attr;
+  if (::pthread_attr_init(&attr) != 0) return;
+  ::pthread_attr_setstacksize(&attr, kWatcherStackBytes);
+  pthread_t thread;
+  const int created = ::pthread_create(&thread, &attr, [](void*) -> void* {
+    runTimeLimitWatcher();
+    return nullptr;
+  }, nullptr);
+  ::pthread_attr_destroy(&attr);
+  if (created == 0) ::pthread_detach(thread);
+}
+
+void suspendRunTimeLimitUnlessGiven() {
+  RunLimit& r = runLimit();
+  {
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    if (r.explicitLimit) return;
+    r.seconds = 0.0;
+  }
+  r.changed.notify_all();
+}
+
+double runTimeLimitSeconds() {
+  RunLimit& r = runLimit();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  return r.seconds;
+}
 
 void addTimeLimitOption(CLI::App& app) {
   // Inherited by the subcommands added after this: `seam check f.step --time-limit 60` reaches this option.
@@ -56,56 +162,25 @@ void addTimeLimitOption(CLI::App& app) {
           throw CLI::ValidationError("--time-limit", fmt::format("\"{}\" is not a decimal number of seconds >= 0 "
                                                                  "(0: no limit)",
                                                                  text));
-        cadTimeLimitSeconds = seconds;
+        RunLimit& r = runLimit();
+        {
+          const std::lock_guard<std::mutex> lock(r.mutex);
+          r.seconds = seconds;
+          r.explicitLimit = true;
+        }
+        r.changed.notify_all();
       },
-      fmt::format("Seconds that reading and analysing one STEP/IGES file may take before seam stops with exit code "
-                  "2 (default {}; 0: no limit); before or after the command",
+      fmt::format("Seconds the whole command may take (reading, analysing, repairing, meshing, writing) before seam "
+                  "stops with exit code 2, naming the stage (default {}; 0: no limit; `batch`: per file, see its "
+                  "--timeout); before or after the command",
                   formatNumber(kDefaultCadTimeLimitSeconds)));
 }
 
-struct CadTimeLimit::State {
-  std::mutex mutex;
-  std::condition_variable finished;
-  bool done = false;
-  std::thread watcher;
-};
-
-CadTimeLimit::CadTimeLimit(std::filesystem::path file, std::string what) {
-  const double limit = cadTimeLimitSeconds.load();
-  if (!(limit > 0.0) || limit > kLongestTimeLimitSeconds) return;
-  state_ = std::make_unique<State>();
-  State* s = state_.get();
-  s->watcher = std::thread([s, file = std::move(file), what = std::move(what), limit] {
-    const auto wait = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(limit));
-    std::unique_lock<std::mutex> lock(s->mutex);
-    if (s->finished.wait_for(lock, wait, [s] { return s->done; })) return;
-    // The main thread is inside OpenCASCADE and cannot be interrupted: say why and end the process. Buffered
-    // standard output (a partial table) is dropped on purpose; no output file has been written yet.
-    const std::string message = fmt::format(
-        "seam: error: {}: {} the file took longer than the time limit of {} s and was stopped (a corrupt STEP/IGES "
-        "file can keep OpenCASCADE's shape healing busy for minutes); allow more time with --time-limit SECONDS, "
-        "or 0 for no limit\n",
-        file.string(), what, formatNumber(limit));
-    size_t written = 0;
-    while (written < message.size()) {
-      const ssize_t n = ::write(STDERR_FILENO, message.data() + written, message.size() - written);
-      if (n <= 0) break;
-      written += static_cast<size_t>(n);
-    }
-    ::_exit(kExitBadInput);
-  });
+CadTimeLimit::CadTimeLimit(std::filesystem::path file, std::string what) : previous_(currentStage()) {
+  setStage(fmt::format("{}: {} the file", file.string(), what));
 }
 
-CadTimeLimit::~CadTimeLimit() {
-  if (!state_) return;
-  {
-    std::lock_guard<std::mutex> lock(state_->mutex);
-    state_->done = true;
-  }
-  state_->finished.notify_one();
-  state_->watcher.join();
-}
+CadTimeLimit::~CadTimeLimit() { setStage(previous_); }
 
 std::string lowerExtension(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
@@ -267,7 +342,10 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
 
 std::optional<Model> loadModel(const std::filesystem::path& file) { return loadModel(file, {}, nullptr); }
 
-void setActivity(std::string text) { activityText() = std::move(text); }
+void setActivity(std::string text) {
+  setStage(text);
+  activityText() = std::move(text);
+}
 const std::string& activity() { return activityText(); }
 
 std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,

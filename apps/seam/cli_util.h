@@ -37,10 +37,20 @@ inline constexpr double kDefaultCadTimeLimitSeconds = 300.0;
 /// the command's name.
 void addTimeLimitOption(CLI::App& app);
 
-/// While alive, a watchdog thread measures the time spent on a STEP/IGES file (`what`: "reading", "checking", ...).
-/// When the limit of --time-limit passes before destruction, it prints "seam: error: <file>: ..." on stderr and
-/// ends the process with exit code 2 (kExitBadInput) at once: OpenCASCADE cannot be interrupted, and no output file
-/// exists yet (outputs are written after the model is read, atomically). The CLI only: never in the Python module.
+/// The whole-run time limit (--time-limit, default kDefaultCadTimeLimitSeconds, counted from the command's first
+/// stage, i.e. once the command line is parsed and the first file is opened): main starts its watcher before parsing. When the limit passes, the watcher removes the temporary files
+/// of outputs being written, prints "seam: error: <stage> took longer than the time limit of N s ..." on stderr and
+/// ends the process with exit code 2 (kExitBadInput) at once (OpenCASCADE cannot be interrupted; outputs are renamed
+/// into place only when complete). The stage is the last setActivity / CadTimeLimit. The CLI only.
+void startRunTimeLimit();
+/// For commands whose run is bounded per input in their own way (`batch --timeout`): no whole-run limit unless
+/// --time-limit was given.
+void suspendRunTimeLimitUnlessGiven();
+/// The limit in force (s; 0: none).
+double runTimeLimitSeconds();
+
+/// While alive, names the stage ("<file>: <what> the file", `what`: "reading", "checking", ...) for the whole-run
+/// time limit's message; the previous stage comes back on destruction.
 class CadTimeLimit {
  public:
   CadTimeLimit(std::filesystem::path file, std::string what);
@@ -49,8 +59,7 @@ class CadTimeLimit {
   CadTimeLimit& operator=(const CadTimeLimit&) = delete;
 
  private:
-  struct State;
-  std::unique_ptr<State> state_;
+  std::string previous_;
 };
 
 /// Prints "seam: error: <message>" on stderr.

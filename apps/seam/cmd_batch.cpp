@@ -455,7 +455,10 @@ void addBatch(CLI::App& app, int& exit) {
   cmd->add_flag("--patches", o->patches, "STEP/IGES: check the faces as patches instead of the B-rep edges");
   cmd->footer("Exit codes: 0 all files ok, 1 some file has a gap, a kink or a failed seam (or a seam below --require), 2 bad usage "
               "or some file unreadable, invalid, crashed or timed out.");
-  cmd->callback([o, &exit]() { exit = runBatch(*o); });
+  cmd->callback([o, &exit]() {
+    suspendRunTimeLimitUnlessGiven();  // each file has its own --timeout; the whole batch only a given --time-limit
+    exit = runBatch(*o);
+  });
 }
 
 }  // namespace

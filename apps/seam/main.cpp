@@ -15,6 +15,7 @@
 
 int main(int argc, char** argv) {
   using seam::cli::kExitBadInput;
+  seam::cli::startRunTimeLimit();  // the default limit from now; --time-limit moves or removes it
   try {
     CLI::App app{"seam: geometric continuity of spline surfaces", "seam"};
     app.set_version_flag("--version", std::string("seam ") + seam::kVersion, "Print the version and exit");

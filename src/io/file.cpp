@@ -8,9 +8,11 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "seam/io/bpt.h"
 #include "seam/io/json.h"
@@ -69,12 +71,34 @@ int writeAll(int fd, const std::string& content) {
 
 // Short on purpose: a name derived from the output's own name would exceed the file system's limit (255 bytes)
 // for long but legal output names.
+namespace {
+/// Every temporary name handed out, for removeTemporaryFiles (leaked on purpose: a watchdog thread may use it while
+/// the process exits).
+struct TemporaryNames {
+  std::mutex mutex;
+  std::vector<std::string> names;
+};
+TemporaryNames& temporaryNames() {
+  static TemporaryNames* t = new TemporaryNames;
+  return *t;
+}
+}  // namespace
+
 fs::path temporaryPathFor(const fs::path& file) {
   static std::atomic<unsigned long> counter{0};
   const unsigned long n = counter.fetch_add(1);
   fs::path name = file;
   name.replace_filename(fmt::format(".seam-{}-{}.tmp", ::getpid(), n));
+  TemporaryNames& t = temporaryNames();
+  const std::lock_guard<std::mutex> lock(t.mutex);
+  t.names.push_back(name.string());
   return name;
+}
+
+void removeTemporaryFiles() {
+  TemporaryNames& t = temporaryNames();
+  const std::lock_guard<std::mutex> lock(t.mutex);
+  for (const std::string& name : t.names) ::unlink(name.c_str());  // renamed or removed ones: ENOENT, harmless
 }
 
 Status checkInputFile(const fs::path& file, std::uintmax_t maxBytes) {

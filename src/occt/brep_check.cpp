@@ -34,6 +34,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <algorithm>
+#include <chrono>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -772,6 +773,7 @@ namespace detail {
 Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path& file, FaceLabels labels,
                                        const FileUnits& units, const std::vector<std::string>& readWarnings,
                                        const BRepCheckOptions& options) {
+  const auto started = std::chrono::steady_clock::now();  // the view's meshing budget scales with the check's time
   BRepCheckReport out;
   // Every OpenCASCADE call of the check (bounding box, sewing, BRepLib::ContinuityOfFaces, pcurves, evaluation of
   // the faces' surfaces) runs under the guard: a signal inside it comes back as a Standard_Failure of kind
@@ -1029,8 +1031,23 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
           wanted[static_cast<size_t>(f.faceIndex - 1)] = f.trimmed;
         }
       out.meshDeflection = options.meshDeflectionRel * diag;
+      const double checkSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      const double budget = options.meshBudgetFactor > 0.0
+                                ? std::max(options.meshBudgetMinSeconds, options.meshBudgetFactor * checkSeconds)
+                                : 0.0;
+      const auto meshStart = std::chrono::steady_clock::now();
       for (int attempt = 0;; ++attempt) {
-        out.faceMeshes = detail::meshFaces(shape, faces, out.meshDeflection, wanted);
+        const double left =
+            budget > 0.0
+                ? std::max(budget - std::chrono::duration<double>(std::chrono::steady_clock::now() - meshStart).count(),
+                           std::numeric_limits<double>::min())
+                : 0.0;
+        bool stopped = false;
+        out.faceMeshes = detail::meshFaces(shape, faces, out.meshDeflection, wanted, left, &stopped);
+        if (stopped) {
+          out.meshStoppedAfterSeconds = budget;
+          break;
+        }
         size_t vertices = 0;
         for (const BRepFaceMesh& m : out.faceMeshes) vertices += m.points.size();
         if (options.meshVertexBudget <= 0 || vertices <= static_cast<size_t>(options.meshVertexBudget) ||

@@ -21,7 +21,12 @@ namespace seam::occt::detail {
 /// trim, or nothing inside, the face gets no mesh. Point normals are the face's
 /// surface normals (reversed for a reversed face); where the surface normal vanishes (a pole) or points against the
 /// node's triangles, the mean of the adjacent triangles' normals. Throws Standard_Failure as OpenCASCADE does (the caller guards it).
+///
+/// `budgetSeconds` (> 0) bounds OpenCASCADE's meshing: past it BRepMesh is told to stop (its progress indicator's
+/// UserBreak), and the faces it has not triangulated by then take the grid fallback; `*stopped` (when given) says
+/// whether that happened. 0: no bound.
 std::vector<BRepFaceMesh> meshFaces(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& faces,
-                                    double deflection, const std::vector<bool>& wanted = {});
+                                    double deflection, const std::vector<bool>& wanted = {},
+                                    double budgetSeconds = 0.0, bool* stopped = nullptr);
 
 }  // namespace seam::occt::detail

@@ -38,6 +38,11 @@ Status checkOutputFile(const std::filesystem::path& file);
 /// that rename a temporary over their output (the STEP/IGES writer); create it with O_EXCL.
 std::filesystem::path temporaryPathFor(const std::filesystem::path& file);
 
+/// Removes every temporary file temporaryPathFor named in this process that still exists (those renamed over their
+/// outputs are gone already): for a process that must end at once (the CLI's --time-limit), so that no temporary is
+/// left behind. Thread-safe.
+void removeTemporaryFiles();
+
 /// Writes `content` to a temporary file next to `file` (a short name ".seam-<pid>-<n>.tmp", so that any legal file
 /// name works), then renames it over `file`: never a partial file. Refuses what checkOutputFile refuses.
 Status writeFileAtomically(const std::filesystem::path& file, const std::string& content);

@@ -76,6 +76,11 @@ struct BRepCheckOptions {
   bool meshFaces = false;
   bool meshTrimmedOnly = false;  ///< only the trimmed faces (the untrimmed ones are shaded from their patches)
   double meshDeflectionRel = kFaceMeshDeflectionRel;  ///< linear deflection / model diagonal
+  /// Time OpenCASCADE's mesher may take for the view: meshBudgetFactor x the time the check took before it, at
+  /// least meshBudgetMinSeconds (issue 35 §4: an 11-face file whose check takes 0.3 s ran into the 300 s limit
+  /// inside BRepMesh). Faces not meshed by then are triangulated by seam's grid over their trims. Factor 0: no bound.
+  double meshBudgetFactor = 3.0;
+  double meshBudgetMinSeconds = 5.0;  ///< see meshBudgetFactor
   /// The deflection is doubled (up to kFaceMeshCoarsenings times) while the meshes have more vertices; 0: no limit.
   int meshVertexBudget = 0;
 };
@@ -123,6 +128,8 @@ struct BRepCheckReport {
   int occtAgreement = 0;      ///< seams where "G1 or better" agrees between seam and OpenCASCADE
   std::vector<BRepFaceMesh> faceMeshes;  ///< with BRepCheckOptions::meshFaces: the faces' triangles
   double meshDeflection = 0.0;           ///< the linear deflection they were made with (model units; 0: none)
+  /// > 0 when OpenCASCADE's mesher was stopped at its budget (BRepCheckOptions::meshBudgetFactor): that budget (s).
+  double meshStoppedAfterSeconds = 0.0;
 };
 
 /// Reads and checks a STEP/IGES file. Errors as readCadFile; a crash inside OpenCASCADE during the check (a signal,
