@@ -11,6 +11,7 @@
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepLib.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom2dAPI_Interpolate.hxx>
 #include <TColStd_HArray1OfReal.hxx>
@@ -40,6 +41,11 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Ax2d.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <Geom2d_Curve.hxx>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -52,6 +58,8 @@
 #include <random>
 #include <vector>
 
+#include "occt/brep_check_internal.h"
+#include "occt/cad_internal.h"
 #include "occt/pcurve_correspondence.h"
 #include "test_helpers.h"
 
@@ -159,7 +167,96 @@ TEST(OcctTruth, TheSeamOfAPeriodicSurfaceComparesItsTwoSides) {
   }
 }
 
-// A hemisphere (in two halves) on a cylinder of its radius: tangent along the equator (G1; curvature 1/R across
+// Issue 35 §1: the gap of a seam is measured between the two boundaries, not at equal edge parameters. Two bilinear
+// faces meet at a 30-degree fold along x = z = 0, y in [0, 1]; then B's pcurve of the shared edge is replaced, the
+// SameParameter flag kept:
+//  - drift: the same segment of B's surface, reparametrised (v(t) = t + 0.2 t (1 - t) along it): at equal edge
+//    parameters the boundaries are up to 0.05 apart, as sets they coincide: the gap is 0, the angle 30 degrees;
+//  - overhang at both ends: the segment made 0.01 longer at each end (y from -0.01 to 1.01; edge tolerance 0.02):
+//    B's two end points are 0.01 from A's boundary, every other point on it: the two-sided gap is exactly 0.01.
+// The shape is checked in memory (a STEP round trip would let the reader recompute the pcurves). At three scales.
+TEST(OcctTruth, SeamGapsAreBetweenTheBoundariesWhenPCurvesDriftOrOverhang) {
+  const double fold = 30.0 * kPi / 180.0;
+  for (const double size : {1e-3, 1.0, 1e4}) {
+    for (const bool overhang : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "size " << size << (overhang ? ", overhang" : ", drift"));
+      // A: x in [-1, 0], y in [0, 1], z = 0. B: from the fold line, 30 degrees up; its surface spans y in [-0.5,
+      // 1.5] (v in [0, 1]) and the face y in [0, 1] (v in [0.25, 0.75]), so that an overhanging pcurve stays on it.
+      TColgp_Array2OfPnt pa(1, 2, 1, 2), pb(1, 2, 1, 2);
+      pa(1, 1) = gp_Pnt(-size, 0, 0), pa(1, 2) = gp_Pnt(-size, size, 0);
+      pa(2, 1) = gp_Pnt(0, 0, 0), pa(2, 2) = gp_Pnt(0, size, 0);
+      pb(1, 1) = gp_Pnt(0, -0.5 * size, 0), pb(1, 2) = gp_Pnt(0, 1.5 * size, 0);
+      pb(2, 1) = gp_Pnt(size * std::cos(fold), -0.5 * size, size * std::sin(fold));
+      pb(2, 2) = gp_Pnt(size * std::cos(fold), 1.5 * size, size * std::sin(fold));
+      TColStd_Array1OfReal knots(1, 2);
+      TColStd_Array1OfInteger mults(1, 2);
+      knots(1) = 0.0, knots(2) = 1.0, mults(1) = mults(2) = 2;
+      const Handle(Geom_BSplineSurface) sa = new Geom_BSplineSurface(pa, knots, knots, mults, mults, 1, 1);
+      const Handle(Geom_BSplineSurface) sb = new Geom_BSplineSurface(pb, knots, knots, mults, mults, 1, 1);
+      // A round hole in A makes it a trimmed face: the seam then goes through the pcurves (an untrimmed pair of
+      // faces is compared along its patches' sides, which a pcurve cannot change).
+      TopoDS_Edge circle = BRepBuilderAPI_MakeEdge(new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1, 0)), 0.1),
+                                                   sa, 0.0, 2 * kPi);
+      BRepLib::BuildCurve3d(circle);
+      BRepBuilderAPI_MakeFace withHole(BRepBuilderAPI_MakeFace(sa, 0.0, 1.0, 0.0, 1.0, 1e-9 * size).Face());
+      withHole.Add(TopoDS::Wire(BRepBuilderAPI_MakeWire(circle).Wire().Reversed()));
+      ASSERT_TRUE(withHole.IsDone());
+      const TopoDS_Shape shape = sewn({withHole.Face(), BRepBuilderAPI_MakeFace(sb, 0.0, 1.0, 0.25, 0.75, 1e-9 * size)});
+      TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+      TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+      TopoDS_Edge shared;
+      TopoDS_Face faceB;
+      for (int i = 1; i <= edgeFaces.Extent(); ++i)
+        if (edgeFaces(i).Extent() == 2) {
+          shared = TopoDS::Edge(edgeFaces.FindKey(i));
+          for (const TopoDS_Shape& f : edgeFaces(i))
+            if (BRep_Tool::Surface(TopoDS::Face(f)) == sb) faceB = TopoDS::Face(f);
+        }
+      ASSERT_FALSE(shared.IsNull());
+      ASSERT_FALSE(faceB.IsNull());
+      double first = 0, last = 0;
+      const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(shared, faceB, first, last);
+      ASSERT_FALSE(old.IsNull());
+      gp_XY p0 = old->Value(first).XY(), p1 = old->Value(last).XY();
+      const double drift = overhang ? 0.0 : 0.1;  // the quadratic's middle pole moves by drift x the segment
+      if (overhang) {
+        const gp_XY d = (p1 - p0) * 0.01;  // 0.01 of the unit-length segment in 3-D
+        p0 -= d, p1 += d;
+      }
+      TColgp_Array1OfPnt2d poles(1, 3);
+      poles(1) = gp_Pnt2d(p0), poles(2) = gp_Pnt2d((p0 + p1) * 0.5 + (p1 - p0) * drift), poles(3) = gp_Pnt2d(p1);
+      TColStd_Array1OfReal ck(1, 2);
+      TColStd_Array1OfInteger cm(1, 2);
+      ck(1) = first, ck(2) = last, cm(1) = cm(2) = 3;
+      BRep_Builder builder;
+      builder.UpdateEdge(shared, new Geom2d_BSplineCurve(poles, ck, cm, 2), faceB,
+                         overhang ? 0.02 * size : BRep_Tool::Tolerance(shared));
+      builder.SameParameter(shared, true);
+      builder.SameRange(shared, true);
+      occt::detail::FileUnits units;
+      const Result<occt::BRepCheckReport> r =
+          occt::detail::checkBRepShape(shape, "fold.step", {}, units, {}, occt::BRepCheckOptions{});
+      ASSERT_TRUE(r.isOk()) << r.status().message();
+      ASSERT_EQ(r->seams.size(), 1u);
+      const SeamReport& q = r->seams[0].report;
+      EXPECT_TRUE(q.certified);
+      EXPECT_FALSE(r->seams[0].viaPatchEdges) << "through the pcurves";
+      if (overhang) {
+        EXPECT_GE(q.g0Max, 0.01 * size * (1 - 1e-9)) << "B's end points are 0.01 from A's boundary";
+        EXPECT_LE(q.g0Max, 0.01 * size * (1 + 1e-6));
+      } else {
+        EXPECT_LE(q.g0Max, 1e-9 * size) << "the boundaries coincide; equal parameters are up to 0.05 apart";
+        std::string notes;
+        for (const std::string& n : q.notes) notes += n + "\n";
+        EXPECT_NE(notes.find("drift"), std::string::npos) << notes;  // the scenario: the equal-parameter gap is there
+      }
+      EXPECT_NEAR(q.g1MaxDeg, 30.0, 1e-6);
+      expectConsistent(*r);
+    }
+  }
+}
+
+// A hemisphere (in two halves) on a cylinder of its radius:// A hemisphere (in two halves) on a cylinder of its radius: tangent along the equator (G1; curvature 1/R across
 // on the sphere, 0 on the cylinder: not G2), G2 along the sphere's meridians (through the pole) and the cylinder's
 // lines.
 TEST(OcctTruth, HemisphereOnCylinderIsTangentAlongTheEquator) {
