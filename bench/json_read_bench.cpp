@@ -34,38 +34,31 @@ std::string longRowText(int n, bool curve) {
                      knots, row(0), row(1));
 }
 
-void BM_ReadLongRowPatch(benchmark::State& state) {
-  const std::string text = longRowText(static_cast<int>(state.range(0)), false);
+// Reads `text` with `parse` per iteration; `points` control points per read.
+template <typename Parse>
+void readLoop(benchmark::State& state, const std::string& text, Parse parse, int64_t points) {
   for (auto _ : state) {
-    auto m = seam::io::parseModelJson(text, "bench.json");
+    auto m = parse(text, "bench.json");
     if (!m) state.SkipWithError(m.status().message().c_str());
     benchmark::DoNotOptimize(m);
   }
-  state.SetItemsProcessed(state.iterations() * 2 * state.range(0));
+  state.SetItemsProcessed(state.iterations() * points);
   state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(text.size()));
+}
+
+void BM_ReadLongRowPatch(benchmark::State& state) {
+  readLoop(state, longRowText(static_cast<int>(state.range(0)), false), seam::io::parseModelJson, 2 * state.range(0));
 }
 BENCHMARK(BM_ReadLongRowPatch)->Arg(1000)->Arg(10000)->Arg(30000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 void BM_ReadLongRowPatchNlohmann(benchmark::State& state) {
-  const std::string text = longRowText(static_cast<int>(state.range(0)), false);
-  for (auto _ : state) {
-    auto m = seam::io::detail::parseModelJsonNlohmann(text, "bench.json");
-    if (!m) state.SkipWithError(m.status().message().c_str());
-    benchmark::DoNotOptimize(m);
-  }
-  state.SetItemsProcessed(state.iterations() * 2 * state.range(0));
-  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(text.size()));
+  readLoop(state, longRowText(static_cast<int>(state.range(0)), false), seam::io::detail::parseModelJsonNlohmann,
+           2 * state.range(0));
 }
 BENCHMARK(BM_ReadLongRowPatchNlohmann)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 void BM_ReadLongCurve(benchmark::State& state) {
-  const std::string text = longRowText(static_cast<int>(state.range(0)), true);
-  for (auto _ : state) {
-    auto m = seam::io::parseModelJson(text, "bench.json");
-    if (!m) state.SkipWithError(m.status().message().c_str());
-    benchmark::DoNotOptimize(m);
-  }
-  state.SetItemsProcessed(state.iterations() * state.range(0));
+  readLoop(state, longRowText(static_cast<int>(state.range(0)), true), seam::io::parseModelJson, state.range(0));
 }
 BENCHMARK(BM_ReadLongCurve)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
 

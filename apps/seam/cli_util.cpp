@@ -5,13 +5,11 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <optional>
 #include <pthread.h>
-#include <thread>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -80,26 +78,6 @@ constexpr size_t kWatcherStackBytes = 256 * 1024;
   ::_exit(kExitBadInput);
 }
 
-void setStage(std::string stage) {
-  RunLimit& r = runLimit();
-  bool first = false;
-  {
-    const std::lock_guard<std::mutex> lock(r.mutex);
-    r.stage = std::move(stage);
-    first = !r.start.has_value();
-    if (first) r.start = std::chrono::steady_clock::now();
-  }
-  if (first) r.changed.notify_all();
-}
-
-std::string currentStage() {
-  RunLimit& r = runLimit();
-  const std::lock_guard<std::mutex> lock(r.mutex);
-  return r.stage;
-}
-}  // namespace
-
-namespace {
 void runTimeLimitWatcher() {
   RunLimit& r = runLimit();
   std::unique_lock<std::mutex> lock(r.mutex);
@@ -116,6 +94,18 @@ void runTimeLimitWatcher() {
   }
 }
 }  // namespace
+
+void setActivity(std::string stage) {
+  RunLimit& r = runLimit();
+  bool first = false;
+  {
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    r.stage = std::move(stage);
+    first = !r.start.has_value();
+    if (first) r.start = std::chrono::steady_clock::now();
+  }
+  if (first) r.changed.notify_all();
+}
 
 void startRunTimeLimit() {
   // A small stack (the thread only waits and writes one message): under an address-space cap (prlimit --as) a
@@ -140,12 +130,6 @@ void suspendRunTimeLimitUnlessGiven() {
     r.seconds = 0.0;
   }
   r.changed.notify_all();
-}
-
-double runTimeLimitSeconds() {
-  RunLimit& r = runLimit();
-  const std::lock_guard<std::mutex> lock(r.mutex);
-  return r.seconds;
 }
 
 void addTimeLimitOption(CLI::App& app) {
@@ -176,11 +160,14 @@ void addTimeLimitOption(CLI::App& app) {
                   formatNumber(kDefaultCadTimeLimitSeconds)));
 }
 
-CadTimeLimit::CadTimeLimit(std::filesystem::path file, std::string what) : previous_(currentStage()) {
-  setStage(fmt::format("{}: {} the file", file.string(), what));
+// Only the main thread writes the stage, so it may read it without the lock.
+const std::string& activity() { return runLimit().stage; }
+
+CadTimeLimit::CadTimeLimit(std::filesystem::path file, std::string what) : previous_(activity()) {
+  setActivity(fmt::format("{}: {} the file", file.string(), what));
 }
 
-CadTimeLimit::~CadTimeLimit() { setStage(previous_); }
+CadTimeLimit::~CadTimeLimit() { setActivity(previous_); }
 
 std::string lowerExtension(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
@@ -280,11 +267,6 @@ void printError(std::string_view message) {
 
 namespace {
 
-std::string& activityText() {
-  static std::string text;
-  return text;
-}
-
 std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const ToleranceOverrides& overrides,
                                         ModelUnits* units, std::vector<std::string>* warnings) {
   if (units != nullptr) {
@@ -342,11 +324,6 @@ std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const
 
 std::optional<Model> loadModel(const std::filesystem::path& file) { return loadModel(file, {}, nullptr); }
 
-void setActivity(std::string text) {
-  setStage(text);
-  activityText() = std::move(text);
-}
-const std::string& activity() { return activityText(); }
 
 std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
                                ModelUnits* units, std::vector<std::string>* warnings) {

@@ -46,8 +46,6 @@ void startRunTimeLimit();
 /// For commands whose run is bounded per input in their own way (`batch --timeout`): no whole-run limit unless
 /// --time-limit was given.
 void suspendRunTimeLimitUnlessGiven();
-/// The limit in force (s; 0: none).
-double runTimeLimitSeconds();
 
 /// While alive, names the stage ("<file>: <what> the file", `what`: "reading", "checking", ...) for the whole-run
 /// time limit's message; the previous stage comes back on destruction.
@@ -96,8 +94,9 @@ std::optional<Model> loadModel(const std::filesystem::path& file);
 std::optional<Model> loadModel(const std::filesystem::path& file, const ToleranceOverrides& overrides,
                                ModelUnits* units, std::vector<std::string>* warnings = nullptr);
 
-/// What the command is working on, for the message of an out-of-memory that reaches main ("FILE: reading the
-/// model", "FILE: working on its model of 12 patches"); loadModel sets it. Empty before any file is read.
+/// What the command is working on, for the messages of the whole-run time limit and of an out-of-memory that
+/// reaches main ("FILE: reading the model", "FILE: working on its model of 12 patches"); loadModel and CadTimeLimit
+/// set it, and the first call starts the time limit's clock. Empty before any file is read. Main thread only.
 void setActivity(std::string text);
 const std::string& activity();
 

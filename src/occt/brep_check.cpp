@@ -1042,16 +1042,10 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
       const double budget = options.meshBudgetFactor > 0.0
                                 ? std::max(options.meshBudgetMinSeconds, options.meshBudgetFactor * checkSeconds)
                                 : 0.0;
-      const auto meshStart = std::chrono::steady_clock::now();
+      const Handle(detail::DeadlineIndicator) deadline = new detail::DeadlineIndicator(budget);  // over all attempts
       for (int attempt = 0;; ++attempt) {
-        const double left =
-            budget > 0.0
-                ? std::max(budget - std::chrono::duration<double>(std::chrono::steady_clock::now() - meshStart).count(),
-                           std::numeric_limits<double>::min())
-                : 0.0;
-        bool stopped = false;
-        out.faceMeshes = detail::meshFaces(shape, faces, out.meshDeflection, wanted, left, &stopped);
-        if (stopped) {
+        out.faceMeshes = detail::meshFaces(shape, faces, out.meshDeflection, wanted, deadline);
+        if (deadline->expired()) {
           out.meshStoppedAfterSeconds = budget;
           break;
         }

@@ -1,5 +1,6 @@
 #pragma once
 // Shared by the OpenCASCADE readers and the B-rep check.
+#include <Message_ProgressIndicator.hxx>
 #include <TDocStd_Document.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
@@ -7,7 +8,9 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <signal.h>
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <optional>
@@ -44,6 +47,29 @@ class OcctSignalGuard {
   bool outer_ = false;
   int traps_ = 0;                          ///< floating-point exceptions that trapped before
   std::array<struct sigaction, 4> saved_{};  ///< previous handlers of the guarded signals
+};
+
+/// Stops OpenCASCADE's progress-aware loops (the transfer, shape healing, BRepMesh) once `seconds` have passed
+/// (0 or less: never). UserBreak may be called from OpenCASCADE's worker threads (BRepMesh in parallel).
+class DeadlineIndicator : public Message_ProgressIndicator {
+ public:
+  explicit DeadlineIndicator(double seconds)
+      : bounded_(seconds > 0.0),
+        deadline_(std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(bounded_ ? std::min(seconds, kLongestSeconds) : 0.0))) {}
+  Standard_Boolean UserBreak() override {
+    if (bounded_ && !expired_.load() && std::chrono::steady_clock::now() > deadline_) expired_ = true;
+    return expired_.load();
+  }
+  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
+  [[nodiscard]] bool expired() const { return expired_.load(); }
+
+ private:
+  static constexpr double kLongestSeconds = 1e7;  // steady_clock durations must not overflow
+  bool bounded_;
+  std::chrono::steady_clock::time_point deadline_;
+  std::atomic<bool> expired_{false};
 };
 
 /// Upper bound on OpenCASCADE's transfer of a file's roots into shapes (shape healing included): a corrupt file can

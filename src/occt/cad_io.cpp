@@ -159,22 +159,6 @@ thread_local std::pair<fs::path, std::vector<std::string>> pendingReadWarnings;
 /// True when the failure is a signal caught inside OpenCASCADE (a crash, converted by OcctSignalGuard).
 bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
 
-/// Stops OpenCASCADE's progress-aware loops (the transfer, shape healing) once a deadline has passed.
-class DeadlineIndicator : public Message_ProgressIndicator {
- public:
-  explicit DeadlineIndicator(std::chrono::seconds limit) : deadline_(std::chrono::steady_clock::now() + limit) {}
-  Standard_Boolean UserBreak() override {
-    if (std::chrono::steady_clock::now() > deadline_) expired_ = true;
-    return expired_;
-  }
-  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
-  [[nodiscard]] bool expired() const { return expired_; }
-
- private:
-  std::chrono::steady_clock::time_point deadline_;
-  bool expired_ = false;
-};
-
 /// OpenCASCADE treats magnitudes beyond Precision::Infinite() (2e100) as infinite and its shape healing can run for
 /// minutes on them (issue 15): a STEP or IGES file holding a real of magnitude 1e100 or more (or one that overflows,
 /// like 1E+999) is refused before OpenCASCADE sees it. No CAD coordinate, weight or knot comes near.
@@ -650,7 +634,7 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
         readIgesUnits(Handle(IGESData_IGESModel)::DownCast(model), units->units);
     }
     const int roots = reader->NbRootsForTransfer();
-    const Handle(DeadlineIndicator) deadline = new DeadlineIndicator(timeLimit);
+    const Handle(DeadlineIndicator) deadline = new DeadlineIndicator(std::chrono::duration<double>(timeLimit).count());
     int transferred = 0;
     TopoDS_Shape docShape;
     if (document != nullptr) {

@@ -4,7 +4,6 @@
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
-#include <Message_ProgressIndicator.hxx>
 #include <Message_ProgressRange.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
@@ -25,8 +24,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -256,28 +253,6 @@ Handle(Poly_Triangulation) gridTriangulation(const TopoDS_Face& face, double def
   return tri;
 }
 
-/// Tells BRepMesh to stop once a time budget has passed (0: never). UserBreak is called from BRepMesh's threads.
-class MeshDeadline : public Message_ProgressIndicator {
- public:
-  explicit MeshDeadline(double seconds)
-      : bounded_(seconds > 0.0),
-        deadline_(std::chrono::steady_clock::now() +
-                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                      std::chrono::duration<double>(bounded_ ? std::min(seconds, kLongestBudgetSeconds) : 0.0))) {}
-  Standard_Boolean UserBreak() override {
-    if (bounded_ && !expired_.load() && std::chrono::steady_clock::now() > deadline_) expired_ = true;
-    return expired_.load();
-  }
-  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
-  [[nodiscard]] bool expired() const { return expired_.load(); }
-
- private:
-  static constexpr double kLongestBudgetSeconds = 1e7;  // steady_clock durations must not overflow
-  bool bounded_;
-  std::chrono::steady_clock::time_point deadline_;
-  std::atomic<bool> expired_{false};
-};
-
 /// The view's mesh of one face from a triangulation of it (nodes moved by `trsf`).
 BRepFaceMesh faceMesh(const TopoDS_Face& face, const Handle(Poly_Triangulation)& tri, const gp_Trsf& trsf) {
   const bool reversed = face.Orientation() == TopAbs_REVERSED;
@@ -332,21 +307,20 @@ BRepFaceMesh faceMesh(const TopoDS_Face& face, const Handle(Poly_Triangulation)&
 }  // namespace
 
 std::vector<BRepFaceMesh> meshFaces(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& faces,
-                                    double deflection, const std::vector<bool>& wanted, double budgetSeconds,
-                                    bool* stopped) {
+                                    double deflection, const std::vector<bool>& wanted,
+                                    const Handle(DeadlineIndicator)& deadline) {
   // Relative deflection off: `deflection` is an absolute length. In parallel: BRepMesh meshes faces on threads.
   // The budget: BRepMesh polls its progress range's UserBreak between faces (and inside long steps).
-  const Handle(MeshDeadline) deadline = new MeshDeadline(budgetSeconds);
   {
     IMeshTools_Parameters parameters;  // as the (deflection, relative, angle, parallel) constructor sets them
     parameters.Deflection = deflection;
     parameters.Angle = kFaceMeshAngle;
     parameters.Relative = false;
     parameters.InParallel = true;
-    BRepMesh_IncrementalMesh mesher(shape, parameters, deadline->Start());
+    BRepMesh_IncrementalMesh mesher(shape, parameters,
+                                    deadline.IsNull() ? Message_ProgressRange() : deadline->Start());
     (void)mesher;
   }
-  if (stopped != nullptr) *stopped = deadline->expired();
   std::vector<BRepFaceMesh> out;
   for (size_t k = 0; k < faces.size(); ++k) {
     if (!wanted.empty() && (k >= wanted.size() || !wanted[k])) continue;

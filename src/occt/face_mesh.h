@@ -7,6 +7,7 @@
 #include <TopoDS_Shape.hxx>
 #include <vector>
 
+#include "occt/cad_internal.h"
 #include "seam/occt/brep_check.h"
 
 namespace seam::occt::detail {
@@ -22,11 +23,11 @@ namespace seam::occt::detail {
 /// surface normals (reversed for a reversed face); where the surface normal vanishes (a pole) or points against the
 /// node's triangles, the mean of the adjacent triangles' normals. Throws Standard_Failure as OpenCASCADE does (the caller guards it).
 ///
-/// `budgetSeconds` (> 0) bounds OpenCASCADE's meshing: past it BRepMesh is told to stop (its progress indicator's
-/// UserBreak), and the faces it has not triangulated by then take the grid fallback; `*stopped` (when given) says
-/// whether that happened. 0: no bound.
+///
+/// `deadline` (when not null) bounds OpenCASCADE's meshing: once it has expired BRepMesh is told to stop (UserBreak),
+/// and the faces it has not triangulated by then take the grid fallback (`deadline->expired()` says so).
 std::vector<BRepFaceMesh> meshFaces(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& faces,
                                     double deflection, const std::vector<bool>& wanted = {},
-                                    double budgetSeconds = 0.0, bool* stopped = nullptr);
+                                    const Handle(DeadlineIndicator)& deadline = nullptr);
 
 }  // namespace seam::occt::detail
