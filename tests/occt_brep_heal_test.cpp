@@ -19,13 +19,14 @@
 #include <BRep_Tool.hxx>
 #include <GCE2d_MakeSegment.hxx>
 #include <GProp_GProps.hxx>
-#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomLProp_SLProps.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Reader.hxx>
+#include <ShapeAnalysis_Surface.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -40,6 +41,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -155,21 +157,19 @@ Probe probeEdge(const TopoDS_Edge& e, const TopoDS_Face& fa, const TopoDS_Face& 
   const std::vector<gp_Pnt> aDense = boundaryImage(e, fa, 4 * n), bCoarse = boundaryImage(e, fb, n);
   for (const gp_Pnt& x : a) p.gap = std::max(p.gap, distanceToPolyline(x, b));
   for (const gp_Pnt& x : bCoarse) p.gap = std::max(p.gap, distanceToPolyline(x, aDense));
-  double first, last;
+  double first, last, firstB, lastB;
   const Handle(Geom2d_Curve) ca = BRep_Tool::CurveOnSurface(e, fa, first, last);
-  GeomAPI_ProjectPointOnSurf proj;
-  proj.Init(BRep_Tool::Surface(fb), -1e100, 1e100, -1e100, 1e100);
+  const Handle(Geom2d_Curve) cb = BRep_Tool::CurveOnSurface(e, fb, firstB, lastB);
+  // B's point nearest to A's boundary point, searched from B's own boundary point at the same fraction of the edge
+  // (not over all of B's surface: two faces on one closed surface meet where it closes, and a global projection
+  // would find A's own side of it).
+  ShapeAnalysis_Surface sb(BRep_Tool::Surface(fb));
   for (int i = 1; i < n; ++i) {  // ends excluded: corners of the trims
     const gp_Pnt2d uv = ca->Value(first + (last - first) * i / n);
     const gp_Pnt x = BRep_Tool::Surface(fa)->Value(uv.X(), uv.Y());
-    double u0, u1, v0, v1;
-    BRepTools::UVBounds(fb, u0, u1, v0, v1);
-    proj.Init(x, BRep_Tool::Surface(fb), u0, u1, v0, v1);
-    if (!proj.IsDone() || proj.NbPoints() == 0) continue;
-    p.surfaceGap = std::max(p.surfaceGap, proj.LowerDistance());
-    double ub, vb;
-    proj.LowerDistanceParameters(ub, vb);
-    const double angle = orientedNormal(fa, uv.X(), uv.Y()).Angle(orientedNormal(fb, ub, vb)) * kRadToDeg;
+    const gp_Pnt2d uvb = sb.NextValueOfUV(cb->Value(firstB + (lastB - firstB) * i / n), x, 1e-12);
+    p.surfaceGap = std::max(p.surfaceGap, x.Distance(BRep_Tool::Surface(fb)->Value(uvb.X(), uvb.Y())));
+    const double angle = orientedNormal(fa, uv.X(), uv.Y()).Angle(orientedNormal(fb, uvb.X(), uvb.Y())) * kRadToDeg;
     p.maxAngleDeg = std::max(p.maxAngleDeg, angle);
   }
   return p;
@@ -496,8 +496,9 @@ TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
     if (c0.valid) {
       EXPECT_TRUE(c1.valid) << rel;
     }
-    // The probe on every shared edge whose faces changed (edges paired by their midpoints: the writer may order
-    // them otherwise): no angle or gap of the surfaces grows beyond the tolerance. (The pcurve images' gap is not
+    // The probe on every shared edge whose faces changed (each written edge paired with the input's edges that pass
+    // nearest to its midpoint: the writer may order them otherwise, and a rebuilt 3-D curve may be parameterised
+    // otherwise): no angle or gap of the surfaces grows beyond the tolerance. (The pcurve images' gap is not
     // compared: the STEP reader rebuilds pcurves within the edge tolerances, trj3 edge 49: 0.0028 -> 0.0082 mm after
     // a plain STEP -> STEP conversion whose surfaces, 3-D curves and vertices are bit for bit the input's.)
     const TopoDS_Shape s0 = readWithOcct(in), s1 = readWithOcct(out);
@@ -507,20 +508,30 @@ TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
       BRepAdaptor_Curve c(e);
       return c.Value(0.5 * (c.FirstParameter() + c.LastParameter()));
     };
-    std::vector<gp_Pnt> m0;
-    for (const Shared& e : e0) m0.push_back(midpoint(e.edge));
+    auto distanceTo = [](const gp_Pnt& p, const TopoDS_Edge& e) {
+      BRepAdaptor_Curve c(e);
+      double d = std::min(p.Distance(c.Value(c.FirstParameter())), p.Distance(c.Value(c.LastParameter())));
+      double f = 0.0, l = 0.0;
+      const Handle(Geom_Curve) g = BRep_Tool::Curve(e, f, l);
+      if (!g.IsNull()) {
+        GeomAPI_ProjectPointOnCurve proj(p, g, f, l);
+        if (proj.NbPoints() > 0) d = std::min(d, proj.LowerDistance());
+      }
+      return d;
+    };
     int probed = 0;
     for (size_t k = 0; k < e1.size() && probed < 30; ++k) {
-      // The input's edges at the nearest midpoint (coincident edges of touching solids share it): the written
-      // seam must be no worse than one of them.
+      // The input's edges nearest to the written edge's midpoint (coincident edges of touching solids pass through
+      // it both): the written seam must be no worse than one of them.
       const gp_Pnt m = midpoint(e1[k].edge);
+      std::vector<double> dist(e0.size());
       double nearest = std::numeric_limits<double>::infinity();
-      for (const gp_Pnt& q : m0) nearest = std::min(nearest, m.Distance(q));
+      for (size_t q = 0; q < e0.size(); ++q) nearest = std::min(nearest, dist[q] = distanceTo(m, e0[q].edge));
       const Probe p1 = probeEdge(e1[k].edge, e1[k].a, e1[k].b, 60);
       bool noWorse = false, unchanged = false;
       double gap0 = 0.0, angle0 = 0.0;
-      for (size_t q = 0; q < m0.size(); ++q) {
-        if (m.Distance(m0[q]) > nearest + r->tolerances.distance) continue;
+      for (size_t q = 0; q < e0.size(); ++q) {
+        if (dist[q] > nearest + r->tolerances.distance) continue;
         const Probe p0 = probeEdge(e0[q].edge, e0[q].a, e0[q].b, 60);
         unchanged |=
             std::abs(p0.maxAngleDeg - p1.maxAngleDeg) < 1e-9 && std::abs(p0.surfaceGap - p1.surfaceGap) < 1e-12;
@@ -531,8 +542,26 @@ TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
       }
       if (unchanged) continue;
       ++probed;
-      EXPECT_TRUE(noWorse) << rel << " edge " << k + 1 << ": surface gap " << gap0 << " -> " << p1.surfaceGap << ", angle "
+      EXPECT_TRUE(noWorse) << rel << " edge " << k + 1 << " (midpoint " << m.X() << " " << m.Y() << " " << m.Z()
+                           << "): surface gap " << gap0 << " -> " << p1.surfaceGap << ", angle "
                            << angle0 << " -> " << p1.maxAngleDeg;
+    }
+    // Gaps by the probe (two-sided, between the boundary images) over every shared edge, before and after: never
+    // more; on trj3 (12 gaps of the trims alone, faces moved for others) fewer.
+    auto gaps = [&](const std::vector<Shared>& edges) {
+      int n = 0;
+      for (const Shared& e : edges) n += probeEdge(e.edge, e.a, e.b, 60).gap > r->tolerances.distance ? 1 : 0;
+      return n;
+    };
+    const int gaps0 = gaps(e0), gaps1 = gaps(e1);
+    std::cout << rel << ": gaps by the probe " << gaps0 << " -> " << gaps1 << ", seams healed " << r->seamsHealed
+              << " of " << r->seamsToHeal << "\n";
+    // The plain STEP round trip of trj3 already turns 2 seams into gaps by the probe (OpenCASCADE's reader rebuilds
+    // their pcurves): the heal is held to what `seam convert` writes.
+    EXPECT_LE(gaps1, gaps0 + 2) << rel;
+    if (std::string(rel) == "step/trj3_s1-al-214.stp") {
+      EXPECT_LT(gaps1, gaps0) << rel;
+      EXPECT_GT(r->seamsHealed, 0) << rel;
     }
     fs::remove(out);
   }

@@ -779,7 +779,7 @@ namespace detail {
 
 Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path& file, FaceLabels labels,
                                        const FileUnits& units, const std::vector<std::string>& readWarnings,
-                                       const BRepCheckOptions& options) {
+                                       const BRepCheckOptions& options, const EdgeFilter& onlyEdges) {
   const auto started = std::chrono::steady_clock::now();  // the view's meshing budget scales with the check's time
   BRepCheckReport out;
   // Every OpenCASCADE call of the check (bounding box, sewing, BRepLib::ContinuityOfFaces, pcurves, evaluation of
@@ -852,6 +852,7 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
       OCC_CATCH_SIGNALS  // this thread's handler: a signal here comes back as an OSD_Signal failure
       try {
         const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
+        if (onlyEdges && !onlyEdges(edge)) return o;  // not asked for
         if (BRep_Tool::Degenerated(edge)) {
           o.kind = EdgeOutcome::kDegenerate;
           return o;

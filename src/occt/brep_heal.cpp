@@ -11,6 +11,12 @@
 #include <BRepGProp.hxx>
 #include <BRepLib.hxx>
 #include <BRepTools.hxx>
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepBndLib.hxx>
+#include <Bnd_Box.hxx>
+#include <BndLib_Add2dCurve.hxx>
+#include <Bnd_Box2d.hxx>
+#include <Precision.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
@@ -43,6 +49,7 @@
 #include <math_Matrix.hxx>
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -71,6 +78,9 @@ constexpr double kPartnerStepRel = 1e-14;
 /// Regularisation of the normal equations relative to their largest diagonal entry: the least-squares solution of
 /// least norm to about this precision (the conditions are scaled to tolerances, so 1e-10 is far below them).
 constexpr double kRidgeRel = 1e-10;
+/// Weight of the fairness rows (second differences of the displacement over the net) against a position condition
+/// (both per unit of displacement, in tolerances): small, so that the conditions come first.
+constexpr double kFairnessRel = 0.03;
 /// A seam is worse after the heal when its gap (angle) grows by more than this fraction of the tolerance beyond
 /// max(before, tolerance): a tenth of a tolerance is below what the tolerance says about the geometry.
 constexpr double kWorseSlackRel = 0.1;
@@ -81,6 +91,15 @@ constexpr double kHeldWeight = 10.0;
 constexpr int kCurveOnSurfaceSamples = 32;
 /// Rounds of "revert the faces that made something worse, check again".
 constexpr int kMaxRevertRounds = 3;
+/// Local refinement before a face moves (knots inserted next to the edges it heals, so that only the control points
+/// near them move, not the whole face): a pcurve whose (u, v) box is narrower than kIsoEdgeRel x the face's extent in
+/// one direction runs along the other; kRefineStepRel x the face's extent is the spacing of the (degree) knots
+/// inserted on the face's side of it, and an existing knot nearer than half a spacing counts as one of them.
+constexpr double kIsoEdgeRel = 0.02;
+constexpr double kRefineStepRel = 0.08;
+/// Heals made from the input, each without the changes that the read-back of the one before found making a seam of
+/// the written file worse (the last one writes the input unchanged if it still does).
+constexpr int kMaxReadBackAttempts = 4;
 /// A normal shorter than this fraction of |S_u| |S_v| (a pole) gives no G1 or fold condition there.
 constexpr double kPoleNormalRel = 1e-8;
 /// Samples of ShapeAnalysis_Edge::CheckSameParameter when an edge's tolerance is recomputed, and the margin put on
@@ -285,17 +304,44 @@ class MoveSystem {
     std::map<std::pair<int, int>, gp_Vec> out;
     const Eigen::Index n = 3 * static_cast<Eigen::Index>(column_.size());
     if (n == 0 || rows_.empty()) return out;
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+    // The normal equations are sparse (a condition touches the (p+1)(q+1) poles around its point): assembled from
+    // triplets (duplicates summed) and factored by a sparse LDL^T, so that a dense net's wide band stays cheap.
+    std::vector<Eigen::Triplet<double>> entries;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
     for (const Row& r : rows_) {
       for (size_t a = 0; a < r.cols.size(); ++a) {
         rhs(r.cols[a]) += r.vals[a] * r.rhs;
-        for (size_t b = 0; b < r.cols.size(); ++b) M(r.cols[a], r.cols[b]) += r.vals[a] * r.vals[b];
+        for (size_t b = 0; b < r.cols.size(); ++b) entries.emplace_back(r.cols[a], r.cols[b], r.vals[a] * r.vals[b]);
       }
     }
+    // Fairness: the second differences of the displacement over the net (a pole outside the band moves by 0), so
+    // that between the condition samples the band moves smoothly and tapers to its border instead of the
+    // least-norm solution's zigzag (which folds dense nets).
+    const double fair = kFairnessRel / sigmaPos_;
+    const int nu = e_.surface->NbUPoles(), nv = e_.surface->NbVPoles();
+    for (const auto& [key, col] : column_) {
+      for (int dir = 0; dir < 2; ++dir) {
+        const auto [i, j] = key;
+        const std::pair<int, int> prev = dir == 0 ? std::pair{i - 1, j} : std::pair{i, j - 1};
+        const std::pair<int, int> next = dir == 0 ? std::pair{i + 1, j} : std::pair{i, j + 1};
+        if ((dir == 0 && (i == 1 || i == nu)) || (dir == 1 && (j == 1 || j == nv))) continue;
+        std::vector<std::pair<Eigen::Index, double>> terms = {{col, -2.0 * fair}};
+        for (const auto& nb : {prev, next})
+          if (const auto it = column_.find(nb); it != column_.end()) terms.emplace_back(it->second, fair);
+        for (int c = 0; c < 3; ++c)
+          for (const auto& [ca, va] : terms)
+            for (const auto& [cb, vb] : terms) entries.emplace_back(3 * ca + c, 3 * cb + c, va * vb);
+      }
+    }
+    Eigen::SparseMatrix<double> M(n, n);
+    M.setFromTriplets(entries.begin(), entries.end());
     const double ridge = kRidgeRel * std::max(M.diagonal().maxCoeff(), std::numeric_limits<double>::min());
-    M.diagonal().array() += ridge;
-    const Eigen::VectorXd x = M.ldlt().solve(rhs);
+    for (Eigen::Index k = 0; k < n; ++k) M.coeffRef(k, k) += ridge;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(M);
+    if (ldlt.info() != Eigen::Success) return out;  // no move (the seams say no condition could be set)
+    const Eigen::VectorXd x = ldlt.solve(rhs);
+    if (!x.allFinite()) return out;
+
     for (const auto& [key, col] : column_) {
       const gp_Vec d(x(3 * col), x(3 * col + 1), x(3 * col + 2));
       out.emplace(key, d);
@@ -355,36 +401,133 @@ struct Plan {
   int partner = 0;  ///< the other face
 };
 
-/// A face's state before the heal (to put it back) and its area.
+/// A face's state before the heal (to put it back).
 struct Saved {
   Handle(Geom_BSplineSurface) copy;
-  double area = 0.0;
+  /// The surface before the knots of the local refinement were inserted, and those knots (to put it back exactly:
+  /// the knots removed, then every pole and weight of the original set again).
+  Handle(Geom_BSplineSurface) original;
+  std::vector<double> insertedU, insertedV;
 };
 
-double faceArea(const TopoDS_Face& f) {
-  GProp_GProps props;
-  BRepGProp::SurfaceProperties(f, props);
-  return props.Mass();
+/// Inserts knots next to the pcurves `edges` of `face` (its surface `e`) that run along a parameter direction, on the
+/// face's side of them (kIsoEdgeRel, kRefineStepRel): the surface is the same, only its representation is finer.
+/// The knots inserted are added to `saved`.
+void refineNextTo(const Editable& e, const TopoDS_Face& face, const std::vector<Side>& edges, Saved& saved) {
+  double fu0, fu1, fv0, fv1;
+  BRepTools::UVBounds(face, fu0, fu1, fv0, fv1);
+  const Handle(Geom_BSplineSurface)& bs = e.surface;
+  double su0, su1, sv0, sv1;
+  bs->Bounds(su0, su1, sv0, sv1);
+  for (const Side& side : edges) {
+    Bnd_Box2d box;
+    BndLib_Add2dCurve::Add(side.curve, 0.0, box);
+    if (box.IsVoid()) continue;
+    double cu0, cv0, cu1, cv1;
+    box.Get(cu0, cv0, cu1, cv1);
+    for (int dir = 0; dir < 2; ++dir) {
+      // dir 0: the pcurve runs along u (narrow in v): knots in v.
+      const double lo = dir == 0 ? fv0 : fu0, hi = dir == 0 ? fv1 : fu1;
+      const double c0 = dir == 0 ? cv0 : cu0, c1 = dir == 0 ? cv1 : cu1;
+      const double s0 = dir == 0 ? sv0 : su0, s1 = dir == 0 ? sv1 : su1;
+      const double extent = hi - lo;
+      if (!(extent > 0.0) || c1 - c0 > kIsoEdgeRel * extent) continue;
+      if ((dir == 0 ? bs->IsVPeriodic() : bs->IsUPeriodic())) continue;
+      const double step = kRefineStepRel * extent, mid = 0.5 * (c0 + c1);
+      const int degree = dir == 0 ? bs->VDegree() : bs->UDegree();
+      // The face lies on the side of the pcurve where most of its (u, v) box is.
+      const double sign = hi - mid >= mid - lo ? 1.0 : -1.0;
+      for (int k = 1; k <= degree; ++k) {
+        const double t = (sign > 0 ? c1 : c0) + sign * k * step;
+        if (!(t > s0 && t < s1)) break;
+        const int nk = dir == 0 ? bs->NbVKnots() : bs->NbUKnots();
+        bool near = false;
+        for (int i = 1; i <= nk && !near; ++i)
+          near = std::abs((dir == 0 ? bs->VKnot(i) : bs->UKnot(i)) - t) < 0.5 * step;
+        if (near) continue;
+        if (saved.original.IsNull()) saved.original = Handle(Geom_BSplineSurface)::DownCast(bs->Copy());
+        if (dir == 0) {
+          bs->InsertVKnot(t, 1, 0.0, /*Add=*/true);
+          saved.insertedV.push_back(t);
+        } else {
+          bs->InsertUKnot(t, 1, 0.0, /*Add=*/true);
+          saved.insertedU.push_back(t);
+        }
+      }
+    }
+  }
 }
 
+/// Puts a face's surface back as it was before refineNextTo and the move: the inserted knots removed, then every pole
+/// and weight of the original set again (bit for bit).
+void unrefine(const Handle(Geom_BSplineSurface)& bs, const Saved& saved) {
+  if (saved.original.IsNull()) return;
+  auto removeKnot = [&](bool u, double t) {
+    const int n = u ? bs->NbUKnots() : bs->NbVKnots();
+    for (int i = 1; i <= n; ++i)
+      if ((u ? bs->UKnot(i) : bs->VKnot(i)) == t) {
+        const int m = u ? bs->UMultiplicity(i) : bs->VMultiplicity(i);
+        if (u)
+          bs->RemoveUKnot(i, m - 1, Precision::Infinite());
+        else
+          bs->RemoveVKnot(i, m - 1, Precision::Infinite());
+        return;
+      }
+  };
+  for (const double t : saved.insertedU) removeKnot(true, t);
+  for (const double t : saved.insertedV) removeKnot(false, t);
+  const Handle(Geom_BSplineSurface)& o = saved.original;
+  if (bs->NbUPoles() != o->NbUPoles() || bs->NbVPoles() != o->NbVPoles()) return;  // cannot happen: knots restored
+  for (int i = 1; i <= o->NbUPoles(); ++i)
+    for (int j = 1; j <= o->NbVPoles(); ++j) {
+      if (o->IsURational() || o->IsVRational())
+        bs->SetPole(i, j, o->Pole(i, j), o->Weight(i, j));
+      else
+        bs->SetPole(i, j, o->Pole(i, j));
+    }
+}
+
+
 /// True when the surface's normal inside the face's trims reverses against `before` somewhere on a grid.
-bool folds(const TopoDS_Face& face, const Handle(Geom_BSplineSurface)& now, const Handle(Geom_BSplineSurface)& before) {
+/// What a move did to a face, on the kHealFoldGrid grid of its (u, v) box, points inside its trims: whether its
+/// normal reverses anywhere (a fold), and its area against before, as the ratio of the sums of |S_u x S_v| (the
+/// same grid weighs both: the ratio of the areas within the grid's quadrature error, far below kHealFaceAreaRel).
+struct FaceChange {
+  bool folds = false;
+  double areaRatio = 1.0;
+};
+/// The points of the kHealFoldGrid grid of a face's (u, v) box that lie inside its trims (classified once per face:
+/// the trims do not move).
+std::vector<gp_Pnt2d> gridInside(const TopoDS_Face& face) {
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   BRepTools::UVBounds(face, u0, u1, v0, v1);
   BRepTopAdaptor_FClass2d inside(face, Precision::PConfusion());
+  std::vector<gp_Pnt2d> out;
   for (int i = 0; i <= kHealFoldGrid; ++i)
     for (int j = 0; j <= kHealFoldGrid; ++j) {
-      const double u = u0 + (u1 - u0) * i / kHealFoldGrid, v = v0 + (v1 - v0) * j / kHealFoldGrid;
-      if (inside.Perform(gp_Pnt2d(u, v)) == TopAbs_OUT) continue;
-      gp_Pnt p;
-      gp_Vec au, av, bu, bv;
-      now->D1(u, v, p, au, av);
-      before->D1(u, v, p, bu, bv);
-      const gp_Vec na = au.Crossed(av), nb = bu.Crossed(bv);
-      if (!(nb.Magnitude() > kPoleNormalRel * bu.Magnitude() * bv.Magnitude())) continue;  // a pole before
-      if (!(na.Dot(nb) > 0.0)) return true;
+      const gp_Pnt2d uv(u0 + (u1 - u0) * i / kHealFoldGrid, v0 + (v1 - v0) * j / kHealFoldGrid);
+      if (inside.Perform(uv) != TopAbs_OUT) out.push_back(uv);
     }
-  return false;
+  return out;
+}
+
+FaceChange compareFace(const std::vector<gp_Pnt2d>& grid, const Handle(Geom_BSplineSurface)& now,
+                       const Handle(Geom_BSplineSurface)& before) {
+  FaceChange c;
+  double areaNow = 0.0, areaBefore = 0.0;
+  for (const gp_Pnt2d& uv : grid) {
+    gp_Pnt p;
+    gp_Vec au, av, bu, bv;
+    now->D1(uv.X(), uv.Y(), p, au, av);
+    before->D1(uv.X(), uv.Y(), p, bu, bv);
+    const gp_Vec na = au.Crossed(av), nb = bu.Crossed(bv);
+    areaNow += na.Magnitude();
+    areaBefore += nb.Magnitude();
+    if (!(nb.Magnitude() > kPoleNormalRel * bu.Magnitude() * bv.Magnitude())) continue;  // a pole before
+    if (!(na.Dot(nb) > 0.0)) c.folds = true;
+  }
+  if (areaBefore > 0.0) c.areaRatio = areaNow / areaBefore;
+  return c;
 }
 
 /// The edge's 3-D curve rebuilt as the image of its pcurve on `face` (GeomLib::BuildCurve3d within `tolerance`),
@@ -513,16 +656,32 @@ std::string worseThan(const SeamReport& after, const SeamReport& before, const T
 
 namespace {
 
-/// The heal of a shape in memory (healBRepFile between reading and writing). `report` is filled in.
+/// Changes a heal must not make (a read-back of an earlier attempt found them making a seam of the file worse), by
+/// the face's and the edge's index in the shape as read (the same file reads the same way every time), each with
+/// the reason.
+struct HealExclusions {
+  std::map<int, std::string> faces;  ///< faces that must not move
+  std::map<int, std::string> trims;  ///< edges whose pcurves must not be projected again
+  [[nodiscard]] size_t size() const { return faces.size() + trims.size(); }
+};
+
+/// The heal of a shape in memory (healBRepFile between reading and writing). `report` is filled in; `reprojected`
+/// receives the edges whose pcurves were projected again (the faces moved are report.facesChanged).
 Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::FaceLabels& labels,
                  const detail::FileUnits& units, const std::vector<std::string>& readWarnings,
-                 const BRepHealOptions& options, BRepHealReport& report) {
+                 const BRepHealOptions& options, const HealExclusions& excluded, BRepHealReport& report,
+                 std::set<int>& reprojected, std::optional<BRepCheckReport>& checkedBefore) {
   BRepCheckOptions co;
   co.tolerances = options.tolerances;
   co.threads = options.threads;
   co.sewFreeEdges = false;  // the file's topology is what is written
-  Result<BRepCheckReport> before = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
-  if (!before) return before.status();
+  // The check of the input: the same for every attempt (the same file, read the same way), so made once.
+  if (!checkedBefore) {
+    Result<BRepCheckReport> first = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+    if (!first) return first.status();
+    checkedBefore = std::move(first).value();
+  }
+  const Result<BRepCheckReport> before = *checkedBefore;
   const Tolerances tol = before->tolerances;
   report.tolerances = tol;
   report.warnings = before->import.warnings;
@@ -552,6 +711,11 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       e.reset();
       whyNot[static_cast<size_t>(i)] = "its surface is shared with another face";
     }
+  for (const auto& [fi, why] : excluded.faces)
+    if (fi >= 1 && fi <= faceMap.Extent()) {
+      editable[static_cast<size_t>(fi)].reset();
+      whyNot[static_cast<size_t>(fi)] = why;
+    }
   auto faceIndex = [](const std::string& name) { return std::stoi(name.substr(1)); };
 
   std::map<int, size_t> seamOfEdge;
@@ -564,31 +728,42 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
   for (const BRepSeam& s : before->seams) {
     const int ia = faceIndex(s.a), ib = faceIndex(s.b);
     if (ia == ib || !(s.report.g0Max > tol.distance) || s.report.g0Max > report.maxGap) continue;
+    if (excluded.trims.count(s.edge)) continue;
     const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(s.edge));
     const TopoDS_Face fa = TopoDS::Face(faceMap(ia)), fb = TopoDS::Face(faceMap(ib));
     if (!curveOnSurface(edge, fa, tol.distance) || !curveOnSurface(edge, fb, tol.distance)) continue;
     std::optional<TrimFix> fix = reprojectPCurves(edge, fa, fb, tol.distance);
     if (fix) trimFixes.emplace(s.edge, std::move(*fix));
   }
+  // `base` with the seams of `edges` checked again (a change reaches no other seam: the trims of stage 1 change one
+  // edge each; a moved face, its own edges).
+  auto recheck = [&](const BRepCheckReport& base, const TopTools_IndexedMapOfShape& edges) -> Result<BRepCheckReport> {
+    Result<BRepCheckReport> partial = detail::checkBRepShape(
+        shape, file, labels, units, readWarnings, co, [&](const TopoDS_Edge& e) { return edges.Contains(e); });
+    if (!partial) return partial.status();
+    BRepCheckReport merged = base;
+    std::map<int, size_t> at;
+    for (size_t k = 0; k < merged.seams.size(); ++k) at[merged.seams[k].edge] = k;
+    for (BRepSeam& s : partial->seams)
+      if (const auto it = at.find(s.edge); it != at.end()) merged.seams[it->second] = std::move(s);
+    return merged;
+  };
   Result<BRepCheckReport> mid = before;
   if (!trimFixes.empty()) {
-    mid = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+    TopTools_IndexedMapOfShape fixedEdges;
+    for (const auto& [ei, fix] : trimFixes) fixedEdges.Add(fix.edge);
+    mid = recheck(*before, fixedEdges);
     if (!mid) return mid.status();
-    bool reverted = false;
-    for (const BRepSeam& s : mid->seams) {
+    for (BRepSeam& s : mid->seams) {
       const auto fixed = trimFixes.find(s.edge);
       if (fixed == trimFixes.end()) continue;
-      const std::string why = worseThan(s.report, before->seams[seamOfEdge.at(s.edge)].report, tol,
-                                        options.creaseAngleDeg);
+      const BRepSeam& was = before->seams[seamOfEdge.at(s.edge)];
+      const std::string why = worseThan(s.report, was.report, tol, options.creaseAngleDeg);
       const bool invalid = !faceValid(fixed->second.fa) || !faceValid(fixed->second.fb);
-      if (why.empty() && !invalid && s.report.g0Max < before->seams[seamOfEdge.at(s.edge)].report.g0Max) continue;
-      restore(fixed->second);
+      if (why.empty() && !invalid && s.report.g0Max < was.report.g0Max) continue;
+      restore(fixed->second);  // its pcurves back: the seam is the input's again
       trimFixes.erase(fixed);
-      reverted = true;
-    }
-    if (reverted) {
-      mid = trimFixes.empty() ? before : detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
-      if (!mid) return mid.status();
+      s = was;
     }
   }
   std::map<int, const SeamReport*> midOfEdge;
@@ -653,6 +828,13 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
   for (const auto& [fi, seamIdx] : byMover) {
     const TopoDS_Face face = TopoDS::Face(faceMap(fi));
     const Editable& e = *editable[static_cast<size_t>(fi)];
+    Saved sv;
+    {
+      std::vector<Side> along;
+      for (size_t k : seamIdx)
+        if (auto a = sideOf(TopoDS::Edge(edgeFaces.FindKey(before->seams[k].edge)), face)) along.push_back(*a);
+      refineNextTo(e, face, along, sv);
+    }
     MoveSystem sys(e, tol.distance, sigmaAngle);
     const int n = edgeSamples(e, options.samplesPerEdge);
     std::set<int> targetEdges;
@@ -718,10 +900,11 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       sys.setWeight(1.0);
     }
     const auto moves = sys.solve();
-    if (moves.empty()) continue;
-    Saved sv;
+    if (moves.empty()) {
+      unrefine(e.surface, sv);
+      continue;
+    }
     sv.copy = Handle(Geom_BSplineSurface)::DownCast(e.surface->Copy());
-    sv.area = faceArea(face);
     double largest = 0.0;
     for (const auto& [key, d] : moves) {
       const gp_Pnt p = e.surface->Pole(key.first, key.second);
@@ -738,24 +921,31 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
     const Saved& sv = saved.at(fi);
     for (int i = 1; i <= e.surface->NbUPoles(); ++i)
       for (int j = 1; j <= e.surface->NbVPoles(); ++j) e.surface->SetPole(i, j, sv.copy->Pole(i, j));
+    unrefine(e.surface, sv);
     saved.erase(fi);
     displacement.erase(fi);
   };
   std::map<int, std::string> reverted;
-  Result<BRepCheckReport> after = before;
+  Result<BRepCheckReport> after = mid;
+  std::map<int, std::vector<gp_Pnt2d>> grids;  // by face: its fold grid's points inside its trims
   for (int round = 0; !saved.empty(); ++round) {
-    after = detail::checkBRepShape(shape, file, labels, units, readWarnings, co);
+    // Only the edges of the moved faces can change: they are checked again, the others keep mid's report.
+    TopTools_IndexedMapOfShape movedEdges;
+    for (const auto& [fi, sv] : saved) TopExp::MapShapes(faceMap(fi), TopAbs_EDGE, movedEdges);
+    after = recheck(*mid, movedEdges);
     if (!after) return after.status();
     std::map<int, std::string> bad;
     for (const auto& [fi, sv] : saved) {
       const TopoDS_Face face = TopoDS::Face(faceMap(fi));
-      if (folds(face, editable[static_cast<size_t>(fi)]->surface, sv.copy))
+      auto& grid = grids[fi];
+      if (grid.empty()) grid = gridInside(face);
+      const FaceChange change = compareFace(grid, editable[static_cast<size_t>(fi)]->surface, sv.copy);
+      if (change.folds)
         bad[fi] = fmt::format("the face would fold (its normal reverses inside its trims; its largest control-point "
                               "move was {:.3g})",
                               displacement[fi]);
-      const double area = faceArea(face);
-      if (!bad.count(fi) && std::abs(area - sv.area) > kHealFaceAreaRel * std::abs(sv.area))
-        bad[fi] = fmt::format("the face's area would change by {:.3g} %", 100.0 * (area - sv.area) / sv.area);
+      else if (std::abs(change.areaRatio - 1.0) > kHealFaceAreaRel)
+        bad[fi] = fmt::format("the face's area would change by {:.3g} %", 100.0 * (change.areaRatio - 1.0));
     }
     for (const BRepSeam& s : after->seams) {
       const auto it = seamOfEdge.find(s.edge);
@@ -775,7 +965,7 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       putBack(fi);
       reverted[fi] = why;
     }
-    if (saved.empty()) after = before;
+    if (saved.empty()) after = mid;
   }
 
   // The 3-D curves of the moved faces' edges are built again on a face that did not move where there is one (the
@@ -827,6 +1017,13 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
                                     : options.continuity;
     const bool reached = hs.after && meets(hs.after->geometric, want);
     report.seamsHealed += reached ? 1 : 0;
+    // A face moved for it, but the seam did not reach the class: say so rather than "healed".
+    if (!reached && hs.action == "healed")
+      hs.action = fmt::format("moved, {} not reached", toString(want));
+    else if (!reached && hs.action == "crease: gap closed")
+      hs.action = "crease: gap narrowed, not closed";
+    else if (!reached && hs.action == "trims projected again: gap closed")
+      hs.action = "trims projected again: gap narrowed, not closed";
     report.achieved = report.achieved && reached;
   }
   for (const auto& [fi, d] : displacement) {
@@ -838,6 +1035,11 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
     report.notes.push_back(fmt::format("F{} put back as it was: {}", fi, why));
   }
   report.trimsReprojected = static_cast<int>(trimFixes.size());
+  for (const auto& [ei, fix] : trimFixes) reprojected.insert(ei);
+  for (const auto& [fi, why] : excluded.faces)
+    report.notes.push_back(fmt::format("F{} was not moved: {}", fi, why));
+  for (const auto& [ei, why] : excluded.trims)
+    report.notes.push_back(fmt::format("the pcurves of edge {} were left as they are: {}", ei, why));
   if (!trimFixes.empty())
     report.notes.push_back(fmt::format("{} edges had gaps of their trims alone (the 3-D edge lies on both surfaces): "
                                        "their pcurves were projected again from it; no surface moved for them",
@@ -853,135 +1055,154 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
 
 namespace {
 
-/// "" when every seam of the written file `file` is no worse than the input's seam whose edge midpoint is nearest;
-/// else the first that is, in words.
-std::string worseWhenReadBack(const fs::path& file, CadFormat format, const BRepHealReport& report,
-                              const BRepHealOptions& options) {
-  std::vector<std::string> warnings;
-  detail::FaceLabels labels;
-  detail::FileUnits units;
-  Result<TopoDS_Shape> back = detail::readShape(file, format, &warnings, detail::kTransferTimeLimit, &labels, &units);
-  if (!back) return "it could not be read back: " + back.status().message();
+/// A seam of the written file, read back, that is worse than the input's.
+struct WorseSeam {
+  const BRepHealSeam* input = nullptr;  ///< the input's seam nearest to it (its edge's midpoint)
+  std::string why;
+};
+
+/// Boxes around what a heal changed: the faces moved and the faces of the edges whose pcurves were projected again,
+/// with every face that shares a vertex with them (a moved vertex moves the ends of their edges too), each enlarged
+/// by the distance tolerance. A seam of the written file whose edge's middle lies in none of them was not changed.
+std::vector<Bnd_Box> changedRegion(const TopoDS_Shape& shape, const BRepHealReport& report,
+                                   const std::set<int>& reprojected) {
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
+  TopTools_IndexedDataMapOfShapeListOfShape vertexFaces;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_VERTEX, TopAbs_FACE, vertexFaces);
+  std::set<int> changed;
+  for (const std::string& f : report.facesChanged) changed.insert(std::stoi(f.substr(1)));
+  for (const BRepHealSeam& h : report.seams)
+    if (reprojected.count(h.edge)) {
+      changed.insert(std::stoi(h.a.substr(1)));
+      changed.insert(std::stoi(h.b.substr(1)));
+    }
+  std::set<int> near = changed;
+  for (const int fi : changed)
+    for (TopExp_Explorer ex(faceMap(fi), TopAbs_VERTEX); ex.More(); ex.Next())
+      for (TopTools_ListOfShape::Iterator it(vertexFaces.FindFromKey(ex.Current())); it.More(); it.Next())
+        near.insert(faceMap.FindIndex(it.Value()));
+  std::vector<Bnd_Box> boxes;
+  for (const int fi : near) {
+    Bnd_Box box;
+    BRepBndLib::Add(faceMap(fi), box);
+    box.Enlarge(report.tolerances.distance);
+    boxes.push_back(box);
+  }
+  return boxes;
+}
+
+/// The seams of a written STEP/IGES file as `seam check` finds them in what the writer's verification read back,
+/// those whose edge's middle lies in `region` only (all when it is empty).
+Result<std::vector<BRepSeam>> seamsReadBack(const fs::path& file, const detail::WrittenBack& back,
+                                            const BRepHealOptions& options, const std::vector<Bnd_Box>& region) {
   BRepCheckOptions co;
   co.tolerances = options.tolerances;
   co.threads = options.threads;
   co.sewFreeEdges = false;
-  Result<BRepCheckReport> check = detail::checkBRepShape(*back, file, labels, units, warnings, co);
-  if (!check) return "it could not be checked: " + check.status().message();
-  for (const BRepSeam& s : check->seams) {
+  detail::EdgeFilter inRegion;
+  if (!region.empty())
+    inRegion = [&](const TopoDS_Edge& e) {
+      if (BRep_Tool::Degenerated(e)) return false;
+      BRepAdaptor_Curve c(e);
+      const gp_Pnt m = c.Value(0.5 * (c.FirstParameter() + c.LastParameter()));
+      return std::any_of(region.begin(), region.end(), [&](const Bnd_Box& b) { return !b.IsOut(m); });
+    };
+  Result<BRepCheckReport> check =
+      detail::checkBRepShape(back.shape, file, back.labels, back.units, back.warnings, co, inRegion);
+  if (!check) return invalidInput("it could not be checked: " + check.status().message());
+  return std::move(check->seams);
+}
+
+/// The seams of `seams` whose edge midpoint is nearest to `mid` (coincident edges of touching solids share it).
+template <typename SeamT, typename MidOf>
+std::vector<const SeamT*> nearestSeams(const std::vector<SeamT>& seams, const Vec3& mid, double slack, MidOf midOf) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const SeamT& h : seams) best = std::min(best, (midOf(h) - mid).norm());
+  std::vector<const SeamT*> out;
+  for (const SeamT& h : seams)
+    if ((midOf(h) - mid).norm() <= best + slack) out.push_back(&h);
+  return out;
+}
+
+Vec3 midOfCurve(const BRepSeam& s) { return s.curve.empty() ? Vec3::Zero() : s.curve[s.curve.size() / 2]; }
+
+/// Every seam of the written file (`written`, read back) that is worse than the input's seam at its place (paired by
+/// the edge's midpoint; worse only when worse than every input seam there), and, when `unhealed` (the seams of the
+/// input written unchanged, read back) is given, also worse than that: a seam that OpenCASCADE's writer and reader
+/// alone make worse is not the heal's doing (`seam convert` writes it the same).
+std::vector<WorseSeam> worseSeams(const std::vector<BRepSeam>& written, const BRepHealReport& report,
+                                  const BRepHealOptions& options, const std::vector<BRepSeam>* unhealed) {
+  std::vector<WorseSeam> worse;
+  const double slack = report.tolerances.distance;
+  for (const BRepSeam& s : written) {
     if (s.curve.empty()) continue;
-    const Vec3 mid = s.curve[s.curve.size() / 2];
-    // The input's seams at the nearest midpoint (coincident edges of touching solids share it): worse only when
-    // worse than every one of them.
-    double best = std::numeric_limits<double>::infinity();
-    for (const BRepHealSeam& h : report.seams) best = std::min(best, (h.midpoint - mid).norm());
-    std::string why;
-    const BRepHealSeam* blamed = nullptr;
-    for (const BRepHealSeam& h : report.seams) {
-      if ((h.midpoint - mid).norm() > best + report.tolerances.distance) continue;
-      const std::string w = worseThan(s.report, h.before, report.tolerances, options.creaseAngleDeg);
-      if (w.empty()) {
-        why.clear();
-        blamed = nullptr;
+    const Vec3 mid = midOfCurve(s);
+    WorseSeam w;
+    for (const BRepHealSeam* h : nearestSeams(report.seams, mid, slack, [](const BRepHealSeam& x) {
+           return x.midpoint;
+         })) {
+      const std::string why = worseThan(s.report, h->before, report.tolerances, options.creaseAngleDeg);
+      if (why.empty()) {
+        w.input = nullptr;
         break;
       }
-      if (blamed == nullptr) {
-        why = w;
-        blamed = &h;
-      }
+      if (w.input == nullptr) w = {h, why};
     }
-    if (blamed != nullptr)
-      return fmt::format("the seam of {} and {} (edge {} of the input): {}", blamed->a, blamed->b, blamed->edge, why);
+    if (w.input != nullptr && unhealed != nullptr)
+      for (const BRepSeam* u : nearestSeams(*unhealed, mid, slack, midOfCurve))
+        if (worseThan(s.report, u->report, report.tolerances, options.creaseAngleDeg).empty()) w.input = nullptr;
+    if (w.input != nullptr) worse.push_back(std::move(w));
   }
-  return {};
+  return worse;
+}
+
+/// Adds to `excluded` the changes of the last attempt that are to blame for the worse seams of its written file:
+/// the faces moved and the edges whose pcurves were projected again on the worse seam's own faces, else on the faces
+/// next to them (sharing a seam). False when nothing could be blamed (the caller then gives the heal up).
+bool blameReadBack(const std::vector<WorseSeam>& worse, const BRepHealReport& report,
+                   const std::set<int>& reprojected, HealExclusions& excluded) {
+  auto index = [](const std::string& name) { return std::stoi(name.substr(1)); };
+  std::set<int> moved;
+  for (const std::string& f : report.facesChanged) moved.insert(index(f));
+  std::map<int, std::pair<int, int>> facesOfEdge;
+  std::map<int, std::set<int>> neighbours;
+  for (const BRepHealSeam& h : report.seams) {
+    facesOfEdge[h.edge] = {index(h.a), index(h.b)};
+    neighbours[index(h.a)].insert(index(h.b));
+    neighbours[index(h.b)].insert(index(h.a));
+  }
+  const size_t had = excluded.size();
+  for (const WorseSeam& w : worse) {
+    if (w.input == nullptr) return false;
+    const std::string reason = fmt::format("read back from the written file, the seam of {} and {} (edge {}) was "
+                                           "worse: {}",
+                                           w.input->a, w.input->b, w.input->edge, w.why);
+    for (int ring = 0; ring < 2; ++ring) {
+      std::set<int> near = {index(w.input->a), index(w.input->b)};
+      if (ring == 1)
+        for (const int f : std::set<int>(near)) near.insert(neighbours[f].begin(), neighbours[f].end());
+      bool blamed = false;
+      for (const int f : near)
+        if (moved.count(f) && excluded.faces.emplace(f, reason).second) blamed = true;
+      for (const int e : reprojected) {
+        const auto [fa, fb] = facesOfEdge[e];
+        if ((near.count(fa) || near.count(fb)) && excluded.trims.emplace(e, reason).second) blamed = true;
+      }
+      if (blamed) break;
+    }
+  }
+  return excluded.size() > had;
 }
 
 }  // namespace
 
 namespace {
 
-BRepCounts countsOf(const TopoDS_Shape& shape, const detail::ShapeCounts& c) {
-  return {c.faces, c.trimmedFaces, c.edges, c.solids, c.area, BRepCheck_Analyzer(shape).IsValid()};
-}
-
-}  // namespace
-
-Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, const BRepHealOptions& options) {
-  const std::optional<CadFormat> inFormat = cadFormatOf(in), outFormat = cadFormatOf(out);
-  if (!inFormat || !outFormat)
-    return invalidInput(fmt::format("{} -> {}: the B-rep heal reads and writes STEP/IGES", in.string(),
-                                    out.string()));
-  if (options.continuity != GeometricClass::kG0 && options.continuity != GeometricClass::kG1)
-    return invalidInput(fmt::format("{}: the heal of a trimmed B-rep reaches G0 or G1 (G2 works on untrimmed patch "
-                                    "models: JSON or .bpt)",
-                                    in.string()));
-  if (options.tolerances.units)
-    return invalidInput(fmt::format("{}: --units rescales the model; the B-rep heal keeps the file's own "
-                                    "coordinates and unit, so it takes no --units",
-                                    in.string()));
-  BRepHealReport report;
-  report.requested = options.continuity;
-  report.creaseAngleDeg = options.creaseAngleDeg;
-  std::vector<std::string> readWarnings;
-  detail::FaceLabels labels;
-  detail::FileUnits units;
-  const Handle(TDocStd_Document) doc = detail::newCadDocument();
-  Result<TopoDS_Shape> read =
-      detail::readShape(in, *inFormat, &readWarnings, detail::kTransferTimeLimit, &labels, &units, &doc);
-  if (!read) return read.status();
-  const TopoDS_Shape shape = *read;
-  report.unit = detail::cadUnitName(units.units.millimetresPerFileUnit, *outFormat);
-  report.maxGap = options.maxGap.value_or(kDefaultBRepMaxGapMm);  // the model is in millimetres
-  detail::ShapeCounts countsAfter;
-  {
-    detail::OcctSignalGuard guard;
-    try {
-      OCC_CATCH_SIGNALS
-      report.before = countsOf(shape, detail::countShape(shape));
-      if (Status st = healShape(shape, in, labels, units, readWarnings, options, report); !st) return st;
-      countsAfter = detail::countShape(shape);
-      report.after = countsOf(shape, countsAfter);
-    } catch (const Standard_Failure& f) {
-      return invalidInput(fmt::format("{}: OpenCASCADE {} during the heal: {}", in.string(),
-                                      isSignal(f) ? "crashed (the file is corrupt)" : "failed", f.GetMessageString()));
-    }
-  }
-  if (report.before.valid && !report.after.valid)
-    return invalidInput(fmt::format("{}: not written: the healed model fails OpenCASCADE's BRepCheck_Analyzer, "
-                                    "which the input passes",
-                                    out.string()));
-  if (report.facesChanged.empty() && report.trimsReprojected == 0) {
-    if (Status st = detail::writeCadDocument(doc, out, *outFormat, report.unit, countsAfter, &report.notes); !st)
-      return st;
-    return report;
-  }
-  // What was written is read back and checked again: a STEP or IGES reader rebuilds the trims from the written 3-D
-  // edge curves and vertices, so the seams of the file can differ from those of the model in memory. Every seam of
-  // the file (paired with the input's by the midpoint of its edge) must be no worse than in the input; else nothing
-  // of the heal is written: the input is written unchanged (as `seam convert` writes it) and every seam says why.
-  const fs::path temp = io::temporaryPathFor(out);
-  struct RemoveTemporary {
-    const fs::path& path;
-    ~RemoveTemporary() {
-      std::error_code ec;
-      fs::remove(path, ec);
-    }
-  } removeTemporary{temp};
-  if (Status st = detail::writeCadDocument(doc, temp, *outFormat, report.unit, countsAfter, &report.notes,
-                                           kHealWrittenAreaRelTol);
-      !st) {
-    std::string message = st.message();  // it names the temporary file: name the output instead
-    for (size_t at = message.find(temp.string()); at != std::string::npos; at = message.find(temp.string()))
-      message.replace(at, temp.string().size(), out.string());
-    return Status(st.code(), message);
-  }
-  const std::string worse = worseWhenReadBack(temp, *outFormat, report, options);
-  if (worse.empty()) {
-    std::error_code ec;
-    fs::rename(temp, out, ec);
-    if (ec) return invalidInput(fmt::format("{}: cannot replace file: {}", out.string(), ec.message()));
-    return report;
-  }
+/// The report of a heal whose written file, read back, stayed worse than the input: the input is written unchanged
+/// (as `seam convert` writes it) and every seam says why.
+Result<BRepHealReport> unchangedAfterReadBack(const fs::path& in, const fs::path& out, const std::string& worse,
+                                              BRepHealReport report) {
   Result<CadConvertReport> unchanged = convertCadFile(in, out);
   if (!unchanged) return unchanged.status();
   for (BRepHealSeam& s : report.seams) {
@@ -1002,6 +1223,156 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
   report.achieved = report.seamsToHeal == 0;
   report.after = report.before;
   return report;
+}
+
+BRepCounts countsOf(const TopoDS_Shape& shape, const detail::ShapeCounts& c) {
+  return {c.faces, c.trimmedFaces, c.edges, c.solids, c.area, BRepCheck_Analyzer(shape).IsValid()};
+}
+
+/// Writes the input `in` unchanged to `file` in `format` (through the document, as the heal writes).
+Status writeUnchanged(const fs::path& in, CadFormat inFormat, const fs::path& file, CadFormat format,
+                      const std::string& unit, detail::WrittenBack& back) {
+  std::vector<std::string> warnings, notes;
+  detail::FileUnits units;
+  const Handle(TDocStd_Document) doc = detail::newCadDocument();
+  Result<TopoDS_Shape> read = detail::readShape(in, inFormat, &warnings, detail::kTransferTimeLimit, nullptr, &units,
+                                                &doc);
+  if (!read) return read.status();
+  detail::OcctSignalGuard guard;
+  try {
+    OCC_CATCH_SIGNALS
+    return detail::writeCadDocument(doc, file, format, unit, detail::countShape(*read), &notes, 0.0, &back);
+  } catch (const Standard_Failure& f) {
+    return invalidInput(fmt::format("{}: OpenCASCADE failed writing it unchanged: {}", in.string(),
+                                    f.GetMessageString()));
+  }
+}
+
+/// Removes a temporary file when it goes out of scope (the heal's outputs before they are renamed into place).
+struct RemoveTemporary {
+  const fs::path& path;
+  explicit RemoveTemporary(const fs::path& p) : path(p) {}
+  RemoveTemporary(const RemoveTemporary&) = delete;
+  RemoveTemporary& operator=(const RemoveTemporary&) = delete;
+  ~RemoveTemporary() {
+    std::error_code ec;
+    fs::remove(path, ec);
+  }
+};
+
+}  // namespace
+
+Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, const BRepHealOptions& options) {
+  const std::optional<CadFormat> inFormat = cadFormatOf(in), outFormat = cadFormatOf(out);
+  if (!inFormat || !outFormat)
+    return invalidInput(fmt::format("{} -> {}: the B-rep heal reads and writes STEP/IGES", in.string(),
+                                    out.string()));
+  if (options.continuity != GeometricClass::kG0 && options.continuity != GeometricClass::kG1)
+    return invalidInput(fmt::format("{}: the heal of a trimmed B-rep reaches G0 or G1 (G2 works on untrimmed patch "
+                                    "models: JSON or .bpt)",
+                                    in.string()));
+  if (options.tolerances.units)
+    return invalidInput(fmt::format("{}: --units rescales the model; the B-rep heal keeps the file's own "
+                                    "coordinates and unit, so it takes no --units",
+                                    in.string()));
+  // What was written is read back and checked again: a STEP or IGES reader rebuilds the trims from the written 3-D
+  // edge curves and vertices, so the seams of the file can differ from those of the model in memory. Every seam of
+  // the file (paired with the input's by the midpoint of its edge) must be no worse than in the input. Where one is,
+  // the changes next to it (faces moved, pcurves projected again) are excluded and the heal is made again from the
+  // input, at most kMaxReadBackAttempts times; when nothing more can be blamed, nothing of the heal is written: the
+  // input is written unchanged (as `seam convert` writes it) and every seam says why.
+  HealExclusions excluded;
+  std::string lastWorse;
+  std::optional<std::vector<BRepSeam>> unhealed;  // the seams of the input written unchanged, read back
+  std::optional<BRepCheckReport> checkedBefore;   // the input's check, the same for every attempt
+  std::optional<BRepCounts> countsBefore;          // its counts, too
+  for (int attempt = 0;; ++attempt) {  // each attempt ends in a return or excludes something more
+    BRepHealReport report;
+    report.requested = options.continuity;
+    report.creaseAngleDeg = options.creaseAngleDeg;
+    std::vector<std::string> readWarnings;
+    detail::FaceLabels labels;
+    detail::FileUnits units;
+    const Handle(TDocStd_Document) doc = detail::newCadDocument();
+    Result<TopoDS_Shape> read =
+        detail::readShape(in, *inFormat, &readWarnings, detail::kTransferTimeLimit, &labels, &units, &doc);
+    if (!read) return read.status();
+    const TopoDS_Shape shape = *read;
+    report.unit = detail::cadUnitName(units.units.millimetresPerFileUnit, *outFormat);
+    report.maxGap = options.maxGap.value_or(kDefaultBRepMaxGapMm);  // the model is in millimetres
+    detail::ShapeCounts countsAfter;
+    std::set<int> reprojected;
+    {
+      detail::OcctSignalGuard guard;
+      try {
+        OCC_CATCH_SIGNALS
+        if (!countsBefore) countsBefore = countsOf(shape, detail::countShape(shape));  // the same every attempt
+        report.before = *countsBefore;
+        if (Status st = healShape(shape, in, labels, units, readWarnings, options, excluded, report, reprojected,
+                                  checkedBefore);
+            !st)
+          return st;
+        countsAfter = detail::countShape(shape);
+        report.after = countsOf(shape, countsAfter);
+      } catch (const Standard_Failure& f) {
+        return invalidInput(fmt::format("{}: OpenCASCADE {} during the heal: {}", in.string(),
+                                        isSignal(f) ? "crashed (the file is corrupt)" : "failed",
+                                        f.GetMessageString()));
+      }
+    }
+    if (report.before.valid && !report.after.valid)
+      return invalidInput(fmt::format("{}: not written: the healed model fails OpenCASCADE's BRepCheck_Analyzer, "
+                                      "which the input passes",
+                                      out.string()));
+    if (report.facesChanged.empty() && report.trimsReprojected == 0) {
+      if (Status st = detail::writeCadDocument(doc, out, *outFormat, report.unit, countsAfter, &report.notes); !st)
+        return st;
+      return report;
+    }
+    const fs::path temp = io::temporaryPathFor(out);
+    RemoveTemporary removeTemporary{temp};
+    detail::WrittenBack back;
+    if (Status st = detail::writeCadDocument(doc, temp, *outFormat, report.unit, countsAfter, &report.notes,
+                                             kHealWrittenAreaRelTol, &back);
+        !st) {
+      std::string message = st.message();  // it names the temporary file: name the output instead
+      for (size_t at = message.find(temp.string()); at != std::string::npos; at = message.find(temp.string()))
+        message.replace(at, temp.string().size(), out.string());
+      return Status(st.code(), message);
+    }
+    const std::vector<Bnd_Box> region = changedRegion(shape, report, reprojected);
+    Result<std::vector<BRepSeam>> written = seamsReadBack(temp, back, options, region);
+    if (!written) return unchangedAfterReadBack(in, out, written.status().message(), std::move(report));
+    std::vector<WorseSeam> worse = worseSeams(*written, report, options, unhealed ? &*unhealed : nullptr);
+    if (!worse.empty() && !unhealed) {
+      // Is it the writer's and reader's own doing? The input written unchanged, read back, is the baseline.
+      const fs::path plain = io::temporaryPathFor(out);
+      RemoveTemporary removePlain{plain};
+      detail::WrittenBack plainBack;
+      if (Status st = writeUnchanged(in, *inFormat, plain, *outFormat, report.unit, plainBack); !st) return st;
+      Result<std::vector<BRepSeam>> plainSeams = seamsReadBack(plain, plainBack, options, region);
+      if (!plainSeams) return unchangedAfterReadBack(in, out, plainSeams.status().message(), std::move(report));
+      unhealed = std::move(*plainSeams);
+      worse = worseSeams(*written, report, options, &*unhealed);
+    }
+    if (worse.empty()) {
+      std::error_code ec;
+      fs::rename(temp, out, ec);
+      if (ec) return invalidInput(fmt::format("{}: cannot replace file: {}", out.string(), ec.message()));
+      if (attempt > 0)
+        report.notes.push_back(fmt::format("healed in {} attempts: the written file of each earlier one, read back, "
+                                           "had a seam worse than the input; the changes next to it were not made "
+                                           "again ({} faces not moved, {} edges' pcurves kept)",
+                                           attempt + 1, excluded.faces.size(), excluded.trims.size()));
+      return report;
+    }
+    lastWorse = worse.front().input == nullptr
+                    ? worse.front().why
+                    : fmt::format("the seam of {} and {} (edge {} of the input): {}", worse.front().input->a,
+                                  worse.front().input->b, worse.front().input->edge, worse.front().why);
+    if (attempt + 1 < kMaxReadBackAttempts && blameReadBack(worse, report, reprojected, excluded)) continue;
+    return unchangedAfterReadBack(in, out, lastWorse, std::move(report));
+  }
 }
 
 }  // namespace seam::occt

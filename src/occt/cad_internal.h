@@ -126,9 +126,17 @@ ShapeCounts countShape(const TopoDS_Shape& shape);
 /// written and the error says what OpenCASCADE lost. IGES: B-rep mode (solids) first, else the faces mode, with a
 /// line in `notes` saying that the solids are written as their faces. `areaRelTol` > 0 replaces the area tolerance
 /// (when it is larger).
+/// What writeCadDocument read back from the file it wrote (its verification), for a caller that checks it further.
+struct WrittenBack {
+  TopoDS_Shape shape;
+  FaceLabels labels;
+  FileUnits units;
+  std::vector<std::string> warnings;
+};
 Status writeCadDocument(const Handle(TDocStd_Document)& document, const std::filesystem::path& file,
                         CadFormat format, const std::string& unitName, const ShapeCounts& expected,
-                        std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0);
+                        std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0,
+                        WrittenBack* back = nullptr);
 
 /// A written STEP B-rep's area may differ from what was written by this much (relative): surfaces written with 17
 /// significant digits come back bit for bit, the trims are rebuilt from the 3-D curves by the reader (occ22470.igs ->

@@ -1187,7 +1187,7 @@ std::string countsLost(const ShapeCounts& expected, const ShapeCounts& got, doub
 
 Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path& file, CadFormat format,
                         const std::string& unitName, const ShapeCounts& expected, std::vector<std::string>* notes,
-                        double areaRelTol) {
+                        double areaRelTol, WrittenBack* writtenBack) {
   silenceOcct();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
   // XDE reader recorded for it: the writers scale from the document's unit to `unitName`.
@@ -1224,7 +1224,11 @@ Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path
         },
         [&](const fs::path& temp) -> Status {
           std::vector<std::string> warnings;
-          Result<TopoDS_Shape> back = readShape(temp, format, &warnings, kTransferTimeLimit);
+          FaceLabels labels;
+          FileUnits units;
+          Result<TopoDS_Shape> back = writtenBack != nullptr
+                                          ? readShape(temp, format, &warnings, kTransferTimeLimit, &labels, &units)
+                                          : readShape(temp, format, &warnings, kTransferTimeLimit);
           if (!back)
             return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
                                             file.string(), back.status().message()));
@@ -1235,6 +1239,8 @@ Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path
             return invalidInput(fmt::format("{}: not written: OpenCASCADE's {} writer would lose part of the model "
                                             "(read back: {})",
                                             file.string(), format == CadFormat::kStep ? "STEP" : "IGES", lost));
+          if (writtenBack != nullptr)
+            *writtenBack = {*back, std::move(labels), std::move(units), std::move(warnings)};
           return Status::ok();
         });
   };
