@@ -1286,6 +1286,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
   std::optional<std::vector<BRepSeam>> unhealed;  // the seams of the input written unchanged, read back
   std::optional<BRepCheckReport> checkedBefore;   // the input's check, the same for every attempt
   std::optional<BRepCounts> countsBefore;          // its counts, too
+  std::vector<std::string> roundTripNotes;         // seams the plain round trip makes worse
   for (int attempt = 0;; ++attempt) {  // each attempt ends in a return or excludes something more
     BRepHealReport report;
     report.requested = options.continuity;
@@ -1354,7 +1355,15 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
       if (!plainSeams) return unchangedAfterReadBack(in, out, plainSeams.status().message(), std::move(report));
       unhealed = std::move(*plainSeams);
       worse = worseSeams(*written, report, options, &*unhealed);
+      const std::vector<WorseSeam> roundTrip = worseSeams(*unhealed, report, options, nullptr);
+      for (const WorseSeam& w : roundTrip)
+        roundTripNotes.push_back(fmt::format(
+            "the seam of {} and {} (edge {}) is worse in the input written unchanged and read back ({}): "
+            "OpenCASCADE's writer and reader do that (`seam convert` writes the same); the heal is held to it there",
+            w.input->a, w.input->b, w.input->edge, w.why));
+
     }
+    report.notes.insert(report.notes.end(), roundTripNotes.begin(), roundTripNotes.end());
     if (worse.empty()) {
       std::error_code ec;
       fs::rename(temp, out, ec);
