@@ -17,6 +17,10 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <BRep_Builder.hxx>
+#include <TopoDS_Compound.hxx>
+#include <Geom_Plane.hxx>
+#include <gp_Pln.hxx>
 #include <GCE2d_MakeSegment.hxx>
 #include <GProp_GProps.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
@@ -357,6 +361,111 @@ TEST(BRepHeal, G2AndStatedUnitsAreRefusedAndNothingIsWritten) {
   fs::remove(in);
 }
 
+// ---- Hostile B-reps (issue 34 §3) ----
+
+TEST(BRepHeal, AKinkBetweenAPlaneAndABSplineFaceMovesTheBSplineFace) {
+  // A: the plane z = 0 over [0, 100]^2 (an analytic face that must not move); B: a bicubic over x in [100, 200]
+  // leaving it at 2 degrees (z = tan(2 deg) (x - 100)), trimmed by a slanted side.
+  const double L = 100.0, t = std::tan(2.0 * std::numbers::pi / 180.0);
+  const TopoDS_Face a = BRepBuilderAPI_MakeFace(gp_Pln(gp::Origin(), gp::DZ()), 0.0, L, 0.0, L).Face();
+  TColgp_Array2OfPnt pb(1, 4, 1, 4);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) pb(i + 1, j + 1) = gp_Pnt(L + L * i / 3.0, L * j / 3.0, t * L * i / 3.0);
+  const TopoDS_Face b = trimmedFace(bicubic(pb), {{0, 0}, {1, 0}, {0.75, 1}, {0, 1}});
+  BRepBuilderAPI_Sewing sewing(0.01);
+  sewing.Add(a);
+  sewing.Add(b);
+  sewing.Perform();
+  const fs::path in = writeStep(sewing.SewedShape(), "plane_bspline.step"), out = tempPath("plane_bspline_h.step");
+  const Probe before = probeOnly(in);
+  ASSERT_NEAR(before.maxAngleDeg, 2.0, 0.01);
+  Result<occt::BRepHealReport> r = occt::healBRepFile(in, out);
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_EQ(r->seamsWorse, 0);
+  ASSERT_EQ(r->facesChanged.size(), 1u);
+  const Probe after = probeOnly(out);
+  EXPECT_LE(after.maxAngleDeg, r->tolerances.angleDeg) << "before " << before.maxAngleDeg;
+  EXPECT_LE(after.gap, r->tolerances.distance);
+  // The plane is still the plane: its face's surface kept its type.
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(readWithOcct(out), TopAbs_FACE, faces);
+  int planes = 0;
+  for (int i = 1; i <= faces.Extent(); ++i)
+    planes += BRep_Tool::Surface(TopoDS::Face(faces(i)))->IsKind(STANDARD_TYPE(Geom_Plane)) ? 1 : 0;
+  EXPECT_EQ(planes, 1);
+  fs::remove(in);
+  fs::remove(out);
+}
+
+TEST(BRepHeal, AFaceWhoseTrimLoopRunsBackwardsIsNeverMadeWorse) {
+  // The kinked pair, with A's outer wire reversed (clockwise in its parameters: a loop that, read literally,
+  // bounds the outside). Whatever the heal does with it, no seam gets worse, nothing crashes, the counts stay.
+  TopoDS_Shape pair = twoFaces(2.0, 0.0);
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(pair, TopAbs_FACE, faces);
+  ASSERT_EQ(faces.Extent(), 2);
+  TopoDS_Face a = TopoDS::Face(faces(1));
+  BRep_Builder builder;
+  TopoDS_Face reversed;
+  builder.MakeFace(reversed, BRep_Tool::Surface(a), BRep_Tool::Tolerance(a));
+  for (TopExp_Explorer ex(a, TopAbs_WIRE); ex.More(); ex.Next()) builder.Add(reversed, ex.Current().Reversed());
+  TopoDS_Compound both;
+  builder.MakeCompound(both);
+  builder.Add(both, reversed);
+  builder.Add(both, faces(2));
+  const fs::path in = writeStep(both, "reversed_loop.step"), out = tempPath("reversed_loop_h.step");
+  Result<occt::BRepHealReport> r = occt::healBRepFile(in, out);
+  if (!r) {  // refused with a message naming the file: acceptable, nothing written
+    EXPECT_NE(r.status().message().find("reversed_loop"), std::string::npos) << r.status().message();
+    EXPECT_FALSE(fs::exists(out));
+  } else {
+    EXPECT_EQ(r->seamsWorse, 0);
+    const Counts cin = countWithOcct(readWithOcct(in)), cout = countWithOcct(readWithOcct(out));
+    EXPECT_EQ(cout.faces, cin.faces);
+    EXPECT_EQ(cout.trimmed, cin.trimmed);
+    for (const occt::BRepHealSeam& seam : r->seams)
+      if (seam.after) {
+        EXPECT_LE(seam.after->g1MaxDeg, std::max(seam.before.g1MaxDeg, r->tolerances.angleDeg) + 0.1 * r->tolerances.angleDeg)
+            << "edge " << seam.edge;
+      }
+  }
+  fs::remove(in);
+  fs::remove(out);
+}
+
+TEST(BRepHeal, APeriodicFaceMeetingItselfIsLeftWithItsReason) {
+  // A closed tube: a bicubic whose first and last pole rows coincide (closed in u, not periodic) and whose
+  // tangents there differ by 5 degrees (P3 is the G1 position P1 - (P2 - P1) turned by 5 degrees about P1). Its
+  // face has one seam edge shared with itself; the heal must leave it, say why, and write the model whole.
+  TColgp_Array2OfPnt p(1, 4, 1, 4);
+  const double turn = 5.0 * std::numbers::pi / 180.0;
+  const gp_Vec d(-10, 20, 0);
+  const gp_Vec back = -d.Rotated(gp_Ax1(gp::Origin(), gp::DZ()), turn);
+  const gp_Pnt p1(10, 0, 0);
+  const std::array<gp_Pnt, 4> ring = {p1, p1.Translated(d), p1.Translated(back), p1};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) p(i + 1, j + 1) = gp_Pnt(ring[i].X(), ring[i].Y(), 10.0 * j);
+  const Handle(Geom_BSplineSurface) s = bicubic(p);
+  ASSERT_TRUE(s->IsUClosed());
+  const TopoDS_Face f = BRepBuilderAPI_MakeFace(s, 1e-7).Face();
+  const fs::path in = writeStep(f, "tube.step"), out = tempPath("tube_h.step");
+  Result<occt::BRepHealReport> r = occt::healBRepFile(in, out);
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_EQ(r->seamsWorse, 0);
+  EXPECT_TRUE(r->facesChanged.empty());
+  bool saidWhy = false;
+  for (const occt::BRepHealSeam& seam : r->seams)
+    saidWhy |= seam.a == seam.b && seam.action.find("closed face with itself") != std::string::npos;
+  const bool kinked = std::any_of(r->seams.begin(), r->seams.end(), [&](const occt::BRepHealSeam& seam) {
+    return seam.a == seam.b && seam.before.g1MaxDeg > r->tolerances.angleDeg && seam.before.g1MaxDeg < 20.0;
+  });
+  EXPECT_TRUE(kinked) << "the closing seam of the tube was not found as a kink";
+  EXPECT_TRUE(saidWhy);
+  EXPECT_TRUE(fs::exists(out));
+  fs::remove(in);
+  fs::remove(out);
+}
+
 // ---- Real files: convert keeps the B-rep, bit for bit; heal keeps faces and trims, and no seam gets worse ----
 
 std::vector<Handle(Geom_BSplineSurface)> bsplineSurfaces(const TopoDS_Shape& s) {
@@ -562,6 +671,10 @@ TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
     if (std::string(rel) == "step/trj3_s1-al-214.stp") {
       EXPECT_LT(gaps1, gaps0) << rel;
       EXPECT_GT(r->seamsHealed, 0) << rel;
+      // A heal that would fold a face is refused for that face and reported (trj3: faces next to the 2.8 deg kinks).
+      EXPECT_TRUE(std::any_of(r->notes.begin(), r->notes.end(),
+                              [](const std::string& n) { return n.find("would fold") != std::string::npos; }))
+          << rel;
     }
     fs::remove(out);
   }
