@@ -1903,7 +1903,7 @@ TEST(SampledMaxima, ParabolicRefinementFindsTheMaximaGoldenSectionFinds) {
   }
 }
 
-// The seam samples' fused pass over a polynomial side (degrees 2 to 5, src/continuity/seam.cpp polynomialEdgeJet)
+// The seam samples' fused pass over a polynomial side (degrees 2 to 5, src/continuity/seam_side.cpp polynomialEdgeJet)
 // against the generic route it replaces (three Bernstein jets, the route every other degree and every rational side
 // takes): bit for bit, the sign of zeros included, on multi-span sides with simple, double and triple knots, at
 // random parameters, at every breakpoint from both sides, and at the domain ends. Rational and degree-6 sides take
@@ -1954,7 +1954,7 @@ TEST(SideJet, FusedPassGivesTheGenericBits) {
 
 
 // The seam analysis writes each side's cross-derivative rows into storage reused from seam to seam
-// (src/continuity/seam.cpp crossDerivativeRowsInto): bit for bit BSplineSurface::crossDerivativeRows(e, 2), the
+// (src/continuity/seam_side.cpp crossDerivativeRowsInto): bit for bit BSplineSurface::crossDerivativeRows(e, 2), the
 // surface's own function, on polynomial and rational surfaces of degrees 1 to 5 (clamped and unclamped knots across
 // the edge, a negative zero coordinate), with one storage matrix reused through sizes that grow and shrink.
 TEST(SideRows, ReusedStorageGivesTheSurfaceRows) {
