@@ -111,13 +111,19 @@ struct SeamAnalysis {
   double curvRef = 0.0;                  // curvature reference of the relative G2 values
   double c1s = 0.0, c2s = 0.0;           // the sampled derivative scales of the C1 / C2 mismatches
   bool c1Identity = false, c2Identity = false;
+  /// Parameter intervals between a sample where the curvature is not measured (a pole: the chart is too
+  /// ill-conditioned, the normal vanishes) and its neighbour where it is. The G2 jump is undefined at the pole and
+  /// may grow without bound toward it: its maximum is not refined into these intervals (issue 35 §2).
+  std::vector<Interval> poleIntervals;
 
   Vec3 pointOnA(double t) const;
   double sOfT(double t, double guess) const;
   double sAt(double t) const;
   PointMeasures pointMeasure(double t) const { return measureAt(A, t, B, sAt(t), sgn); }
   template <class Get>
-  std::pair<double, double> refined(Get get) const;
+  std::pair<double, double> refined(Get get, bool awayFromPoles = false) const;
+  bool nearPole(double t) const;
+  std::optional<double> poleNextTo(double t) const;
   double tAt(int piece, double x) const { return corr.pieces[static_cast<size_t>(piece)].tOf.scalar(x); }
 
   void certifiedSampleParameters();
@@ -158,7 +164,7 @@ double SeamAnalysis::sAt(double t) const {
 // Sampled maxima follow the correspondence; the refinement (which re-projects) only where the
 // correspondence is itself a projection. Certified seams are refined by the subdivision of the bounds instead.
 template <class Get>
-std::pair<double, double> SeamAnalysis::refined(Get get) const {
+std::pair<double, double> SeamAnalysis::refined(Get get, bool awayFromPoles) const {
   if (corr.certified && !S.m.empty()) {  // std::max_element's choice (the first maximum), without a vector
     size_t best = 0;
     double value = get(S.m[0]);
@@ -175,7 +181,22 @@ std::pair<double, double> SeamAnalysis::refined(Get get) const {
     const size_t i = static_cast<size_t>(it - v.begin());
     return std::pair{S.t[i], *it};
   }
-  return refinedMaximum(S.t, v, [&](double t) { return get(pointMeasure(t)); });
+  return refinedMaximum(S.t, v, [&](double t) { return awayFromPoles && nearPole(t) ? 0.0 : get(pointMeasure(t)); });
+}
+
+// Inside an interval between a pole sample and its neighbour.
+bool SeamAnalysis::nearPole(double t) const {
+  return std::any_of(poleIntervals.begin(), poleIntervals.end(),
+                     [t](const Interval& iv) { return t > iv.lo && t < iv.hi; });
+}
+
+// The pole sample next to the sample at t, if any (t the other end of a pole interval).
+std::optional<double> SeamAnalysis::poleNextTo(double t) const {
+  for (const Interval& iv : poleIntervals) {
+    if (t == iv.lo) return iv.hi;
+    if (t == iv.hi) return iv.lo;
+  }
+  return std::nullopt;
 }
 
 // Certified seams: evenly spaced samples per piece (and per span of shared rows).
@@ -261,6 +282,8 @@ void SeamAnalysis::sample() {
   const double flat = kFlatCurvatureRatio / std::max(scale, std::numeric_limits<double>::min());
   curvRef = flat;
   for (const auto& m : S.m) curvRef = std::max(curvRef, m.curvature);
+  for (size_t i = 0; i + 1 < S.m.size(); ++i)
+    if (S.m[i].curvatureOk != S.m[i + 1].curvatureOk) poleIntervals.push_back({S.t[i], S.t[i + 1]});
 }
 
 // G0 sampled: closest-point distance both ways (parametrisation independent). On an exact correspondence the
@@ -327,7 +350,7 @@ void SeamAnalysis::sampledMaxima() {
     rep.g1Worst = {tw, pointOnA(tw)};
   }
   {
-    auto [tw, w] = refined([](const PointMeasures& m) { return m.curvatureOk ? m.g2 : 0.0; });
+    auto [tw, w] = refined([](const PointMeasures& m) { return m.curvatureOk ? m.g2 : 0.0; }, true);
     rep.g2Sampled = w;
     rep.g2RelSampled = w / curvRef;
     rep.g2Worst = {tw, pointOnA(tw)};
@@ -362,6 +385,7 @@ void SeamAnalysis::refineG2() {
   std::vector<double> v(S.m.size());
   for (size_t i = 0; i < v.size(); ++i) v[i] = S.m[i].curvatureOk ? S.m[i].g2 : 0.0;
   auto [tw, w] = refinedMaximum(S.t, v, [&](double t) {
+    if (nearPole(t)) return 0.0;
     const PointMeasures m = pointMeasure(t);
     return m.curvatureOk ? m.g2 : 0.0;
   });
@@ -524,7 +548,19 @@ void SeamAnalysis::includeEnds() {
 // ---- classification.
 void SeamAnalysis::classify() {
   const auto& tol = opt.tol;
+  // The largest G2 jump is the sample next to a pole: it may grow toward the pole, where it is undefined.
+  const std::optional<double> pole =
+      rep.g2Identity || !(rep.g2Sampled > 0.0) ? std::nullopt : poleNextTo(rep.g2Worst.t);
+  if (pole)
+    rep.notes.push_back(fmt::format("the curvature jump is largest next to the pole at t = {:.6g} (at t = {:.6g}) "
+                                    "and is undefined at the pole: the G2 values shown are those away from it",
+                                    *pole, rep.g2Worst.t));
   reconcileVerdict(rep, tol);
+  // G2 is never claimed on samples that stop short of a pole toward which the jump grows (issue 35 §2).
+  if (pole && !rep.g2Identity && rep.geometric == GeometricClass::kG2) {
+    rep.geometric = GeometricClass::kG1;
+    rep.notes.push_back("G2 not claimed: the curvature jump grows toward a pole, where it is undefined");
+  }
   // Without the G2 certificate a certified seam is claimed G1 at most (G2 from samples alone is not a verdict).
   if (!opt.certifyG2 && rep.certified && rep.geometric == GeometricClass::kG2) rep.geometric = GeometricClass::kG1;
   // Parametric continuity only where the parametrisations match: affine correspondence with |slope| = 1.
