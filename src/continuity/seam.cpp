@@ -455,10 +455,11 @@ void SeamAnalysis::g2Bounds() {
   int bp = -1;
   bool g2ok = true;
   // A midpoint whose chart is too ill-conditioned for curvature (next to a pole) means the quotient bound
-  // cannot close there (it divides by the vanishing normal): stop at once instead of spending maxBoundWork.
+  // cannot close there (it divides by the vanishing normal): stop at once instead of spending maxBoundWork. So does
+  // a midpoint between a pole sample and its neighbour: the jump there is no value to print (issue 35 §2).
   bool illConditioned = false;
-  const auto g2Checked = [&illConditioned](const Piece& pc, double x) {
-    const auto v = detail::g2ValueIfDefined(pc, x);
+  const auto g2Checked = [this, &illConditioned](const Piece& pc, double x) {
+    const auto v = nearPole(pc.tOf.scalar(x)) ? std::nullopt : detail::g2ValueIfDefined(pc, x);
     if (!v) illConditioned = true;
     return v.value_or(0.0);
   };
