@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -1903,7 +1904,7 @@ TEST(SampledMaxima, ParabolicRefinementFindsTheMaximaGoldenSectionFinds) {
   }
 }
 
-// The seam samples' fused pass over a polynomial side (degrees 2 to 5, src/continuity/seam.cpp polynomialEdgeJet)
+// The seam samples' fused pass over a polynomial side (degrees 2 to 5, src/continuity/seam_side.cpp polynomialEdgeJet)
 // against the generic route it replaces (three Bernstein jets, the route every other degree and every rational side
 // takes): bit for bit, the sign of zeros included, on multi-span sides with simple, double and triple knots, at
 // random parameters, at every breakpoint from both sides, and at the domain ends. Rational and degree-6 sides take
@@ -1954,7 +1955,7 @@ TEST(SideJet, FusedPassGivesTheGenericBits) {
 
 
 // The seam analysis writes each side's cross-derivative rows into storage reused from seam to seam
-// (src/continuity/seam.cpp crossDerivativeRowsInto): bit for bit BSplineSurface::crossDerivativeRows(e, 2), the
+// (src/continuity/seam_side.cpp crossDerivativeRowsInto): bit for bit BSplineSurface::crossDerivativeRows(e, 2), the
 // surface's own function, on polynomial and rational surfaces of degrees 1 to 5 (clamped and unclamped knots across
 // the edge, a negative zero coordinate), with one storage matrix reused through sizes that grow and shrink.
 TEST(SideRows, ReusedStorageGivesTheSurfaceRows) {
@@ -1991,6 +1992,163 @@ TEST(SideRows, ReusedStorageGivesTheSurfaceRows) {
             }
           }
   EXPECT_EQ(compared, 3 * 5 * 3 * 2 * 2 * 4);
+}
+
+
+// =====================================================================================================================
+// Poles at an end of the seam (issue 35 §2): graph surfaces z = f(x, y) over two triangles that meet along y = 0,
+// 0 <= x <= 1, parametrised so that the row u = 0 collapses to the origin, A: (x, y) = (u, u v), B: (x, y) =
+// (u, u (v - 1)). The normal of the parametrisation vanishes at the seam's end x = 0; the surfaces' own normals
+// (-f_x, -f_y, 1) and shape operators (Hess f / W in the graph chart) are the independent route.
+// =====================================================================================================================
+
+/// c x^a y^b terms of f.
+struct GraphTerm {
+  int a, b;
+  double c;
+};
+
+/// The Bezier patch of degree (d, d) of the graph of f over the triangle (x, y) = (u, u (v + shift)) (shift 0 for A,
+/// -1 for B): exact control points from the power basis (Bernstein coefficients C(k, i) / C(n, i)).
+BSplineSurface poleTriangle(const std::vector<GraphTerm>& f, double shift, int d) {
+  // Power-basis coefficients p[i][j] of u^i v^j for x, y and z.
+  using Poly = std::vector<std::vector<double>>;
+  auto zero = [d] { return Poly(static_cast<size_t>(d + 1), std::vector<double>(static_cast<size_t>(d + 1), 0.0)); };
+  Poly px = zero(), py = zero(), pz = zero();
+  px[1][0] = 1.0;
+  py[1][1] = 1.0;
+  py[1][0] = shift;
+  for (const GraphTerm& t : f)  // x^a y^b = u^(a + b) (v + shift)^b
+    for (int j = 0; j <= t.b; ++j)
+      pz[static_cast<size_t>(t.a + t.b)][static_cast<size_t>(j)] +=
+          t.c * binomial(t.b, j) * std::pow(shift, t.b - j);
+  Matrix net(static_cast<Eigen::Index>((d + 1) * (d + 1)), 3);
+  for (int k = 0; k <= d; ++k)
+    for (int l = 0; l <= d; ++l) {
+      Vec3 q = Vec3::Zero();
+      for (int i = 0; i <= k; ++i)
+        for (int j = 0; j <= l; ++j) {
+          const double w = binomial(k, i) / binomial(d, i) * binomial(l, j) / binomial(d, j);
+          const auto ui = static_cast<size_t>(i), vj = static_cast<size_t>(j);
+          q += w * Vec3(px[ui][vj], py[ui][vj], pz[ui][vj]);
+        }
+      net.row(k * (d + 1) + l) = q.transpose();
+    }
+  return BezierPatch(d, d, net).toBSpline();
+}
+
+/// f_x, f_y, f_xx, f_xy, f_yy at (x, 0).
+std::array<double, 5> graphJet(const std::vector<GraphTerm>& f, double x) {
+  std::array<double, 5> out{};
+  for (const GraphTerm& t : f) {
+    const auto xp = [&](int p) { return p < 0 ? 0.0 : std::pow(x, p); };
+    if (t.b == 0) out[0] += t.c * t.a * xp(t.a - 1), out[2] += t.c * t.a * (t.a - 1) * xp(t.a - 2);
+    if (t.b == 1) out[1] += t.c * xp(t.a), out[3] += t.c * t.a * xp(t.a - 1);
+    if (t.b == 2) out[4] += 2.0 * t.c * xp(t.a);
+  }
+  return out;
+}
+
+/// The angle between the two graphs' normals at (x, 0), degrees.
+double graphAngleDeg(const std::vector<GraphTerm>& fa, const std::vector<GraphTerm>& fb, double x) {
+  const auto ja = graphJet(fa, x), jb = graphJet(fb, x);
+  const Vec3 na(-ja[0], -ja[1], 1.0), nb(-jb[0], -jb[1], 1.0);
+  return std::atan2(na.cross(nb).norm(), na.dot(nb)) * 180.0 / std::numbers::pi;
+}
+
+/// The spectral norm of the difference of the two graphs' shape operators at (x, 0) in an orthonormal frame of the
+/// common tangent plane (the graphs are G1 there: the same f_x, f_y).
+double graphCurvatureJump(const std::vector<GraphTerm>& fa, const std::vector<GraphTerm>& fb, double x) {
+  const auto ja = graphJet(fa, x), jb = graphJet(fb, x);
+  const Vec3 xx(1.0, 0.0, ja[0]), xy(0.0, 1.0, ja[1]);
+  const double w = std::sqrt(1.0 + ja[0] * ja[0] + ja[1] * ja[1]);
+  const Vec3 n = xx.cross(xy).normalized(), e1 = xx.normalized(), e2 = n.cross(e1);
+  Eigen::Matrix<double, 3, 2> J;
+  J << xx, xy;
+  Eigen::Matrix2d E;  // the frame's chart coordinates, column by column
+  E.col(0) = J.colPivHouseholderQr().solve(e1);
+  E.col(1) = J.colPivHouseholderQr().solve(e2);
+  Eigen::Matrix2d dHess;
+  dHess << jb[2] - ja[2], jb[3] - ja[3], jb[3] - ja[3], jb[4] - ja[4];
+  const Eigen::Matrix2d dS = E.transpose() * (dHess / w) * E;
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(dS).eigenvalues().cwiseAbs().maxCoeff();
+}
+
+/// The seam of the two triangles (A's v0 against B's v1: both run from the pole at x = 0 to x = 1).
+Result<SeamReport> poleSeam(const std::vector<GraphTerm>& fa, const std::vector<GraphTerm>& fb) {
+  const Patch a = makePatch("A", poleTriangle(fa, 0.0, 3)), b = makePatch("B", poleTriangle(fb, -1.0, 3));
+  return analyzeSeam(a, Edge::V0, b, Edge::V1);
+}
+
+const std::vector<GraphTerm> kPoleBase{{2, 0, 0.5}, {0, 2, 1.0}, {1, 1, 0.25}, {1, 0, 0.1}};
+
+TEST(SeamPole, OneSurfaceThroughThePoleIsG1NeverACrease) {
+  const Result<SeamReport> r = poleSeam(kPoleBase, kPoleBase);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_TRUE(r->certified) << describe(*r);
+  EXPECT_GE(r->geometric, GeometricClass::kG1) << describe(*r);
+  EXPECT_LE(r->g1MaxDeg, kExactAngleDeg) << describe(*r);
+  EXPECT_LE(r->g1SampledDeg, kExactAngleDeg) << describe(*r);  // the pole sample is the limit from inside: 0
+  EXPECT_TRUE(std::any_of(r->notes.begin(), r->notes.end(),
+                          [](const std::string& n) { return n.find("normal vanishes") != std::string::npos; }))
+      << describe(*r);
+}
+
+TEST(SeamPole, AKinkOfAFifthOfADegreeAtThePoleIsAKinkOfThatAngle) {
+  const double s = std::tan(0.2 * std::numbers::pi / 180.0);
+  std::vector<GraphTerm> fb = kPoleBase;
+  fb.push_back({0, 1, s});  // z_y jumps by s along y = 0
+  const Result<SeamReport> r = poleSeam(kPoleBase, fb);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  double expected = 0.0;  // dense independent maximum of the angle along the edge (it is at the pole, x = 0)
+  for (int i = 0; i <= 10000; ++i) expected = std::max(expected, graphAngleDeg(kPoleBase, fb, i / 10000.0));
+  EXPECT_NEAR(expected, graphAngleDeg(kPoleBase, fb, 0.0), 1e-12);
+  EXPECT_NEAR(expected, 0.2, 0.002);
+  EXPECT_EQ(r->geometric, GeometricClass::kG0) << describe(*r);
+  // The angle at the pole is the limit along the edge from inside: the sampled maximum is the exact angle there.
+  EXPECT_NEAR(r->g1SampledDeg, expected, 1e-6 * expected) << describe(*r);
+  EXPECT_GE(r->g1MaxDeg, expected * (1.0 - 1e-9)) << describe(*r);
+  EXPECT_LE(r->g1MaxDeg, expected * (1.0 + kBoundRelGap) + 1e-6) << describe(*r);
+  EXPECT_LT(r->g1MaxDeg, 1.0) << describe(*r);  // never a crease or 180 degrees
+}
+
+TEST(SeamPole, CurvatureJumpNextToThePoleIsPrintedAwayFromItAndMarked) {
+  std::vector<GraphTerm> fb = kPoleBase;
+  fb.push_back({0, 2, 0.5});  // G1; z_yy jumps by 1 along y = 0
+  const Result<SeamReport> r = poleSeam(kPoleBase, fb);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->geometric, GeometricClass::kG1) << describe(*r);
+  EXPECT_LE(r->g1MaxDeg, kExactAngleDeg) << describe(*r);
+  double sup = 0.0;  // the jump along the whole edge, pole included (the graphs are smooth there)
+  for (int i = 0; i <= 10000; ++i) sup = std::max(sup, graphCurvatureJump(kPoleBase, fb, i / 10000.0));
+  EXPECT_NEAR(sup, graphCurvatureJump(kPoleBase, fb, 0.0), 1e-12);  // largest at the pole
+  // Printed away from the pole (at the samples: the start samples of a certified seam are 8 per piece) and marked,
+  // never pole noise: between the jump at the first sample inside and the supremum.
+  const double inside = graphCurvatureJump(kPoleBase, fb, 1.0 / SeamOptions{}.certifiedSamplesPerPiece);
+  ASSERT_TRUE(std::isfinite(r->g2Max)) << describe(*r);
+  EXPECT_LE(r->g2Max, sup * (1.0 + kDenseSlackRel)) << describe(*r);
+  EXPECT_GE(r->g2Max, inside * (1.0 - kDenseSlackRel)) << describe(*r);
+  EXPECT_TRUE(std::any_of(r->notes.begin(), r->notes.end(),
+                          [](const std::string& n) { return n.find("next to the pole") != std::string::npos; }))
+      << describe(*r);
+}
+
+TEST(SeamPole, TheTeaspoonsHandleEndPrintsNoPoleNoise) {
+  // The handle end of the Newell teaspoon: patches 12 to 15 close on a corner whose cross derivative vanishes (a
+  // pole). The curvature jump grows toward it without bound; before issue 35 §2 its refinement ran up to the chart
+  // threshold next to the pole and printed 4.2e10 (relative 1.05e7).
+  const Result<Model> model = io::readModel(std::string(SEAM_SHARED_DATA_DIR) + "/bezier/teaspoon.bpt");
+  ASSERT_TRUE(model.isOk()) << model.status().message();
+  SeamOptions opt;
+  opt.tol = Tolerances::forModelSize(model->boundingBox().diagonal());
+  const Result<SeamReport> r = analyzeSeam(model->patches[12], Edge::V1, model->patches[13], Edge::V0, opt);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_EQ(r->geometric, GeometricClass::kG1) << describe(*r);
+  EXPECT_TRUE(std::isfinite(r->g2RelMax)) << describe(*r);
+  EXPECT_LT(r->g2RelMax, 10.0) << describe(*r);
+  EXPECT_TRUE(std::any_of(r->notes.begin(), r->notes.end(),
+                          [](const std::string& n) { return n.find("next to the pole") != std::string::npos; }))
+      << describe(*r);
 }
 
 }  // namespace
