@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the OpenCASCADE readers and the B-rep check.
 #include <Message_ProgressIndicator.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <TDocStd_Document.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
@@ -141,6 +142,9 @@ inline constexpr double kKeptAreaRelTolIges = 1e-4;
 /// The STEP/IGES unit name of a length unit given in millimetres (1 -> "MM", 25.4 -> "INCH", 304.8 -> "FT",
 /// 1000 -> "M", 10 -> "CM"); "MM" for anything else.
 std::string cadUnitName(double millimetresPerUnit, CadFormat format);
+
+/// A seam patch as an OpenCASCADE B-spline surface (knots, control points and weights unchanged).
+Handle(Geom_BSplineSurface) toOcctSurface(const BSplineSurface& s);
 
 /// Copies the entity and name of each face (CadFace::faceIndex, 1-based into `faces`) from `labels`.
 void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, const FaceLabels& labels);
