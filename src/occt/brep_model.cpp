@@ -179,6 +179,13 @@ Handle(Geom2d_BSplineCurve) toOcct2d(const BSplineCurve& c) {
 gp_Pnt2d project(const Handle(Geom_BSplineSurface)& s, const gp_Pnt& p, double u, double v) {
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   s->Bounds(u0, u1, v0, v1);
+  {  // pcurves may overshoot the patch's domain a little (their tolerance): the patch is extended, not clamped
+    const double eu = kBRepDomainRelTol * (u1 - u0), ev = kBRepDomainRelTol * (v1 - v0);
+    u0 -= eu;
+    u1 += eu;
+    v0 -= ev;
+    v1 += ev;
+  }
   u = std::clamp(u, u0, u1);
   v = std::clamp(v, v0, v1);
   for (int it = 0; it < kProjectionSteps; ++it) {
@@ -283,7 +290,7 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
   best = std::numeric_limits<double>::infinity();
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   patch->Bounds(u0, u1, v0, v1);
-  const double pu = 1e-9 * (u1 - u0), pv = 1e-9 * (v1 - v0);
+  const double pu = kBRepDomainRelTol * (u1 - u0), pv = kBRepDomainRelTol * (v1 - v0);
   {
     const gp_Pnt2d mid = c->Value(0.5 * (f + l));
     const double su = surf->IsUPeriodic() ? periodShift(mid.X(), u0, u1, surf->UPeriod()) : 0.0;
@@ -292,7 +299,7 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
   }
   auto target = [&](double t) { const gp_Pnt2d q = c->Value(t); return surf->Value(q.X(), q.Y()); };
   auto onPatch = [&](const gp_Pnt2d& q) {
-    return patch->Value(std::clamp(q.X(), u0, u1), std::clamp(q.Y(), v0, v1));
+    return patch->Value(std::clamp(q.X(), u0 - pu, u1 + pu), std::clamp(q.Y(), v0 - pv, v1 + pv));
   };
   // Does the patch reproduce the surface at the pcurve's own (u, v)?
   bool sameParam = true;
@@ -459,8 +466,11 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
         std::vector<TopoDS_Edge> ordered;
         for (BRepTools_WireExplorer ex(w, fwd); ex.More(); ex.Next()) ordered.push_back(ex.Current());
         if (static_cast<int>(ordered.size()) != stored) {
-          whyNot = fmt::format("a wire of face {} is not one closed chain of its {} edges", fi + 1, stored);
-          return nullptr;
+          // BRepTools_WireExplorer gives up on some wires (two edges meeting at both ends, gaps beyond the vertex
+          // tolerances): the wire's stored order, whose closure validateBRep checks.
+          ordered.clear();
+          for (TopoDS_Iterator it(w); it.More(); it.Next())
+            if (it.Value().ShapeType() == TopAbs_EDGE) ordered.push_back(TopoDS::Edge(it.Value()));
         }
         std::vector<BRepCoedge> loop;
         for (const TopoDS_Edge& e : ordered) {
@@ -690,7 +700,7 @@ Result<BRepWriteReport> writeBRepCadFile(const Model& model, const fs::path& fil
     detail::OcctSignalGuard guard;
     try {
       OCC_CATCH_SIGNALS
-      counts = detail::countShape(*shape);
+      counts = detail::countShape(*shape, detail::kPreciseAreaRelEps);
       report.valid = BRepCheck_Analyzer(*shape).IsValid();
     } catch (const Standard_Failure& f) {
       return invalidInput(fmt::format("{}: OpenCASCADE failed measuring the shape: {}", file.string(), f.GetMessageString()));
@@ -706,7 +716,8 @@ Result<BRepWriteReport> writeBRepCadFile(const Model& model, const fs::path& fil
   if (counts.faces == 0) return invalidInput(fmt::format("{}: the model's topology has no face to write", file.string()));
   const Handle(TDocStd_Document) doc = detail::newCadDocument();
   XCAFDoc_DocumentTool::ShapeTool(doc->Main())->AddShape(*shape, false);
-  if (Status st = detail::writeCadDocument(doc, file, format, "MM", counts, &report.warnings, kBRepWrittenAreaRelTol);
+  if (Status st = detail::writeCadDocument(doc, file, format, "MM", counts, &report.warnings, kBRepWrittenAreaRelTol,
+                                           detail::kPreciseAreaRelEps);
       !st)
     return st;
   return report;

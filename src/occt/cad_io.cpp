@@ -1155,7 +1155,7 @@ std::string cadUnitName(double millimetresPerUnit, CadFormat format) {
   return "MM";
 }
 
-ShapeCounts countShape(const TopoDS_Shape& shape) {
+ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps) {
   ShapeCounts c;
   TopTools_IndexedMapOfShape faces, wires, edges, shells, solids;
   TopExp::MapShapes(shape, TopAbs_FACE, faces);
@@ -1184,7 +1184,10 @@ ShapeCounts countShape(const TopoDS_Shape& shape) {
       ++c.freeEdges;
   }
   GProp_GProps props;
-  BRepGProp::SurfaceProperties(shape, props);
+  if (areaRelEps > 0.0)
+    BRepGProp::SurfaceProperties(shape, props, areaRelEps);
+  else
+    BRepGProp::SurfaceProperties(shape, props);
   c.area = props.Mass();
   return c;
 }
@@ -1213,7 +1216,7 @@ std::string countsLost(const ShapeCounts& expected, const ShapeCounts& got, doub
 
 Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path& file, CadFormat format,
                         const std::string& unitName, const ShapeCounts& expected, std::vector<std::string>* notes,
-                        double areaRelTol) {
+                        double areaRelTol, double areaRelEps) {
   silenceOcct();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
   // XDE reader recorded for it: the writers scale from the document's unit to `unitName`.
@@ -1255,7 +1258,7 @@ Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path
             return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
                                             file.string(), back.status().message()));
           const std::string lost = countsLost(
-              want, countShape(*back),
+              want, countShape(*back, areaRelEps),
               std::max(areaRelTol, format == CadFormat::kStep ? kKeptAreaRelTol : kKeptAreaRelTolIges));
           if (!lost.empty())
             return invalidInput(fmt::format("{}: not written: OpenCASCADE's {} writer would lose part of the model "
