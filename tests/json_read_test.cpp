@@ -564,7 +564,7 @@ TEST(JsonBRep, HostileInputIsRefusedWithFileObjectAndProblem) {
   expectRefused([](auto& d) { d["brep"]["faces"][0]["loops"][0][1]["pcurve"]["points"][0] = {1.0, 0.5}; },
                 "bad.json: brep face 0: loop 0: coedge 0: the loop does not close: the pcurve of edge 0 ends at "
                 "(u, v) = (1, 0), the next coedge's (edge 1) starts at (1, 0.5): 0.5 apart on the surface, more than "
-                "the tolerance 4e-07");
+                "the tolerance 5.01e-07");  // two vertices, two edges, the face: 5 x 1e-7, + 1e-9 x sqrt(2)
   // A zero-length pcurve: both points the same, on an edge that is not degenerate.
   expectRefused([](auto& d) { d["brep"]["faces"][0]["loops"][1][0]["pcurve"]["points"][1] = {0.25, 0.25}; },
                 "bad.json: brep face 0: loop 1: coedge 0: the pcurve of edge 4 has zero length (all its points are "
