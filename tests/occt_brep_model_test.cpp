@@ -15,6 +15,7 @@
 #include <Geom2d_Curve.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
+#include <UnitsMethods.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
@@ -63,6 +64,7 @@ constexpr const char* kTrimsNotYetKept = "step/trj3_s1-al-214.stp";
 TopoDS_Shape occtRead(const fs::path& file) {
   // OpenCASCADE's session unit is global state that an IGES read in inches leaves behind: millimetres, always.
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  UnitsMethods::SetCasCadeLengthUnit(1.0, UnitsMethods_LengthUnit_Millimeter);
   const std::string ext = file.extension().string();
   std::unique_ptr<XSControl_Reader> r;
   if (ext == ".igs" || ext == ".iges") {

@@ -581,6 +581,8 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
 Result<TopoDS_Shape> shapeFromBRep(const Model& model, const std::string& source) {
   if (!model.brep) return invalidInput(source + ": the model has no B-rep topology");
   const BRepTopology& t = *model.brep;
+  // Every id is used as an index below: a topology made in code (not read) is checked like a file's.
+  if (Status st = validateBRep(model, t, source); !st) return st;
   OcctSignalGuard guard;
   std::string where = "the topology";
   try {
