@@ -495,9 +495,10 @@ TEST_F(CliVerdicts, StepFileHasMillimetresAndTheAbsoluteDefault) {
     EXPECT_NEAR(q[k].get<double>(), 1000.0 * p[k].get<double>(), 1e-6 * (1.0 + 1000.0 * std::abs(p[k].get<double>())));
 }
 
-// Issue 34 §1: a trimmed model is never written as patches. convert to JSON keeps the trims (the JSON's "brep"); heal
-// to JSON exits 2 and writes nothing (the patches would move without their trims), and so does convert to JSON of a
-// file whose trims cannot be kept as plain data yet (trj3_s1-al-214.stp); convert and heal to STEP keep the B-rep.
+// Issue 34 §1: a trimmed model is never written as patches. convert to JSON keeps the trims (the JSON's
+// "brep"); heal to JSON exits 2 and writes nothing (the patches would move without their trims), and so does
+// convert to JSON of a file whose trims cannot be kept as plain data yet (trj3_s1-al-214.stp); convert and
+// heal to STEP keep the B-rep.
 TEST_F(CliVerdicts, ATrimmedModelIsNeverWrittenUntrimmed) {
   const std::string in = std::string(SEAM_SHARED_DATA_DIR) + "/step/linkrods.step";
   if (!std::filesystem::exists(in)) {

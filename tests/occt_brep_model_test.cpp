@@ -1,23 +1,25 @@
-// Issue 34 §1: the JSON model format keeps trimmed faces (Model::brep). Every real STEP/IGES file of ../shared/data
-// goes STEP/IGES -> JSON -> STEP through seam, and the result is compared with the input by OpenCASCADE alone (its
-// readers, BRepGProp, BRepCheck_Analyzer, BRepBuilderAPI_Sewing; no seam code on that side): faces, trimmed faces,
-// solids, area, validity, free edges after sewing. `seam check` of the JSON agrees with `seam check` of the file.
+// Issue 34 §1: the JSON model format keeps trimmed faces (Model::brep). Every real STEP/IGES file of
+// ../shared/data goes STEP/IGES -> JSON -> STEP through seam, and the result is compared with the input by
+// OpenCASCADE alone (its readers, BRepGProp, BRepCheck_Analyzer, BRepBuilderAPI_Sewing; no seam code on that
+// side): faces, trimmed faces, solids, area, validity, free edges after sewing. `seam check` of the JSON
+// agrees with `seam check` of the file.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <Geom2d_Curve.hxx>
 #include <IFSelect_ReturnStatus.hxx>
-#include <Interface_Static.hxx>
-#include <UnitsMethods.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
+#include <Interface_Static.hxx>
 #include <STEPControl_Reader.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -28,41 +30,43 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Wire.hxx>
-#include <Bnd_Box.hxx>
-#include <BRepBndLib.hxx>
+#include <UnitsMethods.hxx>
 
+#include <sys/wait.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sys/wait.h>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "occt/brep_model.h"
 #include "real_cad_files.h"
 #include "seam/io/json.h"
 #include "seam/model/brep.h"
 #include "seam/occt/brep_model.h"
 #include "seam/occt/cad_io.h"
-#include "occt/brep_model.h"
 
 namespace seam {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// The area of the JSON round trip may differ from the input's by this much (relative): surfaces are kept bit for
-/// bit, pcurves and 3-D curves exactly or fitted within a tenth of their edge's tolerance (docs/format.md).
+/// The area of the JSON round trip may differ from the input's by this much (relative): surfaces are kept bit
+/// for bit, pcurves and 3-D curves exactly or fitted within a tenth of their edge's tolerance
+/// (docs/format.md).
 constexpr double kAreaRelTol = 1e-6;
 /// The one file whose trims JSON does not keep yet (see the test).
 constexpr const char* kTrimsNotYetKept = "step/trj3_s1-al-214.stp";
 
-// ---- OpenCASCADE alone -------------------------------------------------------------------------------------------
+// ---- OpenCASCADE alone
+// -------------------------------------------------------------------------------------------
 
 TopoDS_Shape occtRead(const fs::path& file) {
-  // OpenCASCADE's session unit is global state that an IGES read in inches leaves behind: millimetres, always.
+  // OpenCASCADE's session unit is global state that an IGES read in inches leaves behind: millimetres,
+  // always.
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");
   UnitsMethods::SetCasCadeLengthUnit(1.0, UnitsMethods_LengthUnit_Millimeter);
   const std::string ext = file.extension().string();
@@ -84,8 +88,8 @@ struct Counts {
   bool valid = false;
 };
 
-/// A face is untrimmed when it has one wire and every edge's pcurve runs along a side of its UV box (5 samples,
-/// 1e-7 of the box size): written here from OpenCASCADE's calls only.
+/// A face is untrimmed when it has one wire and every edge's pcurve runs along a side of its UV box (5
+/// samples, 1e-7 of the box size): written here from OpenCASCADE's calls only.
 bool trimmedFace(const TopoDS_Face& f) {
   int wires = 0;
   for (TopExp_Explorer w(f, TopAbs_WIRE); w.More(); w.Next()) ++wires;
@@ -119,7 +123,8 @@ Counts occtCounts(const TopoDS_Shape& s) {
   c.solids = solids.Extent();
   for (int i = 1; i <= faces.Extent(); ++i) c.trimmed += trimmedFace(TopoDS::Face(faces(i))) ? 1 : 0;
   GProp_GProps props;
-  BRepGProp::SurfaceProperties(s, props, 1e-9);  // adaptive: the default rule is off by up to 1e-3 on some faces
+  BRepGProp::SurfaceProperties(s, props,
+                               1e-9);  // adaptive: the default rule is off by up to 1e-3 on some faces
   c.area = props.Mass();
   c.valid = BRepCheck_Analyzer(s).IsValid();
   Bnd_Box box;
@@ -133,7 +138,8 @@ Counts occtCounts(const TopoDS_Shape& s) {
   for (int i = 1; i <= edgeFaces.Extent(); ++i) {
     const TopoDS_Edge& e = TopoDS::Edge(edgeFaces.FindKey(i));
     const TopTools_ListOfShape& around = edgeFaces.FindFromIndex(i);
-    if (around.Extent() == 1 && !BRep_Tool::Degenerated(e) && !BRep_Tool::IsClosed(e, TopoDS::Face(around.First())))
+    if (around.Extent() == 1 && !BRep_Tool::Degenerated(e) &&
+        !BRep_Tool::IsClosed(e, TopoDS::Face(around.First())))
       ++c.freeEdgesAfterSewing;
   }
   return c;
@@ -149,7 +155,8 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// ---- the round trip over every real file -------------------------------------------------------------------------
+// ---- the round trip over every real file
+// -------------------------------------------------------------------------
 
 class RealFileRoundTrip : public ::testing::TestWithParam<const char*> {};
 
@@ -166,9 +173,9 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
   const Model& model = imported->model;
   const fs::path json = scratch(in.stem().string() + ".json");
   if (std::string(GetParam()) == kTrimsNotYetKept) {
-    // Left for later (docs/brep-repair.md): a pcurve of a B-spline face of this file overshoots its patch by more than
-    // kBRepDomainRelTol and cannot be carried onto it within a tenth of its edge's tolerance. The JSON output must
-    // then be refused, never written untrimmed.
+    // Left for later (docs/brep-repair.md): a pcurve of a B-spline face of this file overshoots its patch by
+    // more than kBRepDomainRelTol and cannot be carried onto it within a tenth of its edge's tolerance. The
+    // JSON output must then be refused, never written untrimmed.
     ASSERT_GT(model.trimmedFaces, 0);
     ASSERT_FALSE(model.brep);
     EXPECT_FALSE(io::writeModelJson(model, json));
@@ -176,7 +183,8 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
     return;
   }
   ASSERT_EQ(model.trimmedFaces > 0, model.brep != nullptr)
-      << "a trimmed model without its topology: " << (imported->warnings.empty() ? "" : imported->warnings.back());
+      << "a trimmed model without its topology: "
+      << (imported->warnings.empty() ? "" : imported->warnings.back());
   t0 = std::chrono::steady_clock::now();
   ASSERT_TRUE(io::writeModelJson(model, json));
   const double writeJsonSeconds = seconds(t0);
@@ -192,8 +200,8 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
   Counts after;
   if (!written) {
     // OpenCASCADE's own STEP round trip of these files loses area (docs/brep-repair.md: boxed_sphere.step,
-    // bearing.iges): STEP/IGES -> STEP without seam's topology is refused too, and so nothing is written. The shape
-    // made from the JSON is then compared with the input before any writer.
+    // bearing.iges): STEP/IGES -> STEP without seam's topology is refused too, and so nothing is written. The
+    // shape made from the JSON is then compared with the input before any writer.
     ASSERT_TRUE(back->brep) << written.message();
     EXPECT_FALSE(fs::exists(step));
     EXPECT_FALSE(occt::convertCadFile(in, scratch("direct.step")))
@@ -207,15 +215,16 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
     after = occtCounts(occtRead(step));
   }
 
-  std::printf("[round trip] %s: faces %d -> %d, trimmed %d -> %d, solids %d -> %d, area %.10g -> %.10g (rel %.2e), "
-              "valid %d -> %d, free edges after sewing %d -> %d; input %ju B, JSON %ju B, STEP %ju B; read %.2f s, "
-              "JSON write %.2f s, JSON read %.2f s, STEP write %.2f s\n",
-              GetParam(), before.faces, after.faces, before.trimmed, after.trimmed, before.solids, after.solids,
-              before.area, after.area, std::abs(after.area - before.area) / before.area, before.valid, after.valid,
-              before.freeEdgesAfterSewing, after.freeEdgesAfterSewing, static_cast<uintmax_t>(fs::file_size(in)),
-              static_cast<uintmax_t>(fs::file_size(json)),
-              static_cast<uintmax_t>(fs::exists(step) ? fs::file_size(step) : 0), readSeconds,
-              writeJsonSeconds, readJsonSeconds, writeStepSeconds);
+  std::printf(
+      "[round trip] %s: faces %d -> %d, trimmed %d -> %d, solids %d -> %d, area %.10g -> %.10g (rel %.2e), "
+      "valid %d -> %d, free edges after sewing %d -> %d; input %ju B, JSON %ju B, STEP %ju B; read %.2f s, "
+      "JSON write %.2f s, JSON read %.2f s, STEP write %.2f s\n",
+      GetParam(), before.faces, after.faces, before.trimmed, after.trimmed, before.solids, after.solids,
+      before.area, after.area, std::abs(after.area - before.area) / before.area, before.valid, after.valid,
+      before.freeEdgesAfterSewing, after.freeEdgesAfterSewing, static_cast<uintmax_t>(fs::file_size(in)),
+      static_cast<uintmax_t>(fs::file_size(json)),
+      static_cast<uintmax_t>(fs::exists(step) ? fs::file_size(step) : 0), readSeconds, writeJsonSeconds,
+      readJsonSeconds, writeStepSeconds);
   EXPECT_EQ(after.faces, before.faces);
   EXPECT_NEAR(after.area, before.area, kAreaRelTol * before.area);
   if (model.brep) {  // the B-rep route: trims, solids and topology kept
@@ -226,8 +235,8 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
     }
     EXPECT_EQ(after.freeEdgesAfterSewing, before.freeEdgesAfterSewing);
   }
-  // Without trimmed faces the JSON holds patches only (no "brep": docs/format.md) and the patch route sews them
-  // into one shell: faces and area are what must be kept.
+  // Without trimmed faces the JSON holds patches only (no "brep": docs/format.md) and the patch route sews
+  // them into one shell: faces and area are what must be kept.
   fs::remove_all(json.parent_path());
 }
 
@@ -239,7 +248,8 @@ INSTANTIATE_TEST_SUITE_P(SharedData, RealFileRoundTrip, ::testing::ValuesIn(test
                            return n;
                          });
 
-// ---- the hand-written plate with a hole ---------------------------------------------------------------------------
+// ---- the hand-written plate with a hole
+// ---------------------------------------------------------------------------
 
 TEST(BRepModel, HandWrittenPlateWithAHoleBecomesAValidTrimmedFace) {
   Result<Model> m = io::readModelJson(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json");
@@ -255,7 +265,8 @@ TEST(BRepModel, HandWrittenPlateWithAHoleBecomesAValidTrimmedFace) {
   fs::remove_all(step.parent_path());
 }
 
-// ---- the CLI: convert and check --------------------------------------------------------------------------------
+// ---- the CLI: convert and check
+// --------------------------------------------------------------------------------
 
 #ifdef SEAM_HAVE_OCCT_CLI
 struct CliRun {
@@ -289,7 +300,8 @@ TEST_P(RealFileCheck, CheckOfTheJsonAgreesWithCheckOfTheFile) {
   }
   ASSERT_EQ(conv.code, 0) << conv.out;
   const nlohmann::json doc = nlohmann::json::parse(std::ifstream(json));
-  if (!doc.contains("brep")) GTEST_SKIP() << GetParam() << ": no trimmed face, the JSON holds patches only (no B-rep route)";
+  if (!doc.contains("brep"))
+    GTEST_SKIP() << GetParam() << ": no trimmed face, the JSON holds patches only (no B-rep route)";
   const CliRun a = runCli(fmt::format("check '{}' --json --threads 1", in.string()));
   const CliRun b = runCli(fmt::format("check '{}' --json --threads 1", json.string()));
   ASSERT_LE(a.code, 1) << a.out.substr(0, 2000);
@@ -299,15 +311,16 @@ TEST_P(RealFileCheck, CheckOfTheJsonAgreesWithCheckOfTheFile) {
   const auto jb = nlohmann::json::parse(b.out.substr(b.out.find('{')));
   const auto& sa = ja["summary"];
   const auto& sb = jb["summary"];
-  std::printf("[check] %s: seams %d / %d, free edges %d / %d, verdicts %s / %s, worst %s / %s, g0 %.3g / %.3g, "
-              "g1 %.4g / %.4g deg\n",
-              GetParam(), sa["seams"].get<int>(), sb["seams"].get<int>(), sa["free_edges"].get<int>(),
-              sb["free_edges"].get<int>(), sa["verdicts"].dump().c_str(), sb["verdicts"].dump().c_str(),
-              sa["worst_geometric"].dump().c_str(), sb["worst_geometric"].dump().c_str(),
-              sa["g0_max"].is_number() ? sa["g0_max"].get<double>() : -1.0,
-              sb["g0_max"].is_number() ? sb["g0_max"].get<double>() : -1.0,
-              sa["g1_max_deg"].is_number() ? sa["g1_max_deg"].get<double>() : -1.0,
-              sb["g1_max_deg"].is_number() ? sb["g1_max_deg"].get<double>() : -1.0);
+  std::printf(
+      "[check] %s: seams %d / %d, free edges %d / %d, verdicts %s / %s, worst %s / %s, g0 %.3g / %.3g, "
+      "g1 %.4g / %.4g deg\n",
+      GetParam(), sa["seams"].get<int>(), sb["seams"].get<int>(), sa["free_edges"].get<int>(),
+      sb["free_edges"].get<int>(), sa["verdicts"].dump().c_str(), sb["verdicts"].dump().c_str(),
+      sa["worst_geometric"].dump().c_str(), sb["worst_geometric"].dump().c_str(),
+      sa["g0_max"].is_number() ? sa["g0_max"].get<double>() : -1.0,
+      sb["g0_max"].is_number() ? sb["g0_max"].get<double>() : -1.0,
+      sa["g1_max_deg"].is_number() ? sa["g1_max_deg"].get<double>() : -1.0,
+      sb["g1_max_deg"].is_number() ? sb["g1_max_deg"].get<double>() : -1.0);
   EXPECT_EQ(sb["seams"], sa["seams"]);
   EXPECT_EQ(sb["free_edges"], sa["free_edges"]);
   EXPECT_EQ(sb["verdicts"], sa["verdicts"]);
@@ -315,22 +328,25 @@ TEST_P(RealFileCheck, CheckOfTheJsonAgreesWithCheckOfTheFile) {
   fs::remove_all(json.parent_path());
 }
 
-INSTANTIATE_TEST_SUITE_P(SharedData, RealFileCheck, ::testing::ValuesIn(test::kRealFiles), [](const auto& param) {
-  std::string n = param.param;
-  for (char& c : n)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return n;
-});
+INSTANTIATE_TEST_SUITE_P(SharedData, RealFileCheck, ::testing::ValuesIn(test::kRealFiles),
+                         [](const auto& param) {
+                           std::string n = param.param;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
 
 TEST(BRepModelCli, HostileJsonIsExit2WithFileAndObject) {
-  nlohmann::json doc = nlohmann::json::parse(std::ifstream(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json"));
+  nlohmann::json doc =
+      nlohmann::json::parse(std::ifstream(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json"));
   doc["brep"]["faces"][0]["loops"][0][2]["edge"] = 42;
   const fs::path bad = scratch("dangling.json");
   std::ofstream(bad) << doc.dump();
   for (const char* out : {"x.step", "x.json", "x.igs"}) {
     const CliRun r = runCli(fmt::format("convert '{}' '{}'", bad.string(), scratch(out).string()));
     EXPECT_EQ(r.code, 2) << r.out;
-    EXPECT_NE(r.out.find("dangling.json: brep face 0: loop 0: coedge 2: edge id 42 does not exist"), std::string::npos)
+    EXPECT_NE(r.out.find("dangling.json: brep face 0: loop 0: coedge 2: edge id 42 does not exist"),
+              std::string::npos)
         << r.out;
     EXPECT_FALSE(fs::exists(scratch(out)));
   }

@@ -319,9 +319,10 @@ std::string warningLines(const std::vector<std::string>& warnings) {
 
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: every edge shared by two faces of the (sewn) B-rep, with OpenCASCADE's verdict next to seam's.
-/// `model`: a JSON model with its B-rep topology (Model::brep), checked as the shape made from it; else o.file is read.
-int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require, const SeamSelection& sel,
-                 const Model* model = nullptr) {
+/// `model`: a JSON model with its B-rep topology (Model::brep), checked as the shape made from it; else
+/// o.file is read.
+int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require,
+                 const SeamSelection& sel, const Model* model = nullptr) {
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
   if (o.threads) bo.threads = *o.threads;

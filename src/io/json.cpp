@@ -2,26 +2,26 @@
 
 #include <fmt/format.h>
 
+#include <simdjson.h>
 #include <algorithm>
 #include <array>
-#include <initializer_list>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <simdjson.h>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "json_read.h"
 #include "seam/core/tolerances.h"
 #include "seam/io/file.h"
 #include "seam/model/brep.h"
-#include "json_read.h"
 
 namespace seam::io {
 
@@ -639,7 +639,8 @@ class ModelReader {
     }
     for (const auto& [key, value] : root.items()) {
       if (key != "patches" && key != "curves" && key != "brep" && key != "$schema") {
-        return top("unknown top-level key " + quote(key) + " (expected \"patches\" and/or \"curves\", and \"brep\")");
+        return top("unknown top-level key " + quote(key) +
+                   " (expected \"patches\" and/or \"curves\", and \"brep\")");
       }
     }
     if (!root.contains("patches") && !root.contains("curves")) {
@@ -682,7 +683,8 @@ class ModelReader {
   // "brep" (docs/format.md, "Trimmed faces"): read here, checked by validateBRep.
 
   /// Only the keys in `allowed` (a member of an object of the brep).
-  Status onlyKeys(const J& j, const std::string& where, std::initializer_list<std::string_view> allowed) const {
+  Status onlyKeys(const J& j, const std::string& where,
+                  std::initializer_list<std::string_view> allowed) const {
     for (const auto& [key, value] : j.items())
       if (std::find(allowed.begin(), allowed.end(), std::string_view(key)) == allowed.end())
         return fail(where, "unknown key " + quote(key));
@@ -695,7 +697,8 @@ class ModelReader {
   /// j[key] must be an array (empty allowed when `mayBeEmpty`).
   Status needArray(const J& j, const std::string& where, const char* key, bool required = true) const {
     if (!j.contains(key)) return required ? fail(where, fmt::format("missing \"{}\"", key)) : Status::ok();
-    if (!j[key].is_array()) return fail(where, fmt::format("\"{}\" must be an array, found {}", key, j[key].type_name()));
+    if (!j[key].is_array())
+      return fail(where, fmt::format("\"{}\" must be an array, found {}", key, j[key].type_name()));
     return Status::ok();
   }
   Status readId(const J& j, const std::string& where, const char* what, int& out) const {
@@ -711,9 +714,12 @@ class ModelReader {
       return Status::ok();
     }
     const auto& o = j["orientation"];
-    if (o.is_string() && o.template get<std::string>() == "forward") reversed = false;
-    else if (o.is_string() && o.template get<std::string>() == "reversed") reversed = true;
-    else return fail(where, "\"orientation\" must be \"forward\" or \"reversed\", found " + brief(o));
+    if (o.is_string() && o.template get<std::string>() == "forward")
+      reversed = false;
+    else if (o.is_string() && o.template get<std::string>() == "reversed")
+      reversed = true;
+    else
+      return fail(where, "\"orientation\" must be \"forward\" or \"reversed\", found " + brief(o));
     return Status::ok();
   }
   Status readTolerance(const J& j, const std::string& where, double& out) const {
@@ -738,7 +744,8 @@ class ModelReader {
     if (Status s = onlyKeys(j, where, {"degree", "knots", "points", "weights"}); !s) return s;
     PointGrid grid;
     if (Status s = readCurvePoints(j, where, grid); !s) return s;
-    if (grid.dim != dim) return fail(where, fmt::format("points have {} coordinates, expected {}", grid.dim, dim));
+    if (grid.dim != dim)
+      return fail(where, fmt::format("points have {} coordinates, expected {}", grid.dim, dim));
     if (!j.contains("degree")) return fail(where, "missing \"degree\" (an integer)");
     const std::optional<long long> d = asInteger(j["degree"]);
     if (!d) return fail(where, "\"degree\" must be an integer, found " + brief(j["degree"]));
@@ -747,13 +754,14 @@ class ModelReader {
     if (Status s = readKnotArray(j["knots"], where, "", knots); !s) return s;
     if (Status s = checkDegree(*d, grid.nu, where, ""); !s) return s;
     if (Status s = checkKnots(knots, static_cast<int>(*d), grid.nu, where, ""); !s) return s;
-    Result<BSplineCurve> c =
-        BSplineCurve::create(static_cast<int>(*d), std::move(knots), std::move(grid.points), std::move(grid.weights));
+    Result<BSplineCurve> c = BSplineCurve::create(static_cast<int>(*d), std::move(knots),
+                                                  std::move(grid.points), std::move(grid.weights));
     if (!c) return c.status().withContext(src_ + ": " + where);
     return c;
   }
   /// Uses of faces in a shell, shells in a solid: [{"face": id, "orientation": ...}, ...].
-  Status readUses(const J& j, const std::string& where, const char* array, const char* key, std::vector<BRepUse>& out) const {
+  Status readUses(const J& j, const std::string& where, const char* array, const char* key,
+                  std::vector<BRepUse>& out) const {
     if (Status s = needArray(j, where, array); !s) return s;
     const auto& a = j[array];
     for (size_t i = 0; i < a.size(); ++i) {
@@ -773,7 +781,8 @@ class ModelReader {
   Result<BRepTopology> readBRep(const J& b, const Model& model) {
     const std::string where = "brep";
     if (Status s = needObject(b, where); !s) return s;
-    if (Status s = onlyKeys(b, where, {"vertices", "edges", "faces", "shells", "solids", "roots"}); !s) return s;
+    if (Status s = onlyKeys(b, where, {"vertices", "edges", "faces", "shells", "solids", "roots"}); !s)
+      return s;
     for (const char* key : {"vertices", "edges", "faces"})
       if (Status s = needArray(b, where, key); !s) return s;
     for (const char* key : {"shells", "solids", "roots"})
@@ -810,7 +819,8 @@ class ModelReader {
       if (e.contains("degenerate")) {
         const auto& d = e["degenerate"];
         if (!d.is_string() || d.template get<std::string>() != "yes")
-          return fail(w, "\"degenerate\" must be \"yes\" (a degenerate edge has no 3-D curve), found " + brief(d));
+          return fail(
+              w, "\"degenerate\" must be \"yes\" (a degenerate edge has no 3-D curve), found " + brief(d));
         if (e.contains("curve")) return fail(w, "a degenerate edge has no \"curve\"");
         edge.degenerate = true;
       } else {
@@ -822,7 +832,8 @@ class ModelReader {
       t.edges.push_back(std::move(edge));
     }
     std::map<std::string, int> patchIndex;
-    for (size_t k = 0; k < model.patches.size(); ++k) patchIndex.emplace(model.patches[k].name, static_cast<int>(k));
+    for (size_t k = 0; k < model.patches.size(); ++k)
+      patchIndex.emplace(model.patches[k].name, static_cast<int>(k));
     const auto& faces = b["faces"];
     for (size_t i = 0; i < faces.size(); ++i) {
       const std::string w = fmt::format("brep face {}", i);
@@ -844,7 +855,8 @@ class ModelReader {
       for (size_t l = 0; l < loops.size(); ++l) {
         const std::string lw = fmt::format("{}: loop {}", w, l);
         const auto& loop = loops[l];
-        if (!loop.is_array()) return fail(lw, std::string("must be an array of coedges, found ") + loop.type_name());
+        if (!loop.is_array())
+          return fail(lw, std::string("must be an array of coedges, found ") + loop.type_name());
         std::vector<BRepCoedge> coedges;
         for (size_t k = 0; k < loop.size(); ++k) {
           const std::string cw = fmt::format("{}: coedge {}", lw, k);
@@ -897,8 +909,9 @@ class ModelReader {
         if (Status s = onlyKeys(r, w, {"solid", "shell", "face", "orientation"}); !s) return s;
         BRepRoot root;
         int kinds = 0;
-        for (const auto& [key, kind] : {std::pair{"solid", BRepRoot::Kind::kSolid}, std::pair{"shell", BRepRoot::Kind::kShell},
-                                        std::pair{"face", BRepRoot::Kind::kFace}}) {
+        for (const auto& [key, kind] :
+             {std::pair{"solid", BRepRoot::Kind::kSolid}, std::pair{"shell", BRepRoot::Kind::kShell},
+              std::pair{"face", BRepRoot::Kind::kFace}}) {
           if (!r.contains(key)) continue;
           ++kinds;
           root.kind = kind;
@@ -913,15 +926,19 @@ class ModelReader {
       std::vector<bool> shellUsed(t.shells.size()), faceUsed(t.faces.size());
       for (const BRepSolid& s : t.solids)
         for (const BRepUse& u : s.shells)
-          if (u.id >= 0 && static_cast<size_t>(u.id) < shellUsed.size()) shellUsed[static_cast<size_t>(u.id)] = true;
+          if (u.id >= 0 && static_cast<size_t>(u.id) < shellUsed.size())
+            shellUsed[static_cast<size_t>(u.id)] = true;
       for (const BRepShell& s : t.shells)
         for (const BRepUse& u : s.faces)
-          if (u.id >= 0 && static_cast<size_t>(u.id) < faceUsed.size()) faceUsed[static_cast<size_t>(u.id)] = true;
-      for (size_t i = 0; i < t.solids.size(); ++i) t.roots.push_back({BRepRoot::Kind::kSolid, {static_cast<int>(i), false}});
+          if (u.id >= 0 && static_cast<size_t>(u.id) < faceUsed.size())
+            faceUsed[static_cast<size_t>(u.id)] = true;
+      for (size_t i = 0; i < t.solids.size(); ++i)
+        t.roots.push_back({BRepRoot::Kind::kSolid, {static_cast<int>(i), false}});
       for (size_t i = 0; i < t.shells.size(); ++i)
         if (!shellUsed[i]) t.roots.push_back({BRepRoot::Kind::kShell, {static_cast<int>(i), false}});
       for (size_t i = 0; i < t.faces.size(); ++i)
-        if (!faceUsed[i]) t.roots.push_back({BRepRoot::Kind::kFace, {static_cast<int>(i), t.faces[i].reversed}});
+        if (!faceUsed[i])
+          t.roots.push_back({BRepRoot::Kind::kFace, {static_cast<int>(i), t.faces[i].reversed}});
     }
     return t;
   }
@@ -1427,7 +1444,8 @@ void appendPatch(std::string& out, const Patch& patch) {
   out += "\n    }";
 }
 
-/// A B-spline curve of the brep on one line: {"degree": p, "knots": [...], "points": [[...], ...], "weights": [...]}.
+/// A B-spline curve of the brep on one line: {"degree": p, "knots": [...], "points": [[...], ...], "weights":
+/// [...]}.
 void appendSplineInline(std::string& out, const BSplineCurve& c) {
   out += fmt::format("{{\"degree\": {}, \"knots\": ", c.degree());
   appendNumbers(out, c.knots().values());
@@ -1446,7 +1464,8 @@ void appendSplineInline(std::string& out, const BSplineCurve& c) {
 
 const char* orientationName(bool reversed) { return reversed ? "reversed" : "forward"; }
 
-/// The "brep" member (docs/format.md, "Trimmed faces"): one vertex, edge, coedge, shell, solid or root a line.
+/// The "brep" member (docs/format.md, "Trimmed faces"): one vertex, edge, coedge, shell, solid or root a
+/// line.
 void appendBRep(std::string& out, const Model& model, const BRepTopology& b) {
   out += ",\n  \"brep\": {\n    \"vertices\": [";
   for (size_t i = 0; i < b.vertices.size(); ++i) {
@@ -1485,7 +1504,8 @@ void appendBRep(std::string& out, const Model& model, const BRepTopology& b) {
       for (size_t k = 0; k < f.loops[l].size(); ++k) {
         const BRepCoedge& c = f.loops[l][k];
         out += k == 0 ? "\n          " : ",\n          ";
-        out += fmt::format("{{\"edge\": {}, \"orientation\": \"{}\", \"range\": ", c.edge, orientationName(c.reversed));
+        out += fmt::format("{{\"edge\": {}, \"orientation\": \"{}\", \"range\": ", c.edge,
+                           orientationName(c.reversed));
         appendNumbers(out, std::vector<double>{c.t0, c.t1});
         out += ", \"pcurve\": ";
         appendSplineInline(out, c.pcurve);
@@ -1505,16 +1525,20 @@ void appendBRep(std::string& out, const Model& model, const BRepTopology& b) {
   };
   out += ",\n    \"shells\": [";
   for (size_t i = 0; i < b.shells.size(); ++i)
-    out += (i == 0 ? "\n      {\"faces\": " : ",\n      {\"faces\": ") + uses("face", b.shells[i].faces) + "}";
+    out +=
+        (i == 0 ? "\n      {\"faces\": " : ",\n      {\"faces\": ") + uses("face", b.shells[i].faces) + "}";
   out += b.shells.empty() ? "]" : "\n    ]";
   out += ",\n    \"solids\": [";
   for (size_t i = 0; i < b.solids.size(); ++i)
-    out += (i == 0 ? "\n      {\"shells\": " : ",\n      {\"shells\": ") + uses("shell", b.solids[i].shells) + "}";
+    out += (i == 0 ? "\n      {\"shells\": " : ",\n      {\"shells\": ") + uses("shell", b.solids[i].shells) +
+           "}";
   out += b.solids.empty() ? "]" : "\n    ]";
   out += ",\n    \"roots\": [";
   for (size_t i = 0; i < b.roots.size(); ++i) {
     const BRepRoot& r = b.roots[i];
-    const char* kind = r.kind == BRepRoot::Kind::kSolid ? "solid" : r.kind == BRepRoot::Kind::kShell ? "shell" : "face";
+    const char* kind = r.kind == BRepRoot::Kind::kSolid   ? "solid"
+                       : r.kind == BRepRoot::Kind::kShell ? "shell"
+                                                          : "face";
     out += fmt::format("{}{{\"{}\": {}, \"orientation\": \"{}\"}}", i == 0 ? "\n      " : ",\n      ", kind,
                        r.use.id, orientationName(r.use.reversed));
   }

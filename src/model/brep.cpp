@@ -63,13 +63,15 @@ Status validateBRep(const Model& model, const BRepTopology& brep, const std::str
     const BRepVertex& v = brep.vertices[static_cast<size_t>(i)];
     if (!v.point.allFinite()) return fail(fmt::format("vertex {}", i), "point is not finite");
     if (!finite(v.tolerance) || v.tolerance < 0)
-      return fail(fmt::format("vertex {}", i), fmt::format("tolerance {} is not a finite number >= 0", v.tolerance));
+      return fail(fmt::format("vertex {}", i),
+                  fmt::format("tolerance {} is not a finite number >= 0", v.tolerance));
   }
   for (int i = 0; i < ne; ++i) {
     const BRepEdge& e = brep.edges[static_cast<size_t>(i)];
     const std::string where = fmt::format("edge {}", i);
     for (int v : {e.v0, e.v1})
-      if (v < 0 || v >= nv) return fail(where, fmt::format("vertex id {} does not exist (there are {} vertices)", v, nv));
+      if (v < 0 || v >= nv)
+        return fail(where, fmt::format("vertex id {} does not exist (there are {} vertices)", v, nv));
     if (!finite(e.tolerance) || e.tolerance < 0)
       return fail(where, fmt::format("tolerance {} is not a finite number >= 0", e.tolerance));
     if (e.degenerate) {
@@ -79,7 +81,8 @@ Status validateBRep(const Model& model, const BRepTopology& brep, const std::str
     }
     if (e.curve.dim() != 3) return fail(where, fmt::format("the 3-D curve has {}-D points", e.curve.dim()));
     if (const std::string p = rangeProblem(e.t0, e.t1, e.curve.domain()); !p.empty()) return fail(where, p);
-    if (allPointsEqual(e.curve)) return fail(where, "the 3-D curve has zero length (all its points are equal)");
+    if (allPointsEqual(e.curve))
+      return fail(where, "the 3-D curve has zero length (all its points are equal)");
   }
   std::vector<int> faceOfPatch(model.patches.size(), -1);
   for (int f = 0; f < nf; ++f) {
@@ -108,18 +111,21 @@ Status validateBRep(const Model& model, const BRepTopology& brep, const std::str
         const std::string cw = fmt::format("{}: coedge {}", lw, k);
         if (c.edge < 0 || c.edge >= ne)
           return fail(cw, fmt::format("edge id {} does not exist (there are {} edges)", c.edge, ne));
-        if (c.pcurve.dim() != 2) return fail(cw, fmt::format("the pcurve has {}-D points, expected 2-D (u, v)", c.pcurve.dim()));
+        if (c.pcurve.dim() != 2)
+          return fail(cw, fmt::format("the pcurve has {}-D points, expected 2-D (u, v)", c.pcurve.dim()));
         if (const std::string p = rangeProblem(c.t0, c.t1, c.pcurve.domain()); !p.empty())
           return fail(cw, "pcurve " + p);
         if (!brep.edges[static_cast<size_t>(c.edge)].degenerate && allPointsEqual(c.pcurve))
-          return fail(cw, fmt::format("the pcurve of edge {} has zero length (all its points are equal) but the edge "
-                                      "is not degenerate",
-                                      c.edge));
+          return fail(
+              cw, fmt::format("the pcurve of edge {} has zero length (all its points are equal) but the edge "
+                              "is not degenerate",
+                              c.edge));
         for (int i = 0; i < kDomainSamples; ++i) {
           const Vec2 q = pcurveAt(c, c.t0 + (c.t1 - c.t0) * i / (kDomainSamples - 1));
           if (q[0] < du.lo - su || q[0] > du.hi + su || q[1] < dv.lo - sv || q[1] > dv.hi + sv)
-            return fail(cw, fmt::format("the pcurve leaves the patch's domain [{}, {}] x [{}, {}]: (u, v) = ({}, {})",
-                                        du.lo, du.hi, dv.lo, dv.hi, q[0], q[1]));
+            return fail(
+                cw, fmt::format("the pcurve leaves the patch's domain [{}, {}] x [{}, {}]: (u, v) = ({}, {})",
+                                du.lo, du.hi, dv.lo, dv.hi, q[0], q[1]));
         }
       }
       // Closure: where each coedge ends, the next one starts (on the surface, within the tolerances).
@@ -132,29 +138,35 @@ Status validateBRep(const Model& model, const BRepTopology& brep, const std::str
         const int va = a.reversed ? ea.v0 : ea.v1, vb = b.reversed ? eb.v1 : eb.v0;
         const double gap = (patchPoint(s, qa[0], qa[1]) - patchPoint(s, qb[0], qb[1])).norm();
         const double allowed = brep.vertices[static_cast<size_t>(va)].tolerance +
-                               brep.vertices[static_cast<size_t>(vb)].tolerance + ea.tolerance + eb.tolerance +
-                               face.tolerance + kBRepClosureRelTol * diag;
+                               brep.vertices[static_cast<size_t>(vb)].tolerance + ea.tolerance +
+                               eb.tolerance + face.tolerance + kBRepClosureRelTol * diag;
         if (!(gap <= allowed))
-          return fail(fmt::format("{}: coedge {}", lw, k),
-                      fmt::format("the loop does not close: the pcurve of edge {} ends at (u, v) = ({}, {}), the next "
-                                  "coedge's (edge {}) starts at ({}, {}): {:.3g} apart on the surface, more than the "
-                                  "tolerance {:.3g}",
-                                  a.edge, qa[0], qa[1], b.edge, qb[0], qb[1], gap, allowed));
+          return fail(
+              fmt::format("{}: coedge {}", lw, k),
+              fmt::format(
+                  "the loop does not close: the pcurve of edge {} ends at (u, v) = ({}, {}), the next "
+                  "coedge's (edge {}) starts at ({}, {}): {:.3g} apart on the surface, more than the "
+                  "tolerance {:.3g}",
+                  a.edge, qa[0], qa[1], b.edge, qb[0], qb[1], gap, allowed));
       }
     }
   }
   for (int i = 0; i < ns; ++i)
     for (const BRepUse& u : brep.shells[static_cast<size_t>(i)].faces)
       if (u.id < 0 || u.id >= nf)
-        return fail(fmt::format("shell {}", i), fmt::format("face id {} does not exist (there are {} faces)", u.id, nf));
+        return fail(fmt::format("shell {}", i),
+                    fmt::format("face id {} does not exist (there are {} faces)", u.id, nf));
   for (int i = 0; i < nsolid; ++i)
     for (const BRepUse& u : brep.solids[static_cast<size_t>(i)].shells)
       if (u.id < 0 || u.id >= ns)
-        return fail(fmt::format("solid {}", i), fmt::format("shell id {} does not exist (there are {} shells)", u.id, ns));
+        return fail(fmt::format("solid {}", i),
+                    fmt::format("shell id {} does not exist (there are {} shells)", u.id, ns));
   for (size_t i = 0; i < brep.roots.size(); ++i) {
     const BRepRoot& r = brep.roots[i];
     const int n = r.kind == BRepRoot::Kind::kSolid ? nsolid : r.kind == BRepRoot::Kind::kShell ? ns : nf;
-    const char* kind = r.kind == BRepRoot::Kind::kSolid ? "solid" : r.kind == BRepRoot::Kind::kShell ? "shell" : "face";
+    const char* kind = r.kind == BRepRoot::Kind::kSolid   ? "solid"
+                       : r.kind == BRepRoot::Kind::kShell ? "shell"
+                                                          : "face";
     if (r.use.id < 0 || r.use.id >= n)
       return fail(fmt::format("root {}", i), fmt::format("{} id {} does not exist", kind, r.use.id));
   }
@@ -176,7 +188,8 @@ int countTrimmedFaces(const Model& model, const BRepTopology& brep) {
           if (std::abs(p(r, axis) - value) > tol) return false;
         return true;
       };
-      if (!along(0, du.lo, tu) && !along(0, du.hi, tu) && !along(1, dv.lo, tv) && !along(1, dv.hi, tv)) natural = false;
+      if (!along(0, du.lo, tu) && !along(0, du.hi, tu) && !along(1, dv.lo, tv) && !along(1, dv.hi, tv))
+        natural = false;
     }
     if (!natural) ++trimmed;
   }

@@ -1,5 +1,5 @@
-// Model::brep <-> OpenCASCADE shapes (issue 34 §1): the topology of a STEP/IGES file kept in the JSON model format,
-// and made into a shape again for STEP/IGES output and the B-rep check.
+// Model::brep <-> OpenCASCADE shapes (issue 34 §1): the topology of a STEP/IGES file kept in the JSON model
+// format, and made into a shape again for STEP/IGES output and the B-rep check.
 #ifndef OCC_CONVERT_SIGNALS
 #define OCC_CONVERT_SIGNALS
 #endif
@@ -15,13 +15,9 @@
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2dAPI_Interpolate.hxx>
-#include <TColgp_HArray1OfPnt2d.hxx>
-#include <TColgp_HArray1OfPnt.hxx>
-#include <TColStd_HArray1OfReal.hxx>
 #include <Geom2dConvert.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
-#include <gp_Vec2d.hxx>
 #include <GeomAPI_Interpolate.hxx>
 #include <GeomConvert.hxx>
 #include <Geom_BSplineCurve.hxx>
@@ -33,8 +29,11 @@
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
+#include <TColStd_HArray1OfReal.hxx>
 #include <TColgp_Array1OfPnt.hxx>
 #include <TColgp_Array1OfPnt2d.hxx>
+#include <TColgp_HArray1OfPnt.hxx>
+#include <TColgp_HArray1OfPnt2d.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -48,6 +47,7 @@
 #include <TopoDS_Wire.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
+#include <gp_Vec2d.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -65,21 +65,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A converted curve or patch keeps the source's parameterisation when they agree within this fraction of the model
-/// diagonal at every sample (a conversion that keeps it is exact up to rounding).
+/// A converted curve or patch keeps the source's parameterisation when they agree within this fraction of the
+/// model diagonal at every sample (a conversion that keeps it is exact up to rounding).
 constexpr double kSameParamRelTol = 1e-10;
 /// Samples per curve for that test and for the fits' error.
 constexpr int kParamSamples = 17;
-/// Points of a fit (cubic interpolation at the edge's own parameters, GeomAPI_Interpolate): first try, then four
-/// times as many up to the last.
+/// Points of a fit (cubic interpolation at the edge's own parameters, GeomAPI_Interpolate): first try, then
+/// four times as many up to the last.
 constexpr int kFitPointsFirst = 33;
 constexpr int kFitPointsLast = 2049;
 /// A fitted 3-D curve or pcurve is kept when its error is at most this fraction of its edge's tolerance.
 constexpr double kFitErrorOfTolerance = 0.1;
 /// The 2-D fits aim at this fraction of the patch's parameter range (their error is then measured in 3-D).
 constexpr double kFitParamRelTol = 1e-9;
-/// The area a STEP/IGES file written from a topology may lose or gain, read back (relative): the reader rebuilds the
-/// trims from the 3-D curves, which the fitted pcurves match within a tenth of their tolerances (occ22470.igs: 3e-8).
+/// The area a STEP/IGES file written from a topology may lose or gain, read back (relative): the reader
+/// rebuilds the trims from the 3-D curves, which the fitted pcurves match within a tenth of their tolerances
+/// (occ22470.igs: 3e-8).
 constexpr double kBRepWrittenAreaRelTol = 1e-6;
 /// The edges of an approximated face get at least this multiple of its approximation error as tolerance.
 constexpr double kApproxToleranceFactor = 4.0;
@@ -174,12 +175,13 @@ Handle(Geom2d_BSplineCurve) toOcct2d(const BSplineCurve& c) {
   return new Geom2d_BSplineCurve(poles, k, m, c.degree());
 }
 
-/// The point of `s` nearest to `p`, from (u, v) (Gauss-Newton, kept inside the domain; a direction in which the
-/// surface does not move, a pole, keeps its start value).
-gp_Pnt2d project(const Handle(Geom_BSplineSurface)& s, const gp_Pnt& p, double u, double v) {
+/// The point of `s` nearest to `p`, from (u, v) (Gauss-Newton, kept inside the domain; a direction in which
+/// the surface does not move, a pole, keeps its start value).
+gp_Pnt2d project(const Handle(Geom_BSplineSurface) & s, const gp_Pnt& p, double u, double v) {
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   s->Bounds(u0, u1, v0, v1);
-  {  // pcurves may overshoot the patch's domain a little (their tolerance): the patch is extended, not clamped
+  {  // pcurves may overshoot the patch's domain a little (their tolerance): the patch is extended, not
+     // clamped
     const double eu = kBRepDomainRelTol * (u1 - u0), ev = kBRepDomainRelTol * (v1 - v0);
     u0 -= eu;
     u1 += eu;
@@ -199,7 +201,8 @@ gp_Pnt2d project(const Handle(Geom_BSplineSurface)& s, const gp_Pnt& p, double u
     if (!(std::abs(det) > 0)) break;
     const double du = ((c + reg) * ru - b * rv) / det, dv = ((a + reg) * rv - b * ru) / det;
     const double nu = std::clamp(u + du, u0, u1), nv = std::clamp(v + dv, v0, v1);
-    const bool small = std::abs(nu - u) <= kProjectionStepRel * (u1 - u0) && std::abs(nv - v) <= kProjectionStepRel * (v1 - v0);
+    const bool small = std::abs(nu - u) <= kProjectionStepRel * (u1 - u0) &&
+                       std::abs(nv - v) <= kProjectionStepRel * (v1 - v0);
     u = nu;
     v = nv;
     if (small) break;
@@ -213,10 +216,10 @@ struct FitStats {
   double worst = 0.0;
 };
 
-/// The 3-D curve of an edge over [f, l] as a B-spline with the same parameterisation: converted where that keeps
-/// it, else fitted through points within `allowed`; null when neither works.
-std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve)& c, double f, double l, double same, double allowed,
-                                    FitStats& stats) {
+/// The 3-D curve of an edge over [f, l] as a B-spline with the same parameterisation: converted where that
+/// keeps it, else fitted through points within `allowed`; null when neither works.
+std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve) & c, double f, double l, double same,
+                                    double allowed, FitStats& stats) {
   Handle(Geom_BSplineCurve) bs;
   try {
     OCC_CATCH_SIGNALS
@@ -225,16 +228,18 @@ std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve)& c, double f, doubl
     if (isSignal(e)) throw;
     bs.Nullify();
   }
-  auto error = [&](const Handle(Geom_BSplineCurve)& b, bool mid) {
+  auto error = [&](const Handle(Geom_BSplineCurve) & b, bool mid) {
     double worst = 0;
     for (int i = 0; i < kParamSamples; ++i) {
       const double t = f + (l - f) * (i + (mid ? 0.5 : 0.0)) / (kParamSamples - (mid ? 0 : 1));
-      worst = std::max(worst, c->Value(t).Distance(b->Value(std::clamp(t, b->FirstParameter(), b->LastParameter()))));
+      worst = std::max(
+          worst, c->Value(t).Distance(b->Value(std::clamp(t, b->FirstParameter(), b->LastParameter()))));
     }
     return worst;
   };
   if (!bs.IsNull() && std::abs(bs->FirstParameter() - f) <= Precision::PConfusion() &&
-      std::abs(bs->LastParameter() - l) <= Precision::PConfusion() && error(bs, false) <= same && error(bs, true) <= same) {
+      std::abs(bs->LastParameter() - l) <= Precision::PConfusion() && error(bs, false) <= same &&
+      error(bs, true) <= same) {
     Result<BSplineCurve> r = fromOcct3d(bs);
     if (r) return std::move(r).value();
   }
@@ -253,7 +258,8 @@ std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve)& c, double f, doubl
     if (!fit.IsDone()) continue;
     const Handle(Geom_BSplineCurve) b = fit.Curve();
     const double err = std::max(error(b, false), error(b, true));
-    if (err <= allowed && c->Value(f).Distance(b->Value(f)) <= allowed && c->Value(l).Distance(b->Value(l)) <= allowed) {
+    if (err <= allowed && c->Value(f).Distance(b->Value(f)) <= allowed &&
+        c->Value(l).Distance(b->Value(l)) <= allowed) {
       Result<BSplineCurve> r = fromOcct3d(b);
       if (!r) return std::nullopt;
       ++stats.curves;
@@ -264,11 +270,12 @@ std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve)& c, double f, doubl
   return std::nullopt;
 }
 
-/// An edge's pcurve on a face as a B-spline in the face patch's parameters over [f, l]. `surf` is the face's own
-/// surface; `patch` the converted patch. Where they share the parameterisation along the pcurve, the pcurve is
-/// converted (or fitted in 2-D); elsewhere the surface's points along it are projected onto the patch and fitted.
-/// The shift by whole periods that brings `x` into [lo, hi] (or nearest to it): a periodic face's pcurves may lie one
-/// period away from the parameter box of its patch (Geom_RectangularTrimmedSurface moves the box into its period).
+/// An edge's pcurve on a face as a B-spline in the face patch's parameters over [f, l]. `surf` is the face's
+/// own surface; `patch` the converted patch. Where they share the parameterisation along the pcurve, the
+/// pcurve is converted (or fitted in 2-D); elsewhere the surface's points along it are projected onto the
+/// patch and fitted. The shift by whole periods that brings `x` into [lo, hi] (or nearest to it): a periodic
+/// face's pcurves may lie one period away from the parameter box of its patch (Geom_RectangularTrimmedSurface
+/// moves the box into its period).
 double periodShift(double x, double lo, double hi, double period) {
   if (!(period > 0)) return 0.0;
   const double k0 = std::floor((x - lo) / period);
@@ -284,9 +291,10 @@ double periodShift(double x, double lo, double hi, double period) {
   return best;
 }
 
-std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l, const Handle(Geom_Surface)& surf,
-                                     const Handle(Geom_BSplineSurface)& patch, double same, double allowed, FitStats& stats,
-                                     double& best) {
+std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
+                                     const Handle(Geom_Surface) & surf,
+                                     const Handle(Geom_BSplineSurface) & patch, double same, double allowed,
+                                     FitStats& stats, double& best) {
   best = std::numeric_limits<double>::infinity();
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   patch->Bounds(u0, u1, v0, v1);
@@ -297,7 +305,10 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
     const double sv = surf->IsVPeriodic() ? periodShift(mid.Y(), v0, v1, surf->VPeriod()) : 0.0;
     if (su != 0.0 || sv != 0.0) c = Handle(Geom2d_Curve)::DownCast(c->Translated(gp_Vec2d(su, sv)));
   }
-  auto target = [&](double t) { const gp_Pnt2d q = c->Value(t); return surf->Value(q.X(), q.Y()); };
+  auto target = [&](double t) {
+    const gp_Pnt2d q = c->Value(t);
+    return surf->Value(q.X(), q.Y());
+  };
   auto onPatch = [&](const gp_Pnt2d& q) {
     return patch->Value(std::clamp(q.X(), u0 - pu, u1 + pu), std::clamp(q.Y(), v0 - pv, v1 + pv));
   };
@@ -306,14 +317,18 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
   for (int i = 0; i < kParamSamples && sameParam; ++i) {
     const double t = f + (l - f) * i / (kParamSamples - 1);
     const gp_Pnt2d q = c->Value(t);
-    if (q.X() < u0 - pu || q.X() > u1 + pu || q.Y() < v0 - pv || q.Y() > v1 + pv) sameParam = false;
-    else if (onPatch(q).Distance(target(t)) > same) sameParam = false;
+    if (q.X() < u0 - pu || q.X() > u1 + pu || q.Y() < v0 - pv || q.Y() > v1 + pv)
+      sameParam = false;
+    else if (onPatch(q).Distance(target(t)) > same)
+      sameParam = false;
   }
-  auto error = [&](const Handle(Geom2d_BSplineCurve)& b) {
+  auto error = [&](const Handle(Geom2d_BSplineCurve) & b) {
     double worst = 0;
     for (int i = 0; i < 2 * kParamSamples; ++i) {
       const double t = f + (l - f) * (i + 0.5) / (2 * kParamSamples);
-      worst = std::max(worst, onPatch(b->Value(std::clamp(t, b->FirstParameter(), b->LastParameter()))).Distance(target(t)));
+      worst = std::max(
+          worst,
+          onPatch(b->Value(std::clamp(t, b->FirstParameter(), b->LastParameter()))).Distance(target(t)));
     }
     for (double t : {f, l}) worst = std::max(worst, onPatch(b->Value(t)).Distance(target(t)));
     return worst;
@@ -372,7 +387,8 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
 
 namespace detail {
 
-std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& faces,
+std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
+                                                  const std::vector<TopoDS_Face>& faces,
                                                   const CadImport& import, std::string& whyNot,
                                                   std::vector<std::string>& notes) {
   OcctSignalGuard guard;
@@ -455,7 +471,8 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
       std::vector<TopoDS_Wire> wires;
       if (!outer.IsNull()) wires.push_back(outer);
       for (TopoDS_Iterator it(fwd); it.More(); it.Next())
-        if (it.Value().ShapeType() == TopAbs_WIRE && !it.Value().IsSame(outer)) wires.push_back(TopoDS::Wire(it.Value()));
+        if (it.Value().ShapeType() == TopAbs_WIRE && !it.Value().IsSame(outer))
+          wires.push_back(TopoDS::Wire(it.Value()));
       if (wires.empty()) {
         whyNot = fmt::format("face {} has no wire", fi + 1);
         return nullptr;
@@ -466,8 +483,8 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
         std::vector<TopoDS_Edge> ordered;
         for (BRepTools_WireExplorer ex(w, fwd); ex.More(); ex.Next()) ordered.push_back(ex.Current());
         if (static_cast<int>(ordered.size()) != stored) {
-          // BRepTools_WireExplorer gives up on some wires (two edges meeting at both ends, gaps beyond the vertex
-          // tolerances): the wire's stored order, whose closure validateBRep checks.
+          // BRepTools_WireExplorer gives up on some wires (two edges meeting at both ends, gaps beyond the
+          // vertex tolerances): the wire's stored order, whose closure validateBRep checks.
           ordered.clear();
           for (TopoDS_Iterator it(w); it.More(); it.Next())
             if (it.Value().ShapeType() == TopAbs_EDGE) ordered.push_back(TopoDS::Edge(it.Value()));
@@ -493,16 +510,17 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
           double best = 0.0;
           std::optional<BSplineCurve> bs = pcurve2d(pc, f, l, surf, patch, same, allowed, stats, best);
           if (!bs) {
-            whyNot = fmt::format("the pcurve of edge {} on face {} ({}) cannot be carried onto the face's patch within "
-                                 "{:.3g} (the closest fit is {:.3g} off)",
-                                 id + 1, fi + 1, info.surfaceType, allowed, best);
+            whyNot = fmt::format(
+                "the pcurve of edge {} on face {} ({}) cannot be carried onto the face's patch within "
+                "{:.3g} (the closest fit is {:.3g} off)",
+                id + 1, fi + 1, info.surfaceType, allowed, best);
             return nullptr;
           }
           c.pcurve = std::move(*bs);
           if (!info.exact) {
-            // The patch of an approximated face is up to its approximation error off the face's surface, and so
-            // are its edges' 3-D curves from the patch at their pcurves: their tolerances (and their vertices')
-            // cover that, as OpenCASCADE's own approximations do.
+            // The patch of an approximated face is up to its approximation error off the face's surface, and
+            // so are its edges' 3-D curves from the patch at their pcurves: their tolerances (and their
+            // vertices') cover that, as OpenCASCADE's own approximations do.
             BRepEdge& edge = topo->edges[static_cast<size_t>(id)];
             const double tol = std::max(edge.tolerance, kApproxToleranceFactor * info.approximationError);
             edge.tolerance = tol;
@@ -527,8 +545,8 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
         case TopAbs_SOLID: {
           if (solidMap.Contains(s)) return;
           BRepSolid solid;
-          // Orientations relative to the parent (a shell in its solid, a face in its shell); locations composed (the
-          // maps are keyed by the located shapes).
+          // Orientations relative to the parent (a shell in its solid, a face in its shell); locations
+          // composed (the maps are keyed by the located shapes).
           for (TopoDS_Iterator it(s, false, true); it.More(); it.Next()) {
             if (it.Value().ShapeType() != TopAbs_SHELL) continue;
             const TopoDS_Shape& sh = it.Value();
@@ -544,7 +562,8 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
           }
           solidMap.Add(s);
           topo->solids.push_back(std::move(solid));
-          topo->roots.push_back({BRepRoot::Kind::kSolid, {solidMap.Extent() - 1, s.Orientation() == TopAbs_REVERSED}});
+          topo->roots.push_back(
+              {BRepRoot::Kind::kSolid, {solidMap.Extent() - 1, s.Orientation() == TopAbs_REVERSED}});
           return;
         }
         case TopAbs_SHELL: {
@@ -555,7 +574,8 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
               shell.faces.push_back({k - 1, jt.Value().Orientation() == TopAbs_REVERSED});
           shellMap.Add(s);
           topo->shells.push_back(std::move(shell));
-          topo->roots.push_back({BRepRoot::Kind::kShell, {shellMap.Extent() - 1, s.Orientation() == TopAbs_REVERSED}});
+          topo->roots.push_back(
+              {BRepRoot::Kind::kShell, {shellMap.Extent() - 1, s.Orientation() == TopAbs_REVERSED}});
           return;
         }
         case TopAbs_FACE:
@@ -568,9 +588,10 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape, con
     };
     walk(shape);
     if (stats.curves + stats.pcurves > 0)
-      notes.push_back(fmt::format("{} 3-D curves and {} pcurves fitted to keep the parameterisation of the converted "
-                                  "patches (each within a tenth of its edge's tolerance; largest error {:.3g} mm)",
-                                  stats.curves, stats.pcurves, stats.worst));
+      notes.push_back(
+          fmt::format("{} 3-D curves and {} pcurves fitted to keep the parameterisation of the converted "
+                      "patches (each within a tenth of its edge's tolerance; largest error {:.3g} mm)",
+                      stats.curves, stats.pcurves, stats.worst));
     return topo;
   } catch (const Standard_Failure& f) {
     whyNot = fmt::format("OpenCASCADE {}: {}", isSignal(f) ? "crashed" : "failed", f.GetMessageString());
@@ -591,7 +612,8 @@ Result<TopoDS_Shape> shapeFromBRep(const Model& model, const std::string& source
     std::vector<TopoDS_Vertex> vertices;
     for (const BRepVertex& v : t.vertices) {
       TopoDS_Vertex x;
-      b.MakeVertex(x, gp_Pnt(v.point[0], v.point[1], v.point[2]), std::max(v.tolerance, Precision::Confusion()));
+      b.MakeVertex(x, gp_Pnt(v.point[0], v.point[1], v.point[2]),
+                   std::max(v.tolerance, Precision::Confusion()));
       vertices.push_back(x);
     }
     std::vector<TopoDS_Edge> edges;
@@ -643,7 +665,8 @@ Result<TopoDS_Shape> shapeFromBRep(const Model& model, const std::string& source
         TopoDS_Wire w;
         b.MakeWire(w);
         for (const BRepCoedge& c : loop)
-          b.Add(w, edges[static_cast<size_t>(c.edge)].Oriented(c.reversed ? TopAbs_REVERSED : TopAbs_FORWARD));
+          b.Add(w,
+                edges[static_cast<size_t>(c.edge)].Oriented(c.reversed ? TopAbs_REVERSED : TopAbs_FORWARD));
         w.Closed(true);
         b.Add(face, w);
       }
@@ -676,13 +699,16 @@ Result<TopoDS_Shape> shapeFromBRep(const Model& model, const std::string& source
     for (const BRepRoot& r : t.roots) {
       const TopAbs_Orientation o = r.use.reversed ? TopAbs_REVERSED : TopAbs_FORWARD;
       const size_t k = static_cast<size_t>(r.use.id);
-      if (r.kind == BRepRoot::Kind::kSolid) b.Add(all, solids[k].Oriented(o));
-      else if (r.kind == BRepRoot::Kind::kShell) b.Add(all, shells[k].Oriented(o));
-      else b.Add(all, faces[k].Oriented(o));
+      if (r.kind == BRepRoot::Kind::kSolid)
+        b.Add(all, solids[k].Oriented(o));
+      else if (r.kind == BRepRoot::Kind::kShell)
+        b.Add(all, shells[k].Oriented(o));
+      else
+        b.Add(all, faces[k].Oriented(o));
     }
-    // The edges' SameParameter/SameRange flags: set by the builder; BRepLib::SameParameter checks them with each
-    // edge's tolerance and only raises a tolerance where a pcurve is further off than it (none, for a topology read
-    // from a valid file).
+    // The edges' SameParameter/SameRange flags: set by the builder; BRepLib::SameParameter checks them with
+    // each edge's tolerance and only raises a tolerance where a pcurve is further off than it (none, for a
+    // topology read from a valid file).
     BRepLib::SameParameter(all, Precision::Confusion(), false);
     return TopoDS_Shape(all);
   } catch (const Standard_Failure& f) {
@@ -705,7 +731,8 @@ Result<BRepWriteReport> writeBRepCadFile(const Model& model, const fs::path& fil
       counts = detail::countShape(*shape, detail::kPreciseAreaRelEps);
       report.valid = BRepCheck_Analyzer(*shape).IsValid();
     } catch (const Standard_Failure& f) {
-      return invalidInput(fmt::format("{}: OpenCASCADE failed measuring the shape: {}", file.string(), f.GetMessageString()));
+      return invalidInput(
+          fmt::format("{}: OpenCASCADE failed measuring the shape: {}", file.string(), f.GetMessageString()));
     }
   }
   report.faces = counts.faces;
@@ -715,17 +742,19 @@ Result<BRepWriteReport> writeBRepCadFile(const Model& model, const fs::path& fil
   report.shells = counts.shells;
   report.solids = counts.solids;
   report.area = counts.area;
-  if (counts.faces == 0) return invalidInput(fmt::format("{}: the model's topology has no face to write", file.string()));
+  if (counts.faces == 0)
+    return invalidInput(fmt::format("{}: the model's topology has no face to write", file.string()));
   const Handle(TDocStd_Document) doc = detail::newCadDocument();
   XCAFDoc_DocumentTool::ShapeTool(doc->Main())->AddShape(*shape, false);
-  if (Status st = detail::writeCadDocument(doc, file, format, "MM", counts, &report.warnings, kBRepWrittenAreaRelTol,
-                                           detail::kPreciseAreaRelEps);
+  if (Status st = detail::writeCadDocument(doc, file, format, "MM", counts, &report.warnings,
+                                           kBRepWrittenAreaRelTol, detail::kPreciseAreaRelEps);
       !st)
     return st;
   return report;
 }
 
-Result<BRepCheckReport> checkBRepModel(const Model& model, const fs::path& file, const BRepCheckOptions& options) {
+Result<BRepCheckReport> checkBRepModel(const Model& model, const fs::path& file,
+                                       const BRepCheckOptions& options) {
   Result<TopoDS_Shape> shape = detail::shapeFromBRep(model, file.string());
   if (!shape) return shape.status();
   detail::FileUnits units;

@@ -1,13 +1,13 @@
 #pragma once
 // Shared by the OpenCASCADE readers and the B-rep check.
-#include <Message_ProgressIndicator.hxx>
+#include <signal.h>
 #include <Geom_BSplineSurface.hxx>
+#include <Message_ProgressIndicator.hxx>
 #include <TDocStd_Document.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
-#include <TopTools_IndexedMapOfShape.hxx>
-#include <signal.h>
 
 #include <algorithm>
 #include <array>
@@ -118,20 +118,22 @@ struct ShapeCounts {
   int faces = 0, trimmedFaces = 0, wires = 0, edges = 0, freeEdges = 0, shells = 0, solids = 0;
   double area = 0.0;  ///< BRepGProp::SurfaceProperties, in the shape's unit squared
 };
-/// `areaRelEps` > 0: the area by BRepGProp's adaptive integration to that relative error (the default Gauss rule
-/// is off by up to 1e-3 on faces whose pcurves have hundreds of poles on rational patches: linkrods.step from JSON).
+/// `areaRelEps` > 0: the area by BRepGProp's adaptive integration to that relative error (the default Gauss
+/// rule is off by up to 1e-3 on faces whose pcurves have hundreds of poles on rational patches: linkrods.step
+/// from JSON).
 ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps = 0.0);
 /// The adaptive integration's relative error for the areas of shapes made from a topology (Model::brep).
 inline constexpr double kPreciseAreaRelEps = 1e-9;
 
-/// Writes `document` as STEP (AP214) or IGES (5.3) into `file` atomically, with names, colours and layers, every
-/// real with 17 significant digits (surfaces are kept bit for bit), in the length unit `unitName` ("MM", "INCH",
-/// "FT", "M", "CM"; the document is in millimetres). What was written is read back and must have the counts
-/// `expected` (faces, trimmed faces, solids; area within kKeptAreaRelTol, IGES kKeptAreaRelTolIges): else nothing is
-/// written and the error says what OpenCASCADE lost. IGES: B-rep mode (solids) first, else the faces mode, with a
-/// line in `notes` saying that the solids are written as their faces. `areaRelTol` > 0 replaces the area tolerance
-/// (when it is larger); `areaRelEps` as in countShape, for the area read back.
-Status writeCadDocument(const Handle(TDocStd_Document)& document, const std::filesystem::path& file,
+/// Writes `document` as STEP (AP214) or IGES (5.3) into `file` atomically, with names, colours and layers,
+/// every real with 17 significant digits (surfaces are kept bit for bit), in the length unit `unitName`
+/// ("MM", "INCH", "FT", "M", "CM"; the document is in millimetres). What was written is read back and must
+/// have the counts `expected` (faces, trimmed faces, solids; area within kKeptAreaRelTol, IGES
+/// kKeptAreaRelTolIges): else nothing is written and the error says what OpenCASCADE lost. IGES: B-rep mode
+/// (solids) first, else the faces mode, with a line in `notes` saying that the solids are written as their
+/// faces. `areaRelTol` > 0 replaces the area tolerance (when it is larger); `areaRelEps` as in countShape,
+/// for the area read back.
+Status writeCadDocument(const Handle(TDocStd_Document) & document, const std::filesystem::path& file,
                         CadFormat format, const std::string& unitName, const ShapeCounts& expected,
                         std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0,
                         double areaRelEps = 0.0);

@@ -6,10 +6,10 @@
 #include "seam/occt/cad_io.h"
 
 #include "occt/brep_model.h"
-#include "seam/occt/brep_model.h"
 #include "occt/cad_internal.h"
-#include "seam/model/brep.h"
 #include "seam/io/file.h"
+#include "seam/model/brep.h"
+#include "seam/occt/brep_model.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -756,8 +756,8 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
   Result<CadImport> out = detail::convertFaces(file, faces, options);
   if (out) detail::applyFaceLabels(*out, faces, labels);
   if (out && out->model.trimmedFaces > 0) {
-    // The trims as plain data (Model::brep), so that a JSON output keeps them (issue 34 §1); when they cannot be
-    // carried onto the patches, the model stays without them and the patch-only writers refuse it.
+    // The trims as plain data (Model::brep), so that a JSON output keeps them (issue 34 §1); when they cannot
+    // be carried onto the patches, the model stays without them and the patch-only writers refuse it.
     std::string whyNot;
     std::vector<std::string> notes;
     out->model.brep = detail::brepFromFaces(*shape, faces, *out, whyNot, notes);
@@ -769,9 +769,10 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
     }
     for (const std::string& n : notes) out->warnings.push_back(fmt::format("{}: {}", file.string(), n));
     if (!out->model.brep)
-      out->warnings.push_back(fmt::format("{}: the trims of the {} trimmed faces cannot be kept as plain data ({}): "
-                                          "outputs other than STEP/IGES from this file are refused",
-                                          file.string(), out->model.trimmedFaces, whyNot));
+      out->warnings.push_back(
+          fmt::format("{}: the trims of the {} trimmed faces cannot be kept as plain data ({}): "
+                      "outputs other than STEP/IGES from this file are refused",
+                      file.string(), out->model.trimmedFaces, whyNot));
   }
   if (out) out->warnings.insert(out->warnings.begin(), readWarnings.begin(), readWarnings.end());
   if (out) out->units = units.units;
@@ -1092,8 +1093,8 @@ bool printIges(const Handle(IGESData_IGESModel)& model, std::ostream& os) {
 
 Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options) {
   if (model.patches.empty()) return invalidInput(fmt::format("{}: the model has no patches to write", file.string()));
-  // A model with its B-rep topology (a JSON with "brep", a STEP/IGES read by readCadFile) is written as that B-rep:
-  // every trim, shared edge, shell and solid (issue 34 §1).
+  // A model with its B-rep topology (a JSON with "brep", a STEP/IGES read by readCadFile) is written as that
+  // B-rep: every trim, shared edge, shell and solid (issue 34 §1).
   if (model.brep && !options.sewingTolerance) return writeBRepCadFile(model, file, format).status();
   if (Status st = checkNoTrimsLost(model, file.string()); !st) return st;
   silenceOcct();
@@ -1214,9 +1215,9 @@ std::string countsLost(const ShapeCounts& expected, const ShapeCounts& got, doub
 
 }  // namespace
 
-Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path& file, CadFormat format,
-                        const std::string& unitName, const ShapeCounts& expected, std::vector<std::string>* notes,
-                        double areaRelTol, double areaRelEps) {
+Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::path& file, CadFormat format,
+                        const std::string& unitName, const ShapeCounts& expected,
+                        std::vector<std::string>* notes, double areaRelTol, double areaRelEps) {
   silenceOcct();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
   // XDE reader recorded for it: the writers scale from the document's unit to `unitName`.
