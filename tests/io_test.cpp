@@ -231,7 +231,7 @@ TEST(JsonValidation, UnknownTopLevelKey) {
   Json j = validModel();
   j["patchez"] = Json::array();
   EXPECT_EQ(errorOf(j),
-            "model.json: unknown top-level key \"patchez\" (expected \"patches\" and/or \"curves\")");
+            "model.json: unknown top-level key \"patchez\" (expected \"patches\" and/or \"curves\", and \"brep\")");
 }
 
 TEST(JsonValidation, PatchesMustBeAnArray) {

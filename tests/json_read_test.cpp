@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <random>
@@ -21,8 +22,11 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+#include <nlohmann/json.hpp>
 #include "io/json_read.h"
 #include "seam/io/json.h"
+#include "seam/model/brep.h"
 #include "seam/model/model.h"
 
 namespace seam {
@@ -493,6 +497,130 @@ TEST(JsonReadLongRows, ASingleLongRowIsRefusedBeforeItsPointsAreRead) {
   const Result<Model> b = io::parseModelJson(bezier, "row.json");
   ASSERT_FALSE(b.isOk());
   EXPECT_EQ(b.status().message(), "row.json: patch \"b\": u degree is 0, must be at least 1");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Trimmed faces: the "brep" object (issue 34 §1, docs/format.md). tests/data/brep_plate_with_hole.json is
+// written by hand: the unit square z = 0 (a bilinear Bezier patch, S(u, v) = (u, v, 0)) with a square hole
+// [0.25, 0.75]^2, one face of two loops of four line edges (pcurves = the edges' own (x, y)).
+
+nlohmann::json plateWithHole() {
+  return nlohmann::json::parse(readText(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json"));
+}
+
+TEST(JsonBRep, ReadsTheHandWrittenPlateWithItsHole) {
+  const std::string text = plateWithHole().dump();
+  expectSameOnBothRoutes(text, "plate.json");
+  const Result<Model> m = io::parseModelJson(text, "plate.json");
+  ASSERT_TRUE(m) << m.status().message();
+  ASSERT_TRUE(m->brep);
+  EXPECT_EQ(m->brep->vertices.size(), 8u);
+  EXPECT_EQ(m->brep->edges.size(), 8u);
+  ASSERT_EQ(m->brep->faces.size(), 1u);
+  EXPECT_EQ(m->brep->faces[0].loops.size(), 2u);
+  EXPECT_EQ(m->trimmedFaces, 1);  // a hole: trimmed
+  EXPECT_EQ(m->brep->shells.size(), 1u);
+  EXPECT_EQ(m->brep->roots.size(), 1u);
+  // Written and read again: the same text (every number bit for bit), and the writer accepts the trimmed
+  // model.
+  const std::string written = io::modelToJson(*m);
+  const Result<Model> again = io::parseModelJson(written, "again.json");
+  ASSERT_TRUE(again) << again.status().message();
+  EXPECT_EQ(io::modelToJson(*again), written);
+  const fs::path out = fs::temp_directory_path() / fmt::format("seam_brep_{}.json", ::getpid());
+  EXPECT_TRUE(io::writeModelJson(*m, out));
+  fs::remove(out);
+}
+
+TEST(JsonBRep, WithoutBRepATrimmedModelIsStillRefusedByThePatchWriter) {
+  Result<Model> m = io::parseModelJson(plateWithHole().dump(), "plate.json");
+  ASSERT_TRUE(m);
+  m->brep.reset();
+  const Status st = io::writeModelJson(*m, "never_written.json");
+  EXPECT_FALSE(st);
+  EXPECT_NE(st.message().find("1 faces of the model are trimmed"), std::string::npos) << st.message();
+  EXPECT_FALSE(fs::exists("never_written.json"));
+}
+
+/// A hostile variant of the plate: `edit` changes the document; the message must be `expected` exactly, on
+/// both routes (a crash or an exception fails the test; they run under ASan+UBSan in CI).
+void expectRefused(const std::function<void(nlohmann::json&)>& edit, const std::string& expected) {
+  nlohmann::json doc = plateWithHole();
+  edit(doc);
+  const std::string text = doc.dump();
+  expectSameOnBothRoutes(text, "bad.json");
+  const Result<Model> m = io::parseModelJson(text, "bad.json");
+  ASSERT_FALSE(m) << "accepted: " << expected;
+  EXPECT_EQ(m.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_EQ(m.status().message(), expected);
+}
+
+TEST(JsonBRep, HostileInputIsRefusedWithFileObjectAndProblem) {
+  expectRefused([](auto& d) { d["brep"]["faces"][0]["loops"][0][2]["edge"] = 42; },
+                "bad.json: brep face 0: loop 0: coedge 2: edge id 42 does not exist (there are 8 edges)");
+  expectRefused([](auto& d) { d["brep"]["edges"][3]["vertices"][1] = 9; },
+                "bad.json: brep edge 3: vertex id 9 does not exist (there are 8 vertices)");
+  expectRefused([](auto& d) { d["brep"]["faces"][0]["loops"][0][1]["edge"] = -1; },
+                "bad.json: brep face 0: loop 0: coedge 1: edge must be an id (an integer >= 0), found -1");
+  // A loop that does not close: the second side of the outer loop moved off the square's corner.
+  expectRefused(
+      [](auto& d) {
+        d["brep"]["faces"][0]["loops"][0][1]["pcurve"]["points"][0] = {1.0, 0.5};
+      },
+      "bad.json: brep face 0: loop 0: coedge 0: the loop does not close: the pcurve of edge 0 ends at "
+      "(u, v) = (1, 0), the next coedge's (edge 1) starts at (1, 0.5): 0.5 apart on the surface, more than "
+      "the tolerance 5.01e-07");  // two vertices, two edges, the face: 5 x 1e-7, + 1e-9 x sqrt(2)
+  // A zero-length pcurve: both points the same, on an edge that is not degenerate.
+  expectRefused(
+      [](auto& d) {
+        d["brep"]["faces"][0]["loops"][1][0]["pcurve"]["points"][1] = {0.25, 0.25};
+      },
+      "bad.json: brep face 0: loop 1: coedge 0: the pcurve of edge 4 has zero length (all its points are "
+      "equal) but the edge is not degenerate");
+  expectRefused(
+      [](auto& d) {
+        d["brep"]["faces"][0]["loops"][0][0]["range"] = {0.5, 0.5};
+      },
+      "bad.json: brep face 0: loop 0: coedge 0: range [0.5, 0.5] is empty (t1 must be > t0)");
+  // NaN cannot be written in JSON; a literal that overflows a double is the same problem.
+  {
+    std::string text = plateWithHole().dump();
+    const std::string tol = "\"tolerance\":1e-07";  // nlohmann sorts the keys: edge 0 comes first
+    const size_t at = text.find(tol);
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, tol.size(), "\"tolerance\":1e999");
+    const Result<Model> m = io::parseModelJson(text, "bad.json");
+    ASSERT_FALSE(m);
+    EXPECT_EQ(m.status().message(),
+              "bad.json: brep edge 0: tolerance = 1e999 is not a finite number (it overflows a double)");
+  }
+  expectRefused([](auto& d) { d["brep"]["faces"][0]["patch"] = "Nope"; },
+                "bad.json: brep face 0: no patch named \"Nope\"");
+  expectRefused(
+      [](auto& d) { d["brep"]["faces"][0]["orientation"] = "inside"; },
+      "bad.json: brep face 0: \"orientation\" must be \"forward\" or \"reversed\", found \"inside\"");
+  expectRefused(
+      [](auto& d) {
+        d["brep"]["edges"][0]["curve"]["knots"] = {0, 1, 0, 1};
+      },
+      "bad.json: brep edge 0: curve: knots must be non-decreasing, but knot 2 (0) < knot 1 (1)");
+  expectRefused(
+      [](auto& d) {
+        d["brep"]["faces"][0]["loops"][0][0]["pcurve"]["points"][1] = {1.0, 0.0, 0.0};
+      },
+      "bad.json: brep face 0: loop 0: coedge 0: pcurve: point 1 has 3 coordinates, expected 2 like point 0");
+  expectRefused([](auto& d) { d["brep"]["shells"][0]["faces"][0]["face"] = 3; },
+                "bad.json: brep shell 0: face id 3 does not exist (there are 1 faces)");
+  expectRefused(
+      [](auto& d) {
+        d["brep"]["faces"][0]["loops"][0][0]["pcurve"]["points"][0] = {-0.5, 0.0};
+      },
+      "bad.json: brep face 0: loop 0: coedge 0: the pcurve leaves the patch's domain [0, 1] x [0, 1]: "
+      "(u, v) = (-0.5, 0)");
+  expectRefused([](auto& d) { d["brep"]["wires"] = nlohmann::json::array(); },
+                "bad.json: brep: unknown key \"wires\"");
+  expectRefused([](auto& d) { d["brep"]["faces"][0]["loops"] = nlohmann::json::array(); },
+                "bad.json: brep face 0: has no loop (a face needs its outer loop)");
 }
 
 }  // namespace

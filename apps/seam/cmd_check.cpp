@@ -23,6 +23,7 @@
 #include "command_registry.h"
 #ifdef SEAM_HAVE_OCCT
 #include "seam/occt/brep_check.h"
+#include "seam/occt/brep_model.h"
 #endif
 #include "seam/continuity/model_check.h"
 #include "seam/continuity/seam.h"
@@ -318,14 +319,17 @@ std::string warningLines(const std::vector<std::string>& warnings) {
 
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: every edge shared by two faces of the (sewn) B-rep, with OpenCASCADE's verdict next to seam's.
-int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require, const SeamSelection& sel) {
+/// `model`: a JSON model with its B-rep topology (Model::brep), checked as the shape made from it; else
+/// o.file is read.
+int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& require,
+                 const SeamSelection& sel, const Model* model = nullptr) {
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
   if (o.threads) bo.threads = *o.threads;
   bo.progress = brepProgressPrinter(o.file);
   const Result<occt::BRepCheckReport> r = [&] {
     const CadTimeLimit limit(o.file, "reading and checking");
-    return occt::checkBRepFile(o.file, bo);
+    return model != nullptr ? occt::checkBRepModel(*model, o.file, bo) : occt::checkBRepFile(o.file, bo);
   }();
   if (!r) {
     printError(r.status().message());
@@ -427,6 +431,10 @@ int runCheck(const CheckOptions& o) {
   std::vector<std::string> warnings;  // a STEP/IGES file read as patches: the reader's (also on stderr)
   const std::optional<Model> model = loadModel(o.file, o.tol, &units, &warnings);
   if (!model) return kExitBadInput;
+#ifdef SEAM_HAVE_OCCT
+  // A JSON model with its trims (docs/format.md "brep"): checked as a B-rep, like the STEP/IGES it came from.
+  if (model->brep && !o.patches && o.seam.empty()) return runBRepCheck(o, require, *sel, &*model);
+#endif
   if (model->patches.empty()) {  // only curves, or "patches": []: as `report` and `heal` (issue 15)
     const std::string note = fmt::format("{}: the model has no patches: nothing to check", o.file);
     OrderedJson none = noPatchesJson(o.file, units);

@@ -1,7 +1,9 @@
 // seam convert IN OUT: converts a model between JSON, .bpt (read only), STEP and IGES, by extension.
-// STEP/IGES need OpenCASCADE (SEAM_WITH_OCCT=ON). The input is never modified; the output is written atomically.
-// STEP/IGES -> STEP/IGES keeps the whole B-rep (occt::convertCadFile); an output that holds patches only (JSON, or
-// STEP/IGES from patches) is refused with exit 2 when the input has trimmed faces (Model::trimmedFaces).
+// STEP/IGES need OpenCASCADE (SEAM_WITH_OCCT=ON). The input is never modified; the output is written
+// atomically. STEP/IGES -> STEP/IGES keeps the whole B-rep (occt::convertCadFile); STEP/IGES -> JSON keeps
+// the trims in the JSON's "brep" (Model::brep), and a JSON with "brep" -> STEP/IGES writes that B-rep
+// (occt::writeBRepCadFile). A trimmed model without its topology is refused with exit 2 by every patch-only
+// output (Model::trimmedFaces).
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -11,7 +13,10 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "seam/io/file.h"
+#include "seam/model/brep.h"
 #ifdef SEAM_HAVE_OCCT
+#include "seam/occt/brep_model.h"
 #include "seam/occt/cad_io.h"
 #endif
 
@@ -67,11 +72,43 @@ void addConvert(CLI::App& app, int& exit) {
       exit = kExitBadInput;
       return;
     }
+#ifdef SEAM_HAVE_OCCT
+    if (model->brep && isCadFile(out)) {
+      // A model with its trims (JSON "brep", docs/format.md): the B-rep is made again and written through
+      // XDE.
+      if (Status st = io::checkOutputFile(out); !st) {
+        printError(st.message());
+        exit = kExitBadInput;
+        return;
+      }
+      Result<occt::BRepWriteReport> r = [&] {
+        const CadTimeLimit limit(in, "writing");
+        return occt::writeBRepCadFile(*model, out, *occt::cadFormatOf(out));
+      }();
+      if (!r) {
+        printError(r.status().message());
+        exit = kExitBadInput;
+        return;
+      }
+      for (const std::string& w : r->warnings) std::cerr << "seam: warning: " << w << "\n";
+      fmt::print(
+          "wrote {} (B-rep kept: {} faces, {} of them trimmed, {} edges, {} shells, {} solids; area {} "
+          "mm²)\n",
+          out.string(), r->faces, r->trimmedFaces, r->edges, r->shells, r->solids, formatNumber(r->area));
+      exit = kExitOk;
+      return;
+    }
+#endif
     if (!saveModel(*model, out)) {
       exit = kExitBadInput;
       return;
     }
-    fmt::print("wrote {} ({} patches, {} curves)\n", out.string(), model->patches.size(), model->curves.size());
+    if (model->brep && lowerExtension(out) == ".json")
+      fmt::print("wrote {} ({} patches, {} curves; B-rep kept: {} faces, {} of them trimmed)\n", out.string(),
+                 model->patches.size(), model->curves.size(), model->brep->faces.size(), model->trimmedFaces);
+    else
+      fmt::print("wrote {} ({} patches, {} curves)\n", out.string(), model->patches.size(),
+                 model->curves.size());
     exit = kExitOk;
   });
 }

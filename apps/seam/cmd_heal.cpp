@@ -212,6 +212,13 @@ void addHeal(CLI::App& app, int& exit) {
     ModelUnits units;
     const std::optional<Model> model = loadModel(o->file, o->tol, &units);
     if (!model) return;
+    if (model->brep && model->trimmedFaces > 0)
+      return printError(
+          fmt::format("{}: not healed: the model has {} trimmed faces (its \"brep\"), and healing a JSON "
+                      "model moves its patches without its trims; heal the STEP/IGES file it came from "
+                      "(seam heal IN.step -o OUT.step keeps every trim), or convert it to STEP first "
+                      "(seam convert {} x.step); nothing written",
+                      o->file, model->trimmedFaces, o->file));
     // The classification tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
     const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());
     ho.tolerances = resolved.tolerances;

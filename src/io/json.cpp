@@ -2,23 +2,26 @@
 
 #include <fmt/format.h>
 
+#include <simdjson.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <simdjson.h>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "json_read.h"
 #include "seam/core/tolerances.h"
 #include "seam/io/file.h"
-#include "json_read.h"
+#include "seam/model/brep.h"
 
 namespace seam::io {
 
@@ -635,8 +638,9 @@ class ModelReader {
                  root.type_name());
     }
     for (const auto& [key, value] : root.items()) {
-      if (key != "patches" && key != "curves" && key != "$schema") {
-        return top("unknown top-level key " + quote(key) + " (expected \"patches\" and/or \"curves\")");
+      if (key != "patches" && key != "curves" && key != "brep" && key != "$schema") {
+        return top("unknown top-level key " + quote(key) +
+                   " (expected \"patches\" and/or \"curves\", and \"brep\")");
       }
     }
     if (!root.contains("patches") && !root.contains("curves")) {
@@ -664,7 +668,279 @@ class ModelReader {
         model.curves.push_back(std::move(curve).value());
       }
     }
+    if (root.contains("brep")) {
+      current_ = "brep";
+      Result<BRepTopology> brep = readBRep(root["brep"], model);
+      if (!brep) return brep.status();
+      if (Status st = validateBRep(model, *brep, src_); !st) return st;
+      model.trimmedFaces = countTrimmedFaces(model, *brep);
+      model.brep = std::make_shared<const BRepTopology>(std::move(brep).value());
+    }
     return model;
+  }
+
+  // -------------------------------------------------------------------------------------------------------------
+  // "brep" (docs/format.md, "Trimmed faces"): read here, checked by validateBRep.
+
+  /// Only the keys in `allowed` (a member of an object of the brep).
+  Status onlyKeys(const J& j, const std::string& where,
+                  std::initializer_list<std::string_view> allowed) const {
+    for (const auto& [key, value] : j.items())
+      if (std::find(allowed.begin(), allowed.end(), std::string_view(key)) == allowed.end())
+        return fail(where, "unknown key " + quote(key));
+    return Status::ok();
+  }
+  Status needObject(const J& j, const std::string& where) const {
+    if (!j.is_object()) return fail(where, std::string("must be an object, found ") + j.type_name());
+    return Status::ok();
+  }
+  /// j[key] must be an array (empty allowed when `mayBeEmpty`).
+  Status needArray(const J& j, const std::string& where, const char* key, bool required = true) const {
+    if (!j.contains(key)) return required ? fail(where, fmt::format("missing \"{}\"", key)) : Status::ok();
+    if (!j[key].is_array())
+      return fail(where, fmt::format("\"{}\" must be an array, found {}", key, j[key].type_name()));
+    return Status::ok();
+  }
+  Status readId(const J& j, const std::string& where, const char* what, int& out) const {
+    const std::optional<long long> id = asInteger(j);
+    if (!id || *id < 0 || *id > std::numeric_limits<int>::max())
+      return fail(where, fmt::format("{} must be an id (an integer >= 0), found {}", what, brief(j)));
+    out = static_cast<int>(*id);
+    return Status::ok();
+  }
+  Status readOrientation(const J& j, const std::string& where, bool& reversed) const {
+    if (!j.contains("orientation")) {
+      reversed = false;
+      return Status::ok();
+    }
+    const auto& o = j["orientation"];
+    if (o.is_string() && o.template get<std::string>() == "forward")
+      reversed = false;
+    else if (o.is_string() && o.template get<std::string>() == "reversed")
+      reversed = true;
+    else
+      return fail(where, "\"orientation\" must be \"forward\" or \"reversed\", found " + brief(o));
+    return Status::ok();
+  }
+  Status readTolerance(const J& j, const std::string& where, double& out) const {
+    out = 0.0;
+    if (!j.contains("tolerance")) return Status::ok();
+    if (Status s = readNumber(j["tolerance"], where, "tolerance", out); !s) return s;
+    if (out < 0) return fail(where, fmt::format("tolerance {} is negative", out));
+    return Status::ok();
+  }
+  Status readRange(const J& j, const std::string& where, double& t0, double& t1) const {
+    if (!j.contains("range")) return fail(where, "missing \"range\" ([t0, t1])");
+    const auto& r = j["range"];
+    if (!r.is_array() || r.size() != 2) return fail(where, "\"range\" must be [t0, t1], found " + brief(r));
+    if (Status s = readNumber(r[size_t{0}], where, "range t0", t0); !s) return s;
+    if (Status s = readNumber(r[size_t{1}], where, "range t1", t1); !s) return s;
+    if (!(t1 > t0)) return fail(where, fmt::format("range [{}, {}] is empty (t1 must be > t0)", t0, t1));
+    return Status::ok();
+  }
+  /// A B-spline curve object {"degree", "knots", "points", "weights"} with points of dimension `dim`.
+  Result<BSplineCurve> readSpline(const J& j, const std::string& where, int dim) const {
+    if (Status s = needObject(j, where); !s) return s;
+    if (Status s = onlyKeys(j, where, {"degree", "knots", "points", "weights"}); !s) return s;
+    PointGrid grid;
+    if (Status s = readCurvePoints(j, where, grid); !s) return s;
+    if (grid.dim != dim)
+      return fail(where, fmt::format("points have {} coordinates, expected {}", grid.dim, dim));
+    if (!j.contains("degree")) return fail(where, "missing \"degree\" (an integer)");
+    const std::optional<long long> d = asInteger(j["degree"]);
+    if (!d) return fail(where, "\"degree\" must be an integer, found " + brief(j["degree"]));
+    if (!j.contains("knots")) return fail(where, "missing \"knots\" (an array of numbers)");
+    std::vector<double> knots;
+    if (Status s = readKnotArray(j["knots"], where, "", knots); !s) return s;
+    if (Status s = checkDegree(*d, grid.nu, where, ""); !s) return s;
+    if (Status s = checkKnots(knots, static_cast<int>(*d), grid.nu, where, ""); !s) return s;
+    Result<BSplineCurve> c = BSplineCurve::create(static_cast<int>(*d), std::move(knots),
+                                                  std::move(grid.points), std::move(grid.weights));
+    if (!c) return c.status().withContext(src_ + ": " + where);
+    return c;
+  }
+  /// Uses of faces in a shell, shells in a solid: [{"face": id, "orientation": ...}, ...].
+  Status readUses(const J& j, const std::string& where, const char* array, const char* key,
+                  std::vector<BRepUse>& out) const {
+    if (Status s = needArray(j, where, array); !s) return s;
+    const auto& a = j[array];
+    for (size_t i = 0; i < a.size(); ++i) {
+      const std::string w = fmt::format("{}: {}[{}]", where, array, i);
+      const auto& u = a[i];
+      if (Status s = needObject(u, w); !s) return s;
+      if (Status s = onlyKeys(u, w, {key, "orientation"}); !s) return s;
+      if (!u.contains(key)) return fail(w, fmt::format("missing \"{}\"", key));
+      BRepUse use;
+      if (Status s = readId(u[key], w, key, use.id); !s) return s;
+      if (Status s = readOrientation(u, w, use.reversed); !s) return s;
+      out.push_back(use);
+    }
+    return Status::ok();
+  }
+
+  Result<BRepTopology> readBRep(const J& b, const Model& model) {
+    const std::string where = "brep";
+    if (Status s = needObject(b, where); !s) return s;
+    if (Status s = onlyKeys(b, where, {"vertices", "edges", "faces", "shells", "solids", "roots"}); !s)
+      return s;
+    for (const char* key : {"vertices", "edges", "faces"})
+      if (Status s = needArray(b, where, key); !s) return s;
+    for (const char* key : {"shells", "solids", "roots"})
+      if (Status s = needArray(b, where, key, false); !s) return s;
+    BRepTopology t;
+    const auto& vertices = b["vertices"];
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      const std::string w = fmt::format("brep vertex {}", i);
+      current_ = w;
+      const auto& v = vertices[i];
+      if (Status s = needObject(v, w); !s) return s;
+      if (Status s = onlyKeys(v, w, {"point", "tolerance"}); !s) return s;
+      if (!v.contains("point")) return fail(w, "missing \"point\"");
+      BRepVertex vertex;
+      int dim = 3;
+      if (Status s = readPoint(v["point"], w, "point", dim, vertex.point.data()); !s) return s;
+      if (Status s = readTolerance(v, w, vertex.tolerance); !s) return s;
+      t.vertices.push_back(vertex);
+    }
+    const auto& edges = b["edges"];
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const std::string w = fmt::format("brep edge {}", i);
+      current_ = w;
+      const auto& e = edges[i];
+      if (Status s = needObject(e, w); !s) return s;
+      if (Status s = onlyKeys(e, w, {"vertices", "range", "tolerance", "curve", "degenerate"}); !s) return s;
+      BRepEdge edge;
+      if (!e.contains("vertices") || !e["vertices"].is_array() || e["vertices"].size() != 2)
+        return fail(w, "\"vertices\" must be [start vertex id, end vertex id]");
+      if (Status s = readId(e["vertices"][size_t{0}], w, "start vertex", edge.v0); !s) return s;
+      if (Status s = readId(e["vertices"][size_t{1}], w, "end vertex", edge.v1); !s) return s;
+      if (Status s = readRange(e, w, edge.t0, edge.t1); !s) return s;
+      if (Status s = readTolerance(e, w, edge.tolerance); !s) return s;
+      if (e.contains("degenerate")) {
+        const auto& d = e["degenerate"];
+        if (!d.is_string() || d.template get<std::string>() != "yes")
+          return fail(
+              w, "\"degenerate\" must be \"yes\" (a degenerate edge has no 3-D curve), found " + brief(d));
+        if (e.contains("curve")) return fail(w, "a degenerate edge has no \"curve\"");
+        edge.degenerate = true;
+      } else {
+        if (!e.contains("curve")) return fail(w, "missing \"curve\" (its 3-D B-spline curve)");
+        Result<BSplineCurve> c = readSpline(e["curve"], w + ": curve", 3);
+        if (!c) return c.status();
+        edge.curve = std::move(c).value();
+      }
+      t.edges.push_back(std::move(edge));
+    }
+    std::map<std::string, int> patchIndex;
+    for (size_t k = 0; k < model.patches.size(); ++k)
+      patchIndex.emplace(model.patches[k].name, static_cast<int>(k));
+    const auto& faces = b["faces"];
+    for (size_t i = 0; i < faces.size(); ++i) {
+      const std::string w = fmt::format("brep face {}", i);
+      current_ = w;
+      const auto& f = faces[i];
+      if (Status s = needObject(f, w); !s) return s;
+      if (Status s = onlyKeys(f, w, {"patch", "orientation", "tolerance", "loops"}); !s) return s;
+      BRepFace face;
+      if (!f.contains("patch") || !f["patch"].is_string())
+        return fail(w, "\"patch\" must be the name of the face's patch");
+      const std::string name = f["patch"].template get<std::string>();
+      const auto it = patchIndex.find(name);
+      if (it == patchIndex.end()) return fail(w, "no patch named " + quote(name));
+      face.patch = it->second;
+      if (Status s = readOrientation(f, w, face.reversed); !s) return s;
+      if (Status s = readTolerance(f, w, face.tolerance); !s) return s;
+      if (Status s = needArray(f, w, "loops"); !s) return s;
+      const auto& loops = f["loops"];
+      for (size_t l = 0; l < loops.size(); ++l) {
+        const std::string lw = fmt::format("{}: loop {}", w, l);
+        const auto& loop = loops[l];
+        if (!loop.is_array())
+          return fail(lw, std::string("must be an array of coedges, found ") + loop.type_name());
+        std::vector<BRepCoedge> coedges;
+        for (size_t k = 0; k < loop.size(); ++k) {
+          const std::string cw = fmt::format("{}: coedge {}", lw, k);
+          const auto& c = loop[k];
+          if (Status s = needObject(c, cw); !s) return s;
+          if (Status s = onlyKeys(c, cw, {"edge", "orientation", "range", "pcurve"}); !s) return s;
+          BRepCoedge coedge;
+          if (!c.contains("edge")) return fail(cw, "missing \"edge\"");
+          if (Status s = readId(c["edge"], cw, "edge", coedge.edge); !s) return s;
+          if (Status s = readOrientation(c, cw, coedge.reversed); !s) return s;
+          if (Status s = readRange(c, cw, coedge.t0, coedge.t1); !s) return s;
+          if (!c.contains("pcurve")) return fail(cw, "missing \"pcurve\" (a 2-D B-spline curve in (u, v))");
+          Result<BSplineCurve> pc = readSpline(c["pcurve"], cw + ": pcurve", 2);
+          if (!pc) return pc.status();
+          coedge.pcurve = std::move(pc).value();
+          coedges.push_back(std::move(coedge));
+        }
+        face.loops.push_back(std::move(coedges));
+      }
+      t.faces.push_back(std::move(face));
+    }
+    if (b.contains("shells")) {
+      const auto& shells = b["shells"];
+      for (size_t i = 0; i < shells.size(); ++i) {
+        const std::string w = fmt::format("brep shell {}", i);
+        if (Status s = needObject(shells[i], w); !s) return s;
+        if (Status s = onlyKeys(shells[i], w, {"faces"}); !s) return s;
+        BRepShell shell;
+        if (Status s = readUses(shells[i], w, "faces", "face", shell.faces); !s) return s;
+        t.shells.push_back(std::move(shell));
+      }
+    }
+    if (b.contains("solids")) {
+      const auto& solids = b["solids"];
+      for (size_t i = 0; i < solids.size(); ++i) {
+        const std::string w = fmt::format("brep solid {}", i);
+        if (Status s = needObject(solids[i], w); !s) return s;
+        if (Status s = onlyKeys(solids[i], w, {"shells"}); !s) return s;
+        BRepSolid solid;
+        if (Status s = readUses(solids[i], w, "shells", "shell", solid.shells); !s) return s;
+        t.solids.push_back(std::move(solid));
+      }
+    }
+    if (b.contains("roots")) {
+      const auto& roots = b["roots"];
+      for (size_t i = 0; i < roots.size(); ++i) {
+        const std::string w = fmt::format("brep root {}", i);
+        const auto& r = roots[i];
+        if (Status s = needObject(r, w); !s) return s;
+        if (Status s = onlyKeys(r, w, {"solid", "shell", "face", "orientation"}); !s) return s;
+        BRepRoot root;
+        int kinds = 0;
+        for (const auto& [key, kind] :
+             {std::pair{"solid", BRepRoot::Kind::kSolid}, std::pair{"shell", BRepRoot::Kind::kShell},
+              std::pair{"face", BRepRoot::Kind::kFace}}) {
+          if (!r.contains(key)) continue;
+          ++kinds;
+          root.kind = kind;
+          if (Status s = readId(r[key], w, key, root.use.id); !s) return s;
+        }
+        if (kinds != 1) return fail(w, "must name exactly one of \"solid\", \"shell\", \"face\"");
+        if (Status s = readOrientation(r, w, root.use.reversed); !s) return s;
+        t.roots.push_back(root);
+      }
+    } else {
+      // Without "roots": the solids, then the shells in no solid, then the faces in no shell.
+      std::vector<bool> shellUsed(t.shells.size()), faceUsed(t.faces.size());
+      for (const BRepSolid& s : t.solids)
+        for (const BRepUse& u : s.shells)
+          if (u.id >= 0 && static_cast<size_t>(u.id) < shellUsed.size())
+            shellUsed[static_cast<size_t>(u.id)] = true;
+      for (const BRepShell& s : t.shells)
+        for (const BRepUse& u : s.faces)
+          if (u.id >= 0 && static_cast<size_t>(u.id) < faceUsed.size())
+            faceUsed[static_cast<size_t>(u.id)] = true;
+      for (size_t i = 0; i < t.solids.size(); ++i)
+        t.roots.push_back({BRepRoot::Kind::kSolid, {static_cast<int>(i), false}});
+      for (size_t i = 0; i < t.shells.size(); ++i)
+        if (!shellUsed[i]) t.roots.push_back({BRepRoot::Kind::kShell, {static_cast<int>(i), false}});
+      for (size_t i = 0; i < t.faces.size(); ++i)
+        if (!faceUsed[i])
+          t.roots.push_back({BRepRoot::Kind::kFace, {static_cast<int>(i), t.faces[i].reversed}});
+    }
+    return t;
   }
 
   Status top(const std::string& problem) const { return invalidInput(src_ + ": " + problem); }
@@ -1168,6 +1444,108 @@ void appendPatch(std::string& out, const Patch& patch) {
   out += "\n    }";
 }
 
+/// A B-spline curve of the brep on one line: {"degree": p, "knots": [...], "points": [[...], ...], "weights":
+/// [...]}.
+void appendSplineInline(std::string& out, const BSplineCurve& c) {
+  out += fmt::format("{{\"degree\": {}, \"knots\": ", c.degree());
+  appendNumbers(out, c.knots().values());
+  out += ", \"points\": [";
+  for (int i = 0; i < c.numPoints(); ++i) {
+    if (i > 0) out += ", ";
+    appendPoint(out, c.points(), i);
+  }
+  out += ']';
+  if (c.isRational()) {
+    out += ", \"weights\": ";
+    appendNumbers(out, c.weights().data(), c.weights().size());
+  }
+  out += '}';
+}
+
+const char* orientationName(bool reversed) { return reversed ? "reversed" : "forward"; }
+
+/// The "brep" member (docs/format.md, "Trimmed faces"): one vertex, edge, coedge, shell, solid or root a
+/// line.
+void appendBRep(std::string& out, const Model& model, const BRepTopology& b) {
+  out += ",\n  \"brep\": {\n    \"vertices\": [";
+  for (size_t i = 0; i < b.vertices.size(); ++i) {
+    out += i == 0 ? "\n      {\"point\": " : ",\n      {\"point\": ";
+    appendNumbers(out, b.vertices[i].point.data(), 3);
+    out += ", \"tolerance\": ";
+    appendNumber(out, b.vertices[i].tolerance);
+    out += '}';
+  }
+  out += b.vertices.empty() ? "],\n    \"edges\": [" : "\n    ],\n    \"edges\": [";
+  for (size_t i = 0; i < b.edges.size(); ++i) {
+    const BRepEdge& e = b.edges[i];
+    out += i == 0 ? "\n      " : ",\n      ";
+    out += fmt::format("{{\"vertices\": [{}, {}], \"range\": ", e.v0, e.v1);
+    appendNumbers(out, std::vector<double>{e.t0, e.t1});
+    out += ", \"tolerance\": ";
+    appendNumber(out, e.tolerance);
+    if (e.degenerate) {
+      out += ", \"degenerate\": \"yes\"}";
+    } else {
+      out += ", \"curve\": ";
+      appendSplineInline(out, e.curve);
+      out += '}';
+    }
+  }
+  out += b.edges.empty() ? "],\n    \"faces\": [" : "\n    ],\n    \"faces\": [";
+  for (size_t i = 0; i < b.faces.size(); ++i) {
+    const BRepFace& f = b.faces[i];
+    out += i == 0 ? "\n      {" : ",\n      {";
+    out += "\"patch\": " + quote(model.patches[static_cast<size_t>(f.patch)].name) + ", \"orientation\": \"" +
+           orientationName(f.reversed) + "\", \"tolerance\": ";
+    appendNumber(out, f.tolerance);
+    out += ", \"loops\": [";
+    for (size_t l = 0; l < f.loops.size(); ++l) {
+      out += l == 0 ? "\n        [" : ",\n        [";
+      for (size_t k = 0; k < f.loops[l].size(); ++k) {
+        const BRepCoedge& c = f.loops[l][k];
+        out += k == 0 ? "\n          " : ",\n          ";
+        out += fmt::format("{{\"edge\": {}, \"orientation\": \"{}\", \"range\": ", c.edge,
+                           orientationName(c.reversed));
+        appendNumbers(out, std::vector<double>{c.t0, c.t1});
+        out += ", \"pcurve\": ";
+        appendSplineInline(out, c.pcurve);
+        out += '}';
+      }
+      out += "\n        ]";
+    }
+    out += "\n      ]}";
+  }
+  out += b.faces.empty() ? "]" : "\n    ]";
+  auto uses = [&](const char* key, const std::vector<BRepUse>& list) {
+    std::string s = "[";
+    for (size_t k = 0; k < list.size(); ++k)
+      s += fmt::format("{}{{\"{}\": {}, \"orientation\": \"{}\"}}", k == 0 ? "" : ", ", key, list[k].id,
+                       orientationName(list[k].reversed));
+    return s + "]";
+  };
+  out += ",\n    \"shells\": [";
+  for (size_t i = 0; i < b.shells.size(); ++i)
+    out +=
+        (i == 0 ? "\n      {\"faces\": " : ",\n      {\"faces\": ") + uses("face", b.shells[i].faces) + "}";
+  out += b.shells.empty() ? "]" : "\n    ]";
+  out += ",\n    \"solids\": [";
+  for (size_t i = 0; i < b.solids.size(); ++i)
+    out += (i == 0 ? "\n      {\"shells\": " : ",\n      {\"shells\": ") + uses("shell", b.solids[i].shells) +
+           "}";
+  out += b.solids.empty() ? "]" : "\n    ]";
+  out += ",\n    \"roots\": [";
+  for (size_t i = 0; i < b.roots.size(); ++i) {
+    const BRepRoot& r = b.roots[i];
+    const char* kind = r.kind == BRepRoot::Kind::kSolid   ? "solid"
+                       : r.kind == BRepRoot::Kind::kShell ? "shell"
+                                                          : "face";
+    out += fmt::format("{}{{\"{}\": {}, \"orientation\": \"{}\"}}", i == 0 ? "\n      " : ",\n      ", kind,
+                       r.use.id, orientationName(r.use.reversed));
+  }
+  out += b.roots.empty() ? "]" : "\n    ]";
+  out += "\n  }";
+}
+
 void appendCurve(std::string& out, const Curve& curve) {
   const BSplineCurve& c = curve.curve;
   const bool bezier = isBezierKnots(c.knots(), c.degree(), c.numPoints());
@@ -1350,12 +1728,13 @@ std::string modelToJson(const Model& model) {
     }
     out += "\n  ]";
   }
+  if (model.brep) appendBRep(out, model, *model.brep);
   out += "\n}\n";
   return out;
 }
 
 Status writeModelJson(const Model& model, const std::filesystem::path& file) {
-  if (Status st = checkNoTrimsLost(model, file.string()); !st) return st;
+  if (Status st = checkNoTrimsLost(model, file.string(), /*keepsBRep=*/true); !st) return st;
   return writeFileAtomically(file, modelToJson(model));
 }
 

@@ -43,13 +43,14 @@ BoundingBox Model::boundingBox() const {
   return box;
 }
 
-Status checkNoTrimsLost(const Model& model, const std::string& output) {
-  if (model.trimmedFaces <= 0) return Status::ok();
-  return invalidInput(output + ": not written: " + std::to_string(model.trimmedFaces) +
-                      " faces of the model are trimmed, and this output holds untrimmed patches only (each face would "
-                      "become the whole surface of its parameter box); write STEP or IGES from a STEP/IGES input "
-                      "(`seam convert`, `seam heal` keep every face, trim and edge), or export a mesh (`seam "
-                      "export-mesh`)");
+Status checkNoTrimsLost(const Model& model, const std::string& output, bool keepsBRep) {
+  if (model.trimmedFaces <= 0 || (keepsBRep && model.brep)) return Status::ok();
+  return invalidInput(
+      output + ": not written: " + std::to_string(model.trimmedFaces) +
+      " faces of the model are trimmed, and this output holds untrimmed patches only (each face would "
+      "become the whole surface of its parameter box); write JSON, STEP or IGES from a STEP/IGES input or a "
+      "JSON model with its \"brep\" (`seam convert` keeps every face, trim and edge), or export a "
+      "mesh (`seam export-mesh`)");
 }
 
 }  // namespace seam

@@ -1241,7 +1241,7 @@ Status writeUnchanged(const fs::path& in, CadFormat inFormat, const fs::path& fi
   detail::OcctSignalGuard guard;
   try {
     OCC_CATCH_SIGNALS
-    return detail::writeCadDocument(doc, file, format, unit, detail::countShape(*read), &notes, 0.0, &back);
+    return detail::writeCadDocument(doc, file, format, unit, detail::countShape(*read), &notes, 0.0, 0.0, &back);
   } catch (const Standard_Failure& f) {
     return invalidInput(fmt::format("{}: OpenCASCADE failed writing it unchanged: {}", in.string(),
                                     f.GetMessageString()));
@@ -1334,7 +1334,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     RemoveTemporary removeTemporary{temp};
     detail::WrittenBack back;
     if (Status st = detail::writeCadDocument(doc, temp, *outFormat, report.unit, countsAfter, &report.notes,
-                                             kHealWrittenAreaRelTol, &back);
+                                             kHealWrittenAreaRelTol, 0.0, &back);
         !st) {
       std::string message = st.message();  // it names the temporary file: name the output instead
       for (size_t at = message.find(temp.string()); at != std::string::npos; at = message.find(temp.string()))

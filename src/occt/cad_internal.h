@@ -1,12 +1,13 @@
 #pragma once
 // Shared by the OpenCASCADE readers and the B-rep check.
+#include <signal.h>
+#include <Geom_BSplineSurface.hxx>
 #include <Message_ProgressIndicator.hxx>
 #include <TDocStd_Document.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
-#include <TopTools_IndexedMapOfShape.hxx>
-#include <signal.h>
 
 #include <algorithm>
 #include <array>
@@ -117,15 +118,13 @@ struct ShapeCounts {
   int faces = 0, trimmedFaces = 0, wires = 0, edges = 0, freeEdges = 0, shells = 0, solids = 0;
   double area = 0.0;  ///< BRepGProp::SurfaceProperties, in the shape's unit squared
 };
-ShapeCounts countShape(const TopoDS_Shape& shape);
+/// `areaRelEps` > 0: the area by BRepGProp's adaptive integration to that relative error (the default Gauss
+/// rule is off by up to 1e-3 on faces whose pcurves have hundreds of poles on rational patches: linkrods.step
+/// from JSON).
+ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps = 0.0);
+/// The adaptive integration's relative error for the areas of shapes made from a topology (Model::brep).
+inline constexpr double kPreciseAreaRelEps = 1e-9;
 
-/// Writes `document` as STEP (AP214) or IGES (5.3) into `file` atomically, with names, colours and layers, every
-/// real with 17 significant digits (surfaces are kept bit for bit), in the length unit `unitName` ("MM", "INCH",
-/// "FT", "M", "CM"; the document is in millimetres). What was written is read back and must have the counts
-/// `expected` (faces, trimmed faces, solids; area within kKeptAreaRelTol, IGES kKeptAreaRelTolIges): else nothing is
-/// written and the error says what OpenCASCADE lost. IGES: B-rep mode (solids) first, else the faces mode, with a
-/// line in `notes` saying that the solids are written as their faces. `areaRelTol` > 0 replaces the area tolerance
-/// (when it is larger).
 /// What writeCadDocument read back from the file it wrote (its verification), for a caller that checks it further.
 struct WrittenBack {
   TopoDS_Shape shape;
@@ -133,10 +132,18 @@ struct WrittenBack {
   FileUnits units;
   std::vector<std::string> warnings;
 };
-Status writeCadDocument(const Handle(TDocStd_Document)& document, const std::filesystem::path& file,
+/// Writes `document` as STEP (AP214) or IGES (5.3) into `file` atomically, with names, colours and layers,
+/// every real with 17 significant digits (surfaces are kept bit for bit), in the length unit `unitName`
+/// ("MM", "INCH", "FT", "M", "CM"; the document is in millimetres). What was written is read back and must
+/// have the counts `expected` (faces, trimmed faces, solids; area within kKeptAreaRelTol, IGES
+/// kKeptAreaRelTolIges): else nothing is written and the error says what OpenCASCADE lost. IGES: B-rep mode
+/// (solids) first, else the faces mode, with a line in `notes` saying that the solids are written as their
+/// faces. `areaRelTol` > 0 replaces the area tolerance (when it is larger); `areaRelEps` as in countShape,
+/// for the area read back; `back`, when given, receives what was read back.
+Status writeCadDocument(const Handle(TDocStd_Document) & document, const std::filesystem::path& file,
                         CadFormat format, const std::string& unitName, const ShapeCounts& expected,
                         std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0,
-                        WrittenBack* back = nullptr);
+                        double areaRelEps = 0.0, WrittenBack* back = nullptr);
 
 /// A written STEP B-rep's area may differ from what was written by this much (relative): surfaces written with 17
 /// significant digits come back bit for bit, the trims are rebuilt from the 3-D curves by the reader (occ22470.igs ->
@@ -149,6 +156,9 @@ inline constexpr double kKeptAreaRelTolIges = 1e-4;
 /// The STEP/IGES unit name of a length unit given in millimetres (1 -> "MM", 25.4 -> "INCH", 304.8 -> "FT",
 /// 1000 -> "M", 10 -> "CM"); "MM" for anything else.
 std::string cadUnitName(double millimetresPerUnit, CadFormat format);
+
+/// A seam patch as an OpenCASCADE B-spline surface (knots, control points and weights unchanged).
+Handle(Geom_BSplineSurface) toOcctSurface(const BSplineSurface& s);
 
 /// Copies the entity and name of each face (CadFace::faceIndex, 1-based into `faces`) from `labels`.
 void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, const FaceLabels& labels);

@@ -5,8 +5,11 @@
 #endif
 #include "seam/occt/cad_io.h"
 
+#include "occt/brep_model.h"
 #include "occt/cad_internal.h"
 #include "seam/io/file.h"
+#include "seam/model/brep.h"
+#include "seam/occt/brep_model.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -718,6 +721,8 @@ void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, c
 
 }  // namespace detail
 
+Handle(Geom_BSplineSurface) detail::toOcctSurface(const BSplineSurface& s) { return toOcct(s); }
+
 std::optional<CadFormat> cadFormatOf(const fs::path& file) {
   const std::string ext = lower(file.extension().string());
   if (ext == ".step" || ext == ".stp") return CadFormat::kStep;
@@ -750,6 +755,25 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
   for (TopExp_Explorer ex(*shape, TopAbs_FACE); ex.More(); ex.Next()) faces.push_back(TopoDS::Face(ex.Current()));
   Result<CadImport> out = detail::convertFaces(file, faces, options);
   if (out) detail::applyFaceLabels(*out, faces, labels);
+  if (out && out->model.trimmedFaces > 0) {
+    // The trims as plain data (Model::brep), so that a JSON output keeps them (issue 34 §1); when they cannot
+    // be carried onto the patches, the model stays without them and the patch-only writers refuse it.
+    std::string whyNot;
+    std::vector<std::string> notes;
+    out->model.brep = detail::brepFromFaces(*shape, faces, *out, whyNot, notes);
+    if (out->model.brep) {
+      if (Status st = validateBRep(out->model, *out->model.brep, file.string()); !st) {
+        out->model.brep.reset();
+        whyNot = st.message();
+      }
+    }
+    for (const std::string& n : notes) out->warnings.push_back(fmt::format("{}: {}", file.string(), n));
+    if (!out->model.brep)
+      out->warnings.push_back(
+          fmt::format("{}: the trims of the {} trimmed faces cannot be kept as plain data ({}): "
+                      "outputs other than STEP/IGES from this file are refused",
+                      file.string(), out->model.trimmedFaces, whyNot));
+  }
   if (out) out->warnings.insert(out->warnings.begin(), readWarnings.begin(), readWarnings.end());
   if (out) out->units = units.units;
   return out;
@@ -1069,6 +1093,9 @@ bool printIges(const Handle(IGESData_IGESModel)& model, std::ostream& os) {
 
 Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options) {
   if (model.patches.empty()) return invalidInput(fmt::format("{}: the model has no patches to write", file.string()));
+  // A model with its B-rep topology (a JSON with "brep", a STEP/IGES read by readCadFile) is written as that
+  // B-rep: every trim, shared edge, shell and solid (issue 34 §1).
+  if (model.brep && !options.sewingTolerance) return writeBRepCadFile(model, file, format).status();
   if (Status st = checkNoTrimsLost(model, file.string()); !st) return st;
   silenceOcct();
   const double tol = options.sewingTolerance.value_or(1e-6 * model.boundingBox().diagonal());
@@ -1129,7 +1156,7 @@ std::string cadUnitName(double millimetresPerUnit, CadFormat format) {
   return "MM";
 }
 
-ShapeCounts countShape(const TopoDS_Shape& shape) {
+ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps) {
   ShapeCounts c;
   TopTools_IndexedMapOfShape faces, wires, edges, shells, solids;
   TopExp::MapShapes(shape, TopAbs_FACE, faces);
@@ -1158,7 +1185,10 @@ ShapeCounts countShape(const TopoDS_Shape& shape) {
       ++c.freeEdges;
   }
   GProp_GProps props;
-  BRepGProp::SurfaceProperties(shape, props);
+  if (areaRelEps > 0.0)
+    BRepGProp::SurfaceProperties(shape, props, areaRelEps);
+  else
+    BRepGProp::SurfaceProperties(shape, props);
   c.area = props.Mass();
   return c;
 }
@@ -1185,9 +1215,10 @@ std::string countsLost(const ShapeCounts& expected, const ShapeCounts& got, doub
 
 }  // namespace
 
-Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path& file, CadFormat format,
-                        const std::string& unitName, const ShapeCounts& expected, std::vector<std::string>* notes,
-                        double areaRelTol, WrittenBack* writtenBack) {
+Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::path& file, CadFormat format,
+                        const std::string& unitName, const ShapeCounts& expected,
+                        std::vector<std::string>* notes, double areaRelTol, double areaRelEps,
+                        WrittenBack* writtenBack) {
   silenceOcct();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
   // XDE reader recorded for it: the writers scale from the document's unit to `unitName`.
@@ -1233,7 +1264,7 @@ Status writeCadDocument(const Handle(TDocStd_Document)& document, const fs::path
             return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
                                             file.string(), back.status().message()));
           const std::string lost = countsLost(
-              want, countShape(*back),
+              want, countShape(*back, areaRelEps),
               std::max(areaRelTol, format == CadFormat::kStep ? kKeptAreaRelTol : kKeptAreaRelTolIges));
           if (!lost.empty())
             return invalidInput(fmt::format("{}: not written: OpenCASCADE's {} writer would lose part of the model "

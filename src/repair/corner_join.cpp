@@ -625,6 +625,7 @@ Result<ThreePatchJoinResult> joinThreePatchCorner(const Model& model, const Thre
   const ThreeFrames& tf = *tfr;
   ThreePatchJoinResult res;
   res.model = model;
+  res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
   CornerJoinReport& rep = res.report;
   auto prop = proportionality3(model, c, st, tf, opt.proportionalTol);
   if (!prop) {
@@ -866,6 +867,7 @@ Result<FourPatchJoinResult> joinFourPatchCorner(const Model& model, const FourPa
   const FourFrames& ff = *ffr;
   FourPatchJoinResult res;
   res.model = model;
+  res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
   CornerJoinReport& rep = res.report;
   auto prop = proportionality4(model, ff, opt.proportionalTol);
   if (!prop) {

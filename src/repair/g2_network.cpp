@@ -336,6 +336,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
 
   G2NetworkResult res;
   res.model = model;
+  res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
   G2NetworkReport& rep = res.report;
 
   const int np = static_cast<int>(chosen.size());

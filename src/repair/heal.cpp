@@ -1071,6 +1071,7 @@ Result<HealResult> Healer::run() {
 
   // The output: every region from the model of its chosen candidate.
   res.model = model;
+  res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
   for (int g = 0; g < nr; ++g) {
     const Candidate& c = best[static_cast<size_t>(g)];
     if (c.method == "none") continue;

@@ -273,6 +273,7 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
     // a design crease: left alone
     JoinResult kept;
     kept.model = model;
+    kept.model.brep.reset();  // as every repair result (Model::brep)
     JoinReport& rep = kept.report;
     rep.method = opt.method == JoinMethod::kAuto ? JoinMethod::kLeastSquares : opt.method;
     rep.reason = "none: the seam is a design crease";
@@ -298,6 +299,7 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
 
   JoinResult res;
   res.model = model;
+  res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
   JoinReport& rep = res.report;
   rep.before = st.before;
   rep.requested = opt.continuity;
@@ -567,6 +569,7 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       for (size_t k = 1; k < worse.size(); ++k) why += "; " + worse[k];
       rep.notes.push_back(fmt::format("join reverted, the input is returned unchanged: {}", why));
       res.model = model;
+      res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
       rep.reverted = true;
     }
   }

@@ -279,6 +279,7 @@ Result<LocalSchemeResult> detail::localG1Scheme(const Model& model, const LocalS
 
   LocalSchemeResult res;
   res.model = model;
+  res.model.brep.reset();  // the patches change: the trims would not follow (Model::brep)
   LocalSchemeReport& rep = res.report;
 
   // ---- 1. the patches in scheme form.

@@ -245,3 +245,25 @@ def test_curve_parameters_are_a_number_or_a_list_of_reals(examples):
         seam.evaluate(seam.load(os.path.join(examples, "models", "two_patches.json")), "A", [[0.5 + 1j, 0.5]])
     with pytest.raises(ValueError, match="real numbers"):
         seam.evaluate_curve(m, "line", ["a"])
+
+
+def test_step_to_json_keeps_the_trims(shared_data, cli, tmp_path):
+    """Issue 34 §1: STEP -> seam.load -> seam.save(.json) keeps the trimmed faces (the JSON's "brep"), and the JSON
+    converts back to a STEP file with the same faces, trimmed faces and solids (counted by `seam convert` on the
+    STEP -> STEP route, which is OpenCASCADE's own B-rep, not the JSON's)."""
+    import json
+    import re
+    path = os.path.join(shared_data, "step", "linkrods.step")
+    m = seam.load(path)
+    out = tmp_path / "linkrods.json"
+    seam.save(m, str(out))
+    doc = json.loads(out.read_text())
+    assert "brep" in doc and len(doc["brep"]["faces"]) == len(m)
+    import subprocess
+    back = subprocess.run([cli, "convert", str(out), str(tmp_path / "back.step")], capture_output=True, text=True)
+    assert back.returncode == 0, back.stderr
+    direct = subprocess.run([cli, "convert", path, str(tmp_path / "direct.step")], capture_output=True, text=True)
+    assert direct.returncode == 0, direct.stderr
+    text, direct = back.stdout, direct.stdout
+    counts = lambda s: re.search(r"(\d+) faces, (\d+) of them trimmed, \d+ edges, \d+ shells, (\d+) solids", s).groups()
+    assert counts(text) == counts(direct)

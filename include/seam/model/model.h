@@ -1,6 +1,7 @@
 #pragma once
 // A seam model: named patches (surfaces) and curves, as read from a JSON/.bpt file (and later STEP/IGES).
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +46,10 @@ struct BoundingBox {
 BoundingBox controlBox(const BSplineSurface& s);
 BoundingBox controlBox(const BSplineCurve& c);
 
+/// The trimmed-face topology of a model (vertices, edges, faces with their loops of pcurves, shells, solids):
+/// include/seam/model/brep.h.
+struct BRepTopology;
+
 struct Model {
   std::vector<Patch> patches;
   std::vector<Curve> curves;
@@ -53,6 +58,13 @@ struct Model {
   /// would write those faces untrimmed, so it refuses such a model (issue 34 §1: never a lossy output); the B-rep
   /// routes of src/occt (convertCadFile, healBRepFile) keep the trims. 0 for JSON and .bpt models.
   int trimmedFaces = 0;
+  /// The B-rep topology of the faces (issue 34 §1): every face lies on one patch and is bounded by loops of
+  /// pcurves in that patch's (u, v) parameters, edges shared between faces. Read from STEP/IGES (when every
+  /// face's pcurves fit its patch) and from JSON ("brep", docs/format.md); written to JSON and, through
+  /// OpenCASCADE, to STEP/IGES. Null for patch-only models. Immutable once made (copies of the model share
+  /// it): the repairs (heal, join, corner) drop it from the model they return, and a trimmed model without it
+  /// is refused by the patch-only writers.
+  std::shared_ptr<const BRepTopology> brep;
 
   [[nodiscard]] const Patch* findPatch(const std::string& name) const;
   [[nodiscard]] const Curve* findCurve(const std::string& name) const;
@@ -60,8 +72,10 @@ struct Model {
   [[nodiscard]] BoundingBox boundingBox() const;
 };
 
-/// Ok when `model` holds no trimmed B-rep faces; else kInvalidInput naming `output` and the number of trimmed faces
-/// that a patch-only output would write untrimmed (issue 34 §1). Every patch writer calls it first.
-Status checkNoTrimsLost(const Model& model, const std::string& output);
+/// Ok when `model` holds no trimmed B-rep faces, or holds them with their topology (Model::brep) and `output`
+/// is a writer that keeps it (`keepsBRep`: JSON); else kInvalidInput naming `output` and the number of
+/// trimmed faces that a patch-only output would write untrimmed (issue 34 §1). Every patch writer calls it
+/// first.
+Status checkNoTrimsLost(const Model& model, const std::string& output, bool keepsBRep = false);
 
 }  // namespace seam

@@ -1,0 +1,373 @@
+// Issue 34 §1: the JSON model format keeps trimmed faces (Model::brep). Every real STEP/IGES file of
+// ../shared/data goes STEP/IGES -> JSON -> STEP through seam, and the result is compared with the input by
+// OpenCASCADE alone (its readers, BRepGProp, BRepCheck_Analyzer, BRepBuilderAPI_Sewing; no seam code on that
+// side): faces, trimmed faces, solids, area, validity, free edges after sewing. `seam check` of the JSON
+// agrees with `seam check` of the file.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom2d_Curve.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Reader.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Wire.hxx>
+#include <UnitsMethods.hxx>
+
+#include <sys/wait.h>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "occt/brep_model.h"
+#include "real_cad_files.h"
+#include "seam/io/json.h"
+#include "seam/model/brep.h"
+#include "seam/occt/brep_model.h"
+#include "seam/occt/cad_io.h"
+
+namespace seam {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The area of the JSON round trip may differ from the input's by this much (relative): surfaces are kept bit
+/// for bit, pcurves and 3-D curves exactly or fitted within a tenth of their edge's tolerance
+/// (docs/format.md).
+constexpr double kAreaRelTol = 1e-6;
+/// The one file whose trims JSON does not keep yet (see the test).
+constexpr const char* kTrimsNotYetKept = "step/trj3_s1-al-214.stp";
+
+// ---- OpenCASCADE alone
+// -------------------------------------------------------------------------------------------
+
+TopoDS_Shape occtRead(const fs::path& file) {
+  // OpenCASCADE's session unit is global state that an IGES read in inches leaves behind: millimetres,
+  // always.
+  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  UnitsMethods::SetCasCadeLengthUnit(1.0, UnitsMethods_LengthUnit_Millimeter);
+  const std::string ext = file.extension().string();
+  std::unique_ptr<XSControl_Reader> r;
+  if (ext == ".igs" || ext == ".iges") {
+    IGESControl_Controller::Init();
+    r = std::make_unique<IGESControl_Reader>();
+  } else {
+    r = std::make_unique<STEPControl_Reader>();
+  }
+  if (r->ReadFile(file.c_str()) != IFSelect_RetDone) return {};
+  r->TransferRoots();
+  return r->OneShape();
+}
+
+struct Counts {
+  int faces = 0, trimmed = 0, solids = 0, freeEdgesAfterSewing = 0;
+  double area = 0.0;
+  bool valid = false;
+};
+
+/// A face is untrimmed when it has one wire and every edge's pcurve runs along a side of its UV box (5
+/// samples, 1e-7 of the box size): written here from OpenCASCADE's calls only.
+bool trimmedFace(const TopoDS_Face& f) {
+  int wires = 0;
+  for (TopExp_Explorer w(f, TopAbs_WIRE); w.More(); w.Next()) ++wires;
+  if (wires != 1) return true;
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  BRepTools::UVBounds(f, u0, u1, v0, v1);
+  const double tu = 1e-7 * (u1 - u0), tv = 1e-7 * (v1 - v0);
+  for (TopExp_Explorer e(f, TopAbs_EDGE); e.More(); e.Next()) {
+    double a = 0, b = 0;
+    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(TopoDS::Edge(e.Current()), f, a, b);
+    if (pc.IsNull()) return true;
+    bool side[4] = {true, true, true, true};
+    for (int i = 0; i < 5; ++i) {
+      const gp_Pnt2d q = pc->Value(a + (b - a) * i / 4);
+      side[0] = side[0] && std::abs(q.X() - u0) <= tu;
+      side[1] = side[1] && std::abs(q.X() - u1) <= tu;
+      side[2] = side[2] && std::abs(q.Y() - v0) <= tv;
+      side[3] = side[3] && std::abs(q.Y() - v1) <= tv;
+    }
+    if (!side[0] && !side[1] && !side[2] && !side[3]) return true;
+  }
+  return false;
+}
+
+Counts occtCounts(const TopoDS_Shape& s) {
+  Counts c;
+  TopTools_IndexedMapOfShape faces, solids;
+  TopExp::MapShapes(s, TopAbs_FACE, faces);
+  TopExp::MapShapes(s, TopAbs_SOLID, solids);
+  c.faces = faces.Extent();
+  c.solids = solids.Extent();
+  for (int i = 1; i <= faces.Extent(); ++i) c.trimmed += trimmedFace(TopoDS::Face(faces(i))) ? 1 : 0;
+  GProp_GProps props;
+  BRepGProp::SurfaceProperties(s, props,
+                               1e-9);  // adaptive: the default rule is off by up to 1e-3 on some faces
+  c.area = props.Mass();
+  c.valid = BRepCheck_Analyzer(s).IsValid();
+  Bnd_Box box;
+  BRepBndLib::Add(s, box);
+  BRepBuilderAPI_Sewing sewing(1e-4 * std::sqrt(box.SquareExtent()));
+  sewing.Add(s);
+  sewing.Perform();
+  const TopoDS_Shape sewn = sewing.SewedShape().IsNull() ? s : sewing.SewedShape();
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(sewn, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  for (int i = 1; i <= edgeFaces.Extent(); ++i) {
+    const TopoDS_Edge& e = TopoDS::Edge(edgeFaces.FindKey(i));
+    const TopTools_ListOfShape& around = edgeFaces.FindFromIndex(i);
+    if (around.Extent() == 1 && !BRep_Tool::Degenerated(e) &&
+        !BRep_Tool::IsClosed(e, TopoDS::Face(around.First())))
+      ++c.freeEdgesAfterSewing;
+  }
+  return c;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("seam_brep_model_{}", ::getpid());
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---- the round trip over every real file
+// -------------------------------------------------------------------------
+
+class RealFileRoundTrip : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
+  const fs::path in = test::kData / GetParam();
+  if (!fs::exists(in)) GTEST_SKIP() << in << " is missing (../shared/data)";
+  const Counts before = occtCounts(occtRead(in));
+  ASSERT_GT(before.faces, 0);
+
+  auto t0 = std::chrono::steady_clock::now();
+  Result<occt::CadImport> imported = occt::readCadFile(in);
+  ASSERT_TRUE(imported) << imported.status().message();
+  const double readSeconds = seconds(t0);
+  const Model& model = imported->model;
+  const fs::path json = scratch(in.stem().string() + ".json");
+  if (std::string(GetParam()) == kTrimsNotYetKept) {
+    // Left for later (docs/brep-repair.md): a pcurve of a B-spline face of this file overshoots its patch by
+    // more than kBRepDomainRelTol and cannot be carried onto it within a tenth of its edge's tolerance. The
+    // JSON output must then be refused, never written untrimmed.
+    ASSERT_GT(model.trimmedFaces, 0);
+    ASSERT_FALSE(model.brep);
+    EXPECT_FALSE(io::writeModelJson(model, json));
+    EXPECT_FALSE(fs::exists(json));
+    return;
+  }
+  ASSERT_EQ(model.trimmedFaces > 0, model.brep != nullptr)
+      << "a trimmed model without its topology: "
+      << (imported->warnings.empty() ? "" : imported->warnings.back());
+  t0 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(io::writeModelJson(model, json));
+  const double writeJsonSeconds = seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  Result<Model> back = io::readModelJson(json);
+  ASSERT_TRUE(back) << back.status().message();
+  const double readJsonSeconds = seconds(t0);
+  EXPECT_EQ(back->trimmedFaces, model.trimmedFaces);
+  const fs::path step = scratch(in.stem().string() + "_back.step");
+  t0 = std::chrono::steady_clock::now();
+  const Status written = occt::writeCadFile(*back, step, occt::CadFormat::kStep);
+  const double writeStepSeconds = seconds(t0);
+  Counts after;
+  if (!written) {
+    // OpenCASCADE's own STEP round trip of these files loses area (docs/brep-repair.md: boxed_sphere.step,
+    // bearing.iges): STEP/IGES -> STEP without seam's topology is refused too, and so nothing is written. The
+    // shape made from the JSON is then compared with the input before any writer.
+    ASSERT_TRUE(back->brep) << written.message();
+    EXPECT_FALSE(fs::exists(step));
+    EXPECT_FALSE(occt::convertCadFile(in, scratch("direct.step")))
+        << "seam's writer refused what OpenCASCADE's own round trip keeps: " << written.message();
+    Result<TopoDS_Shape> made = occt::detail::shapeFromBRep(*back, json.string());
+    ASSERT_TRUE(made) << made.status().message();
+    after = occtCounts(*made);
+    std::printf("[round trip] %s: STEP not written (%s); compared before the writer\n", GetParam(),
+                written.message().c_str());
+  } else {
+    after = occtCounts(occtRead(step));
+  }
+
+  std::printf(
+      "[round trip] %s: faces %d -> %d, trimmed %d -> %d, solids %d -> %d, area %.10g -> %.10g (rel %.2e), "
+      "valid %d -> %d, free edges after sewing %d -> %d; input %ju B, JSON %ju B, STEP %ju B; read %.2f s, "
+      "JSON write %.2f s, JSON read %.2f s, STEP write %.2f s\n",
+      GetParam(), before.faces, after.faces, before.trimmed, after.trimmed, before.solids, after.solids,
+      before.area, after.area, std::abs(after.area - before.area) / before.area, before.valid, after.valid,
+      before.freeEdgesAfterSewing, after.freeEdgesAfterSewing, static_cast<uintmax_t>(fs::file_size(in)),
+      static_cast<uintmax_t>(fs::file_size(json)),
+      static_cast<uintmax_t>(fs::exists(step) ? fs::file_size(step) : 0), readSeconds, writeJsonSeconds,
+      readJsonSeconds, writeStepSeconds);
+  EXPECT_EQ(after.faces, before.faces);
+  EXPECT_NEAR(after.area, before.area, kAreaRelTol * before.area);
+  if (model.brep) {  // the B-rep route: trims, solids and topology kept
+    EXPECT_EQ(after.trimmed, before.trimmed);
+    EXPECT_EQ(after.solids, before.solids);
+    if (before.valid) {
+      EXPECT_TRUE(after.valid);
+    }
+    EXPECT_EQ(after.freeEdgesAfterSewing, before.freeEdgesAfterSewing);
+  }
+  // Without trimmed faces the JSON holds patches only (no "brep": docs/format.md) and the patch route sews
+  // them into one shell: faces and area are what must be kept.
+  fs::remove_all(json.parent_path());
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedData, RealFileRoundTrip, ::testing::ValuesIn(test::kRealFiles),
+                         [](const auto& param) {
+                           std::string n = param.param;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+// ---- the hand-written plate with a hole
+// ---------------------------------------------------------------------------
+
+TEST(BRepModel, HandWrittenPlateWithAHoleBecomesAValidTrimmedFace) {
+  Result<Model> m = io::readModelJson(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json");
+  ASSERT_TRUE(m) << m.status().message();
+  const fs::path step = scratch("plate.step");
+  Result<occt::BRepWriteReport> r = occt::writeBRepCadFile(*m, step, occt::CadFormat::kStep);
+  ASSERT_TRUE(r) << r.status().message();
+  const Counts c = occtCounts(occtRead(step));
+  EXPECT_EQ(c.faces, 1);
+  EXPECT_EQ(c.trimmed, 1);
+  EXPECT_NEAR(c.area, 1.0 - 0.5 * 0.5, 1e-12);  // the unit square less the hole [0.25, 0.75]^2
+  EXPECT_TRUE(c.valid);
+  fs::remove_all(step.parent_path());
+}
+
+// ---- the CLI: convert and check
+// --------------------------------------------------------------------------------
+
+#ifdef SEAM_HAVE_OCCT_CLI
+struct CliRun {
+  int code = -1;
+  std::string out;
+};
+
+CliRun runCli(const std::string& args) {
+  CliRun r;
+  FILE* p = ::popen(fmt::format("'{}' {} 2>&1", SEAM_CLI_PATH, args).c_str(), "r");
+  if (p == nullptr) return r;
+  char buf[4096];
+  size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class RealFileCheck : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RealFileCheck, CheckOfTheJsonAgreesWithCheckOfTheFile) {
+  const fs::path in = test::kData / GetParam();
+  if (!fs::exists(in)) GTEST_SKIP() << in << " is missing (../shared/data)";
+  const fs::path json = scratch(in.stem().string() + ".json");
+  const CliRun conv = runCli(fmt::format("convert '{}' '{}'", in.string(), json.string()));
+  if (std::string(GetParam()) == kTrimsNotYetKept) {  // refused, never written untrimmed (see the round trip)
+    EXPECT_EQ(conv.code, 2) << conv.out;
+    EXPECT_FALSE(fs::exists(json));
+    return;
+  }
+  ASSERT_EQ(conv.code, 0) << conv.out;
+  const nlohmann::json doc = nlohmann::json::parse(std::ifstream(json));
+  if (!doc.contains("brep"))
+    GTEST_SKIP() << GetParam() << ": no trimmed face, the JSON holds patches only (no B-rep route)";
+  const CliRun a = runCli(fmt::format("check '{}' --json --threads 1", in.string()));
+  const CliRun b = runCli(fmt::format("check '{}' --json --threads 1", json.string()));
+  ASSERT_LE(a.code, 1) << a.out.substr(0, 2000);
+  ASSERT_LE(b.code, 1) << b.out.substr(0, 2000);
+  EXPECT_EQ(a.code, b.code);
+  const auto ja = nlohmann::json::parse(a.out.substr(a.out.find('{')));
+  const auto jb = nlohmann::json::parse(b.out.substr(b.out.find('{')));
+  const auto& sa = ja["summary"];
+  const auto& sb = jb["summary"];
+  std::printf(
+      "[check] %s: seams %d / %d, free edges %d / %d, verdicts %s / %s, worst %s / %s, g0 %.3g / %.3g, "
+      "g1 %.4g / %.4g deg\n",
+      GetParam(), sa["seams"].get<int>(), sb["seams"].get<int>(), sa["free_edges"].get<int>(),
+      sb["free_edges"].get<int>(), sa["verdicts"].dump().c_str(), sb["verdicts"].dump().c_str(),
+      sa["worst_geometric"].dump().c_str(), sb["worst_geometric"].dump().c_str(),
+      sa["g0_max"].is_number() ? sa["g0_max"].get<double>() : -1.0,
+      sb["g0_max"].is_number() ? sb["g0_max"].get<double>() : -1.0,
+      sa["g1_max_deg"].is_number() ? sa["g1_max_deg"].get<double>() : -1.0,
+      sb["g1_max_deg"].is_number() ? sb["g1_max_deg"].get<double>() : -1.0);
+  EXPECT_EQ(sb["seams"], sa["seams"]);
+  EXPECT_EQ(sb["free_edges"], sa["free_edges"]);
+  EXPECT_EQ(sb["verdicts"], sa["verdicts"]);
+  EXPECT_EQ(sb["worst_geometric"], sa["worst_geometric"]);
+  fs::remove_all(json.parent_path());
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedData, RealFileCheck, ::testing::ValuesIn(test::kRealFiles),
+                         [](const auto& param) {
+                           std::string n = param.param;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+TEST(BRepModelCli, HostileJsonIsExit2WithFileAndObject) {
+  nlohmann::json doc =
+      nlohmann::json::parse(std::ifstream(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json"));
+  doc["brep"]["faces"][0]["loops"][0][2]["edge"] = 42;
+  const fs::path bad = scratch("dangling.json");
+  std::ofstream(bad) << doc.dump();
+  for (const char* out : {"x.step", "x.json", "x.igs"}) {
+    const CliRun r = runCli(fmt::format("convert '{}' '{}'", bad.string(), scratch(out).string()));
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("dangling.json: brep face 0: loop 0: coedge 2: edge id 42 does not exist"),
+              std::string::npos)
+        << r.out;
+    EXPECT_FALSE(fs::exists(scratch(out)));
+  }
+  const CliRun c = runCli(fmt::format("check '{}'", bad.string()));
+  EXPECT_EQ(c.code, 2) << c.out;
+  fs::remove_all(bad.parent_path());
+}
+
+TEST(BRepModelCli, TrimmedJsonIsNeverHealedOrWrittenUntrimmed) {
+  const fs::path plate = fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json";
+  const fs::path out = scratch("healed.json");
+  const CliRun h = runCli(fmt::format("heal '{}' -o '{}'", plate.string(), out.string()));
+  EXPECT_EQ(h.code, 2) << h.out;
+  EXPECT_NE(h.out.find("trimmed faces"), std::string::npos) << h.out;
+  EXPECT_FALSE(fs::exists(out));
+  const CliRun c = runCli(fmt::format("convert '{}' '{}'", plate.string(), scratch("plate.step").string()));
+  EXPECT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find("1 faces, 1 of them trimmed"), std::string::npos) << c.out;
+  fs::remove_all(out.parent_path());
+}
+#endif
+
+}  // namespace
+}  // namespace seam
