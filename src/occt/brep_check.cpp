@@ -51,6 +51,7 @@
 
 #include "continuity/sampling.h"
 #include "occt/brep_check_internal.h"
+#include "occt/brep_model.h"
 #include "occt/cad_internal.h"
 #include "occt/face_mesh.h"
 #include "occt/pcurve_correspondence.h"
@@ -1076,5 +1077,17 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
 }
 
 }  // namespace detail
+
+/// Here rather than in brep_model.cpp: the model's B-rep is built there (detail::shapeFromBRep), checked here, so
+/// that brep_model.cpp needs no part of the check (the CAD fuzz harnesses link it alone).
+Result<BRepCheckReport> checkBRepModel(const Model& model, const fs::path& file,
+                                       const BRepCheckOptions& options) {
+  Result<TopoDS_Shape> shape = detail::shapeFromBRep(model, file.string());
+  if (!shape) return shape.status();
+  detail::FileUnits units;
+  units.units.fileUnit = "";
+  units.units.millimetresPerFileUnit = 1.0;
+  return detail::checkBRepShape(*shape, file, detail::FaceLabels{}, units, {}, options);
+}
 
 }  // namespace seam::occt

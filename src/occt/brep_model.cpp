@@ -753,14 +753,5 @@ Result<BRepWriteReport> writeBRepCadFile(const Model& model, const fs::path& fil
   return report;
 }
 
-Result<BRepCheckReport> checkBRepModel(const Model& model, const fs::path& file,
-                                       const BRepCheckOptions& options) {
-  Result<TopoDS_Shape> shape = detail::shapeFromBRep(model, file.string());
-  if (!shape) return shape.status();
-  detail::FileUnits units;
-  units.units.fileUnit = "";
-  units.units.millimetresPerFileUnit = 1.0;
-  return detail::checkBRepShape(*shape, file, detail::FaceLabels{}, units, {}, options);
-}
 
 }  // namespace seam::occt
