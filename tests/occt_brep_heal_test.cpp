@@ -589,6 +589,11 @@ TEST(CadConvert, ATrimmedModelIsNeverWrittenAsPatches) {
 
 TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
   for (const char* rel : {"step/trj3_s1-al-214.stp", "step/linkrods.step", "iges/occ22470.igs"}) {
+#ifdef SEAM_SANITIZED
+    // linkrods' heal (24 kinks, every face put back) runs the same code as trj3's and takes about a minute under
+    // AddressSanitizer: left to the Release run, to keep CI under its hour.
+    if (std::string(rel) == "step/linkrods.step") continue;
+#endif
     const fs::path in = kData / rel;
     if (!fs::exists(in)) {
       GTEST_SKIP() << in << " missing";
