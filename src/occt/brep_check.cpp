@@ -90,7 +90,7 @@ constexpr int kPartnerIterations = 12;
 constexpr double kPartnerStepRel = 1e-15;
 
 /// True when the failure is a signal caught inside OpenCASCADE (a crash, converted by detail::OcctSignalGuard).
-bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
+using detail::isSignal;
 
 Vec3 toVec(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
 Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }

@@ -110,7 +110,7 @@ constexpr double kToleranceMargin = 1.5;
 /// pcurves from it then find the trims where they were); one that stays further than the tolerance is not used.
 constexpr double kCurveRebuildRel = 1e-3;
 
-bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
+using detail::isSignal;
 
 /// The B-spline surface of a face that heal may edit (in its own frame: the face's location maps it to the model),
 /// or why not.

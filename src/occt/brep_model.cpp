@@ -88,7 +88,7 @@ constexpr double kApproxToleranceFactor = 4.0;
 constexpr int kProjectionSteps = 30;
 constexpr double kProjectionStepRel = 1e-14;
 
-bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
+using detail::isSignal;
 
 /// Flat knot vector of an OpenCASCADE B-spline curve (2-D or 3-D).
 template <class C>

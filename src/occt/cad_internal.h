@@ -1,5 +1,7 @@
 #pragma once
 // Shared by the OpenCASCADE readers and the B-rep check.
+#include <OSD_Signal.hxx>
+#include <Standard_Failure.hxx>
 #include <signal.h>
 #include <Geom_BSplineSurface.hxx>
 #include <Message_ProgressIndicator.hxx>
@@ -21,6 +23,9 @@
 #include "seam/occt/cad_io.h"
 
 namespace seam::occt::detail {
+
+/// True when OpenCASCADE turned a signal (a crash inside it) into this failure, not an ordinary exception.
+inline bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
 
 /// A face's parameter box [u0, u1] x [v0, v1].
 struct ParamBox {
