@@ -7,6 +7,7 @@
 // that were not asked to move must be bit-identical; the part of a moved patch beyond the moved rows must be
 // geometrically unchanged (evaluated). Expected values never come from the code under test.
 #include <gtest/gtest.h>
+#include <Eigen/SVD>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -975,6 +976,58 @@ TEST(JoinCrease, CliLeavesCreasesByDefault) {
   std::filesystem::remove_all(dir);
 }
 #endif
+
+
+// The joins of many seams at once (the patch route's heal of a whole model) give tall sparse systems, which
+// constrainedLeastSquares solves by sparse routes (normal equations when the rank is clearly full, else a sparse QR).
+// Expected values by another route: the SVD of C (Eigen's JacobiSVD, no QR and no sparse code): the least-squares
+// solutions are pinv(C) d + V_null z, and z minimises |W (x - x0)| with the least norm (JacobiSVD again).
+TEST(ConstrainedLeastSquares, TallSparseSystemsGiveTheSolutionOfTheSVD) {
+  Rng rng(20261128);
+  for (int trial = 0; trial < 24; ++trial) {
+    const int n = 60 + trial, m = 2 * n + trial % 5;
+    const int dependent = trial % 3 == 0 ? 0 : 1 + trial % 4;  // columns that copy others: a nullspace
+    const bool consistent = trial % 2 == 0;
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(m, n);
+    for (int r = 0; r < m; ++r)
+      for (int k = 0; k < 4; ++k) C(r, static_cast<int>(urand(rng, 0.0, n - 1e-9))) = urand(rng, -2.0, 2.0);
+    for (int c = 0; c < n; ++c) C(c % m, c) += 3.0;  // no empty column
+    for (int k = 0; k < dependent; ++k) C.col(n - 1 - k) = C.col(k) * (1.5 + k);
+    Eigen::VectorXd x0(n), w(n), d(m);
+    for (int i = 0; i < n; ++i) {
+      x0[i] = urand(rng, -10.0, 10.0);
+      w[i] = i % 11 == 5 ? 0.0 : urand(rng, 0.5, 2.0);  // zero weights: free unknowns, least norm
+    }
+    if (consistent) {
+      Eigen::VectorXd xs(n);
+      for (int i = 0; i < n; ++i) xs[i] = urand(rng, -10.0, 10.0);
+      d = C * xs;
+    } else {
+      for (int r = 0; r < m; ++r) d[r] = urand(rng, -10.0, 10.0);
+    }
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::VectorXd& sv = svd.singularValues();
+    int rank = 0;
+    while (rank < sv.size() && sv[rank] > 1e-10 * sv[0]) ++rank;
+    ASSERT_EQ(rank, n - dependent) << "trial " << trial;
+    Eigen::VectorXd expected = Eigen::VectorXd::Zero(n);
+    const Eigen::VectorXd ud = svd.matrixU().transpose() * d;
+    for (int i = 0; i < rank; ++i) expected += svd.matrixV().col(i) * (ud[i] / sv[i]);
+    if (rank < n) {
+      const Eigen::MatrixXd V = svd.matrixV().rightCols(n - rank);
+      const Eigen::MatrixXd A = w.asDiagonal() * V;
+      const Eigen::VectorXd b = w.asDiagonal() * (x0 - expected);
+      Eigen::JacobiSVD<Eigen::MatrixXd> small(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      small.setThreshold(1e-10);
+      expected += V * small.solve(b);
+    }
+    double residual = -1.0;
+    const Eigen::VectorXd x = detail::constrainedLeastSquares(C, d, x0, w, &residual);
+    const double scale = std::max(1.0, expected.cwiseAbs().maxCoeff());
+    EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-8 * scale) << "trial " << trial << " rank " << rank;
+    EXPECT_NEAR(residual, (C * expected - d).cwiseAbs().maxCoeff(), 1e-8 * scale) << "trial " << trial;
+  }
+}
 
 }  // namespace
 }  // namespace seam

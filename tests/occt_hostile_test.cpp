@@ -265,26 +265,27 @@ TEST(HostileCadTimeLimit, AReadPastTheLimitStopsWithExitTwoAndWritesNothing) {
 }
 
 // Issue 39 §1: --time-limit bounds the whole command, not only reading: `regularity` of trj3 (reading 0.15 s, the
-// certificates much longer) and `heal` of the sunglasses lens are stopped after reading, the message names the file
-// and the stage (not "reading"), and the folder of the heal's output holds neither the output nor a temporary file.
+// certificates much longer) and the B-rep `heal` of trj3 (about 13 s) are stopped after reading, the message names
+// the file and the stage (not "reading"), and the folder of the heal's output holds neither the output nor a
+// temporary file. (The heal of the sunglasses lens, the issue's case, took 38 s; it takes 3 s since its joins are
+// solved by sparse routes, so it no longer runs past the limit.)
 TEST(HostileCadTimeLimit, TheLimitBoundsTheWholeCommandAndNamesTheStage) {
   const fs::path trj3 = fs::path(SEAM_SHARED_DATA_DIR) / "step" / "trj3_s1-al-214.stp";
-  const fs::path lens = fs::path(SEAM_SHARED_DATA_DIR) / "iges" / "sunglasses_lens.igs";
-  if (!fs::exists(trj3) || !fs::exists(lens)) GTEST_SKIP() << "real files not present";
+  if (!fs::exists(trj3)) GTEST_SKIP() << "real files not present";
   const fs::path dir = fs::temp_directory_path() / fmt::format("seam_whole_run_limit_{}", ::getpid());
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const fs::path out = dir / "healed.json";
+  const fs::path out = dir / "healed.step";
   const std::vector<std::vector<std::string>> commands{
       {"--time-limit", "5", "regularity", trj3.string()},
-      {"heal", lens.string(), "-o", out.string(), "--time-limit", "5"},
+      {"heal", trj3.string(), "-o", out.string(), "--time-limit", "5"},
   };
   for (size_t k = 0; k < commands.size(); ++k) {
     const RunResult r = run(commands[k]);
     SCOPED_TRACE(describe(r));
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(r.signal, 0);
-    EXPECT_THAT(r.err, HasSubstr((k == 0 ? trj3 : lens).string()));
+    EXPECT_THAT(r.err, HasSubstr(trj3.string()));
     EXPECT_THAT(r.err, HasSubstr("took longer than the time limit of 5 s"));
     EXPECT_THAT(r.err, ::testing::Not(HasSubstr("reading the file took longer")));
   }

@@ -27,12 +27,17 @@ namespace {
 void addConvert(CLI::App& app, int& exit) {
   struct Options {
     std::string in, out;
+    bool noSeamCheck = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "convert", "Convert a model between .json, .bpt (input only), .step/.stp and .iges/.igs (by extension)");
   cmd->add_option("IN", options->in, "Input model file")->required();
   cmd->add_option("OUT", options->out, "Output file (.json, .step/.stp, .iges/.igs)")->required();
+  cmd->add_flag("--no-seam-check", options->noSeamCheck,
+                "STEP/IGES -> STEP/IGES: do not check the seams of the input and of the written file (by default "
+                "every seam that the round trip through OpenCASCADE's writer and reader makes worse is named in a "
+                "warning)");
   cmd->callback([options, &exit]() {
     const std::filesystem::path in(options->in), out(options->out);
     if (!checkOutputPath(in, out)) {
@@ -51,7 +56,9 @@ void addConvert(CLI::App& app, int& exit) {
       if (!checkInputPath(in)) return;
       Result<occt::CadConvertReport> r = [&] {
         const CadTimeLimit limit(in, "converting");
-        return occt::convertCadFile(in, out);
+        occt::CadConvertOptions convert;
+        convert.compareSeams = !options->noSeamCheck;
+        return occt::convertCadFile(in, out, {}, convert);
       }();
       if (!r) {
         printError(r.status().message());
@@ -59,10 +66,14 @@ void addConvert(CLI::App& app, int& exit) {
         return;
       }
       for (const std::string& w : r->warnings) std::cerr << "seam: warning: " << w << "\n";
+      for (const std::string& w : r->seamsWorse) std::cerr << "seam: warning: " << w << "\n";
       fmt::print("wrote {} (B-rep kept: {} faces, {} of them trimmed, {} edges, {} shells, {} solids; area {} mm²; "
                  "unit {})\n",
                  out.string(), r->faces, r->trimmedFaces, r->edges, r->shells, r->solids, formatNumber(r->area),
                  r->writtenUnit);
+      if (r->seamsCompared >= 0)
+        fmt::print("seams read back from {}: {}, {} of them worse than in the input{}\n", out.filename().string(),
+                   r->seamsCompared, r->seamsWorse.size(), r->seamsWorse.empty() ? "" : " (warnings above)");
       exit = kExitOk;
       return;
 #endif

@@ -1076,6 +1076,39 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
   return out;
 }
 
+std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg) {
+  const double gapLimit = std::max(before.g0Max, tol.distance) + kWorseSlackRel * tol.distance;
+  if (after.g0Max > gapLimit) return fmt::format("its gap would grow from {:.3g} to {:.3g}", before.g0Max, after.g0Max);
+  if (before.g1MaxDeg > creaseDeg) {
+    if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > tol.angleDeg)
+      return fmt::format("its crease angle would change from {:.4g} to {:.4g} deg", before.g1MaxDeg, after.g1MaxDeg);
+    return {};
+  }
+  const double angleLimit = std::max(before.g1MaxDeg, tol.angleDeg) + kWorseSlackRel * tol.angleDeg;
+  if (after.g1MaxDeg > angleLimit)
+    return fmt::format("its angle would grow from {:.3g} to {:.3g} deg", before.g1MaxDeg, after.g1MaxDeg);
+  return {};
+}
+
+std::vector<SeamWorse> seamsWorse(const std::vector<BRepSeam>& before, const std::vector<BRepSeam>& after,
+                                  const Tolerances& tol, double creaseDeg) {
+  std::vector<SeamWorse> worse;
+  for (const BRepSeam& s : after) {
+    if (s.curve.empty()) continue;
+    SeamWorse w;
+    for (const BRepSeam* b : nearestSeams(before, seamMidpoint(s), tol.distance, seamMidpoint)) {
+      std::string why = seamWorseThan(s.report, b->report, tol, creaseDeg);
+      if (why.empty()) {
+        w.before = nullptr;
+        break;
+      }
+      if (w.before == nullptr) w = {b, &s, std::move(why)};
+    }
+    if (w.before != nullptr) worse.push_back(std::move(w));
+  }
+  return worse;
+}
+
 }  // namespace detail
 
 /// Here rather than in brep_model.cpp: the model's B-rep is built there (detail::shapeFromBRep), checked here, so

@@ -3,6 +3,7 @@
 // shape it is about to write, before and after each change).
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,5 +25,42 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& shape, const std::fil
                                        FaceLabels labels, const FileUnits& units,
                                        const std::vector<std::string>& readWarnings,
                                        const BRepCheckOptions& options, const EdgeFilter& onlyEdges = {});
+
+/// A seam is worse after a change (a heal, a write and read back) when its gap (angle) grows by more than this
+/// fraction of the tolerance beyond max(before, tolerance): a tenth of a tolerance is below what the tolerance says
+/// about the geometry.
+inline constexpr double kWorseSlackRel = 0.1;
+
+/// Why the seam `after` is worse than `before`, "" when it is not. A crease (angle above `creaseDeg`) is worse when
+/// its angle changes by more than the angle tolerance either way (its angle is the design's); any other seam when its
+/// angle grows beyond max(before, tolerance); any seam when its gap grows beyond max(before, tolerance).
+std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg);
+
+/// The middle point of a seam's 3-D edge (its drawing polyline), where seams of two checks of the same model are
+/// paired: the edge numbers of a file read back need not be those of the input.
+inline Vec3 seamMidpoint(const BRepSeam& s) { return s.curve.empty() ? Vec3::Zero() : s.curve[s.curve.size() / 2]; }
+
+/// The seams of `seams` whose midpoint (`midOf`) is nearest to `mid`, with every other one within `slack` of that
+/// distance (coincident edges of touching solids share a midpoint).
+template <typename SeamT, typename MidOf>
+std::vector<const SeamT*> nearestSeams(const std::vector<SeamT>& seams, const Vec3& mid, double slack, MidOf midOf) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const SeamT& h : seams) best = std::min(best, (midOf(h) - mid).norm());
+  std::vector<const SeamT*> out;
+  for (const SeamT& h : seams)
+    if ((midOf(h) - mid).norm() <= best + slack) out.push_back(&h);
+  return out;
+}
+
+/// A seam of a second check of the same model (the file written and read back) that is worse than every seam of the
+/// first at its place.
+struct SeamWorse {
+  const BRepSeam* before = nullptr;  ///< the first check's seam nearest to it
+  const BRepSeam* after = nullptr;
+  std::string why;
+};
+/// Every seam of `after` worse than the seams of `before` at its place (paired by midpoint within `tol.distance`).
+std::vector<SeamWorse> seamsWorse(const std::vector<BRepSeam>& before, const std::vector<BRepSeam>& after,
+                                  const Tolerances& tol, double creaseDeg);
 
 }  // namespace seam::occt::detail

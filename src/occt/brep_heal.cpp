@@ -81,9 +81,6 @@ constexpr double kRidgeRel = 1e-10;
 /// Weight of the fairness rows (second differences of the displacement over the net) against a position condition
 /// (both per unit of displacement, in tolerances): small, so that the conditions come first.
 constexpr double kFairnessRel = 0.03;
-/// A seam is worse after the heal when its gap (angle) grows by more than this fraction of the tolerance beyond
-/// max(before, tolerance): a tenth of a tolerance is below what the tolerance says about the geometry.
-constexpr double kWorseSlackRel = 0.1;
 /// Weight of the conditions that hold a face's other seams, against 1 for those of the seams it heals: where the two
 /// meet (a shared vertex of a kinked seam and a smooth one) the compromise keeps the smooth seam.
 constexpr double kHeldWeight = 10.0;
@@ -635,23 +632,6 @@ std::optional<TrimFix> reprojectPCurves(const TopoDS_Edge& edge, const TopoDS_Fa
 
 bool faceValid(const TopoDS_Face& face) { return BRepCheck_Analyzer(face).IsValid(); }
 
-/// Why the seam got worse, "" when it did not.
-/// A crease (angle above `creaseDeg`) is worse when its angle changes by more than the angle tolerance either way
-/// (its angle is the design's); any other seam when its angle grows beyond max(before, tolerance).
-std::string worseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg) {
-  const double gapLimit = std::max(before.g0Max, tol.distance) + kWorseSlackRel * tol.distance;
-  if (after.g0Max > gapLimit) return fmt::format("its gap would grow from {:.3g} to {:.3g}", before.g0Max, after.g0Max);
-  if (before.g1MaxDeg > creaseDeg) {
-    if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > tol.angleDeg)
-      return fmt::format("its crease angle would change from {:.4g} to {:.4g} deg", before.g1MaxDeg, after.g1MaxDeg);
-    return {};
-  }
-  const double angleLimit = std::max(before.g1MaxDeg, tol.angleDeg) + kWorseSlackRel * tol.angleDeg;
-  if (after.g1MaxDeg > angleLimit)
-    return fmt::format("its angle would grow from {:.3g} to {:.3g} deg", before.g1MaxDeg, after.g1MaxDeg);
-  return {};
-}
-
 }  // namespace
 
 namespace {
@@ -758,7 +738,7 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       const auto fixed = trimFixes.find(s.edge);
       if (fixed == trimFixes.end()) continue;
       const BRepSeam& was = before->seams[seamOfEdge.at(s.edge)];
-      const std::string why = worseThan(s.report, was.report, tol, options.creaseAngleDeg);
+      const std::string why = detail::seamWorseThan(s.report, was.report, tol, options.creaseAngleDeg);
       const bool invalid = !faceValid(fixed->second.fa) || !faceValid(fixed->second.fb);
       if (why.empty() && !invalid && s.report.g0Max < was.report.g0Max) continue;
       restore(fixed->second);  // its pcurves back: the seam is the input's again
@@ -950,7 +930,8 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
     for (const BRepSeam& s : after->seams) {
       const auto it = seamOfEdge.find(s.edge);
       if (it == seamOfEdge.end()) continue;
-      const std::string why = worseThan(s.report, before->seams[it->second].report, tol, options.creaseAngleDeg);
+      const std::string why =
+          detail::seamWorseThan(s.report, before->seams[it->second].report, tol, options.creaseAngleDeg);
       if (why.empty()) continue;
       for (const std::string& name : {s.a, s.b}) {
         const int fi = faceIndex(name);
@@ -1008,7 +989,7 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       hs.action = "left: no condition could be set along the edge";
       hs.moved.clear();
     }
-    if (hs.after) hs.worse = !worseThan(*hs.after, hs.before, tol, options.creaseAngleDeg).empty();
+    if (hs.after) hs.worse = !detail::seamWorseThan(*hs.after, hs.before, tol, options.creaseAngleDeg).empty();
     report.seamsWorse += hs.worse ? 1 : 0;
     const bool target = hs.action != "crease kept" && hs.action.rfind("already", 0) != 0;
     if (!target) continue;
@@ -1114,19 +1095,6 @@ Result<std::vector<BRepSeam>> seamsReadBack(const fs::path& file, const detail::
   return std::move(check->seams);
 }
 
-/// The seams of `seams` whose edge midpoint is nearest to `mid` (coincident edges of touching solids share it).
-template <typename SeamT, typename MidOf>
-std::vector<const SeamT*> nearestSeams(const std::vector<SeamT>& seams, const Vec3& mid, double slack, MidOf midOf) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const SeamT& h : seams) best = std::min(best, (midOf(h) - mid).norm());
-  std::vector<const SeamT*> out;
-  for (const SeamT& h : seams)
-    if ((midOf(h) - mid).norm() <= best + slack) out.push_back(&h);
-  return out;
-}
-
-Vec3 midOfCurve(const BRepSeam& s) { return s.curve.empty() ? Vec3::Zero() : s.curve[s.curve.size() / 2]; }
-
 /// Every seam of the written file (`written`, read back) that is worse than the input's seam at its place (paired by
 /// the edge's midpoint; worse only when worse than every input seam there), and, when `unhealed` (the seams of the
 /// input written unchanged, read back) is given, also worse than that: a seam that OpenCASCADE's writer and reader
@@ -1137,12 +1105,12 @@ std::vector<WorseSeam> worseSeams(const std::vector<BRepSeam>& written, const BR
   const double slack = report.tolerances.distance;
   for (const BRepSeam& s : written) {
     if (s.curve.empty()) continue;
-    const Vec3 mid = midOfCurve(s);
+    const Vec3 mid = detail::seamMidpoint(s);
     WorseSeam w;
-    for (const BRepHealSeam* h : nearestSeams(report.seams, mid, slack, [](const BRepHealSeam& x) {
+    for (const BRepHealSeam* h : detail::nearestSeams(report.seams, mid, slack, [](const BRepHealSeam& x) {
            return x.midpoint;
          })) {
-      const std::string why = worseThan(s.report, h->before, report.tolerances, options.creaseAngleDeg);
+      const std::string why = detail::seamWorseThan(s.report, h->before, report.tolerances, options.creaseAngleDeg);
       if (why.empty()) {
         w.input = nullptr;
         break;
@@ -1150,8 +1118,9 @@ std::vector<WorseSeam> worseSeams(const std::vector<BRepSeam>& written, const BR
       if (w.input == nullptr) w = {h, why};
     }
     if (w.input != nullptr && unhealed != nullptr)
-      for (const BRepSeam* u : nearestSeams(*unhealed, mid, slack, midOfCurve))
-        if (worseThan(s.report, u->report, report.tolerances, options.creaseAngleDeg).empty()) w.input = nullptr;
+      for (const BRepSeam* u : detail::nearestSeams(*unhealed, mid, slack, detail::seamMidpoint))
+        if (detail::seamWorseThan(s.report, u->report, report.tolerances, options.creaseAngleDeg).empty())
+          w.input = nullptr;
     if (w.input != nullptr) worse.push_back(std::move(w));
   }
   return worse;
@@ -1203,7 +1172,9 @@ namespace {
 /// (as `seam convert` writes it) and every seam says why.
 Result<BRepHealReport> unchangedAfterReadBack(const fs::path& in, const fs::path& out, const std::string& worse,
                                               BRepHealReport report) {
-  Result<CadConvertReport> unchanged = convertCadFile(in, out);
+  CadConvertOptions plain;
+  plain.compareSeams = false;  // the heal has compared the seams of this round trip already (roundTripNotes)
+  Result<CadConvertReport> unchanged = convertCadFile(in, out, {}, plain);
   if (!unchanged) return unchanged.status();
   for (BRepHealSeam& s : report.seams) {
     if (s.moved.empty() && s.action.rfind("trims projected", 0) != 0) continue;

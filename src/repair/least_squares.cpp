@@ -2,11 +2,16 @@
 #include <fmt/format.h>
 
 #include <Eigen/QR>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseQR>
+#include <Eigen/OrderingMethods>
 #include <algorithm>
 #include <cmath>
 #include <array>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "repair/frame_internal.h"
 #include "repair/join_internal.h"
@@ -92,12 +97,114 @@ CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDept
   return r;
 }
 
+namespace {
+
+/// Systems up to this many unknowns and equations are solved without heap allocation (constrainedLeastSquaresQR);
+/// constrainedLeastSquares takes its sparse route only above this size.
+constexpr int kSmallSystem = 48;
+
+/// Smallest estimated ratio of the extreme eigenvalues of C^T C (the squared singular values of C) for which
+/// fullColumnRankSolution takes C to have full column rank: 1e-8, a condition number of C of about 1e4, six orders of
+/// magnitude inside the rank decision of the dense route (kIdentityRelTol = 1e-10 on the pivots of R, 1e-20 on their
+/// squares). Two estimates must both pass: the smallest LDL^T pivot (each pivot lies between the smallest and the
+/// largest eigenvalue) and kInverseIterations steps of inverse iteration (which converge to the smallest eigenvalue
+/// from above). Below it the dense route decides.
+constexpr double kNormalEquationsMinPivotRatio = 1e-8;
+constexpr int kInverseIterations = 3;
+/// The sparse routes are taken when at most one entry in kSparseRouteDensity of C is non-zero.
+constexpr Eigen::Index kSparseRouteDensity = 8;
+
+/// The least-squares solution of C x = d when C (m >= n) has full column rank: then it is unique, whatever x0 and the
+/// weights, and it is what the dense route returns. Sparse LDL^T of C^T C (the seams' rows touch a few control
+/// points each: 0.7 % of the entries of a sunglasses_lens.igs system of 1404 x 747) and one step of iterative
+/// refinement on the residual (the corrected semi-normal equations, Björck, Numerical Methods for Least Squares
+/// Problems, §2.5.4), which brings the error to that of a QR solution at these condition numbers. Empty when the
+/// pivots or the inverse iteration do not show full column rank well inside the tolerance: the caller then takes
+/// sparseQRSolution.
+std::optional<Eigen::VectorXd> fullColumnRankSolution(const Eigen::SparseMatrix<double>& S, const Eigen::VectorXd& d) {
+  const Eigen::Index n = S.cols();
+  const Eigen::SparseMatrix<double> N = S.transpose() * S;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(N);
+  if (ldlt.info() != Eigen::Success) return std::nullopt;
+  const Eigen::VectorXd D = ldlt.vectorD();
+  const double largest = std::max(D.maxCoeff(), Eigen::VectorXd(N.diagonal()).maxCoeff());  // <= lambda_max
+  if (!(largest > 0.0) || !(D.minCoeff() >= kNormalEquationsMinPivotRatio * largest)) return std::nullopt;
+  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0).normalized();  // not orthogonal to any eigenvector
+  for (int k = 0; k < kInverseIterations; ++k) {
+    const Eigen::VectorXd y = ldlt.solve(v);
+    const double growth = y.norm();  // 1 / growth: a Rayleigh-like estimate of lambda_min from above
+    if (!(growth > 0.0) || !std::isfinite(growth) || growth * kNormalEquationsMinPivotRatio * largest > 1.0)
+      return std::nullopt;
+    v = y / growth;
+  }
+  Eigen::VectorXd x = ldlt.solve(S.transpose() * d);
+  x += ldlt.solve(S.transpose() * (d - S * x));
+  if (!x.allFinite()) return std::nullopt;
+  return x;
+}
+
+/// The rank-deficient or ill-conditioned tall sparse system, by a sparse QR of C with a fill-reducing column order
+/// (COLAMD) whose rank decision is the dense route's: a column whose remaining norm is below kIdentityRelTol times
+/// the largest column norm counts as dependent. C Pi = Q [R11 R12; 0 0] gives the least-squares solutions
+/// x = Pi [R11^-1 (Q^T d)_r; 0] + Z y with the nullspace Z = Pi [-R11^-1 R12; I]; as on the dense route, the
+/// particular solution is made orthogonal to the nullspace (minimum norm) and the nullspace part minimises
+/// |W (x - x0)| (minimum norm where the weights vanish). Empty when the factorisation fails.
+std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double>& S, const Eigen::VectorXd& d,
+                                                const Eigen::VectorXd& x0, const Eigen::VectorXd& weight) {
+  const Eigen::Index n = S.cols();
+  double largestColumn = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) largestColumn = std::max(largestColumn, S.col(j).norm());
+  Eigen::SparseQR<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> qr;
+  qr.setPivotThreshold(kIdentityRelTol * largestColumn);
+  qr.compute(S);
+  if (qr.info() != Eigen::Success) return std::nullopt;
+  const Eigen::Index r = qr.rank();
+  const Eigen::SparseMatrix<double> R = qr.matrixR();
+  const Eigen::MatrixXd R11 = Eigen::MatrixXd(R.topLeftCorner(r, r));
+  const auto T = R11.triangularView<Eigen::Upper>();
+  const Eigen::VectorXd qd = qr.matrixQ().transpose() * d;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(n);
+  y.head(r) = T.solve(qd.head(r));
+  Eigen::VectorXd x = qr.colsPermutation() * y;
+  if (r < n) {
+    Eigen::MatrixXd Zy(n, n - r);
+    Zy.topRows(r) = -T.solve(Eigen::MatrixXd(R.block(0, r, r, n - r)));
+    Zy.bottomRows(n - r).setIdentity();
+    const Eigen::MatrixXd Z = qr.colsPermutation() * Zy;
+    const Eigen::MatrixXd Zo = Eigen::HouseholderQR<Eigen::MatrixXd>(Z).householderQ() * Eigen::MatrixXd::Identity(n, n - r);
+    x -= Zo * (Zo.transpose() * x);
+    const Eigen::MatrixXd A = weight.asDiagonal() * Zo;
+    const Eigen::VectorXd b = weight.asDiagonal() * (x0 - x);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+    cod.setThreshold(kIdentityRelTol);
+    x += Zo * cod.solve(b);
+  }
+  if (!x.allFinite()) return std::nullopt;
+  return x;
+}
+
+}  // namespace
+
 Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
                                         const Eigen::VectorXd& weight, double* residual) {
   const Eigen::Index n = C.cols();
   if (C.rows() == 0) {
     if (residual) *residual = 0.0;
     return x0;
+  }
+  // Tall sparse systems (the joins of many seams at once, as the patch route's heal of a whole model makes them):
+  // the sparse routes, which give the dense route's solution (same rank decision, same objective) in milliseconds
+  // instead of seconds (docs/performance.md, "Heal of sunglasses_lens.igs").
+  if (C.rows() >= n && n > kSmallSystem) {
+    const Eigen::SparseMatrix<double> S = C.sparseView();
+    if (S.nonZeros() * kSparseRouteDensity <= C.rows() * n) {
+      std::optional<Eigen::VectorXd> x = fullColumnRankSolution(S, d);
+      if (!x) x = sparseQRSolution(S, d, x0, weight);
+      if (x) {
+        if (residual) *residual = (C * *x - d).cwiseAbs().maxCoeff();
+        return *x;
+      }
+    }
   }
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
   qr.setThreshold(kIdentityRelTol);
@@ -155,9 +262,6 @@ Eigen::VectorXd nullspaceLeastSquares(const Eigen::MatrixXd& Cin, const Eigen::V
   if (residual) *residual = (Cin * out - din).cwiseAbs().maxCoeff();
   return out;
 }
-
-/// Systems up to this many unknowns and equations are solved without heap allocation.
-constexpr int kSmallSystem = 48;
 
 }  // namespace
 

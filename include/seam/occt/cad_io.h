@@ -23,6 +23,7 @@
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/core/units.h"
+#include "seam/continuity/verdict.h"
 #include "seam/model/model.h"
 
 namespace seam::occt {
@@ -108,6 +109,24 @@ struct CadConvertReport {
   CadUnits units;           ///< the input's unit
   std::string writtenUnit;  ///< the unit the output declares ("MM", "INCH"/"IN", ...): the input's own
   std::vector<std::string> warnings;
+  /// Seams of the written file, read back, that are worse than the input's at their place (one line each, naming the
+  /// seam and why); empty when none is or when they were not compared.
+  std::vector<std::string> seamsWorse;
+  int seamsCompared = -1;  ///< seams of the written file compared with the input's; -1 when not compared
+};
+
+/// What convertCadFile does beyond the conversion itself.
+struct CadConvertOptions {
+  /// Check the seams of the input and of the written file (as read back) and list those the round trip through
+  /// OpenCASCADE's writer and reader makes worse (CadConvertReport::seamsWorse): two B-rep checks, about as long
+  /// as `seam check` of the file each. false: not compared (seamsCompared = -1).
+  bool compareSeams = true;
+  /// Tolerances of the comparison (a seam is worse when its gap or angle grows beyond max(before, tolerance) by a
+  /// tenth of the tolerance, or a crease's angle changes by more than the angle tolerance); unset members take the
+  /// defaults of `seam check` for the file's unit.
+  ToleranceOverrides tolerances;
+  double creaseAngleDeg = kDefaultCreaseAngleDeg;  ///< above it a seam is a design crease (its angle is kept)
+  int threads = 0;                                 ///< threads of the checks; 0: all hardware threads
 };
 
 /// STEP/IGES -> STEP/IGES keeping the B-rep (issue 34 §1): every face with its wires, shared edges and vertices,
@@ -117,6 +136,6 @@ struct CadConvertReport {
 /// input (faces, trimmed faces, solids, area); a writer that would lose anything is an error and nothing is written.
 /// `options.statedUnitMm` (--units) is refused: it rescales, and a conversion keeps the file as it is.
 Result<CadConvertReport> convertCadFile(const std::filesystem::path& in, const std::filesystem::path& out,
-                                        const CadReadOptions& options = {});
+                                        const CadReadOptions& options = {}, const CadConvertOptions& convert = {});
 
 }  // namespace seam::occt
