@@ -262,6 +262,14 @@ TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
   EXPECT_LT(t.out.find("A3  "), t.out.find("A2  "));  // 150 before 90
   EXPECT_LT(t.out.find("A2  "), corners);
   EXPECT_EQ(t.out.find("A1  "), std::string::npos);
+  // A crease has no common tangent plane: no curvature jump is printed for it (the hinges are built at 150, 90 and
+  // 45 degrees), while the 10-degree kink above them keeps its number.
+  const size_t rule = t.out.find("---\n", creases);  // the rows start after the header's rule
+  ASSERT_NE(rule, std::string::npos) << t.out;
+  const std::string creaseRows = t.out.substr(rule, corners - rule);
+  EXPECT_NE(creaseRows.find("n/a (crease angle)"), std::string::npos) << creaseRows;
+  EXPECT_EQ(creaseRows.find('%'), std::string::npos) << creaseRows;
+  EXPECT_EQ(t.out.substr(0, creases).find("n/a (crease angle)"), std::string::npos) << t.out;
   for (const char* text : {"verdicts: gap 1, kink 2, crease 3", "worst kink: A0:u1 / B0:u0, angle 10.000 deg",
                            "worst gap: A4:u1 / B4:u0, gap 0.01"})
     EXPECT_NE(t.out.find(text), std::string::npos) << text << "\n" << t.out;

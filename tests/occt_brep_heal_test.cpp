@@ -54,6 +54,7 @@
 #include "seam/io/json.h"
 #include "seam/occt/brep_heal.h"
 #include "seam/occt/cad_io.h"
+#include "occt_counts.h"
 #include "real_cad_files.h"
 
 namespace seam {
@@ -71,52 +72,10 @@ fs::path tempPath(const std::string& name) {
 
 // ---- OpenCASCADE-only side ----
 
-TopoDS_Shape readWithOcct(const fs::path& file) {
-  const std::string ext = file.extension().string();
-  if (ext == ".igs" || ext == ".iges") {
-    IGESControl_Controller::Init();
-    IGESControl_Reader r;
-    if (r.ReadFile(file.c_str()) != IFSelect_RetDone) return {};
-    r.TransferRoots();
-    return r.OneShape();
-  }
-  STEPControl_Reader r;
-  if (r.ReadFile(file.c_str()) != IFSelect_RetDone) return {};
-  r.TransferRoots();
-  return r.OneShape();
-}
-
-double area(const TopoDS_Shape& s) {
-  GProp_GProps p;
-  BRepGProp::SurfaceProperties(s, p);
-  return p.Mass();
-}
-
-struct Counts {
-  int faces = 0, trimmed = 0, solids = 0;
-  double area = 0.0;
-  bool valid = false;
-};
-
-/// A face is trimmed when its area is clearly below that of the whole surface over its parameter box.
-Counts countWithOcct(const TopoDS_Shape& shape) {
-  Counts c;
-  TopTools_IndexedMapOfShape faces, solids;
-  TopExp::MapShapes(shape, TopAbs_FACE, faces);
-  TopExp::MapShapes(shape, TopAbs_SOLID, solids);
-  c.faces = faces.Extent();
-  c.solids = solids.Extent();
-  for (int i = 1; i <= faces.Extent(); ++i) {
-    const TopoDS_Face f = TopoDS::Face(faces(i));
-    double u0, u1, v0, v1;
-    BRepTools::UVBounds(f, u0, u1, v0, v1);
-    BRepBuilderAPI_MakeFace box(BRep_Tool::Surface(f), u0, u1, v0, v1, 1e-7);
-    if (box.IsDone() && area(f) < (1.0 - 1e-4) * area(box.Face())) ++c.trimmed;
-  }
-  c.area = area(shape);
-  c.valid = BRepCheck_Analyzer(shape).IsValid();
-  return c;
-}
+TopoDS_Shape readWithOcct(const fs::path& file) { return test::occtRead(file); }
+using Counts = test::OcctCounts;
+/// Faces, trimmed faces (wires and pcurves against the parameter box), solids, area and validity; no sewing.
+Counts countWithOcct(const TopoDS_Shape& shape) { return test::occtCounts(shape, false); }
 
 /// The probe of one shared edge: n samples of A's boundary image and of B's; the angle between the oriented normals
 /// at A's samples and B's surface projected from them; the two-sided distance between the two boundary images.

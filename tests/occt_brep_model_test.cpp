@@ -43,6 +43,7 @@
 #include <string>
 
 #include "occt/brep_model.h"
+#include "occt_counts.h"
 #include "real_cad_files.h"
 #include "seam/io/json.h"
 #include "seam/model/brep.h"
@@ -64,86 +65,9 @@ constexpr const char* kTrimsNotYetKept = "step/trj3_s1-al-214.stp";
 // ---- OpenCASCADE alone
 // -------------------------------------------------------------------------------------------
 
-TopoDS_Shape occtRead(const fs::path& file) {
-  // OpenCASCADE's session unit is global state that an IGES read in inches leaves behind: millimetres,
-  // always.
-  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
-  UnitsMethods::SetCasCadeLengthUnit(1.0, UnitsMethods_LengthUnit_Millimeter);
-  const std::string ext = file.extension().string();
-  std::unique_ptr<XSControl_Reader> r;
-  if (ext == ".igs" || ext == ".iges") {
-    IGESControl_Controller::Init();
-    r = std::make_unique<IGESControl_Reader>();
-  } else {
-    r = std::make_unique<STEPControl_Reader>();
-  }
-  if (r->ReadFile(file.c_str()) != IFSelect_RetDone) return {};
-  r->TransferRoots();
-  return r->OneShape();
-}
-
-struct Counts {
-  int faces = 0, trimmed = 0, solids = 0, freeEdgesAfterSewing = 0;
-  double area = 0.0;
-  bool valid = false;
-};
-
-/// A face is untrimmed when it has one wire and every edge's pcurve runs along a side of its UV box (5
-/// samples, 1e-7 of the box size): written here from OpenCASCADE's calls only.
-bool trimmedFace(const TopoDS_Face& f) {
-  int wires = 0;
-  for (TopExp_Explorer w(f, TopAbs_WIRE); w.More(); w.Next()) ++wires;
-  if (wires != 1) return true;
-  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
-  BRepTools::UVBounds(f, u0, u1, v0, v1);
-  const double tu = 1e-7 * (u1 - u0), tv = 1e-7 * (v1 - v0);
-  for (TopExp_Explorer e(f, TopAbs_EDGE); e.More(); e.Next()) {
-    double a = 0, b = 0;
-    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(TopoDS::Edge(e.Current()), f, a, b);
-    if (pc.IsNull()) return true;
-    bool side[4] = {true, true, true, true};
-    for (int i = 0; i < 5; ++i) {
-      const gp_Pnt2d q = pc->Value(a + (b - a) * i / 4);
-      side[0] = side[0] && std::abs(q.X() - u0) <= tu;
-      side[1] = side[1] && std::abs(q.X() - u1) <= tu;
-      side[2] = side[2] && std::abs(q.Y() - v0) <= tv;
-      side[3] = side[3] && std::abs(q.Y() - v1) <= tv;
-    }
-    if (!side[0] && !side[1] && !side[2] && !side[3]) return true;
-  }
-  return false;
-}
-
-Counts occtCounts(const TopoDS_Shape& s) {
-  Counts c;
-  TopTools_IndexedMapOfShape faces, solids;
-  TopExp::MapShapes(s, TopAbs_FACE, faces);
-  TopExp::MapShapes(s, TopAbs_SOLID, solids);
-  c.faces = faces.Extent();
-  c.solids = solids.Extent();
-  for (int i = 1; i <= faces.Extent(); ++i) c.trimmed += trimmedFace(TopoDS::Face(faces(i))) ? 1 : 0;
-  GProp_GProps props;
-  BRepGProp::SurfaceProperties(s, props,
-                               1e-9);  // adaptive: the default rule is off by up to 1e-3 on some faces
-  c.area = props.Mass();
-  c.valid = BRepCheck_Analyzer(s).IsValid();
-  Bnd_Box box;
-  BRepBndLib::Add(s, box);
-  BRepBuilderAPI_Sewing sewing(1e-4 * std::sqrt(box.SquareExtent()));
-  sewing.Add(s);
-  sewing.Perform();
-  const TopoDS_Shape sewn = sewing.SewedShape().IsNull() ? s : sewing.SewedShape();
-  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
-  TopExp::MapShapesAndAncestors(sewn, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
-  for (int i = 1; i <= edgeFaces.Extent(); ++i) {
-    const TopoDS_Edge& e = TopoDS::Edge(edgeFaces.FindKey(i));
-    const TopTools_ListOfShape& around = edgeFaces.FindFromIndex(i);
-    if (around.Extent() == 1 && !BRep_Tool::Degenerated(e) &&
-        !BRep_Tool::IsClosed(e, TopoDS::Face(around.First())))
-      ++c.freeEdgesAfterSewing;
-  }
-  return c;
-}
+using test::occtCounts;
+using test::occtRead;
+using Counts = test::OcctCounts;
 
 fs::path scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("seam_brep_model_{}", ::getpid());
@@ -250,6 +174,28 @@ INSTANTIATE_TEST_SUITE_P(SharedData, RealFileRoundTrip, ::testing::ValuesIn(test
 
 // ---- the hand-written plate with a hole
 // ---------------------------------------------------------------------------
+
+// The STEP writer takes its unit when it is made: a write of untrimmed patches once made the writer before setting
+// the unit, and so wrote in whatever unit an earlier write in the same process had left (after a convert of
+// boxed_sphere.step, in centimetres, sunglasses_lens.igs came out with its area divided by 100). Measured by
+// OpenCASCADE alone: the exact bounding box of the file read back is the same whatever unit was left before.
+TEST(BRepModel, AStepWriteTakesItsOwnUnitWhateverAnEarlierWriteLeft) {
+  Result<Model> model = io::readModelJson(fs::path(SEAM_EXAMPLES_DIR) / "models" / "two_patches.json");
+  ASSERT_TRUE(model) << model.status().message();
+  auto diagonalAfter = [&](const char* left) {
+    Interface_Static::SetCVal("write.step.unit", left);  // what a convert of a file in that unit leaves behind
+    const fs::path step = scratch(std::string("unit_") + left + ".step");
+    EXPECT_TRUE(occt::writeCadFile(*model, step, occt::CadFormat::kStep)) << left;
+    Bnd_Box box;
+    BRepBndLib::AddOptimal(occtRead(step), box, false, false);  // exact box, no tolerance added
+    fs::remove_all(step.parent_path());
+    return std::sqrt(box.SquareExtent());
+  };
+  const double mm = diagonalAfter("MM");
+  EXPECT_GT(mm, 0.5 * model->boundingBox().diagonal());
+  EXPECT_LE(mm, model->boundingBox().diagonal() * (1.0 + 1e-9));  // inside the control points' box
+  for (const char* left : {"CM", "INCH", "M"}) EXPECT_NEAR(diagonalAfter(left), mm, 1e-9 * mm) << left;
+}
 
 TEST(BRepModel, HandWrittenPlateWithAHoleBecomesAValidTrimmedFace) {
   Result<Model> m = io::readModelJson(fs::path(SEAM_TEST_DATA_DIR) / "brep_plate_with_hole.json");

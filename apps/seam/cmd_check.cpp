@@ -165,10 +165,14 @@ std::string worstLines(const std::vector<const SeamReport*>& reports, double cre
 }
 
 /// The curvature jump as a CAD user reads it (Rhino's EdgeContinuity style, issue 17 §2): relative to the larger
-/// curvature on the seam, in %, with the absolute jump (1 / model length unit) beside it.
-std::string formatCurvatureJump(double rel, double abs) {
-  if (!std::isfinite(rel) || !std::isfinite(abs)) return formatRatio(abs);
-  return fmt::format("{:.3g}% ({:.4g})", 100.0 * rel, abs);
+/// curvature on the seam, in %, with the absolute jump (1 / model length unit) beside it. A seam whose angle reaches
+/// the crease angle has no common tangent plane, where a curvature jump is not defined (the two shape operators
+/// live in different planes): "n/a (crease angle)" instead of a number (issue 35 §2: a 180° fold printed a jump of
+/// 1.36e6). The JSON keeps the number measured.
+std::string formatCurvatureJump(const SeamReport& x, double creaseAngleDeg) {
+  if (x.g1MaxDeg >= creaseAngleDeg) return "n/a (crease angle)";
+  if (!std::isfinite(x.g2RelMax) || !std::isfinite(x.g2Max)) return formatRatio(x.g2Max);
+  return fmt::format("{:.3g}% ({:.4g})", 100.0 * x.g2RelMax, x.g2Max);
 }
 
 /// "G0 gap (mm)", or "G0 gap" for a unit-less model.
@@ -188,7 +192,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
       const SeamReport& x = *s.report;
       row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))),
                              formatDistance(x.g0Max, r.tolerances.distance), formatAngle(x.g1MaxDeg),
-                             formatCurvatureJump(x.g2RelMax, x.g2Max), std::string(toString(x.geometric)),
+                             formatCurvatureJump(x, sel.creaseAngleDeg), std::string(toString(x.geometric)),
                              std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
     } else {
       row.insert(row.end(), {"error", "-", "-", "-", "error", "-", "-"});
@@ -364,7 +368,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
         const occt::BRepSeam& s = r->seams[k];
         rows.push_back({std::to_string(s.edge), face(s.a), face(s.b), std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
                         formatDistance(s.report.g0Max, tol.distance), formatAngle(s.report.g1MaxDeg),
-                        formatCurvatureJump(s.report.g2RelMax, s.report.g2Max),
+                        formatCurvatureJump(s.report, sel.creaseAngleDeg),
                         std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
                         s.occtContinuity});
       }

@@ -54,6 +54,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include "occt/brep_check_internal.h"
 #include "occt/cad_internal.h"
@@ -98,31 +99,22 @@ std::vector<double> flatKnots(const C& c) {
   return {k.begin(), k.end()};
 }
 
-Result<BSplineCurve> fromOcct3d(Handle(Geom_BSplineCurve) c) {
+/// A seam curve from an OpenCASCADE B-spline curve, 3-D (Geom_BSplineCurve) or 2-D (Geom2d_BSplineCurve, a
+/// pcurve): the same poles, weights and knots; a periodic curve as its non-periodic form.
+template <typename CurveT>
+Result<BSplineCurve> fromOcct(opencascade::handle<CurveT> c) {
+  constexpr bool k3d = std::is_same_v<CurveT, Geom_BSplineCurve>;
   if (c->IsPeriodic()) {
-    c = Handle(Geom_BSplineCurve)::DownCast(c->Copy());
+    c = opencascade::handle<CurveT>::DownCast(c->Copy());
     c->SetNotPeriodic();
   }
-  Matrix pts(c->NbPoles(), 3);
+  Matrix pts(c->NbPoles(), k3d ? 3 : 2);
   VecX w = c->IsRational() ? VecX(c->NbPoles()) : VecX();
   for (int i = 1; i <= c->NbPoles(); ++i) {
-    const gp_Pnt p = c->Pole(i);
-    pts.row(i - 1) << p.X(), p.Y(), p.Z();
-    if (c->IsRational()) w[i - 1] = c->Weight(i);
-  }
-  return BSplineCurve::create(c->Degree(), flatKnots(c), std::move(pts), std::move(w));
-}
-
-Result<BSplineCurve> fromOcct2d(Handle(Geom2d_BSplineCurve) c) {
-  if (c->IsPeriodic()) {
-    c = Handle(Geom2d_BSplineCurve)::DownCast(c->Copy());
-    c->SetNotPeriodic();
-  }
-  Matrix pts(c->NbPoles(), 2);
-  VecX w = c->IsRational() ? VecX(c->NbPoles()) : VecX();
-  for (int i = 1; i <= c->NbPoles(); ++i) {
-    const gp_Pnt2d p = c->Pole(i);
-    pts.row(i - 1) << p.X(), p.Y();
+    const auto p = c->Pole(i);
+    pts(i - 1, 0) = p.X();
+    pts(i - 1, 1) = p.Y();
+    if constexpr (k3d) pts(i - 1, 2) = p.Z();
     if (c->IsRational()) w[i - 1] = c->Weight(i);
   }
   return BSplineCurve::create(c->Degree(), flatKnots(c), std::move(pts), std::move(w));
@@ -147,32 +139,25 @@ void distinct(const std::vector<double>& flat, TColStd_Array1OfReal& knots, TCol
   }
 }
 
-Handle(Geom_BSplineCurve) toOcct3d(const BSplineCurve& c) {
-  TColgp_Array1OfPnt poles(1, c.numPoints());
+/// An OpenCASCADE B-spline curve from a seam curve: 3-D (CurveT = Geom_BSplineCurve) or 2-D (Geom2d_BSplineCurve).
+template <typename CurveT>
+opencascade::handle<CurveT> toOcct(const BSplineCurve& c) {
+  constexpr bool k3d = std::is_same_v<CurveT, Geom_BSplineCurve>;
+  using Poles = std::conditional_t<k3d, TColgp_Array1OfPnt, TColgp_Array1OfPnt2d>;
+  Poles poles(1, c.numPoints());
   TColStd_Array1OfReal weights(1, c.numPoints());
   for (int i = 0; i < c.numPoints(); ++i) {
-    poles.SetValue(i + 1, gp_Pnt(c.points()(i, 0), c.points()(i, 1), c.points()(i, 2)));
+    if constexpr (k3d)
+      poles.SetValue(i + 1, gp_Pnt(c.points()(i, 0), c.points()(i, 1), c.points()(i, 2)));
+    else
+      poles.SetValue(i + 1, gp_Pnt2d(c.points()(i, 0), c.points()(i, 1)));
     weights.SetValue(i + 1, c.isRational() ? c.weights()[i] : 1.0);
   }
   TColStd_Array1OfReal k;
   TColStd_Array1OfInteger m;
   distinct(c.knots().values(), k, m);
-  if (c.isRational()) return new Geom_BSplineCurve(poles, weights, k, m, c.degree());
-  return new Geom_BSplineCurve(poles, k, m, c.degree());
-}
-
-Handle(Geom2d_BSplineCurve) toOcct2d(const BSplineCurve& c) {
-  TColgp_Array1OfPnt2d poles(1, c.numPoints());
-  TColStd_Array1OfReal weights(1, c.numPoints());
-  for (int i = 0; i < c.numPoints(); ++i) {
-    poles.SetValue(i + 1, gp_Pnt2d(c.points()(i, 0), c.points()(i, 1)));
-    weights.SetValue(i + 1, c.isRational() ? c.weights()[i] : 1.0);
-  }
-  TColStd_Array1OfReal k;
-  TColStd_Array1OfInteger m;
-  distinct(c.knots().values(), k, m);
-  if (c.isRational()) return new Geom2d_BSplineCurve(poles, weights, k, m, c.degree());
-  return new Geom2d_BSplineCurve(poles, k, m, c.degree());
+  if (c.isRational()) return new CurveT(poles, weights, k, m, c.degree());
+  return new CurveT(poles, k, m, c.degree());
 }
 
 /// The point of `s` nearest to `p`, from (u, v) (Gauss-Newton, kept inside the domain; a direction in which
@@ -240,7 +225,7 @@ std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve) & c, double f, doub
   if (!bs.IsNull() && std::abs(bs->FirstParameter() - f) <= Precision::PConfusion() &&
       std::abs(bs->LastParameter() - l) <= Precision::PConfusion() && error(bs, false) <= same &&
       error(bs, true) <= same) {
-    Result<BSplineCurve> r = fromOcct3d(bs);
+    Result<BSplineCurve> r = fromOcct(bs);
     if (r) return std::move(r).value();
   }
   for (int n = kFitPointsFirst; n <= kFitPointsLast; n = 4 * n - 3) {
@@ -260,7 +245,7 @@ std::optional<BSplineCurve> curve3d(const Handle(Geom_Curve) & c, double f, doub
     const double err = std::max(error(b, false), error(b, true));
     if (err <= allowed && c->Value(f).Distance(b->Value(f)) <= allowed &&
         c->Value(l).Distance(b->Value(l)) <= allowed) {
-      Result<BSplineCurve> r = fromOcct3d(b);
+      Result<BSplineCurve> r = fromOcct(b);
       if (!r) return std::nullopt;
       ++stats.curves;
       stats.worst = std::max(stats.worst, err);
@@ -350,7 +335,7 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
         d2 = std::max(d2, c->Value(t).Distance(bs->Value(t)));
       }
       if (d2 <= 1e-12 * std::max({u1 - u0, v1 - v0, 1.0})) {
-        Result<BSplineCurve> r = fromOcct2d(bs);
+        Result<BSplineCurve> r = fromOcct(bs);
         if (r) return std::move(r).value();
       }
     }
@@ -373,7 +358,7 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
     const double err = error(b);
     best = std::min(best, err);
     if (err <= allowed) {
-      Result<BSplineCurve> r = fromOcct2d(b);
+      Result<BSplineCurve> r = fromOcct(b);
       if (!r) return std::nullopt;
       ++stats.pcurves;
       stats.worst = std::max(stats.worst, err);
@@ -626,7 +611,7 @@ Result<TopoDS_Shape> shapeFromBRep(const Model& model, const std::string& source
         b.MakeEdge(x);
         b.Degenerated(x, true);
       } else {
-        b.MakeEdge(x, toOcct3d(e.curve), tol);
+        b.MakeEdge(x, toOcct<Geom_BSplineCurve>(e.curve), tol);
       }
       b.UpdateEdge(x, tol);
       b.Add(x, vertices[static_cast<size_t>(e.v0)].Oriented(TopAbs_FORWARD));
@@ -653,10 +638,11 @@ Result<TopoDS_Shape> shapeFromBRep(const Model& model, const std::string& source
         const BRepCoedge* rev = nullptr;
         for (const BRepCoedge* c : byEdge[e]) (c->reversed ? rev : fwd) = c;
         if (fwd != nullptr && rev != nullptr) {
-          b.UpdateEdge(x, toOcct2d(fwd->pcurve), toOcct2d(rev->pcurve), face, tol);
+          b.UpdateEdge(x, toOcct<Geom2d_BSplineCurve>(fwd->pcurve), toOcct<Geom2d_BSplineCurve>(rev->pcurve), face,
+                       tol);
         } else {
           const BRepCoedge* c = fwd != nullptr ? fwd : rev;
-          b.UpdateEdge(x, toOcct2d(c->pcurve), face, tol);
+          b.UpdateEdge(x, toOcct<Geom2d_BSplineCurve>(c->pcurve), face, tol);
         }
         const BRepCoedge* c = fwd != nullptr ? fwd : rev;
         b.Range(x, face, c->t0, c->t1);

@@ -141,6 +141,15 @@ void silenceOcct() {
   });
 }
 
+/// OpenCASCADE's session length unit (the unit its readers convert into and its writers convert from) is global
+/// state of the process: seam's readers and writers take it to be millimetres, so a host program (or an earlier
+/// reader) that set another unit would get every model it reads or writes scaled. Every read and write starts from
+/// millimetres.
+void pinSessionUnitToMillimetres() {
+  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  UnitsMethods::SetCasCadeLengthUnit(1.0, UnitsMethods_LengthUnit_Millimeter);
+}
+
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
@@ -575,6 +584,7 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
   int stepInstances = -1;
   if (Status st = checkReals(file, format, &stepInstances); !st) return st;
   silenceOcct();
+  pinSessionUnitToMillimetres();
   const char* kind = format == CadFormat::kStep ? "STEP" : "IGES";
   const std::string name = file.string();
   OcctSignalGuard guard;
@@ -1098,6 +1108,7 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
   if (model.brep && !options.sewingTolerance) return writeBRepCadFile(model, file, format).status();
   if (Status st = checkNoTrimsLost(model, file.string()); !st) return st;
   silenceOcct();
+  pinSessionUnitToMillimetres();
   const double tol = options.sewingTolerance.value_or(1e-6 * model.boundingBox().diagonal());
   TopoDS_Shape shape;
   {
@@ -1122,9 +1133,12 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
         // The writers' default real format keeps 12 significant digits (STEP) or 9 (IGES); seam writes 17 so that
         // every control point, weight and knot survives a round trip (issue 8: STEP -> JSON -> STEP is exact).
         if (format == CadFormat::kStep) {
-          STEPControl_Writer w;
+          // Before the writer: it takes the unit and schema when it is made. Set after it, the unit was the one
+          // an earlier write in the same process had left (a convert of a file in centimetres: this model then
+          // came out a tenth of its size, area 1/100).
           Interface_Static::SetCVal("write.step.schema", "AP214IS");
           Interface_Static::SetCVal("write.step.unit", "MM");
+          STEPControl_Writer w;
           return w.Transfer(shape, STEPControl_AsIs) == IFSelect_RetDone && printStep(w.Model(), os);
         }
         IGESControl_Controller::Init();
@@ -1220,6 +1234,7 @@ Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::pat
                         std::vector<std::string>* notes, double areaRelTol, double areaRelEps,
                         WrittenBack* writtenBack) {
   silenceOcct();
+  pinSessionUnitToMillimetres();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
   // XDE reader recorded for it: the writers scale from the document's unit to `unitName`.
   XCAFDoc_DocumentTool::SetLengthUnit(document, 1.0, UnitsMethods_LengthUnit_Millimeter);
