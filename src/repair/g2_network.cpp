@@ -661,10 +661,17 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
       }
   };
 
-  // Weights: control-point coordinates 1, blending coefficients kBlendWeight.
+  // Weights: control-point coordinates 1, blending coefficients kBlendWeight h^2, h the mean size of the patches'
+  // control nets. A blending coefficient is dimensionless and multiplies a derivative of about the patch's size, so
+  // a change of it moves the conditions as a point move of about its size times h: with h^2 the step is the same
+  // whatever the model's scale (issue 36: with a fixed weight, network_fan5.json scaled by 1e-3 moved only points
+  // and stopped at a residual of 0.12 x its size, 0 of 25 seams G2; scaled by 1e4 it moved only the blends).
+  double netSize = 0.0;
+  for (const BSplineSurface& f : form)
+    netSize += (f.points().colwise().maxCoeff() - f.points().colwise().minCoeff()).norm() / static_cast<double>(np);
   VecX winv(nv);
   winv.head(nPointVars).setOnes();
-  winv.tail(nv - nPointVars).setConstant(1.0 / kBlendWeight);
+  winv.tail(nv - nPointVars).setConstant(1.0 / (kBlendWeight * netSize * netSize));
   // With the fairness term, the row beside every edge that meets a patch outside the solve (a kept design crease, a
   // seam to another region) is stiff: the fairness coupling would otherwise spread changes into it and turn the angle
   // across that seam (heal refuses any change of it); it moves only where the conditions need it (near the vertices),
