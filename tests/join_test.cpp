@@ -1029,5 +1029,57 @@ TEST(ConstrainedLeastSquares, TallSparseSystemsGiveTheSolutionOfTheSVD) {
   }
 }
 
+
+// Issue 36 goal 6: a refusal must not rest on a loose bound. The cap's bound for a rational patch was the largest
+// point move plus (max weight ratio / min weight ratio - 1) x half the net's box: 7x the real displacement in the
+// issue's case. surfaceDisplacementSharp subdivides the Bernstein form of the difference until its bound is within
+// 1.5x of the largest value it finds. Expected value by another route: a dense 401 x 401 grid of the two surfaces
+// (sampledSurfaceDistance), which is below the true maximum by a small fraction.
+TEST(SurfaceDisplacement, TheSharpBoundIsWithinOneAndAHalfOfTheTrueMaximum) {
+  Rng rng(36006);
+  int looseBefore = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    const bool rational = trial % 2 == 1;
+    const int du = 3, dv = 2 + trial % 2, nu = 6, nv = 5 + trial % 3;
+    auto knots = [&](int degree, int count) {
+      std::vector<double> k(static_cast<size_t>(degree + 1), 0.0);
+      double t = 0.0;
+      for (int i = 0; i < count - degree - 1; ++i) k.push_back(t += urand(rng, 0.3, 1.7));  // uneven
+      k.insert(k.end(), static_cast<size_t>(degree + 1), t + urand(rng, 0.3, 1.7));
+      return k;
+    };
+    const std::vector<double> ku = knots(du, nu), kv = knots(dv, nv);
+    Matrix p0(nu * nv, 3), p1(nu * nv, 3);
+    VecX w0, w1;
+    if (rational) {
+      w0.resize(nu * nv);
+      w1.resize(nu * nv);
+    }
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const int r = i * nv + j;
+        p0.row(r) << i, j, urand(rng, -0.5, 0.5);
+        // Small moves of alternating sign: the control-point bound is loose where they cancel.
+        p1.row(r) = p0.row(r) + Vec3(urand(rng, -0.02, 0.02), urand(rng, -0.02, 0.02), ((i + j) % 2 ? 0.05 : -0.05))
+                                    .transpose();
+        if (rational) {
+          w0[r] = urand(rng, 0.5, 2.0);
+          w1[r] = w0[r] * urand(rng, 0.8, 1.25);
+        }
+      }
+    const Result<BSplineSurface> before = BSplineSurface::create(du, dv, ku, kv, nu, nv, p0, w0);
+    const Result<BSplineSurface> after = BSplineSurface::create(du, dv, ku, kv, nu, nv, p1, w1);
+    ASSERT_TRUE(before && after);
+    const double dense = sampledSurfaceDistance(*before, *after, 401);
+    const SurfaceDisplacement coarse = surfaceDisplacement(*before, *after);
+    const SurfaceDisplacement sharp = surfaceDisplacementSharp(*before, *after);
+    EXPECT_GE(sharp.bound, dense * (1.0 - 1e-12)) << "trial " << trial << ": not a bound";
+    EXPECT_LE(sharp.bound, 1.5 * 1.01 * dense) << "trial " << trial << " (coarse " << coarse.bound << ")";
+    EXPECT_LE(sharp.bound, coarse.bound);
+    looseBefore += coarse.bound > 1.5 * dense;
+  }
+  EXPECT_GE(looseBefore, 8) << "the cases must be ones where the coarse bound is loose";
+}
+
 }  // namespace
 }  // namespace seam

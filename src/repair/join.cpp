@@ -4,13 +4,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <queue>
+#include <vector>
 
 #include "repair/frame_internal.h"
 #include "repair/join_internal.h"
 #include "seam/continuity/model_check.h"
+#include "seam/core/bernstein.h"
 #include "seam/repair/bicubic.h"
 
 namespace seam {
@@ -91,6 +95,102 @@ SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSpl
     }
   }
   d.sampled = sampledSurfaceDistance(before, after, grid);
+  return d;
+}
+
+namespace {
+
+/// One region of a knot cell for surfaceDisplacementSharp: the difference after - before on it as E / Q (Bernstein
+/// forms over the region; Q empty for polynomial patches), with the certified bound max |E_k| / min Q_k.
+struct DifferenceRegion {
+  BernsteinPatch e, q;
+  double bound = 0.0;
+  bool operator<(const DifferenceRegion& o) const { return bound < o.bound; }
+};
+
+double regionBound(const BernsteinPatch& e, const BernsteinPatch& q) {
+  const double top = e.coeffs().rowwise().norm().maxCoeff();
+  if (q.coeffs().size() == 0) return top;
+  const double low = q.coeffs().minCoeff();
+  return low > 0.0 ? top / low : std::numeric_limits<double>::infinity();
+}
+
+/// |E / Q| at the region's corners (their coefficients are values) and centre: values of the true difference.
+double regionSample(const BernsteinPatch& e, const BernsteinPatch& q) {
+  double best = 0.0;
+  const int du = e.degreeU(), dv = e.degreeV();
+  const bool rational = q.coeffs().size() > 0;
+  for (const auto& [i, j] : {std::pair{0, 0}, std::pair{0, dv}, std::pair{du, 0}, std::pair{du, dv}}) {
+    const double w = rational ? q.coeff(i, j)(0) : 1.0;  // E and Q have the same degrees
+    if (w > 0.0) best = std::max(best, e.coeff(i, j).norm() / w);
+  }
+  const VecX mid = e(0.5, 0.5);
+  const double w = rational ? q(0.5, 0.5)[0] : 1.0;
+  if (w > 0.0) best = std::max(best, mid.norm() / w);
+  return best;
+}
+
+/// Homogeneous coefficients of a Bezier piece: w P (or P) and w (or empty for a polynomial piece).
+std::pair<BernsteinPatch, BernsteinPatch> homogeneousOf(const BezierPatch& b, bool rational) {
+  Matrix wp = b.points().leftCols(3);
+  if (!rational) return {BernsteinPatch(b.degreeU(), b.degreeV(), std::move(wp)), BernsteinPatch()};
+  Matrix w(wp.rows(), 1);
+  for (int i = 0; i <= b.degreeU(); ++i)
+    for (int j = 0; j <= b.degreeV(); ++j) {
+      const Eigen::Index r = i * (b.degreeV() + 1) + j;
+      w(r, 0) = b.weight(i, j);
+      wp.row(r) *= w(r, 0);
+    }
+  return {BernsteinPatch(b.degreeU(), b.degreeV(), std::move(wp)), BernsteinPatch(b.degreeU(), b.degreeV(), std::move(w))};
+}
+
+}  // namespace
+
+SurfaceDisplacement surfaceDisplacementSharp(const BSplineSurface& before, const BSplineSurface& after, double ratio,
+                                             int maxSplits) {
+  SurfaceDisplacement coarse = surfaceDisplacement(before, after);
+  if (!std::isfinite(coarse.bound)) return coarse;
+  const BSplineSurface ref = detail::expressedLike(before, after);
+  const std::vector<BezierPatchPiece> p0 = ref.bezierPatches(), p1 = after.bezierPatches();
+  if (p0.size() != p1.size()) return coarse;
+  const bool rational = ref.isRational() || after.isRational();
+  std::priority_queue<DifferenceRegion> open;
+  double sampled = coarse.sampled;
+  for (size_t k = 0; k < p0.size(); ++k) {
+    const auto [n0, w0] = homogeneousOf(p0[k].patch, rational);
+    const auto [n1, w1] = homogeneousOf(p1[k].patch, rational);
+    DifferenceRegion r;
+    if (rational) {
+      BernsteinPatch e = product(n1, w0);
+      e.coeffs() -= product(n0, w1).coeffs();
+      r.e = std::move(e);
+      r.q = product(w0, w1);
+    } else {
+      r.e = n1;
+      r.e.coeffs() -= n0.coeffs();
+    }
+    r.bound = regionBound(r.e, r.q);
+    sampled = std::max(sampled, regionSample(r.e, r.q));
+    open.push(std::move(r));
+  }
+  int splits = 0;
+  while (!open.empty() && open.top().bound > ratio * sampled && splits < maxSplits) {
+    const DifferenceRegion top = open.top();
+    open.pop();
+    ++splits;
+    for (const auto& [u0, u1, v0, v1] : {std::array{0.0, 0.5, 0.0, 0.5}, std::array{0.5, 1.0, 0.0, 0.5},
+                                          std::array{0.0, 0.5, 0.5, 1.0}, std::array{0.5, 1.0, 0.5, 1.0}}) {
+      DifferenceRegion c;
+      c.e = top.e.restricted(u0, u1, v0, v1);
+      if (rational) c.q = top.q.restricted(u0, u1, v0, v1);
+      c.bound = regionBound(c.e, c.q);
+      sampled = std::max(sampled, regionSample(c.e, c.q));
+      open.push(std::move(c));
+    }
+  }
+  SurfaceDisplacement d;
+  d.sampled = sampled;
+  d.bound = std::min(coarse.bound, open.empty() ? sampled : std::max(open.top().bound, sampled));
   return d;
 }
 
@@ -429,6 +529,15 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
           r = std::move(re);
         }
       }
+      // A rational seam already at the requested class whose solve needed the weights as unknowns: that solve
+      // reshapes the patch (JoinNeverFolds.RationalPairAlreadyG1ComesBackUnmoved: the displacement cap refused it
+      // only while the cap's bound was loose); nothing is to be gained, so nothing moves.
+      if (alreadyMet && rationalJoin && !r->unchanged && !r->weightsFixed) {
+        r->unchanged = true;
+        r->notes.push_back(fmt::format("the seam is already {} and the rational solve would have had to change the "
+                                       "weights: left as it was",
+                                       toString(st.before.geometric)));
+      }
       for (const std::string& n : r->notes) rep.notes.push_back(n);
       if (!r->unchanged) {  // else the patch stays bit-identical (the fold test refused every solution)
         rep.insertedKnotsU = r->insertedKnotsU;
@@ -549,7 +658,11 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       const Patch& p1 = res.model.patches[static_cast<size_t>(idx)];
       if (!samePatch(p0, p1)) {
         const double size = controlBox(p0.surface).diagonal();
-        const double bound = surfaceDisplacement(p0.surface, p1.surface).bound;
+        double bound = surfaceDisplacement(p0.surface, p1.surface).bound;
+        // A refusal must not rest on a loose bound (issue 36 goal 6): above the cap, the bound is sharpened by
+        // subdividing the difference's Bernstein form until it is within 1.5x of the displacement sampled.
+        if (size > 0.0 && bound > opt.maxDisplacementRel * size)
+          bound = surfaceDisplacementSharp(p0.surface, p1.surface).bound;
         worstRel = std::max(worstRel, size > 0.0 ? bound / size : std::numeric_limits<double>::infinity());
       }
       if (is == it) break;

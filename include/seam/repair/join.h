@@ -151,6 +151,14 @@ struct SurfaceDisplacement {
   double bound = 0.0, sampled = 0.0;
 };
 SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSplineSurface& after, int grid = 33);
+/// The same, with the bound sharpened until it is within `ratio` of the largest displacement found (the grid's and
+/// the exact values at the corners and centres of the regions split): per knot cell the difference is written in
+/// Bernstein form, E = P_after - P_before (polynomial) or E / Q = (N_after W_before - N_before W_after) /
+/// (W_after W_before) (rational, homogeneous N = w P), bounded by max |E_k| / min Q_k (convex hull), and the region
+/// with the largest bound is split in four until that bound is within `ratio` of the largest value found or
+/// `maxSplits` splits were made. Never above surfaceDisplacement's bound. Used before a refusal rests on the bound.
+SurfaceDisplacement surfaceDisplacementSharp(const BSplineSurface& before, const BSplineSurface& after,
+                                             double ratio = 1.5, int maxSplits = 4096);
 /// Largest distance between two surfaces at equal normalised parameters on a grid x grid lattice of each one's domain
 /// (batch evaluation, GridEvaluator).
 double sampledSurfaceDistance(const BSplineSurface& a, const BSplineSurface& b, int grid);
