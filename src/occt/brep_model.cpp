@@ -721,13 +721,7 @@ Result<BRepWriteReport> writeBRepCadFile(const Model& model, const fs::path& fil
           fmt::format("{}: OpenCASCADE failed measuring the shape: {}", file.string(), f.GetMessageString()));
     }
   }
-  report.faces = counts.faces;
-  report.trimmedFaces = counts.trimmedFaces;
-  report.edges = counts.edges;
-  report.freeEdges = counts.freeEdges;
-  report.shells = counts.shells;
-  report.solids = counts.solids;
-  report.area = counts.area;
+  detail::setCounts(report, counts);
   if (counts.faces == 0)
     return invalidInput(fmt::format("{}: the model's topology has no face to write", file.string()));
   const Handle(TDocStd_Document) doc = detail::newCadDocument();

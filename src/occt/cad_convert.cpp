@@ -39,14 +39,7 @@ Result<CadConvertReport> convertCadFile(const fs::path& in, const fs::path& out,
     detail::OcctSignalGuard guard;
     try {
       OCC_CATCH_SIGNALS
-      const detail::ShapeCounts counts = detail::countShape(*shape);
-      report.faces = counts.faces;
-      report.trimmedFaces = counts.trimmedFaces;
-      report.edges = counts.edges;
-      report.freeEdges = counts.freeEdges;
-      report.shells = counts.shells;
-      report.solids = counts.solids;
-      report.area = counts.area;
+      detail::setCounts(report, detail::countShape(*shape));
     } catch (const Standard_Failure& f) {
       return invalidInput(fmt::format("{}: OpenCASCADE {} measuring the model: {}", in.string(),
                                       detail::isSignal(f) ? "crashed" : "failed", f.GetMessageString()));

@@ -127,6 +127,17 @@ struct ShapeCounts {
 /// rule is off by up to 1e-3 on faces whose pcurves have hundreds of poles on rational patches: linkrods.step
 /// from JSON).
 ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps = 0.0);
+/// Copies the counts into a report that has the same members (CadConvertReport, BRepWriteReport).
+template <typename Report>
+void setCounts(Report& report, const ShapeCounts& c) {
+  report.faces = c.faces;
+  report.trimmedFaces = c.trimmedFaces;
+  report.edges = c.edges;
+  report.freeEdges = c.freeEdges;
+  report.shells = c.shells;
+  report.solids = c.solids;
+  report.area = c.area;
+}
 /// The adaptive integration's relative error for the areas of shapes made from a topology (Model::brep).
 inline constexpr double kPreciseAreaRelEps = 1e-9;
 
