@@ -130,18 +130,13 @@ double regionSample(const BernsteinPatch& e, const BernsteinPatch& q) {
   return best;
 }
 
-/// Homogeneous coefficients of a Bezier piece: w P (or P) and w (or empty for a polynomial piece).
+/// The Bernstein forms of a Bezier piece: w P and w (BezierPatch::homogeneous), or P and nothing when polynomial.
 std::pair<BernsteinPatch, BernsteinPatch> homogeneousOf(const BezierPatch& b, bool rational) {
-  Matrix wp = b.points().leftCols(3);
-  if (!rational) return {BernsteinPatch(b.degreeU(), b.degreeV(), std::move(wp)), BernsteinPatch()};
-  Matrix w(wp.rows(), 1);
-  for (int i = 0; i <= b.degreeU(); ++i)
-    for (int j = 0; j <= b.degreeV(); ++j) {
-      const Eigen::Index r = i * (b.degreeV() + 1) + j;
-      w(r, 0) = b.weight(i, j);
-      wp.row(r) *= w(r, 0);
-    }
-  return {BernsteinPatch(b.degreeU(), b.degreeV(), std::move(wp)), BernsteinPatch(b.degreeU(), b.degreeV(), std::move(w))};
+  const BernsteinPatch h = b.homogeneous();  // columns x, y, z and, last, the weight (1 for a polynomial piece)
+  const int w = h.dim() - 1;
+  BernsteinPatch n(h.degreeU(), h.degreeV(), h.coeffs().leftCols(w));
+  if (!rational) return {std::move(n), BernsteinPatch()};
+  return {std::move(n), BernsteinPatch(h.degreeU(), h.degreeV(), h.coeffs().rightCols(1))};
 }
 
 }  // namespace

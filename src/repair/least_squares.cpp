@@ -99,6 +99,18 @@ CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDept
 
 namespace {
 
+/// x + Z z for the z that minimises |W (x + Z z - x0)| (W = diag(weight)), the least-norm z where that leaves a
+/// choice (zero weights): the weighted closest point to x0 in x + span(Z), for Z an orthonormal nullspace basis.
+/// The last step of every route of constrainedLeastSquares(QR); Mat and Vec as in nullspaceLeastSquares.
+template <class Mat, class Vec>
+Vec closestInNullspace(const Mat& Z, const Vec& x, const Vec& x0, const Vec& weight) {
+  const Mat A = weight.asDiagonal() * Z;
+  const Vec b = weight.asDiagonal() * (x0 - x);
+  Eigen::CompleteOrthogonalDecomposition<Mat> cod(A);
+  cod.setThreshold(kIdentityRelTol);
+  return x + Z * cod.solve(b);
+}
+
 /// Systems up to this many unknowns and equations are solved without heap allocation (constrainedLeastSquaresQR);
 /// constrainedLeastSquares takes its sparse route only above this size.
 constexpr int kSmallSystem = 48;
@@ -171,13 +183,10 @@ std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double
     Zy.topRows(r) = -T.solve(Eigen::MatrixXd(R.block(0, r, r, n - r)));
     Zy.bottomRows(n - r).setIdentity();
     const Eigen::MatrixXd Z = qr.colsPermutation() * Zy;
-    const Eigen::MatrixXd Zo = Eigen::HouseholderQR<Eigen::MatrixXd>(Z).householderQ() * Eigen::MatrixXd::Identity(n, n - r);
+    const Eigen::MatrixXd Zo =
+        Eigen::HouseholderQR<Eigen::MatrixXd>(Z).householderQ() * Eigen::MatrixXd::Identity(n, n - r);
     x -= Zo * (Zo.transpose() * x);
-    const Eigen::MatrixXd A = weight.asDiagonal() * Zo;
-    const Eigen::VectorXd b = weight.asDiagonal() * (x0 - x);
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
-    cod.setThreshold(kIdentityRelTol);
-    x += Zo * cod.solve(b);
+    x = closestInNullspace<Eigen::MatrixXd, Eigen::VectorXd>(Zo, x, x0, weight);
   }
   if (!x.allFinite()) return std::nullopt;
   return x;
@@ -213,11 +222,7 @@ Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::V
   const Eigen::MatrixXd Z = Q.rightCols(n - rank);
   Eigen::VectorXd x = C.completeOrthogonalDecomposition().solve(d);
   if (n - rank > 0) {
-    const Eigen::MatrixXd A = weight.asDiagonal() * Z;
-    const Eigen::VectorXd b = weight.asDiagonal() * (x0 - x);
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
-    cod.setThreshold(kIdentityRelTol);
-    x += Z * cod.solve(b);
+    x = closestInNullspace<Eigen::MatrixXd, Eigen::VectorXd>(Z, x, x0, weight);
   }
   if (residual) *residual = (C * x - d).cwiseAbs().maxCoeff();
   return x;
@@ -251,12 +256,7 @@ Eigen::VectorXd nullspaceLeastSquares(const Eigen::MatrixXd& Cin, const Eigen::V
     Mat Z = Mat::Zero(n, n - rank);
     Z.bottomRows(n - rank).setIdentity();
     Z.applyOnTheLeft(qr.householderQ());
-    const Vec w = weight;
-    const Mat A = w.asDiagonal() * Z;
-    const Vec b = w.asDiagonal() * (Vec(x0in) - x);
-    Eigen::CompleteOrthogonalDecomposition<Mat> cod(A);
-    cod.setThreshold(kIdentityRelTol);
-    x += Z * cod.solve(b);
+    x = closestInNullspace<Mat, Vec>(Z, x, Vec(x0in), Vec(weight));
   }
   Eigen::VectorXd out = x;
   if (residual) *residual = (Cin * out - din).cwiseAbs().maxCoeff();
