@@ -111,9 +111,13 @@ py::object toPython(const cli::OrderedJson& j) {
 struct PyModel {
   Model model;
   std::string source;
+  /// The unit of the model's numbers as the CLI resolves it for the same file: millimetres from a STEP/IGES header,
+  /// none for JSON/.bpt (units= on a call gives one, as --units does).
+  ModelUnits units;
 };
 
-Model readAnyModel(const std::filesystem::path& file, [[maybe_unused]] std::vector<std::string>& warnings) {
+Model readAnyModel(const std::filesystem::path& file, [[maybe_unused]] std::vector<std::string>& warnings,
+                   [[maybe_unused]] ModelUnits* units = nullptr) {
   Result<Model> model = Status(ErrorCode::kIoError, "not read");
   {
     py::gil_scoped_release release;
@@ -124,6 +128,18 @@ Model readAnyModel(const std::filesystem::path& file, [[maybe_unused]] std::vect
         Result<occt::CadImport> cad = occt::readCadFile(file);
         if (cad) {
           warnings = cad->warnings;
+          // The notes `seam check` prints on stderr for the same file, as Python warnings (issue 38 goal 10).
+          int trimmed = 0, approximated = 0;
+          for (const occt::CadFace& f : cad->faces) {
+            trimmed += f.trimmed ? 1 : 0;
+            approximated += f.exact ? 0 : 1;
+          }
+          if (trimmed > 0)
+            warnings.push_back(fmt::format("{} of {} faces are trimmed; each is analysed as the patch of its parameter "
+                                           "box by check(model), as a B-rep with its trims by check(path)",
+                                           trimmed, cad->faces.size()));
+          if (approximated > 0) warnings.push_back(fmt::format("{} faces were approximated", approximated));
+          if (units != nullptr) *units = occt::cadModelUnits(*cad);
           model = std::move(cad->model);
         } else {
           model = cad.status();
@@ -144,7 +160,9 @@ Model readAnyModel(const std::filesystem::path& file, [[maybe_unused]] std::vect
 
 PyModel load(const std::filesystem::path& file) {
   std::vector<std::string> warnings;
-  PyModel m{readAnyModel(file, warnings), file.string()};
+  ModelUnits units;
+  Model model = readAnyModel(file, warnings, &units);
+  PyModel m{std::move(model), file.string(), units};
   if (!warnings.empty()) {
     py::module_ warn = py::module_::import("warnings");
     for (const std::string& w : warnings) warn.attr("warn")(fmt::format("{}: {}", file.string(), w));
@@ -324,9 +342,9 @@ cli::FileCheckOptions checkOptions(std::optional<double> tolDistance, std::optio
   const Result<SeamSortKey> key = parseSeamSortKey(sort);
   if (!key) throw py::value_error("sort: " + key.status().message());
   o.selection.sort = *key;
-  if (only != "problems" && only != "all")
-    throw py::value_error(fmt::format("only: \"{}\" is not \"problems\" (gaps and kinks) or \"all\"", only));
-  o.selection.onlyProblems = only == "problems";
+  const Result<SeamFilter> filter = parseSeamFilter(only);
+  if (!filter) throw py::value_error("only: " + filter.status().message());
+  o.selection.only = *filter;
   o.selection.top = top;
   o.patches = patches;
   return o;
@@ -360,8 +378,9 @@ py::object checkLoaded(const PyModel& m, const cli::FileCheckOptions& o) {
   {
     py::gil_scoped_release release;
     try {
-      // units= gives a loaded model the unit of its numbers, as --units does for a JSON/.bpt file.
-      ModelUnits units;
+      // units= gives a loaded model the unit of its numbers, as --units does for a JSON/.bpt file; a STEP/IGES
+      // model has its file's (millimetres).
+      ModelUnits units = m.units;
       if (o.tol.units) {
         units.length = o.tol.units;
         units.source = UnitSource::kOption;
@@ -387,6 +406,7 @@ RepairUnits repairTolerances(const PyModel& m, const std::optional<std::string>&
   ToleranceOverrides overrides;
   applyUnitsAndPreset(overrides, units, preset);
   RepairUnits r;
+  r.units = m.units;  // a STEP/IGES model's millimetres, as the CLI's heal of the same file
   if (overrides.units) {
     r.units.length = overrides.units;
     r.units.source = UnitSource::kOption;
@@ -433,7 +453,7 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
     if (r) json = healReportJson(r->report);
   }
   if (!r) raise(r.status().withContext(m.source));
-  PyModel healed{std::move(r->model), m.source + " (healed)"};
+  PyModel healed{std::move(r->model), m.source + " (healed)", m.units};
   return py::make_tuple(std::move(healed), repairDict(json, tol));
 }
 
@@ -555,7 +575,7 @@ py::tuple join(const PyModel& m, const std::string& movePatch, const std::string
     if (r) json = joinReportJson(r->report);
   }
   if (!r) raise(r.status().withContext(m.source));
-  PyModel joined{std::move(r->model), m.source + " (joined)"};
+  PyModel joined{std::move(r->model), m.source + " (joined)", m.units};
   return py::make_tuple(std::move(joined), repairDict(json, tol));
 }
 
@@ -619,7 +639,7 @@ py::tuple corner(const PyModel& m, const std::optional<std::vector<std::vector<s
     }
   }
   if (!status) raise(status.withContext(m.source));
-  return py::make_tuple(PyModel{std::move(out), m.source + " (corner joined)"}, jsonToPython(json));
+  return py::make_tuple(PyModel{std::move(out), m.source + " (corner joined)", m.units}, jsonToPython(json));
 }
 
 /// fill: `seam fill` (Johansson §4): (the model with the new patches appended, or None when nothing was built, and
@@ -672,7 +692,7 @@ py::tuple fill(const PyModel& m, const std::optional<std::vector<std::string>>& 
     }
   }
   if (!status) raise(status);
-  py::object model = full ? py::cast(PyModel{std::move(*full), m.source + " (filled)"}) : py::none();
+  py::object model = full ? py::cast(PyModel{std::move(*full), m.source + " (filled)", m.units}) : py::none();
   return py::make_tuple(model, toPython(json));
 }
 
@@ -726,7 +746,7 @@ py::object regularityOf(const PyModel& m, const std::optional<std::string>& patc
 PyModel loads(const std::string& text, const std::string& source) {
   Result<Model> r = io::parseModelJson(text, source);
   if (!r) raise(r.status());
-  return PyModel{std::move(r).value(), source};
+  return PyModel{std::move(r).value(), source, {}};
 }
 
 /// The control points of a patch: (nu, nv, dim), [i, j] the point with index i along u, j along v.

@@ -117,7 +117,7 @@ TEST(CheckJson, StreamedEqualsDocumentRoute) {
   SeamSelection all;
   SeamSelection problems;
   problems.sort = SeamSortKey::kAngle;
-  problems.onlyProblems = true;
+  problems.only = SeamFilter::kProblems;
   problems.top = 3;
   for (const SeamSelection& sel : {all, problems}) {
     for (const std::optional<GeometricClass>& require : {std::optional<GeometricClass>(),
@@ -167,7 +167,7 @@ TEST(CheckJson, BRepStreamedTextEqualsDocumentTextByteForByte) {
     for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
     SeamSelection cut;
     cut.sort = SeamSortKey::kAngle;
-    cut.onlyProblems = true;
+    cut.only = SeamFilter::kProblems;
     cut.top = 3;
     for (const auto& [selection, require] : {std::pair{SeamSelection{}, std::optional<GeometricClass>{}},
                                              std::pair{cut, std::optional{GeometricClass::kG2}}}) {

@@ -236,6 +236,28 @@ TEST_F(CliVerdicts, JsonVerdictPerSeamAndSummary) {
   EXPECT_EQ(k["summary"]["worst_kink"]["a"], "A1");
 }
 
+// One exit-code rule for check and batch (issue 38 goal 8): the hinge model has two kinks and a gap. Without
+// --require both exit 0 (the batch row still says "problem"); with a class the model misses both exit 1; with one it
+// meets both exit 0. The expected codes follow from the model's construction (kinks of 10 and 45 degrees, a gap of
+// 0.01), not from either command.
+TEST_F(CliVerdicts, CheckAndBatchShareOneExitRule) {
+  for (const auto& [require, code] : {std::pair{std::string(), 0}, std::pair{std::string(" --require G1"), 1},
+                                      std::pair{std::string(" --require G0"), 1}}) {
+    const CliRun check = runSeam("check \"" + hinges_ + "\"" + require);
+    const CliRun batch = runSeam("batch \"" + hinges_ + "\" --json -j 1" + require);
+    EXPECT_EQ(check.exitCode, code) << require;
+    EXPECT_EQ(batch.exitCode, code) << require << "\n" << batch.out;
+    const nlohmann::json j = nlohmann::json::parse(batch.out, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << batch.out;
+    EXPECT_EQ(j["files"][0]["status"], "problem") << require;
+    EXPECT_EQ(j["files"][0]["below_required"].get<int>() > 0, code == 1) << require;
+  }
+  // Every seam of the two-patch model is G1 (CliCheck's model): --require G1 is met by both commands.
+  EXPECT_EQ(runSeam("check \"" + model_ + "\" --require G1").exitCode, 0);
+  EXPECT_EQ(runSeam("batch \"" + model_ + "\" -j 1 --require G1").exitCode, 0);
+  EXPECT_EQ(runSeam("batch \"" + model_ + "\" -j 1 --require G2").exitCode, 1);
+}
+
 TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
   nlohmann::json j = nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json --sort angle --top 3").out);
   ASSERT_EQ(j["seams"].size(), 3u);
@@ -278,8 +300,31 @@ TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
   EXPECT_NE(p.out.find("A4  u1    B4  u0    gap"), std::string::npos) << p.out;
   EXPECT_EQ(p.out.find("B5  u0"), std::string::npos) << p.out;  // the G2 seam is not listed
 
+  // The default order of the tables (issue 38 goal 3): kinks (10, then 3 degrees), then the gap, then the rest;
+  // --only keeps one verdict (the hinges' verdicts are known from their construction).
+  const CliRun d = runSeam("check \"" + hinges_ + "\"");
+  const size_t dCreases = d.out.find("design creases (3");
+  ASSERT_NE(dCreases, std::string::npos) << d.out;
+  EXPECT_NE(d.out.find("kinks first, then gaps"), std::string::npos) << d.out;
+  EXPECT_LT(d.out.find("A0  "), d.out.find("A6  ")) << d.out;
+  EXPECT_LT(d.out.find("A6  "), d.out.find("A4  ")) << d.out;
+  EXPECT_LT(d.out.find("A4  "), d.out.find("A5  ")) << d.out;
+  EXPECT_LT(d.out.find("A5  "), dCreases) << d.out;
+  const CliRun k = runSeam("check \"" + hinges_ + "\" --only kinks");
+  EXPECT_NE(k.out.find("A0  "), std::string::npos) << k.out;
+  EXPECT_NE(k.out.find("A6  "), std::string::npos) << k.out;
+  for (const char* other : {"A1  ", "A2  ", "A3  ", "A4  ", "A5  "}) EXPECT_EQ(k.out.find(other), std::string::npos) << k.out;
+  EXPECT_NE(k.out.find("not listed (--only kinks)"), std::string::npos) << k.out;
+  const CliRun g = runSeam("check \"" + hinges_ + "\" --only gaps");
+  EXPECT_NE(g.out.find("A4  "), std::string::npos) << g.out;
+  EXPECT_EQ(g.out.find("A0  "), std::string::npos) << g.out;
+  const CliRun c = runSeam("check \"" + hinges_ + "\" --only creases --json");
+  EXPECT_EQ(verdictsOf(nlohmann::json::parse(c.out)), (std::vector<std::string>{"crease", "crease", "crease"}));
+  // --json keeps the file order unless --sort is given.
+  EXPECT_EQ(nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json").out)["seams"][0]["index"], 0);
+
   EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --sort size").exitCode, 2);
-  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --only creases").exitCode, 2);
+  EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --only bumps").exitCode, 2);
   EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --crease-angle 0").exitCode, 2);
   EXPECT_EQ(runSeam("check \"" + hinges_ + "\" --crease-angle 181").exitCode, 2);
 }
@@ -476,7 +521,7 @@ TEST_F(CliVerdicts, StepFileGetsTheSameVerdicts) {
   EXPECT_TRUE(j["summary"]["corners"].is_null());  // not analysed for B-rep files
   const CliRun t = runSeam("check \"" + step + "\" --only problems --top 1");
   EXPECT_NE(t.out.find("worst kink: edge "), std::string::npos) << t.out;
-  EXPECT_NE(t.out.find("showing 1 of 3, problems only"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("showing 1 of 3, kinks first, then gaps, only problems"), std::string::npos) << t.out;
 }
 // A CAD file has a length unit: mm from its header, the absolute default 0.001 mm, said in the text and the JSON.
 // With --units m the file's numbers are metres: every coordinate is 1000 times larger (the worst kink's point).

@@ -11,12 +11,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "seam/repair/join.h"
+#include "seam_test_support.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -207,7 +209,7 @@ JoinOptions g2Options() {
 void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, bool varyingRho = false,
                const std::optional<KnotVector>& knotsV = std::nullopt) {
   std::mt19937_64 rng(seed);
-  int accepted = 0, achieved = 0;
+  int accepted = 0, achieved = 0, refusedAsFolds = 0;
   for (int trial = 0; trial < 200 && accepted < 12; ++trial) {
     const bool mirrored = trial % 2 == 1;
     const double offset = uniformReal(rng, 0.005, 0.08);
@@ -238,6 +240,19 @@ void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, boo
       // A join that cannot reach G2 must leave B as it was (never half-done) and say so.
       EXPECT_TRUE(rep.reverted || rep.after.geometric == rep.before.geometric);
       EXPECT_EQ(r->model.patches[1].surface.points(), pr.b.points());
+      const bool fold = std::any_of(rep.notes.begin(), rep.notes.end(), [](const std::string& n) {
+        return n.find("would turn over") != std::string::npos || n.find("would fold") != std::string::npos;
+      });
+      if (fold) {
+        // Refused as a fold (issue 36 goal 2; these random B are often folded already, cusps and
+        // self-intersections): with the fold test off, the join turns B's normal over somewhere (dense sampling).
+        JoinOptions off = g2Options();
+        off.refuseFolds = false;
+        auto f = joinSeam(m, "B", Edge::U0, "A", Edge::U1, off);
+        ASSERT_TRUE(f.isOk());
+        EXPECT_GT(seamtest::sampledTurn(pr.b, f->model.patches[1].surface, 121).angleDeg, 90.0);
+        ++refusedAsFolds;
+      }
       continue;
     }
     ++achieved;
@@ -268,7 +283,13 @@ void runTrials(bool rational, std::uint64_t seed, double weightScaleB = 1.0, boo
     }
   }
   EXPECT_GE(accepted, 10) << "too few random pairs in the 10-100 % band: the construction changed";
-  EXPECT_EQ(achieved, accepted) << "G2 joins that were declined";
+  EXPECT_EQ(achieved + refusedAsFolds, accepted) << "G2 joins that were declined";
+  // The random B of these pairs are often folded already (a cusp and several self-intersections by `seam
+  // regularity`); a G2 join that only moves rows 0-2 of a 4-row B then turns B's normal over near its far edge.
+  // Every such refusal is confirmed above; most pairs must still come out G2.
+  EXPECT_GE(achieved, 2) << refusedAsFolds << " refused as folds";
+  std::printf("G2 joins: %d of %d achieved, %d refused as folds (confirmed by sampling)\n", achieved, accepted,
+              refusedAsFolds);
 }
 
 TEST(G2Join, PolynomialPairsWithACurvatureJumpComeOutG2) { runTrials(false, 14001); }

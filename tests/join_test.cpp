@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -40,6 +41,19 @@ namespace {
 using seamtest::Rng;
 using seamtest::c1Graph;
 using seamtest::urand;
+
+using seamtest::sampledNormal;
+using seamtest::sampledTurn;
+using seamtest::SampledTurn;
+constexpr double kPi = std::numbers::pi;
+
+/// The angle (degrees) between the normals of `before` and `after` at the parameters (u, v) of `after`.
+double angleAt(const BSplineSurface& before, const BSplineSurface& after, double u, double v) {
+  const double a = (u - after.domainU().lo) / after.domainU().length(), b = (v - after.domainV().lo) / after.domainV().length();
+  const Vec3 n0 = sampledNormal(before, a, b), n1 = sampledNormal(after, a, b);
+  return std::acos(std::clamp(n0.dot(n1) / (n0.norm() * n1.norm()), -1.0, 1.0)) * 180.0 / kPi;
+}
+
 
 /// Joins exact to round-off: 1e-6 degrees (analyzeSeam's own default tolerance is 0.01 degrees).
 constexpr double kExactAngleDeg = 1e-6;
@@ -774,6 +788,7 @@ TEST(PaperJoin, AutoPicksTheorem1ForProportionalKnots) {
 
 TEST(PaperJoin, BezierStripForNonProportionalKnots) {
   Rng rng(8008);
+  int refusedAsFolds = 0;
   for (int trial = 0; trial < 6; ++trial) {
     const Case c = bicubicCase(rng, false);
     JoinOptions o = opts();
@@ -782,6 +797,17 @@ TEST(PaperJoin, BezierStripForNonProportionalKnots) {
     auto r = join(c, o);
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r->report.method, JoinMethod::kBezierStrip);
+    if (r->report.reverted) {
+      // Refused as a fold (where the displacement-optimal l is not positive): the same join with the fold test off
+      // turns the patch's normal over somewhere, by dense sampling.
+      JoinOptions off = o;
+      off.refuseFolds = false;
+      auto f = join(c, off);
+      ASSERT_TRUE(f.isOk());
+      EXPECT_GT(sampledTurn(c.model.patches[1].surface, f->model.patches[1].surface, 121).angleDeg, 90.0);
+      ++refusedAsFolds;
+      continue;
+    }
     ASSERT_TRUE(r->report.stripInternalG1MaxDeg.has_value());
     EXPECT_LE(*r->report.stripInternalG1MaxDeg, kExactAngleDeg);
     checkJoin(c, *r, GeometricClass::kG1, /*tMayMove=*/false, /*lastMovedRow=*/3);
@@ -793,6 +819,7 @@ TEST(PaperJoin, BezierStripForNonProportionalKnots) {
     EXPECT_EQ(ra->report.method, JoinMethod::kLeastSquares);
     checkJoin(c, *ra, GeometricClass::kG1);
   }
+  EXPECT_LE(refusedAsFolds, 3) << "most strip joins of these pairs are regular";
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -1082,4 +1109,139 @@ TEST(SurfaceDisplacement, TheSharpBoundIsWithinOneAndAHalfOfTheTrueMaximum) {
 }
 
 }  // namespace
+}  // namespace seam
+
+// ---- normalTurnover (issue 36 goal 2): the Bernstein-form fold test against dense sampling of the normals.
+
+namespace seam {
+
+
+TEST(NormalTurnover, AgreesWithDenseSamplingOnRandomMovesAndFolds) {
+  Rng rng(36021);
+  int found = 0, certified = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const bool rational = trial % 2 == 1, fold = trial % 4 >= 2, refined = trial % 8 >= 4;
+    const int du = 3, dv = 2 + trial % 3 / 2, nu = 6, nv = 5;
+    auto knots = [&](int degree, int count) {
+      std::vector<double> k(static_cast<size_t>(degree + 1), 0.0);
+      double t = 0.0;
+      for (int i = 0; i < count - degree - 1; ++i) k.push_back(t += urand(rng, 0.3, 1.7));  // uneven
+      k.insert(k.end(), static_cast<size_t>(degree + 1), t + urand(rng, 0.3, 1.7));
+      return k;
+    };
+    const std::vector<double> ku = knots(du, nu), kv = knots(dv, nv);
+    Matrix p0(nu * nv, 3);
+    VecX w0;
+    if (rational) w0.resize(nu * nv);
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        p0.row(i * nv + j) << i, j, urand(rng, -0.3, 0.3);
+        if (rational) w0[i * nv + j] = urand(rng, 0.5, 2.0);
+      }
+    const Result<BSplineSurface> before = BSplineSurface::create(du, dv, ku, kv, nu, nv, p0, w0);
+    ASSERT_TRUE(before);
+    // The moved patch: in the input's net, or in a finer one (degree raised along u, a knot inserted along v), so
+    // that the common refinement of both is exercised; then its points moved.
+    BSplineSurface base = *before;
+    if (refined) base = base.degreeElevated(1, 0).refinedV({0.5 * (kv[static_cast<size_t>(dv)] + kv[static_cast<size_t>(dv + 1)])});
+    Matrix p1 = base.points();
+    const int bu = base.numU(), bv = base.numV();
+    for (int r = 0; r < bu * bv; ++r) p1.row(r) += Vec3(0.0, 0.0, urand(rng, -0.2, 0.2)).transpose();
+    if (fold)  // one row pushed past the next two: the surface turns back over itself along u
+      for (int j = 0; j < bv; ++j) p1(2 * bv + j, 0) += urand(rng, 1.6, 3.0) * (bu - 1) / (nu - 1.0);
+    const Result<BSplineSurface> after = BSplineSurface::create(base.degreeU(), base.degreeV(), base.knotsU().values(),
+                                                                base.knotsV().values(), bu, bv, p1, base.weights());
+    ASSERT_TRUE(after);
+    const NormalTurnover t = normalTurnover(*before, *after);
+    const SampledTurn dense = sampledTurn(*before, *after, 121);
+    if (dense.angleDeg > 90.5)
+      EXPECT_TRUE(t.found) << "trial " << trial << ": sampling finds " << dense.angleDeg << " deg at (" << dense.a
+                           << ", " << dense.b << ")";
+    if (t.found) {
+      ++found;
+      EXPECT_GT(angleAt(*before, *after, t.u, t.v), 90.0) << "trial " << trial;
+      EXPECT_NEAR(angleAt(*before, *after, t.u, t.v), t.angleDeg, 1e-6) << "trial " << trial;
+      EXPECT_FALSE(t.certified);
+    }
+    if (t.certified) {
+      ++certified;
+      EXPECT_LE(dense.angleDeg, 90.0) << "trial " << trial << ": certified, but sampling finds " << dense.angleDeg;
+    }
+    if (!fold) EXPECT_TRUE(t.certified) << "trial " << trial << " (small moves)";
+  }
+  EXPECT_GE(found, 15);
+  EXPECT_GE(certified, 15);
+}
+
+TEST(NormalTurnover, APoleHasNoDirectionAndAWiderLimitAllowsMore) {
+  // A bicubic cap with its u = 0 edge collapsed to a point (the normal vanishes there), its points moved a little:
+  // no turnover. Then the same patch mirrored (most normals reversed): found at the default 90-degree limit, never
+  // at a 180-degree limit (the heal's crease angle 180 allows any turn).
+  Rng rng(36022);
+  Matrix p0(16, 3), p1(16, 3);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double r = i / 3.0, th = j * kPi / 6.0;
+      p0.row(i * 4 + j) << r * std::cos(th), r * std::sin(th), 0.3 * (1.0 - r * r);
+      p1.row(i * 4 + j) = p0.row(i * 4 + j);
+      if (i > 0) p1.row(i * 4 + j) += Vec3(urand(rng, -0.01, 0.01), urand(rng, -0.01, 0.01), urand(rng, -0.01, 0.01)).transpose();
+    }
+  const std::vector<double> k = {0, 0, 0, 0, 1, 1, 1, 1};
+  const Result<BSplineSurface> before = BSplineSurface::create(3, 3, k, k, 4, 4, p0);
+  const Result<BSplineSurface> after = BSplineSurface::create(3, 3, k, k, 4, 4, p1);
+  ASSERT_TRUE(before && after);
+  ASSERT_LT(sampledNormal(*before, 0.0, 0.5).norm(), 1e-12);  // the pole
+  const NormalTurnover moved = normalTurnover(*before, *after);
+  EXPECT_FALSE(moved.found);
+  EXPECT_LE(sampledTurn(*before, *after, 101).angleDeg, 90.0);
+  // Mirrored in x: S_u x S_v becomes (n_x, -n_y, -n_z), against the input's normal wherever n_z dominates.
+  Matrix mirrored = p1;
+  mirrored.col(0) *= -1.0;
+  const Result<BSplineSurface> reflected = BSplineSurface::create(3, 3, k, k, 4, 4, mirrored);
+  ASSERT_TRUE(reflected);
+  ASSERT_GT(sampledTurn(*before, *reflected, 101).angleDeg, 120.0);
+  const NormalTurnover r = normalTurnover(*before, *reflected);
+  EXPECT_TRUE(r.found);
+  EXPECT_GT(r.angleDeg, 90.0);
+  EXPECT_FALSE(normalTurnover(*before, *reflected, 180.0).found);
+}
+
+// A G0 join that can only fold its patch: a thin bicubic strip whose far edge must come onto an edge beyond its own
+// near edge. Least squares moves the last row of points past the other three, the strip turns back over itself
+// near that edge (its normal reverses there, sampled), and the join must be refused with the input returned: the
+// seam's own checks (gap, angle, lambda) do not see it.
+TEST(NormalTurnover, AJoinThatWouldFoldItsPatchIsRefused) {
+  Matrix ps(16, 3), pt(16, 3);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      ps.row(i * 4 + j) << i / 3.0, 0.1 * j / 3.0, 0.0;          // S: y in [0, 0.1], edge v1 at y = 0.1
+      pt.row(i * 4 + j) << i / 3.0, -0.05 - 0.5 * j / 3.0, 0.0;  // T: edge v0 at y = -0.05
+    }
+  const std::vector<double> k = {0, 0, 0, 0, 1, 1, 1, 1};
+  const Result<BSplineSurface> s = BSplineSurface::create(3, 3, k, k, 4, 4, ps);
+  const Result<BSplineSurface> t = BSplineSurface::create(3, 3, k, k, 4, 4, pt);
+  ASSERT_TRUE(s && t);
+  Model m;
+  m.patches = {patch("S", *s), patch("T", *t)};
+  // What the fold test stops: the same join with the last row of S simply put onto T's edge (what least squares
+  // does for G0) turns S's normal by 180 degrees near v = 1.
+  Matrix moved = ps;
+  for (int i = 0; i < 4; ++i) moved.row(i * 4 + 3) = pt.row(i * 4);
+  const Result<BSplineSurface> folded = BSplineSurface::create(3, 3, k, k, 4, 4, moved);
+  ASSERT_TRUE(folded);
+  ASSERT_GT(sampledTurn(*s, *folded, 81).angleDeg, 170.0);
+  JoinOptions o = opts();
+  o.continuity = GeometricClass::kG0;
+  o.method = JoinMethod::kLeastSquares;
+  o.maxGap = 1.0;
+  auto r = joinSeam(m, "S", Edge::V1, "T", Edge::V0, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const BSplineSurface& out = r->model.findPatch("S")->surface;
+  EXPECT_LE(sampledTurn(*s, out, 81).angleDeg, 90.0);
+  EXPECT_TRUE(r->report.reverted);
+  std::string notes;
+  for (const std::string& n : r->report.notes) notes += n + "\n";
+  EXPECT_NE(notes.find("would fold"), std::string::npos) << notes;
+}
+
 }  // namespace seam

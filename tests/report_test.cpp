@@ -95,7 +95,7 @@ TEST(HtmlReport, KinksFirstAndCreasesApart) {
   EXPECT_NE(h.find("gap 1, kink 2, crease 3"), std::string::npos);
   EXPECT_NE(h.find("<a href=\"#seam-0\">#0</a> A0:u1 / B0:u0 at [0, "), std::string::npos);  // the worst kink
   report::HtmlReportOptions o;
-  o.selection.onlyProblems = true;
+  o.selection.only = SeamFilter::kProblems;
   o.selection.sort = SeamSortKey::kGap;
   o.selection.top = 2;
   h = report::htmlReport(m, r, o);

@@ -613,4 +613,41 @@ inline double patchScale(const BSplineSurface& s) {
   return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm();
 }
 
+/// Normals of a moved patch against the input at equal normalised parameters (issue 36 goal 2's independent
+/// oracle): pointwise derivatives (NURBS Book A4.4), not the Bernstein products and subdivision of normalTurnover.
+struct SampledTurn {
+  double angleDeg = 0.0;    ///< the largest angle between the normals where both are defined
+  double a = 0.0, b = 0.0;  ///< normalised parameters of that point
+};
+
+/// S_u x S_v at the normalised parameters (a, b) of the surface's domain.
+inline Vec3 sampledNormal(const BSplineSurface& s, double a, double b) {
+  const auto d = s.derivatives(s.domainU().lo + a * s.domainU().length(), s.domainV().lo + b * s.domainV().length(), 1);
+  return Vec3(d[1][0].head<3>().cross(d[0][1].head<3>()));
+}
+
+/// The largest angle between the normals of two surfaces on an n x n lattice of normalised parameters, where both
+/// are defined (|S_u x S_v| above 1e-9 of the lattice's largest on each surface: poles give no direction).
+inline SampledTurn sampledTurn(const BSplineSurface& before, const BSplineSurface& after, int n) {
+  std::vector<Vec3> n0, n1;
+  double s0 = 0.0, s1 = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double a = static_cast<double>(i) / (n - 1), b = static_cast<double>(j) / (n - 1);
+      n0.push_back(sampledNormal(before, a, b));
+      n1.push_back(sampledNormal(after, a, b));
+      s0 = std::max(s0, n0.back().norm());
+      s1 = std::max(s1, n1.back().norm());
+    }
+  SampledTurn t;
+  for (int k = 0; k < n * n; ++k) {
+    const Vec3& x = n0[static_cast<size_t>(k)];
+    const Vec3& y = n1[static_cast<size_t>(k)];
+    if (x.norm() <= 1e-9 * s0 || y.norm() <= 1e-9 * s1) continue;
+    const double deg = std::acos(std::clamp(x.dot(y) / (x.norm() * y.norm()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    if (deg > t.angleDeg) t = {deg, static_cast<double>(k / n) / (n - 1), static_cast<double>(k % n) / (n - 1)};
+  }
+  return t;
+}
+
 }  // namespace seam::seamtest

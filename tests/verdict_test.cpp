@@ -81,7 +81,7 @@ TEST(SeamVerdict, SortTopOnlyProblemsAndWorstDefects) {
   EXPECT_EQ(selectSeams(p, sel), (std::vector<size_t>{3, 2, 1, 0, 5, 4, 6}));  // stable among equal angles
   sel.top = 3;
   EXPECT_EQ(selectSeams(p, sel), (std::vector<size_t>{3, 2, 1}));
-  sel.onlyProblems = true;
+  sel.only = SeamFilter::kProblems;
   EXPECT_EQ(selectSeams(p, sel), (std::vector<size_t>{0, 5, 4}));  // kinks and gaps only, largest angle first
   sel.top.reset();
   sel.sort = SeamSortKey::kGap;
@@ -94,7 +94,7 @@ TEST(SeamVerdict, SortTopOnlyProblemsAndWorstDefects) {
   withFailed.insert(withFailed.begin(), nullptr);
   SeamSelection byAngle;
   byAngle.sort = SeamSortKey::kAngle;
-  byAngle.onlyProblems = true;
+  byAngle.only = SeamFilter::kProblems;
   EXPECT_EQ(selectSeams(withFailed, byAngle), (std::vector<size_t>{1, 6, 5, 7, 0}));
 
   const WorstDefects w = worstDefects(p);
@@ -105,7 +105,23 @@ TEST(SeamVerdict, SortTopOnlyProblemsAndWorstDefects) {
   const WorstDefects none = worstDefects(std::vector<const SeamReport*>{&seams[1], &seams[2]});
   EXPECT_FALSE(none.kink || none.gap);
 
+  // By verdict (issue 38 goal 3): kinks 0 (10 deg) and 5 (3 deg), gaps 4 (0.01) and 6 (0.002), the failed
+  // analysis, then the creases 3, 2, 1 (150, 90, 45 deg); the verdicts follow from the hinges' construction.
+  SeamSelection byVerdict;
+  byVerdict.sort = SeamSortKey::kVerdict;
+  EXPECT_EQ(selectSeams(withFailed, byVerdict), (std::vector<size_t>{1, 6, 5, 7, 0, 4, 3, 2}));
+  byVerdict.only = SeamFilter::kKinks;
+  EXPECT_EQ(selectSeams(withFailed, byVerdict), (std::vector<size_t>{1, 6}));
+  byVerdict.only = SeamFilter::kGaps;
+  EXPECT_EQ(selectSeams(withFailed, byVerdict), (std::vector<size_t>{5, 7}));
+  byVerdict.only = SeamFilter::kCreases;
+  EXPECT_EQ(selectSeams(withFailed, byVerdict), (std::vector<size_t>{4, 3, 2}));
+  for (const char* name : {"all", "problems", "gaps", "kinks", "creases"})
+    EXPECT_EQ(toString(*parseSeamFilter(name)), name);
+  EXPECT_FALSE(parseSeamFilter("bumps").isOk());
+
   EXPECT_EQ(*parseSeamSortKey("curvature"), SeamSortKey::kCurvature);
+  EXPECT_EQ(*parseSeamSortKey("verdict"), SeamSortKey::kVerdict);
   EXPECT_FALSE(parseSeamSortKey("size").isOk());
   EXPECT_FALSE(validCreaseAngle(0.0));
   EXPECT_TRUE(validCreaseAngle(180.0));

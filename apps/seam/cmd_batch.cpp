@@ -4,10 +4,11 @@
 // process; a file that crashes the reader or runs past --timeout costs only its own row), N children at a time.
 // One line per file as it finishes (stderr), then the combined table (stdout), or with --json one object holding
 // a row per file (the keys of seam.batch.check_file in the Python module) and the totals.
-// Exit codes: 0 every file read and free of gaps and kinks, 1 some file has a gap, a kink or a seam whose analysis
-// failed (a degenerate edge: "collapses to a point") (or a seam below
-// --require), 2 bad usage, no files, or some file unreadable / invalid / crashed / timed out. A bad file never
-// stops the batch.
+// Exit codes, the rule of `seam check` (docs/check-output.md, "Exit codes"): 0 every file read (and, with
+// --require, every seam of every file meets it), 1 some file has a seam below --require (a seam whose analysis
+// failed counts as below), 2 bad usage, no files, or some file unreadable / invalid / crashed / timed out. Without
+// --require gaps and kinks are reported (status "problem") but do not change the exit code. A bad file never stops
+// the batch.
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <glob.h>
@@ -147,6 +148,7 @@ struct Row {
   int seams = 0;
   std::array<int, 5> verdicts{};  // gap, kink, crease, G1, G2
   int failed = 0;                  // seams whose analysis failed (a degenerate edge: "collapses to a point")
+  int belowRequired = 0;           // seams below --require (failed ones included); 0 without --require
   std::vector<std::string> warnings;  // the reader's (a partly read STEP/IGES file is never "ok" without them)
   std::optional<double> worstGap, worstAngleDeg;
   std::string unit;                    // the model's length unit ("mm"; "" for a unit-less model)
@@ -199,8 +201,8 @@ void fillFromJson(Row& row, const std::string& text, bool require) {
   if (warnings.is_array())
     for (const nlohmann::json& w : warnings)
       if (w.is_string()) row.warnings.push_back(w.get<std::string>());
-  const bool below = require && summary.value("below_required", 0) > 0;
-  row.status = row.verdicts[0] > 0 || row.verdicts[1] > 0 || row.failed > 0 || below ? "problem" : "ok";
+  row.belowRequired = require ? summary.value("below_required", 0) : 0;
+  row.status = row.verdicts[0] > 0 || row.verdicts[1] > 0 || row.failed > 0 || row.belowRequired > 0 ? "problem" : "ok";
 }
 
 /// A running child: `seam check FILE --json` with stdout and stderr in temporary files.
@@ -288,6 +290,7 @@ OrderedJson rowJson(const Row& r) {
                 {"seams", r.seams}};
   for (size_t k = 0; k < 5; ++k) j[kVerdictKeys[k]] = r.verdicts[k];
   j["failed"] = r.failed;
+  j["below_required"] = r.belowRequired;
   j["warnings"] = r.warnings;
   j["worst_gap"] = opt(r.worstGap);
   j["worst_angle_deg"] = opt(r.worstAngleDeg);
@@ -437,7 +440,8 @@ int runBatch(const BatchOptions& o) {
     fmt::print("\n{} files: {} ok, {} with gaps, kinks or failed seams, {} unreadable; {:.2f} s with {} jobs ({:.3g} files/s)\n",
                rows.size(), ok, problem, error, seconds, jobs, static_cast<double>(rows.size()) / seconds);
   }
-  return error > 0 ? kExitBadInput : problem > 0 ? kExitGeometryProblem : kExitOk;
+  const bool below = std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.belowRequired > 0; });
+  return error > 0 ? kExitBadInput : below ? kExitGeometryProblem : kExitOk;
 }
 
 void addBatch(CLI::App& app, int& exit) {
@@ -453,8 +457,9 @@ void addBatch(CLI::App& app, int& exit) {
   cmd->add_option("--require", o->require, "A file with a seam below this class (G0, G1 or G2) is a problem");
   addToleranceOptions(*cmd, o->tol);
   cmd->add_flag("--patches", o->patches, "STEP/IGES: check the faces as patches instead of the B-rep edges");
-  cmd->footer("Exit codes: 0 all files ok, 1 some file has a gap, a kink or a failed seam (or a seam below --require), 2 bad usage "
-              "or some file unreadable, invalid, crashed or timed out.");
+  cmd->footer("Exit codes (as seam check): 0 every file read and, with --require, every seam meets it; 1 some seam is below "
+              "--require (a failed seam counts as below); 2 bad usage or some file unreadable, invalid, crashed or timed "
+              "out. Gaps and kinks alone make a file's status \"problem\", not the exit code.");
   cmd->callback([o, &exit]() {
     suspendRunTimeLimitUnlessGiven();  // each file has its own --timeout; the whole batch only a given --time-limit
     exit = runBatch(*o);

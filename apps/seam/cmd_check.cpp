@@ -41,9 +41,9 @@ struct CheckOptions {
   bool json = false;
   bool patches = false;  // STEP/IGES: check the faces' patches instead of the B-rep edges
   std::optional<double> creaseAngle;
-  std::string sort = "file";
+  std::string sort;  // "" = verdict for the tables, file for --json
   std::optional<size_t> top;
-  std::string only;  // "" (all) or "problems"
+  std::string only;  // "" (all), problems, gaps, kinks, creases
   std::optional<int> threads;  // --threads: 0 = all hardware threads; unset = each check's own default
 };
 
@@ -61,17 +61,20 @@ std::optional<SeamSelection> parseSelection(const CheckOptions& o) {
     }
     sel.creaseAngleDeg = *o.creaseAngle;
   }
-  const Result<SeamSortKey> key = parseSeamSortKey(o.sort);
+  const Result<SeamSortKey> key = parseSeamSortKey(o.sort.empty() ? (o.json ? "file" : "verdict") : o.sort);
   if (!key) {
     printError("--sort: " + key.status().message());
     return std::nullopt;
   }
   sel.sort = *key;
-  if (!o.only.empty() && o.only != "problems" && o.only != "all") {
-    printError(fmt::format("--only: \"{}\" is not \"problems\" (gaps and kinks) or \"all\"", o.only));
-    return std::nullopt;
+  if (!o.only.empty()) {
+    const Result<SeamFilter> only = parseSeamFilter(o.only);
+    if (!only) {
+      printError("--only: " + only.status().message());
+      return std::nullopt;
+    }
+    sel.only = *only;
   }
-  sel.onlyProblems = o.only == "problems";
   sel.top = o.top;
   return sel;
 }
@@ -86,18 +89,17 @@ struct SeamListing {
 
 SeamListing listSeams(const std::vector<const SeamReport*>& reports, const SeamSelection& sel) {
   SeamSelection order = sel;
-  order.onlyProblems = false;
+  order.only = SeamFilter::kAll;
   order.top.reset();
   SeamListing l;
   for (size_t k : selectSeams(reports, order)) {
     const bool crease = reports[k] && seamVerdict(*reports[k], sel.creaseAngleDeg) == SeamVerdict::kCrease;
     if (crease) {
       ++l.creasesAll;
-      if (!sel.onlyProblems) l.creases.push_back(k);
+      if (passes(sel.only, reports[k], sel.creaseAngleDeg)) l.creases.push_back(k);
     } else {
       ++l.mainAll;
-      if (!sel.onlyProblems || !reports[k] || isProblem(seamVerdict(*reports[k], sel.creaseAngleDeg)))
-        l.main.push_back(k);
+      if (passes(sel.only, reports[k], sel.creaseAngleDeg)) l.main.push_back(k);
     }
   }
   if (sel.top) {
@@ -111,12 +113,22 @@ SeamListing listSeams(const std::vector<const SeamReport*>& reports, const SeamS
 std::string shownNote(size_t shown, size_t all, const SeamSelection& sel) {
   if (shown == all && sel.sort == SeamSortKey::kFile) return "";
   std::string note = shown == all ? "" : fmt::format("showing {} of {}", shown, all);
-  if (sel.sort != SeamSortKey::kFile) note += fmt::format("{}largest {} first", note.empty() ? "" : ", ",
-                                                           sel.sort == SeamSortKey::kAngle ? "angle"
-                                                           : sel.sort == SeamSortKey::kGap ? "gap"
-                                                                                           : "relative curvature jump");
-  if (sel.onlyProblems) note += ", problems only";
+  if (sel.sort == SeamSortKey::kVerdict)
+    note += fmt::format("{}kinks first, then gaps", note.empty() ? "" : ", ");
+  else if (sel.sort != SeamSortKey::kFile)
+    note += fmt::format("{}largest {} first", note.empty() ? "" : ", ",
+                        sel.sort == SeamSortKey::kAngle ? "angle"
+                        : sel.sort == SeamSortKey::kGap ? "gap"
+                                                        : "relative curvature jump");
+  if (sel.only != SeamFilter::kAll) note += fmt::format("{}only {}", note.empty() ? "" : ", ", toString(sel.only));
   return " (" + note + ")";
+}
+
+/// The heading note of the design creases' list: ": not listed (--only kinks)" when the filter leaves them out.
+std::string creasesNote(const SeamListing& l, const SeamSelection& sel) {
+  if (sel.only != SeamFilter::kAll && sel.only != SeamFilter::kCreases)
+    return fmt::format(": not listed (--only {})", toString(sel.only));
+  return shownNote(l.creases.size(), l.creasesAll, sel);
 }
 
 /// "verdicts: gap 1, kink 4, crease 160 (angle >= 20 deg, left as designed), G1 0, G2 43".
@@ -218,7 +230,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
   if (l.creasesAll > 0) {
     out += fmt::format("\ndesign creases ({}, angle >= {} deg, left as designed){}\n", l.creasesAll,
                        num(sel.creaseAngleDeg),
-                       sel.onlyProblems ? ": not listed (--only problems)" : shownNote(l.creases.size(), l.creasesAll, sel));
+                       creasesNote(l, sel));
     out += table(l.creases);
   }
   for (const ModelSeam& s : r.seams)
@@ -385,7 +397,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     if (l.creasesAll > 0) {
       fmt::print("\ndesign creases ({}, angle >= {} deg, left as designed){}\n{}", l.creasesAll,
                  formatNumber(sel.creaseAngleDeg),
-                 sel.onlyProblems ? ": not listed (--only problems)" : shownNote(l.creases.size(), l.creasesAll, sel),
+                 creasesNote(l, sel),
                  table(l.creases));
     }
     fmt::print("\nfree edges ({}):", r->freeEdges.size());
@@ -532,9 +544,11 @@ void addCheck(CLI::App& app, int& exit) {
                   "Seams whose angle is at or above this (degrees, in (0, 180]) are design creases, listed apart from "
                   "the gaps and kinks (default 20)");
   cmd->add_option("--sort", options->sort,
-                  "Order of the seam lists: angle, gap or curvature (largest first), or file (default)");
+                  "Order of the seam lists: verdict (kinks, then gaps, then the rest; the default of the tables), angle, "
+                  "gap or curvature (largest first), or file (the default of --json)");
   cmd->add_option("--top", options->top, "List at most N seams (per list)")->type_name("N");
-  cmd->add_option("--only", options->only, "problems: list only gaps and kinks (and failed analyses)");
+  cmd->add_option("--only", options->only,
+                  "List only: problems (gaps, kinks and failed analyses), gaps, kinks, creases, or all (the default)");
   cmd->add_option("--require", options->require, "Exit 1 when some seam is below this class (G0, G1 or G2)");
   cmd->add_flag("--json", options->json, "Print JSON instead of tables");
   cmd->add_option("--threads", options->threads,

@@ -59,11 +59,14 @@ bool parseSelection(const ReportOptions& o, SeamSelection& sel) {
     return false;
   }
   sel.sort = *key;
-  if (!o.only.empty() && o.only != "problems" && o.only != "all") {
-    printError(fmt::format("--only: \"{}\" is not \"problems\" (gaps and kinks) or \"all\"", o.only));
-    return false;
+  if (!o.only.empty()) {
+    const Result<SeamFilter> only = parseSeamFilter(o.only);
+    if (!only) {
+      printError("--only: " + only.status().message());
+      return false;
+    }
+    sel.only = *only;
   }
-  sel.onlyProblems = o.only == "problems";
   sel.top = o.top;
   return true;
 }
@@ -145,10 +148,11 @@ void addReport(CLI::App& app, int& exit) {
                   "Seams whose angle is at or above this (degrees, in (0, 180]) are design creases, in a table of "
                   "their own (default 20)");
   cmd->add_option("--sort", o->sort,
-                  "Order of the seam tables: angle, gap or curvature (largest first); default: kinks, then gaps, "
-                  "then the rest");
+                  "Order of the seam tables: verdict (the default: kinks, then gaps, then the rest), angle, gap or "
+                  "curvature (largest first), or file");
   cmd->add_option("--top", o->top, "List at most N seams per table")->type_name("N");
-  cmd->add_option("--only", o->only, "problems: list only gaps and kinks");
+  cmd->add_option("--only", o->only,
+                  "List only: problems (gaps, kinks and failed analyses), gaps, kinks, creases, or all (the default)");
   cmd->callback([o, &exit]() { exit = runReport(*o); });
 }
 

@@ -63,6 +63,7 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
     for v in ("gap", "kink", "crease", "G1", "G2"):
         row[v] = verdicts.get(v, 0)
     row["failed"] = failed
+    row["below_required"] = below
     row["warnings"] = list(result.get("warnings") or [])  # the reader's: a partly read file is never a bare "ok"
     row["worst_gap"] = worst_gap.get("gap")
     row["worst_angle_deg"] = worst_kink.get("angle_deg")
@@ -75,8 +76,8 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
 def error_row(path: str, message: str, seconds: float = 0.0) -> dict:
     """The row of a file that could not be checked."""
     return {"file": path, "status": "error", "error": message, "seams": 0, "gap": 0, "kink": 0, "crease": 0, "G1": 0,
-            "G2": 0, "failed": 0, "warnings": [], "worst_gap": None, "worst_angle_deg": None, "length_unit": None,
-            "gap_tolerance": None, "seconds": seconds}
+            "G2": 0, "failed": 0, "below_required": 0, "warnings": [], "worst_gap": None, "worst_angle_deg": None,
+            "length_unit": None, "gap_tolerance": None, "seconds": seconds}
 
 
 def check_file(path: str, **options) -> dict:
@@ -114,7 +115,8 @@ def check_files(paths, client=None, function=None, **options) -> list[dict]:
 
 
 def exit_code(rows) -> int:
-    """The CLI's convention: 2 when some file could not be read, else 1 when some file has a problem, else 0."""
+    """The CLI's rule (seam check and seam batch): 2 when some file could not be read, else 1 when some file has a
+    seam below the required class (rows made with require=...), else 0. Gaps and kinks alone do not make it 1."""
     if any(r["status"] == "error" for r in rows):
         return 2
-    return 1 if any(r["status"] == "problem" for r in rows) else 0
+    return 1 if any(r.get("below_required", 0) > 0 for r in rows) else 0

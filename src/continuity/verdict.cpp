@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace seam {
 
@@ -36,7 +37,41 @@ Result<SeamSortKey> parseSeamSortKey(std::string_view text) {
   if (text == "angle") return SeamSortKey::kAngle;
   if (text == "gap") return SeamSortKey::kGap;
   if (text == "curvature") return SeamSortKey::kCurvature;
-  return invalidInput(fmt::format("unknown sort key \"{}\" (expected angle, gap, curvature or file)", text));
+  if (text == "verdict") return SeamSortKey::kVerdict;
+  return invalidInput(fmt::format("unknown sort key \"{}\" (expected verdict, angle, gap, curvature or file)", text));
+}
+
+Result<SeamFilter> parseSeamFilter(std::string_view text) {
+  for (SeamFilter f : {SeamFilter::kAll, SeamFilter::kProblems, SeamFilter::kGaps, SeamFilter::kKinks,
+                       SeamFilter::kCreases})
+    if (text == toString(f)) return f;
+  return invalidInput(fmt::format("\"{}\" is not problems (gaps, kinks and failed analyses), gaps, kinks, creases or all",
+                                  text));
+}
+
+std::string_view toString(SeamFilter f) {
+  switch (f) {
+    case SeamFilter::kAll: return "all";
+    case SeamFilter::kProblems: return "problems";
+    case SeamFilter::kGaps: return "gaps";
+    case SeamFilter::kKinks: return "kinks";
+    case SeamFilter::kCreases: return "creases";
+  }
+  return "?";
+}
+
+bool passes(SeamFilter f, const SeamReport* seam, double creaseAngleDeg) {
+  if (f == SeamFilter::kAll) return true;
+  if (seam == nullptr) return f == SeamFilter::kProblems;
+  const SeamVerdict v = seamVerdict(*seam, creaseAngleDeg);
+  switch (f) {
+    case SeamFilter::kProblems: return isProblem(v);
+    case SeamFilter::kGaps: return v == SeamVerdict::kGap;
+    case SeamFilter::kKinks: return v == SeamVerdict::kKink;
+    case SeamFilter::kCreases: return v == SeamVerdict::kCrease;
+    case SeamFilter::kAll: break;
+  }
+  return true;
 }
 
 namespace {
@@ -44,7 +79,8 @@ namespace {
 double sortValue(const SeamReport& r, SeamSortKey key) {
   double v = 0.0;
   switch (key) {
-    case SeamSortKey::kFile: return 0.0;
+    case SeamSortKey::kFile:
+    case SeamSortKey::kVerdict: return 0.0;
     case SeamSortKey::kAngle: v = r.g1MaxDeg; break;
     case SeamSortKey::kGap: v = r.g0Max; break;
     case SeamSortKey::kCurvature: v = r.g2RelMax; break;
@@ -58,9 +94,22 @@ std::vector<std::size_t> selectSeams(std::span<const SeamReport* const> seams, c
   std::vector<std::size_t> order;
   order.reserve(seams.size());
   for (std::size_t k = 0; k < seams.size(); ++k)
-    if (!sel.onlyProblems || seams[k] == nullptr || isProblem(seamVerdict(*seams[k], sel.creaseAngleDeg)))
-      order.push_back(k);
-  if (sel.sort != SeamSortKey::kFile) {
+    if (passes(sel.only, seams[k], sel.creaseAngleDeg)) order.push_back(k);
+  if (sel.sort == SeamSortKey::kVerdict) {
+    // Kinks (largest angle first), gaps (largest first), failed analyses, G1/G2 (file order), creases (largest
+    // angle first). NaN measures sort last within their verdict.
+    auto rank = [&](std::size_t k) -> std::pair<int, double> {
+      const SeamReport* r = seams[k];
+      if (r == nullptr) return {2, 0.0};
+      switch (seamVerdict(*r, sel.creaseAngleDeg)) {
+        case SeamVerdict::kKink: return {0, -sortValue(*r, SeamSortKey::kAngle)};
+        case SeamVerdict::kGap: return {1, -sortValue(*r, SeamSortKey::kGap)};
+        case SeamVerdict::kCrease: return {4, -sortValue(*r, SeamSortKey::kAngle)};
+        default: return {3, 0.0};
+      }
+    };
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return rank(x) < rank(y); });
+  } else if (sel.sort != SeamSortKey::kFile) {
     std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
       const SeamReport* a = seams[x];
       const SeamReport* b = seams[y];

@@ -17,6 +17,7 @@
 #include "seam/repair/g2_network.h"
 #include "seam/continuity/model_check.h"
 #include "seam/repair/join.h"
+#include "seam/regularity/defect_search.h"
 #include "seam/repair/local_scheme.h"
 
 namespace seam {
@@ -306,11 +307,16 @@ class Healer {
   Candidate judge(const Model& m, std::string method, int region,
                   const std::vector<const BSplineSurface*>* inputForms = nullptr) const;
   bool freeEdgesKept(const Model& m, int region, std::string* why) const;
+  /// Why moving patch `i` to `cand` is worse inside the patch ("" when it is not), issue 36 goal 2: a fold (S_u x S_v
+  /// vanishes at a point where the input patch is regular: the surface turns back over itself there), a normal that
+  /// turns against the input's by more than 90 degrees and more than the crease angle (no seam the heal joins
+  /// asks for that), or more self-intersections than the input patch.
+  std::string foldOf(int i, const BSplineSurface& cand) const;
   std::string leftAloneBroken(const Model& m, int k, const SeamReport& now, int region) const;
 
   const Model& in_;
   HealOptions opt_;
-  double diag_ = 1.0, maxGap_ = 0.0;
+  double diag_ = 1.0, maxGap_ = 0.0, maxAngle_ = kDefaultMaxHealAngleDeg;
   Tolerances tol_;
   SeamOptions so_;
   EdgePairing pairing_;
@@ -330,7 +336,43 @@ class Healer {
   };
   std::vector<CornerAt> corners_;
   std::vector<std::shared_ptr<Model>> localModels_;  // the local scheme's results (candidates point into them)
+  /// Self-intersections found in each input patch (-1: not searched yet; foldOf searches on demand).
+  mutable std::vector<int> inputSelfIntersections_;
 };
+
+Result<regularity::SurfaceSearchResult> defectsOf(const BSplineSurface& s) {
+  regularity::SearchOptions so;
+  so.maxWork = kFoldSearchWork;
+  so.maxWorkPerPiece = 0;
+  return regularity::searchSurfaceDefects(s, so);
+}
+
+std::string Healer::foldOf(int i, const BSplineSurface& cand) const {
+  const Patch& in = in_.patches[static_cast<size_t>(i)];
+  // A heal joins seams up to the crease angle: the normal may turn by that much (and always by up to 90 degrees).
+  const NormalTurnover nt = normalTurnover(in.surface, cand, std::max(90.0, maxAngle_));
+  if (nt.found)
+    return fmt::format("patch {} would turn over: its normal turns by {:.4g} deg at (u, v) = ({:.6g}, {:.6g})",
+                       in.name, nt.angleDeg, nt.u, nt.v);
+  auto found = defectsOf(cand);  // one search for the fold points and the self-intersections
+  if (!found) return "";
+  if (const auto f = newFoldPoint(in.surface, cand, &*found))
+    return fmt::format("patch {} would fold: S_u x S_v vanishes at (u, v) = ({:.6g}, {:.6g}), where the input is "
+                       "regular",
+                       in.name, f->u, f->v);
+  if (inputSelfIntersections_.empty()) inputSelfIntersections_.assign(in_.patches.size(), -1);
+  const int after = static_cast<int>(found->selfIntersections.size());
+  if (after == 0) return "";
+  int& before = inputSelfIntersections_[static_cast<size_t>(i)];
+  if (before < 0) {
+    auto r = defectsOf(in.surface);
+    before = r ? static_cast<int>(r->selfIntersections.size()) : 0;
+  }
+  if (after > before)
+    return fmt::format("patch {} would intersect itself ({} self-intersection(s), {} in the input)", in.name, after,
+                       before);
+  return "";
+}
 
 // Order: breadth-first from the roots of each group of seams to join. Roots stay: patches already joined to a
 // neighbour outside the work (anchored), or else the first patch of the group; of two roots with a seam to join
@@ -511,7 +553,11 @@ SuccessiveRun Healer::successive(bool strict) const {
       Model& m = run.model;
       const BSplineSurface keep = m.patches[static_cast<size_t>(s)].surface;
       m.patches[static_cast<size_t>(s)].surface = cand;
-      std::string why;
+      std::string why = foldOf(s, cand);
+      if (!why.empty()) {
+        m.patches[static_cast<size_t>(s)].surface = keep;
+        return why;
+      }
       for (int k : touching) {
         const Work& w = work_[static_cast<size_t>(k)];
         const int other = w.pair.a.patch == s ? w.pair.b.patch : w.pair.a.patch;
@@ -696,6 +742,13 @@ Candidate Healer::judge(const Model& m, std::string method, int region,
     if (a.surface.points() == b.surface.points() && a.surface.knotsU().values() == b.surface.knotsU().values() &&
         a.surface.knotsV().values() == b.surface.knotsV().values())
       continue;
+    if (c.acceptable) {
+      const std::string fold = foldOf(i, a.surface);
+      if (!fold.empty()) {
+        c.acceptable = false;
+        c.note = fold;
+      }
+    }
     HealPatch d = displacementOf(b, a, kRoundoff * diag_, inputForms ? (*inputForms)[static_cast<size_t>(i)] : nullptr);
     c.changed = true;
     c.moved += d.movedPoints;
@@ -798,6 +851,7 @@ Result<HealResult> Healer::run() {
   rep.method = opt_.method;
   rep.maxGap = maxGap_;
   rep.maxAngleDeg = maxAngle;
+  maxAngle_ = maxAngle;
   np_ = static_cast<int>(model.patches.size());
 
   for (const EdgePair& p : pairing_.pairs) {

@@ -8,13 +8,16 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <queue>
+#include <utility>
 #include <vector>
 
 #include "repair/frame_internal.h"
 #include "repair/join_internal.h"
 #include "seam/continuity/model_check.h"
 #include "seam/core/bernstein.h"
+#include "seam/regularity/defect_search.h"
 #include "seam/repair/bicubic.h"
 
 namespace seam {
@@ -187,6 +190,206 @@ SurfaceDisplacement surfaceDisplacementSharp(const BSplineSurface& before, const
   d.sampled = sampled;
   d.bound = std::min(coarse.bound, open.empty() ? sampled : std::max(open.top().bound, sampled));
   return d;
+}
+
+namespace {
+
+/// The normal numerator of a Bezier piece (normalTurnover): S_u x S_v, or for a rational piece with homogeneous
+/// numerator P and weight w, w P_u x P_v - w_v P_u x P - w_u P x P_v (= w^3 S_u x S_v, the same direction as w > 0).
+BernsteinPatch normalNumerator(const BezierPatch& b) {
+  const BernsteinPatch h = b.homogeneous();  // x, y, z (times w) and, last, w
+  const BernsteinPatch p(h.degreeU(), h.degreeV(), h.coeffs().leftCols(3));
+  const BernsteinPatch pu = p.derivative(1, 0), pv = p.derivative(0, 1);
+  BernsteinPatch n = cross(pu, pv);
+  if (!b.isRational()) return n;
+  const BernsteinPatch w(h.degreeU(), h.degreeV(), h.coeffs().rightCols(1));
+  n = product(w, n);
+  n.coeffs() -= product(w.derivative(0, 1), cross(pu, p)).coeffs() + product(w.derivative(1, 0), cross(p, pv)).coeffs();
+  return n;
+}
+
+/// `a` and `b` in one spline space (the larger degrees, the union of their knots), or nothing when their domains
+/// differ.
+std::optional<std::pair<BSplineSurface, BSplineSurface>> commonForms(const BSplineSurface& a, const BSplineSurface& b) {
+  const double kt =
+      kKnotRelTol * std::max({1.0, a.domainU().length(), a.domainV().length(), b.domainU().length(), b.domainV().length()});
+  if (std::abs(a.domainU().lo - b.domainU().lo) > kt || std::abs(a.domainU().hi - b.domainU().hi) > kt ||
+      std::abs(a.domainV().lo - b.domainV().lo) > kt || std::abs(a.domainV().hi - b.domainV().hi) > kt)
+    return std::nullopt;
+  const int du = std::max(a.degreeU(), b.degreeU()), dv = std::max(a.degreeV(), b.degreeV());
+  const BSplineSurface ae = a.degreeElevated(du - a.degreeU(), dv - a.degreeV());
+  const BSplineSurface be = b.degreeElevated(du - b.degreeU(), dv - b.degreeV());
+  BSplineSurface ac = detail::expressedLike(ae, be);  // a with b's knots added
+  BSplineSurface bc = detail::expressedLike(be, ac);  // b with a's knots added
+  if (ac.knotsU().values() != bc.knotsU().values() || ac.knotsV().values() != bc.knotsV().values()) return std::nullopt;
+  return std::pair{std::move(ac), std::move(bc)};
+}
+
+/// The angle (degrees) between two normals and whether it counts (neither is a pole's vanishing normal).
+struct NormalPair {
+  double cosine = 1.0;
+  bool defined = false;
+};
+
+NormalPair compareNormals(const VecX& n0, const VecX& n1, double scale0, double scale1) {
+  NormalPair r;
+  const double l0 = n0.norm(), l1 = n1.norm();
+  if (!(l0 > kTurnoverPoleRel * scale0 && l1 > kTurnoverPoleRel * scale1)) return r;
+  r.cosine = std::clamp(n0.dot(n1) / (l0 * l1), -1.0, 1.0);
+  r.defined = true;
+  return r;
+}
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+/// normalTurnover on a normalised lattice, for patches whose domains or knot structures do not correspond.
+NormalTurnover sampledTurnover(const BSplineSurface& before, const BSplineSurface& after, double cosLimit) {
+  constexpr int kLattice = 41;
+  NormalTurnover t;
+  std::vector<Vec3> n0, n1;
+  std::vector<std::pair<double, double>> at;
+  double s0 = 0.0, s1 = 0.0;
+  for (int i = 0; i < kLattice; ++i)
+    for (int j = 0; j < kLattice; ++j) {
+      const double a = static_cast<double>(i) / (kLattice - 1), b = static_cast<double>(j) / (kLattice - 1);
+      auto normalOf = [&](const BSplineSurface& s) {
+        const auto d = s.derivatives(s.domainU().lo + a * s.domainU().length(), s.domainV().lo + b * s.domainV().length(), 1);
+        return Vec3(d[1][0].head<3>().cross(d[0][1].head<3>()));
+      };
+      n0.push_back(normalOf(before));
+      n1.push_back(normalOf(after));
+      s0 = std::max(s0, n0.back().norm());
+      s1 = std::max(s1, n1.back().norm());
+      at.emplace_back(after.domainU().lo + a * after.domainU().length(), after.domainV().lo + b * after.domainV().length());
+    }
+  for (size_t k = 0; k < n0.size(); ++k) {
+    const NormalPair c = compareNormals(n0[k], n1[k], s0, s1);
+    if (c.defined && c.cosine < cosLimit && (!t.found || std::acos(c.cosine) * kRadToDeg > t.angleDeg)) {
+      t.found = true;
+      t.u = at[k].first;
+      t.v = at[k].second;
+      t.angleDeg = std::acos(c.cosine) * kRadToDeg;
+    }
+  }
+  return t;
+}
+
+/// A region of a knot cell for normalTurnover: D = N_after . N_before restricted to [u0,u1] x [v0,v1] of the piece.
+struct TurnoverRegion {
+  BernsteinPatch d;
+  int piece = 0;
+  double u0 = 0.0, u1 = 1.0, v0 = 0.0, v1 = 1.0;
+  double key = 0.0;  // the most negative coefficient of D relative to the piece's scale (most negative first)
+  bool operator<(const TurnoverRegion& o) const { return key > o.key; }
+};
+
+}  // namespace
+
+NormalTurnover normalTurnover(const BSplineSurface& before, const BSplineSurface& after, double minAngleDeg,
+                              int maxSplits) {
+  NormalTurnover t;
+  const double cosLimit = std::cos(std::clamp(minAngleDeg, 90.0, 180.0) / kRadToDeg) - kTurnoverCosineSlack;
+  if (before.dim() != 3 || after.dim() != 3 || before.degreeU() < 1 || before.degreeV() < 1) return t;
+  const auto forms = commonForms(before, after);
+  if (cosLimit < -1.0) return t;  // 180 degrees: nothing turns further
+  if (!forms) return sampledTurnover(before, after, cosLimit);
+  const std::vector<BezierPatchPiece> p0 = forms->first.bezierPatches(), p1 = forms->second.bezierPatches();
+  if (p0.size() != p1.size()) return sampledTurnover(before, after, cosLimit);
+  struct Piece {
+    BernsteinPatch n0, n1;
+    double s0 = 0.0, s1 = 0.0;  // largest coefficient norms of N_before, N_after
+    Interval u, v;
+  };
+  std::vector<Piece> pieces;
+  std::priority_queue<TurnoverRegion> open;
+  auto settle = [&](TurnoverRegion r) {
+    const Piece& pc = pieces[static_cast<size_t>(r.piece)];
+    const double scale = pc.s0 * pc.s1;
+    r.key = scale > 0.0 ? r.d.coeffs().minCoeff() / scale : 0.0;
+    if (r.key >= -kIdentityRelTol) return;  // D >= 0 on the region up to round-off: no turnover there
+    // Values of the true normals at the region's corners and centre.
+    for (const auto& [a, b] : {std::pair{0.0, 0.0}, std::pair{0.0, 1.0}, std::pair{1.0, 0.0}, std::pair{1.0, 1.0},
+                               std::pair{0.5, 0.5}}) {
+      const double u = r.u0 + a * (r.u1 - r.u0), v = r.v0 + b * (r.v1 - r.v0);
+      const NormalPair c = compareNormals(pc.n0(u, v), pc.n1(u, v), pc.s0, pc.s1);
+      if (c.defined && c.cosine < cosLimit) {
+        t.found = true;
+        t.u = pc.u.lo + u * pc.u.length();
+        t.v = pc.v.lo + v * pc.v.length();
+        t.angleDeg = std::acos(c.cosine) * kRadToDeg;
+        return;
+      }
+    }
+    open.push(std::move(r));
+  };
+  for (size_t k = 0; k < p0.size() && !t.found; ++k) {
+    Piece pc;
+    pc.n0 = normalNumerator(p0[k].patch);
+    pc.n1 = normalNumerator(p1[k].patch);
+    pc.s0 = pc.n0.coeffs().rowwise().norm().maxCoeff();
+    pc.s1 = pc.n1.coeffs().rowwise().norm().maxCoeff();
+    pc.u = p0[k].u;
+    pc.v = p0[k].v;
+    TurnoverRegion r;
+    r.d = dot(pc.n1, pc.n0);
+    r.piece = static_cast<int>(k);
+    pieces.push_back(std::move(pc));
+    settle(std::move(r));
+  }
+  while (!t.found && !open.empty() && t.splits < maxSplits) {
+    const TurnoverRegion top = open.top();
+    open.pop();
+    ++t.splits;
+    const double um = 0.5 * (top.u0 + top.u1), vm = 0.5 * (top.v0 + top.v1);
+    for (const auto& [a0, a1, b0, b1] : {std::array{0.0, 0.5, 0.0, 0.5}, std::array{0.5, 1.0, 0.0, 0.5},
+                                         std::array{0.0, 0.5, 0.5, 1.0}, std::array{0.5, 1.0, 0.5, 1.0}}) {
+      TurnoverRegion c;
+      c.d = top.d.restricted(a0, a1, b0, b1);
+      c.piece = top.piece;
+      c.u0 = a0 == 0.0 ? top.u0 : um;
+      c.u1 = a1 == 0.5 ? um : top.u1;
+      c.v0 = b0 == 0.0 ? top.v0 : vm;
+      c.v1 = b1 == 0.5 ? vm : top.v1;
+      settle(std::move(c));
+      if (t.found) break;
+    }
+  }
+  t.certified = !t.found && open.empty();
+  return t;
+}
+
+std::optional<FoldPoint> newFoldPoint(const BSplineSurface& before, const BSplineSurface& after,
+                                      const regularity::SurfaceSearchResult* searched) {
+  if (after.dim() != 3) return std::nullopt;
+  Result<regularity::SurfaceSearchResult> own = Status(ErrorCode::kUnsupported, "not searched");
+  if (searched == nullptr) {
+    regularity::SearchOptions so;
+    so.maxWork = kFoldSearchWork;
+    so.maxWorkPerPiece = 0;
+    own = regularity::searchSurfaceDefects(after, so);
+    if (!own) return std::nullopt;
+    searched = &*own;
+  }
+  for (const regularity::SurfaceCriticalPoint& c : searched->criticalPoints) {
+    const double u = std::clamp(c.u, before.domainU().lo, before.domainU().hi);
+    const double v = std::clamp(c.v, before.domainV().lo, before.domainV().hi);
+    const auto d = before.derivatives(u, v, 1);
+    const Vec3 su = d[1][0].head<3>(), sv = d[0][1].head<3>();
+    const double lengths = su.norm() * sv.norm();
+    if (lengths > 0.0 && su.cross(sv).norm() > kFoldRegularSine * lengths) return FoldPoint{c.u, c.v};
+  }
+  return std::nullopt;
+}
+
+std::string foldOf(const BSplineSurface& before, const BSplineSurface& after, double maxTurnDeg) {
+  const NormalTurnover nt = normalTurnover(before, after, maxTurnDeg);
+  if (nt.found)
+    return fmt::format("would turn over: its normal turns by {:.4g} deg at (u, v) = ({:.6g}, {:.6g})", nt.angleDeg,
+                       nt.u, nt.v);
+  if (const auto f = newFoldPoint(before, after))
+    return fmt::format("would fold: S_u x S_v vanishes at (u, v) = ({:.6g}, {:.6g}), where the input is regular", f->u,
+                       f->v);
+  return "";
 }
 
 double sampledSurfaceDistance(const BSplineSurface& a, const BSplineSurface& b, int grid) {
@@ -646,6 +849,20 @@ Result<JoinResult> joinSeam(const Model& model, const std::string& moveName, Edg
       else if (sampledLambda && !(a.lambdaRange.lo > 0.0))
         worse.push_back(fmt::format("lambda would reach {:.4g} on the seam (a fold)", a.lambdaRange.lo));
     }
+    // Folds inside a moved patch (issue 36 goal 2): no new point where S_u x S_v vanishes, and no normal turned
+    // against the input's by more than a right angle plus the seam's own angle (closing a crease of angle a turns
+    // the tangent plane at the seam by up to a).
+    if (opt.refuseFolds)
+      for (int idx : {is, it}) {
+        const Patch& p0 = model.patches[static_cast<size_t>(idx)];
+        const Patch& p1 = res.model.patches[static_cast<size_t>(idx)];
+        if (!samePatch(p0, p1)) {
+          const double seamAngle = std::isfinite(b.g1MaxDeg) ? b.g1MaxDeg : 0.0;
+          const std::string why = foldOf(p0.surface, p1.surface, std::min(180.0, 90.0 + seamAngle));
+          if (!why.empty()) worse.push_back(fmt::format("patch \"{}\" {}", p1.name, why));
+        }
+        if (is == it) break;
+      }
     // The displacement cap: a join may not move a patch by more than maxDisplacementRel x its own size (certified).
     double worstRel = 0.0;
     for (int idx : {is, it}) {

@@ -498,34 +498,18 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   // ---- seam tables: the seams that are not design creases (kinks first), then the creases apart
   // Default order: kinks (largest angle first), gaps (largest first), failed analyses, G1/G2 in file order, then the
   // creases (largest angle first); a --sort measure replaces it within each table.
-  std::vector<size_t> order(data.seams.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  auto rank = [&](size_t k) -> std::pair<int, double> {
-    if (!reports[k]) return {2, 0.0};
-    switch (verdictOf(k)) {
-      case SeamVerdict::kKink: return {0, -reports[k]->g1MaxDeg};
-      case SeamVerdict::kGap: return {1, -reports[k]->g0Max};
-      case SeamVerdict::kCrease: return {4, -reports[k]->g1MaxDeg};
-      default: return {3, 0.0};
-    }
-  };
-  std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return rank(x) < rank(y); });
-  if (sel.sort != SeamSortKey::kFile) {
-    SeamSelection all = sel;
-    all.onlyProblems = false;
-    all.top.reset();
-    order = selectSeams(reports, all);
-  }
+  SeamSelection all = sel;
+  all.only = SeamFilter::kAll;
+  all.top.reset();
+  if (all.sort == SeamSortKey::kFile) all.sort = SeamSortKey::kVerdict;
+  std::vector<size_t> order = selectSeams(reports, all);
   std::vector<size_t> mainRows, creaseRows;
   size_t creasesAll = 0;
   for (size_t k : order) {
     const bool crease = reports[k] && verdictOf(k) == SeamVerdict::kCrease;
     creasesAll += crease ? 1 : 0;
-    if (crease) {
-      if (!sel.onlyProblems) creaseRows.push_back(k);
-    } else if (!sel.onlyProblems || !reports[k] || isProblem(verdictOf(k))) {
-      mainRows.push_back(k);
-    }
+    if (!passes(sel.only, reports[k], sel.creaseAngleDeg)) continue;
+    (crease ? creaseRows : mainRows).push_back(k);
   }
   if (sel.top) {
     if (mainRows.size() > *sel.top) mainRows.resize(*sel.top);

@@ -5,14 +5,15 @@ import glob
 import json
 import os
 import subprocess
+import sys
 
 import pytest
 
 import seam
 import seam.batch
 
-ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "failed", "warnings", "worst_gap",
-            "worst_angle_deg", "length_unit", "gap_tolerance", "seconds"]
+ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "failed", "below_required",
+            "warnings", "worst_gap", "worst_angle_deg", "length_unit", "gap_tolerance", "seconds"]
 
 
 def small_files(shared_data):
@@ -117,6 +118,35 @@ def test_python_batch_matches_cli_batch(cli, batch_dir):
             got["error"] = want["error"]
         assert got == want
     assert seam.batch.exit_code(local) == p.returncode == 2
+
+
+def test_exit_code_rule_is_the_clis(cli, shared_data):
+    """One rule for check, batch and seam.batch.exit_code (docs/check-output.md, "Exit codes"): the teaspoon has
+    gaps and kinks, a "problem" row, but exit 1 only when a class is required."""
+    spoon = os.path.join(shared_data, "bezier", "teaspoon.bpt")
+    for require, code in ((None, 0), ("G1", 1)):
+        flags = ["--require", require] if require else []
+        check = subprocess.run([cli, "check", spoon, *flags], capture_output=True, text=True, timeout=120)
+        batch = subprocess.run([cli, "batch", spoon, "--json", *flags], capture_output=True, text=True, timeout=120)
+        rows = seam.batch.check_files([spoon], **({"require": require} if require else {}))
+        assert check.returncode == batch.returncode == seam.batch.exit_code(rows) == code, (require, batch.stderr)
+        assert rows[0]["status"] == json.loads(batch.stdout)["files"][0]["status"] == "problem"
+        assert rows[0]["below_required"] == json.loads(batch.stdout)["files"][0]["below_required"]
+
+
+def test_dask_snippet_of_the_docs_runs_as_a_script(tmp_path, shared_data):
+    """docs/python.md's Dask block, pasted into a script and run as users do (issue 38 goal 10)."""
+    pytest.importorskip("distributed")
+    page = open(os.path.join(os.path.dirname(__file__), "..", "..", "docs", "python.md"), encoding="utf-8").read()
+    block = next(b for b in page.split("```python")[1:] if "LocalCluster" in b).split("```")[0]
+    assert 'if __name__ == "__main__":' in block
+    script = tmp_path / "batch.py"
+    script.write_text(block.replace('"../shared/data"', repr(os.path.join(shared_data, "bezier"))))
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(seam.__path__[0]))
+    p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300, cwd=tmp_path,
+                       env=env)
+    assert p.returncode == 0, p.stderr[-2000:]  # the teapot, teacup and teaspoon are read; no --require: exit 0
+    assert "bootstrapping phase" not in p.stderr
 
 
 def test_dask_local_cluster_matches_local(batch_dir):

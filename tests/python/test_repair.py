@@ -366,3 +366,22 @@ def test_repairs_refuse_bad_units_and_preset(examples):
         seam.join(m, "B", "u0", "A", "u1", units="furlong")
     with pytest.raises(ValueError, match="preset"):
         seam.heal(m, preset="solidworks")
+
+
+@pytest.mark.skipif(not seam.has_occt, reason="STEP needs the OpenCASCADE build")
+def test_a_step_model_keeps_its_unit_and_says_it_is_trimmed(shared_data, run_cli):
+    """seam.load of a STEP file (issue 38 goal 10): the trimmed-face note of `seam check` as a Python warning, and
+    the CLI's unit (mm from the header) and absolute default tolerance (0.001 mm, docs/tolerances.md) on every call
+    on the loaded model, not the unit-less relative default."""
+    path = os.path.join(shared_data, "step", "linkrods.step")
+    with pytest.warns(UserWarning, match="faces are trimmed"):
+        m = seam.load(path)
+    code, cli, err = run_cli("check", path, "--json", "--patches")
+    assert code == 0, err
+    checked = seam.check(m)
+    assert checked["units"]["length"] == cli["units"]["length"] == "mm"
+    assert checked["tolerances"]["distance"] == cli["tolerances"]["distance"] == 0.001
+    _, info = seam.heal(m)
+    assert info["units"]["length"] == "mm"
+    assert info["tolerances"]["distance"] == 0.001
+    assert info["tolerances"]["distance_source"] == "absolute default"

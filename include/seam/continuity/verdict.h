@@ -39,15 +39,26 @@ inline bool isProblem(SeamVerdict v) { return v == SeamVerdict::kGap || v == Sea
 /// True when `creaseAngleDeg` is an angle in (0, 180] degrees.
 inline bool validCreaseAngle(double creaseAngleDeg) { return creaseAngleDeg > 0.0 && creaseAngleDeg <= 180.0; }
 
-/// Order of a seam listing: as found (the file's / pairing order), or by a measure, largest first.
-enum class SeamSortKey { kFile, kAngle, kGap, kCurvature };
-/// Parses "file", "angle", "gap" or "curvature". Errors: kInvalidInput naming the accepted values.
+/// Order of a seam listing: as found (the file's / pairing order), by a measure, largest first, or by verdict: kinks
+/// (largest angle first), gaps (largest first), failed analyses, G1 and G2 seams (file order), creases (largest
+/// angle first), the order of `seam report`'s tables and the default of `seam check`'s text tables (issue 38 goal 3).
+enum class SeamSortKey { kFile, kAngle, kGap, kCurvature, kVerdict };
+/// Parses "file", "angle", "gap", "curvature" or "verdict". Errors: kInvalidInput naming the accepted values.
 Result<SeamSortKey> parseSeamSortKey(std::string_view text);
+
+/// Which verdicts a listing shows: all, problems (gaps, kinks and failed analyses), or one verdict.
+enum class SeamFilter { kAll, kProblems, kGaps, kKinks, kCreases };
+/// Parses "all", "problems", "gaps", "kinks" or "creases". Errors: kInvalidInput naming the accepted values.
+Result<SeamFilter> parseSeamFilter(std::string_view text);
+/// "all", "problems", "gaps", "kinks", "creases".
+std::string_view toString(SeamFilter f);
+/// Whether a seam passes the filter (null: a seam whose analysis failed, shown with the problems).
+bool passes(SeamFilter f, const SeamReport* seam, double creaseAngleDeg);
 
 /// Which seams a listing shows.
 struct SeamSelection {
   SeamSortKey sort = SeamSortKey::kFile;
-  bool onlyProblems = false;           ///< gaps and kinks only
+  SeamFilter only = SeamFilter::kAll;  ///< --only
   std::optional<std::size_t> top;      ///< at most this many (after sorting)
   double creaseAngleDeg = kDefaultCreaseAngleDeg;
 };

@@ -21,6 +21,7 @@
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/model/model.h"
+#include "seam/regularity/defect_search.h"
 #include "seam/repair/gap_removal.h"
 
 namespace seam {
@@ -66,6 +67,10 @@ struct JoinOptions {
   std::optional<Tolerances> tolerances;
   /// Settings of the before/after seam analysis (its `tol` is replaced by the tolerances above).
   SeamOptions seam;
+  /// Revert a join that folds a moved patch (foldOf: a new point where S_u x S_v vanishes, or a normal turned
+  /// against the input's by more than 90 degrees plus the seam's angle before). Off only to inspect what a refused
+  /// join would have made (the tests do, to check each refusal independently).
+  bool refuseFolds = true;
 };
 
 /// What a join did and what it achieved.
@@ -159,6 +164,53 @@ SurfaceDisplacement surfaceDisplacement(const BSplineSurface& before, const BSpl
 /// `maxSplits` splits were made. Never above surfaceDisplacement's bound. Used before a refusal rests on the bound.
 SurfaceDisplacement surfaceDisplacementSharp(const BSplineSurface& before, const BSplineSurface& after,
                                              double ratio = 1.5, int maxSplits = 4096);
+/// Round-off margin of the turnover test's cosine comparison.
+inline constexpr double kTurnoverCosineSlack = 1e-9;
+/// Where |S_u x S_v| is below this fraction of its largest Bernstein coefficient on the piece (a pole, a collapsed
+/// edge), the normal has no direction: no turnover is reported there.
+inline constexpr double kTurnoverPoleRel = 1e-9;
+
+/// Whether the normal of `after` turns by more than `minAngleDeg` (default 90: it points against the input's)
+/// against that of `before` anywhere, the two at equal parameters (a repair moves control points, not parameters).
+/// Exact on the Bernstein form: per knot cell of the common refinement of both, with N the normal numerator
+/// (polynomial: S_u x S_v; rational, homogeneous P = w S: w P_u x P_v - w_v P_u x P - w_u P x P_v, which is
+/// w^3 S_u x S_v), the polynomial D = N_after . N_before - cos(minAngle) |N_after| |N_before| is not a polynomial
+/// for other angles than 90, so the test runs on D = N_after . N_before (degree about 4x the patch's) and, for
+/// minAngle != 90, evaluates the angle at the points of the regions D cannot settle. A region whose coefficients of
+/// D are all >= -kIdentityRelTol x its scale has no turnover when minAngle >= 90; the others are split in four (most
+/// negative first) and their corners and centres are evaluated, up to `maxSplits` splits. `found` rests on an
+/// evaluated point (never on a bound); `certified` says that every region was settled. Domains that differ: a
+/// 41 x 41 lattice of the normalised domain, never certified. minAngleDeg must be in [90, 180].
+struct NormalTurnover {
+  bool found = false;       ///< a point where the normals are more than minAngleDeg apart
+  double u = 0.0, v = 0.0;  ///< where (parameters of `after`)
+  double angleDeg = 0.0;    ///< the angle between the normals there
+  bool certified = false;   ///< no normal turns by 90 degrees or more (every region settled by its coefficients)
+  int splits = 0;
+};
+NormalTurnover normalTurnover(const BSplineSurface& before, const BSplineSurface& after, double minAngleDeg = 90.0,
+                              int maxSplits = 2048);
+
+/// Budget (region visits) of the critical-point search on a moved patch (newFoldPoint): a regular patch settles in a
+/// few hundred; what an unfinished search did not find is not a fold.
+inline constexpr long kFoldSearchWork = 20'000;
+/// A point where sin(angle between S_u and S_v) of the input patch is above this is regular: a critical point of the
+/// moved patch there is new (a fold line or cusp the repair made), not the input's pole or cusp.
+inline constexpr double kFoldRegularSine = 1e-6;
+
+struct FoldPoint {
+  double u = 0.0, v = 0.0;
+};
+/// A point where S_u x S_v of `after` vanishes (regularity::searchSurfaceDefects, budget kFoldSearchWork) while
+/// `before` is regular there (kFoldRegularSine): the moved patch folds (its orientation reverses across a curve
+/// through it) or got a new cusp. Parameters of `after`, equal to `before`'s (a repair moves points, not parameters).
+/// `searched`: the search already run on `after` (its critical points are used instead of a new search).
+std::optional<FoldPoint> newFoldPoint(const BSplineSurface& before, const BSplineSurface& after,
+                                      const regularity::SurfaceSearchResult* searched = nullptr);
+/// Why moving a patch from `before` to `after` folds it ("" when it does not): a normal turned by more than
+/// `maxTurnDeg` (normalTurnover), or a new critical point (newFoldPoint). The text continues "patch P ...".
+std::string foldOf(const BSplineSurface& before, const BSplineSurface& after, double maxTurnDeg = 90.0);
+
 /// Largest distance between two surfaces at equal normalised parameters on a grid x grid lattice of each one's domain
 /// (batch evaluation, GridEvaluator).
 double sampledSurfaceDistance(const BSplineSurface& a, const BSplineSurface& b, int grid);

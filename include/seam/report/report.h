@@ -23,7 +23,7 @@ struct HtmlReportOptions {
   int samplesPerEdge = 24;                ///< polyline points per patch edge in the drawing
   /// The seam tables (issue 17): design creases (angle at or above creaseAngleDeg) in a table of their own; the
   /// other seams kinks first (largest angle first), then gaps (largest first), then the rest in file order, unless
-  /// `selection.sort` names a measure; `onlyProblems` and `top` cut each table. The plots follow the same order.
+  /// `selection.sort` names a measure; `only` and `top` cut each table. The plots follow the same order.
   SeamSelection selection;
   /// The WebGL view (docs/report.md): shaded patches (ReportData::meshes), seams coloured by verdict, worst points,
   /// zebra stripes, G1/G2 spikes along the seams, click a seam for its plots. Needs a build with the bundled viewer
