@@ -42,6 +42,15 @@ using seamtest::Rng;
 using seamtest::c1Graph;
 using seamtest::urand;
 
+/// A clamped knot vector of `count` functions of `degree` with spans of random lengths in [0.3, 1.7].
+std::vector<double> unevenClampedKnots(Rng& rng, int degree, int count) {
+  std::vector<double> k(static_cast<size_t>(degree + 1), 0.0);
+  double t = 0.0;
+  for (int i = 0; i < count - degree - 1; ++i) k.push_back(t += urand(rng, 0.3, 1.7));
+  k.insert(k.end(), static_cast<size_t>(degree + 1), t + urand(rng, 0.3, 1.7));
+  return k;
+}
+
 using seamtest::sampledNormal;
 using seamtest::sampledTurn;
 using seamtest::SampledTurn;
@@ -1068,13 +1077,7 @@ TEST(SurfaceDisplacement, TheSharpBoundIsWithinOneAndAHalfOfTheTrueMaximum) {
   for (int trial = 0; trial < 16; ++trial) {
     const bool rational = trial % 2 == 1;
     const int du = 3, dv = 2 + trial % 2, nu = 6, nv = 5 + trial % 3;
-    auto knots = [&](int degree, int count) {
-      std::vector<double> k(static_cast<size_t>(degree + 1), 0.0);
-      double t = 0.0;
-      for (int i = 0; i < count - degree - 1; ++i) k.push_back(t += urand(rng, 0.3, 1.7));  // uneven
-      k.insert(k.end(), static_cast<size_t>(degree + 1), t + urand(rng, 0.3, 1.7));
-      return k;
-    };
+    auto knots = [&](int degree, int count) { return unevenClampedKnots(rng, degree, count); };
     const std::vector<double> ku = knots(du, nu), kv = knots(dv, nv);
     Matrix p0(nu * nv, 3), p1(nu * nv, 3);
     VecX w0, w1;
@@ -1122,13 +1125,7 @@ TEST(NormalTurnover, AgreesWithDenseSamplingOnRandomMovesAndFolds) {
   for (int trial = 0; trial < 40; ++trial) {
     const bool rational = trial % 2 == 1, fold = trial % 4 >= 2, refined = trial % 8 >= 4;
     const int du = 3, dv = 2 + trial % 3 / 2, nu = 6, nv = 5;
-    auto knots = [&](int degree, int count) {
-      std::vector<double> k(static_cast<size_t>(degree + 1), 0.0);
-      double t = 0.0;
-      for (int i = 0; i < count - degree - 1; ++i) k.push_back(t += urand(rng, 0.3, 1.7));  // uneven
-      k.insert(k.end(), static_cast<size_t>(degree + 1), t + urand(rng, 0.3, 1.7));
-      return k;
-    };
+    auto knots = [&](int degree, int count) { return unevenClampedKnots(rng, degree, count); };
     const std::vector<double> ku = knots(du, nu), kv = knots(dv, nv);
     Matrix p0(nu * nv, 3);
     VecX w0;
@@ -1154,9 +1151,10 @@ TEST(NormalTurnover, AgreesWithDenseSamplingOnRandomMovesAndFolds) {
     ASSERT_TRUE(after);
     const NormalTurnover t = normalTurnover(*before, *after);
     const SampledTurn dense = sampledTurn(*before, *after, 121);
-    if (dense.angleDeg > 90.5)
+    if (dense.angleDeg > 90.5) {
       EXPECT_TRUE(t.found) << "trial " << trial << ": sampling finds " << dense.angleDeg << " deg at (" << dense.a
                            << ", " << dense.b << ")";
+    }
     if (t.found) {
       ++found;
       EXPECT_GT(angleAt(*before, *after, t.u, t.v), 90.0) << "trial " << trial;
@@ -1167,7 +1165,9 @@ TEST(NormalTurnover, AgreesWithDenseSamplingOnRandomMovesAndFolds) {
       ++certified;
       EXPECT_LE(dense.angleDeg, 90.0) << "trial " << trial << ": certified, but sampling finds " << dense.angleDeg;
     }
-    if (!fold) EXPECT_TRUE(t.certified) << "trial " << trial << " (small moves)";
+    if (!fold) {
+      EXPECT_TRUE(t.certified) << "trial " << trial << " (small moves)";
+    }
   }
   EXPECT_GE(found, 15);
   EXPECT_GE(certified, 15);
