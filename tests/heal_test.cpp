@@ -962,6 +962,22 @@ TEST(HealG2, TeacupEverySeamG2AndNothingWorse) {
 
 // Regions with poles (the teapot's lid and bottom) are left exactly as they were, with the reason; the others are
 // healed to G2; the exit state is "not achieved".
+// A G2 solve that runs and stops without a solution is named as such (issue 38 goal 6: it was "not applicable"):
+// the teaspoon's 16-patch region has no pole the solve refuses, and its solve stops on the residual.
+TEST(HealG2, ASolveThatFindsNothingSaysSo) {
+  HealOptions o;
+  o.continuity = GeometricClass::kG2;
+  o.g2Fairness = 0.0;  // the same stop on the residual, 5x faster
+  auto r = healModel(teaModel("teaspoon.bpt"), o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_FALSE(r->report.regions.empty());
+  const std::string& note = r->report.regions.front().note;
+  EXPECT_NE(note.find("G2 network solve found no solution: the G2 network solve stopped after"), std::string::npos)
+      << note;
+  EXPECT_EQ(note.find("not applicable"), std::string::npos) << note;
+  EXPECT_EQ(r->report.seamsWorse, 0);
+}
+
 TEST(HealG2, TeapotPolesAreLeftAsTheyWereAndTheRestIsG2) {
   const Model pot = teaModel("teapot.bpt");
   ASSERT_FALSE(pot.patches.empty());
@@ -977,6 +993,8 @@ TEST(HealG2, TeapotPolesAreLeftAsTheyWereAndTheRestIsG2) {
     if (g.note.find("pole") != std::string::npos) {
       ++poleRegions;
       EXPECT_EQ(g.method, "none");
+      // A pole is input the solve does not take: "not applicable", not a solve that found nothing (issue 38 goal 6).
+      EXPECT_NE(g.note.find("G2 network solve not applicable"), std::string::npos) << g.note;
       for (const std::string& name : g.patches)
         for (size_t i = 0; i < pot.patches.size(); ++i) {
           if (pot.patches[i].name == name) {

@@ -168,7 +168,7 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
 void addHeal(CLI::App& app, int& exit) {
   using Options = HealCliOptions;
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("heal", "Close the gaps and kinks of every seam of a model (G0/G1)");
+  CLI::App* cmd = app.add_subcommand("heal", "Close the gaps and kinks of every seam of a model (G0, G1 or G2)");
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_option("--continuity", o->continuity, "G0, G1 or G2 (default G1; G2 by the network solve: biquintic output)");

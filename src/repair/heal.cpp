@@ -969,7 +969,12 @@ Result<HealResult> Healer::run() {
       go.fairness = opt_.g2Fairness;
       auto n = g2NetworkScheme(model, go);
       if (!n) {
-        localNote[static_cast<size_t>(g)] = "G2 network solve not applicable: " + n.status().message();
+        // Refused input (kUnsupported, kInvalidInput) is "not applicable"; a solve that ran and found nothing (no
+        // convergence, a fold) says so (issue 38 goal 6).
+        localNote[static_cast<size_t>(g)] =
+            (n.status().code() == ErrorCode::kNoSolution ? "G2 network solve found no solution: "
+                                                         : "G2 network solve not applicable: ") +
+            n.status().message();
         continue;
       }
       LocalSchemeResult lr;
@@ -987,7 +992,10 @@ Result<HealResult> Healer::run() {
       l = detail::localG1Scheme(model, lo, &inputForms);
     }
     if (!l) {
-      localNote[static_cast<size_t>(g)] = "local scheme not applicable: " + l.status().message();
+      localNote[static_cast<size_t>(g)] =
+          (l.status().code() == ErrorCode::kNoSolution ? "local scheme found no solution: "
+                                                       : "local scheme not applicable: ") +
+          l.status().message();
       continue;
     }
     const std::vector<int> valences = l->report.valences;
