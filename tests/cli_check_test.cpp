@@ -539,6 +539,12 @@ TEST_F(CliVerdicts, StepFileHasMillimetresAndTheAbsoluteDefault) {
   EXPECT_NE(text.out.find("gap tolerance 0.001 mm (default for models with a length unit, e.g. CAD files)"),
             std::string::npos)
       << text.out;
+  // The absolute curvature jump carries its unit, 1 / the model's length unit (issue 38 goal 7); a unit-less model
+  // has none to give.
+  EXPECT_NE(text.out.find("G2 jump % (abs, 1/mm)"), std::string::npos) << text.out;
+  const CliRun unitless = runSeam("check \"" + hinges_ + "\"");
+  EXPECT_NE(unitless.out.find("G2 jump % (abs)"), std::string::npos) << unitless.out;
+  EXPECT_NE(runSeam("check \"" + hinges_ + "\" --units in").out.find("G2 jump % (abs, 1/in)"), std::string::npos);
   const nlohmann::json m = nlohmann::json::parse(runSeam("check \"" + step + "\" --json --units m").out);
   EXPECT_EQ(m["units"]["source"], "--units");
   EXPECT_EQ(m["units"]["length"], "mm");

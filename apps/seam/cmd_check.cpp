@@ -192,6 +192,11 @@ std::string gapHeader(const ModelUnits& units) {
   return units.length ? fmt::format("G0 gap ({})", units.name()) : "G0 gap";
 }
 
+/// "G2 jump % (abs, 1/mm)": the absolute jump is a curvature, in 1 / the model's unit (issue 38 goal 7).
+std::string jumpHeader(const ModelUnits& units) {
+  return units.length ? fmt::format("G2 jump % (abs, 1/{})", units.name()) : "G2 jump % (abs)";
+}
+
 std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelection& sel, const ModelUnits& units) {
   const std::vector<const SeamReport*> reports = reportsOf(r);
   const SeamListing l = listSeams(reports, sel);
@@ -214,7 +219,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
     return row;
   };
   const std::vector<std::string> header{"A",         "edge",      "B",         "edge",          "verdict",
-                                        gapHeader(units), "G1 angle (deg)",   "G2 jump % (abs)", "geometric",
+                                        gapHeader(units), "G1 angle (deg)",   jumpHeader(units), "geometric",
                                         "parametric", "certified", "overlap"};
   const std::vector<bool> right{false, false, false, false, false, true, true, true, false, false, false, false};
   auto table = [&](const std::vector<size_t>& list) {
@@ -386,7 +391,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
       }
       return rows.empty() ? std::string()
                           : formatTable({"edge", "A", "B", "verdict", gapHeader(r->units), "G1 angle (deg)",
-                                         "G2 jump % (abs)",
+                                         jumpHeader(r->units),
                                          "geometric", "certified", "OCCT"},
                                         rows, {false, false, false, false, true, true, true, false, false, false});
     };
