@@ -362,7 +362,9 @@ TEST(G2Network, TheSolveIsTheSameAtEveryScale) {
       size = std::max(size, unit[k].cwiseAbs().maxCoeff());
       apart = std::max(apart, (back - unit[k]).cwiseAbs().maxCoeff());
     }
-    if (s != 1.0) EXPECT_LE(apart, 1e-5 * size) << "scale " << s << ": the surface differs after rescaling";
+    if (s != 1.0) {
+      EXPECT_LE(apart, 1e-5 * size) << "scale " << s << ": the surface differs after rescaling";
+    }
   }
 }
 

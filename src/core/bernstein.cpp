@@ -973,4 +973,14 @@ BernsteinPatch cross(const BernsteinPatch& a, const BernsteinPatch& b) {
   });
 }
 
+std::pair<BernsteinPatch, BernsteinPatch> partialNumerators(const BernsteinPatch& h, bool rational) {
+  const BernsteinPatch a(h.degreeU(), h.degreeV(), h.coeffs().leftCols(3));
+  if (!rational) return {a.derivative(1, 0), a.derivative(0, 1)};
+  const BernsteinPatch w(h.degreeU(), h.degreeV(), h.coeffs().middleCols(3, 1));
+  BernsteinPatch su = product(a.derivative(1, 0), w), sv = product(a.derivative(0, 1), w);
+  su.coeffs() -= product(a, w.derivative(1, 0)).coeffs();
+  sv.coeffs() -= product(a, w.derivative(0, 1)).coeffs();
+  return {std::move(su), std::move(sv)};
+}
+
 }  // namespace seam

@@ -16,25 +16,6 @@ namespace {
 
 using detail::Box3;
 
-BernsteinPatch columns(const BernsteinPatch& p, int from, int count) {
-  return BernsteinPatch(p.degreeU(), p.degreeV(), p.coeffs().middleCols(from, count));
-}
-
-BernsteinPatch minus(const BernsteinPatch& x, const BernsteinPatch& y) {
-  BernsteinPatch r = x;
-  r.coeffs() -= y.coeffs();
-  return r;
-}
-
-/// Numerators of S_u and S_v (positive multiples of the true partials: A_u w - A w_u, or A_u when polynomial).
-std::pair<BernsteinPatch, BernsteinPatch> partialNumerators(const BernsteinPatch& h, bool rational) {
-  const BernsteinPatch a = columns(h, 0, 3);
-  if (!rational) return {a.derivative(1, 0), a.derivative(0, 1)};
-  const BernsteinPatch w = columns(h, 3, 1);
-  return {minus(product(a.derivative(1, 0), w), product(a, w.derivative(1, 0))),
-          minus(product(a.derivative(0, 1), w), product(a, w.derivative(0, 1)))};
-}
-
 struct Piece {
   Interval u, v;
   bool rational = false;

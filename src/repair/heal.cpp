@@ -340,32 +340,19 @@ class Healer {
   mutable std::vector<int> inputSelfIntersections_;
 };
 
-Result<regularity::SurfaceSearchResult> defectsOf(const BSplineSurface& s) {
-  regularity::SearchOptions so;
-  so.maxWork = kFoldSearchWork;
-  so.maxWorkPerPiece = 0;
-  return regularity::searchSurfaceDefects(s, so);
-}
-
 std::string Healer::foldOf(int i, const BSplineSurface& cand) const {
   const Patch& in = in_.patches[static_cast<size_t>(i)];
+  auto found = searchMovedPatch(cand);  // one search for the fold points and the self-intersections
   // A heal joins seams up to the crease angle: the normal may turn by that much (and always by up to 90 degrees).
-  const NormalTurnover nt = normalTurnover(in.surface, cand, std::max(90.0, maxAngle_));
-  if (nt.found)
-    return fmt::format("patch {} would turn over: its normal turns by {:.4g} deg at (u, v) = ({:.6g}, {:.6g})",
-                       in.name, nt.angleDeg, nt.u, nt.v);
-  auto found = defectsOf(cand);  // one search for the fold points and the self-intersections
+  const std::string why = seam::foldOf(in.surface, cand, std::max(90.0, maxAngle_), found ? &*found : nullptr);
+  if (!why.empty()) return fmt::format("patch {} {}", in.name, why);
   if (!found) return "";
-  if (const auto f = newFoldPoint(in.surface, cand, &*found))
-    return fmt::format("patch {} would fold: S_u x S_v vanishes at (u, v) = ({:.6g}, {:.6g}), where the input is "
-                       "regular",
-                       in.name, f->u, f->v);
   if (inputSelfIntersections_.empty()) inputSelfIntersections_.assign(in_.patches.size(), -1);
   const int after = static_cast<int>(found->selfIntersections.size());
   if (after == 0) return "";
   int& before = inputSelfIntersections_[static_cast<size_t>(i)];
   if (before < 0) {
-    auto r = defectsOf(in.surface);
+    auto r = searchMovedPatch(in.surface);
     before = r ? static_cast<int>(r->selfIntersections.size()) : 0;
   }
   if (after > before)

@@ -194,18 +194,10 @@ SurfaceDisplacement surfaceDisplacementSharp(const BSplineSurface& before, const
 
 namespace {
 
-/// The normal numerator of a Bezier piece (normalTurnover): S_u x S_v, or for a rational piece with homogeneous
-/// numerator P and weight w, w P_u x P_v - w_v P_u x P - w_u P x P_v (= w^3 S_u x S_v, the same direction as w > 0).
+/// The normal numerator of a Bezier piece (normalTurnover): S_u x S_v, or w^4 S_u x S_v for a rational piece.
 BernsteinPatch normalNumerator(const BezierPatch& b) {
-  const BernsteinPatch h = b.homogeneous();  // x, y, z (times w) and, last, w
-  const BernsteinPatch p(h.degreeU(), h.degreeV(), h.coeffs().leftCols(3));
-  const BernsteinPatch pu = p.derivative(1, 0), pv = p.derivative(0, 1);
-  BernsteinPatch n = cross(pu, pv);
-  if (!b.isRational()) return n;
-  const BernsteinPatch w(h.degreeU(), h.degreeV(), h.coeffs().rightCols(1));
-  n = product(w, n);
-  n.coeffs() -= product(w.derivative(0, 1), cross(pu, p)).coeffs() + product(w.derivative(1, 0), cross(p, pv)).coeffs();
-  return n;
+  const auto [su, sv] = partialNumerators(b.homogeneous(), b.isRational());
+  return cross(su, sv);
 }
 
 /// `a` and `b` in one spline space (the larger degrees, the union of their knots), or nothing when their domains
@@ -358,15 +350,19 @@ NormalTurnover normalTurnover(const BSplineSurface& before, const BSplineSurface
   return t;
 }
 
+Result<regularity::SurfaceSearchResult> searchMovedPatch(const BSplineSurface& s) {
+  regularity::SearchOptions so;
+  so.maxWork = kFoldSearchWork;
+  so.maxWorkPerPiece = 0;
+  return regularity::searchSurfaceDefects(s, so);
+}
+
 std::optional<FoldPoint> newFoldPoint(const BSplineSurface& before, const BSplineSurface& after,
                                       const regularity::SurfaceSearchResult* searched) {
   if (after.dim() != 3) return std::nullopt;
   Result<regularity::SurfaceSearchResult> own = Status(ErrorCode::kUnsupported, "not searched");
   if (searched == nullptr) {
-    regularity::SearchOptions so;
-    so.maxWork = kFoldSearchWork;
-    so.maxWorkPerPiece = 0;
-    own = regularity::searchSurfaceDefects(after, so);
+    own = searchMovedPatch(after);
     if (!own) return std::nullopt;
     searched = &*own;
   }
@@ -381,12 +377,13 @@ std::optional<FoldPoint> newFoldPoint(const BSplineSurface& before, const BSplin
   return std::nullopt;
 }
 
-std::string foldOf(const BSplineSurface& before, const BSplineSurface& after, double maxTurnDeg) {
+std::string foldOf(const BSplineSurface& before, const BSplineSurface& after, double maxTurnDeg,
+                   const regularity::SurfaceSearchResult* searched) {
   const NormalTurnover nt = normalTurnover(before, after, maxTurnDeg);
   if (nt.found)
     return fmt::format("would turn over: its normal turns by {:.4g} deg at (u, v) = ({:.6g}, {:.6g})", nt.angleDeg,
                        nt.u, nt.v);
-  if (const auto f = newFoldPoint(before, after))
+  if (const auto f = newFoldPoint(before, after, searched))
     return fmt::format("would fold: S_u x S_v vanishes at (u, v) = ({:.6g}, {:.6g}), where the input is regular", f->u,
                        f->v);
   return "";

@@ -131,5 +131,9 @@ class BernsteinPatch {
 BernsteinPatch product(const BernsteinPatch& a, const BernsteinPatch& b);
 BernsteinPatch dot(const BernsteinPatch& a, const BernsteinPatch& b);
 BernsteinPatch cross(const BernsteinPatch& a, const BernsteinPatch& b);
+/// Numerators of S_u and S_v of a patch given by its homogeneous form h (columns x w, y w, z w, w; w = 1 when not
+/// `rational`): A_u w - A w_u and A_v w - A w_v, i.e. w^2 S_u and w^2 S_v (A_u and A_v when polynomial). Their cross
+/// product is w^4 S_u x S_v: the sign and zeros of the normal, exactly, as a polynomial.
+std::pair<BernsteinPatch, BernsteinPatch> partialNumerators(const BernsteinPatch& h, bool rational);
 
 }  // namespace seam

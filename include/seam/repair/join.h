@@ -172,15 +172,12 @@ inline constexpr double kTurnoverPoleRel = 1e-9;
 
 /// Whether the normal of `after` turns by more than `minAngleDeg` (default 90: it points against the input's)
 /// against that of `before` anywhere, the two at equal parameters (a repair moves control points, not parameters).
-/// Exact on the Bernstein form: per knot cell of the common refinement of both, with N the normal numerator
-/// (polynomial: S_u x S_v; rational, homogeneous P = w S: w P_u x P_v - w_v P_u x P - w_u P x P_v, which is
-/// w^3 S_u x S_v), the polynomial D = N_after . N_before - cos(minAngle) |N_after| |N_before| is not a polynomial
-/// for other angles than 90, so the test runs on D = N_after . N_before (degree about 4x the patch's) and, for
-/// minAngle != 90, evaluates the angle at the points of the regions D cannot settle. A region whose coefficients of
-/// D are all >= -kIdentityRelTol x its scale has no turnover when minAngle >= 90; the others are split in four (most
-/// negative first) and their corners and centres are evaluated, up to `maxSplits` splits. `found` rests on an
-/// evaluated point (never on a bound); `certified` says that every region was settled. Domains that differ: a
-/// 41 x 41 lattice of the normalised domain, never certified. minAngleDeg must be in [90, 180].
+/// Per knot cell of the common refinement of both, D = N_after . N_before in Bernstein form, N the normal numerator
+/// (cross product of partialNumerators: S_u x S_v, or w^4 S_u x S_v for rational patches). A region whose
+/// coefficients of D are all >= -kIdentityRelTol x its scale has no normal turned by 90 degrees or more; the others
+/// are split in four (most negative first) and their corners and centres evaluated, up to `maxSplits` splits.
+/// `found` rests on an evaluated point, never on a bound; `certified` says that every region was settled. Domains
+/// that differ: a 41 x 41 lattice of the normalised domain, never certified. minAngleDeg is clamped to [90, 180].
 struct NormalTurnover {
   bool found = false;       ///< a point where the normals are more than minAngleDeg apart
   double u = 0.0, v = 0.0;  ///< where (parameters of `after`)
@@ -204,12 +201,16 @@ struct FoldPoint {
 /// A point where S_u x S_v of `after` vanishes (regularity::searchSurfaceDefects, budget kFoldSearchWork) while
 /// `before` is regular there (kFoldRegularSine): the moved patch folds (its orientation reverses across a curve
 /// through it) or got a new cusp. Parameters of `after`, equal to `before`'s (a repair moves points, not parameters).
-/// `searched`: the search already run on `after` (its critical points are used instead of a new search).
+/// `searched`: searchMovedPatch(after) when already run (its critical points are used instead of a new search).
 std::optional<FoldPoint> newFoldPoint(const BSplineSurface& before, const BSplineSurface& after,
                                       const regularity::SurfaceSearchResult* searched = nullptr);
+/// The defect search of a moved patch: regularity::searchSurfaceDefects with the budget kFoldSearchWork.
+Result<regularity::SurfaceSearchResult> searchMovedPatch(const BSplineSurface& s);
 /// Why moving a patch from `before` to `after` folds it ("" when it does not): a normal turned by more than
-/// `maxTurnDeg` (normalTurnover), or a new critical point (newFoldPoint). The text continues "patch P ...".
-std::string foldOf(const BSplineSurface& before, const BSplineSurface& after, double maxTurnDeg = 90.0);
+/// `maxTurnDeg` (normalTurnover), or a new critical point (newFoldPoint; `searched` as there). The text continues
+/// "patch P ...".
+std::string foldOf(const BSplineSurface& before, const BSplineSurface& after, double maxTurnDeg = 90.0,
+                   const regularity::SurfaceSearchResult* searched = nullptr);
 
 /// Largest distance between two surfaces at equal normalised parameters on a grid x grid lattice of each one's domain
 /// (batch evaluation, GridEvaluator).
