@@ -22,6 +22,7 @@
 #include <GeomConvert.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <Geom_BezierSurface.hxx>
 #include <Geom_TrimmedCurve.hxx>
 #include <OSD_Signal.hxx>
 #include <Precision.hxx>
@@ -59,6 +60,7 @@
 #include "occt/brep_check_internal.h"
 #include "occt/cad_internal.h"
 #include "seam/occt/brep_model.h"
+#include "spline/spline_internal.h"
 
 namespace seam::occt {
 
@@ -368,14 +370,68 @@ std::optional<BSplineCurve> pcurve2d(Handle(Geom2d_Curve) c, double f, double l,
   return std::nullopt;
 }
 
+/// The pcurves of a face may run a little past its surface's bounds (trj3_s1-al-214.stp: 0.33 % of the v range on
+/// face 22, within the edges' tolerances as OpenCASCADE evaluates the surface there). When the face's patch is its
+/// B-spline or Bezier surface itself (an exact conversion), the patch is continued exactly over the pcurves' box
+/// on each side that is not periodic (detail::extendedSurface: the end pieces' polynomials, as OpenCASCADE extends
+/// them), so that the pcurves fit inside its domain. Returns a note ("" when nothing changed).
+std::string extendPatchToPcurves(const TopoDS_Face& fwd, const Handle(Geom_Surface) & surf, const CadFace& info,
+                                 Patch& patch) {
+  if (!info.exact || !(surf->IsKind(STANDARD_TYPE(Geom_BSplineSurface)) ||
+                       surf->IsKind(STANDARD_TYPE(Geom_BezierSurface))))
+    return "";
+  const Interval du = patch.surface.domainU(), dv = patch.surface.domainV();
+  double ulo = du.lo, uhi = du.hi, vlo = dv.lo, vhi = dv.hi;
+  auto add = [&](const gp_Pnt2d& q) {
+    ulo = std::min(ulo, q.X());
+    uhi = std::max(uhi, q.X());
+    vlo = std::min(vlo, q.Y());
+    vhi = std::max(vhi, q.Y());
+  };
+  for (TopExp_Explorer ex(fwd, TopAbs_EDGE); ex.More(); ex.Next()) {
+    double f = 0, l = 0;
+    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(TopoDS::Edge(ex.Current()), fwd, f, l);
+    if (pc.IsNull() || !(f < l)) continue;
+    // The box of the pcurve's B-spline poles holds the pcurve (convex hull); samples where it has no such form.
+    Handle(Geom2d_BSplineCurve) b;
+    try {
+      OCC_CATCH_SIGNALS
+      b = Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(pc, f, l));
+    } catch (const Standard_Failure& e) {
+      if (isSignal(e)) throw;
+      b.Nullify();
+    }
+    if (!b.IsNull())
+      for (int i = 1; i <= b->NbPoles(); ++i) add(b->Pole(i));
+    else
+      for (int i = 0; i <= 4 * kParamSamples; ++i) add(pc->Value(f + (l - f) * i / (4 * kParamSamples)));
+  }
+  const double su = kBRepDomainRelTol * du.length(), sv = kBRepDomainRelTol * dv.length();
+  const bool uPer = surf->IsUPeriodic(), vPer = surf->IsVPeriodic();
+  const Interval U{!uPer && ulo < du.lo - su ? ulo : du.lo, !uPer && uhi > du.hi + su ? uhi : du.hi};
+  const Interval V{!vPer && vlo < dv.lo - sv ? vlo : dv.lo, !vPer && vhi > dv.hi + sv ? vhi : dv.hi};
+  if (U == du && V == dv) return "";
+  if (!std::isfinite(U.lo) || !std::isfinite(U.hi) || !std::isfinite(V.lo) || !std::isfinite(V.hi)) return "";
+  Result<BSplineSurface> e = seam::detail::extendedSurface(patch.surface, U, V);
+  if (!e) return "";  // left as it is: the pcurve fit below then says what does not fit
+  patch.surface = std::move(e).value();
+  const double most = std::max({(du.lo - U.lo) / du.length(), (U.hi - du.hi) / du.length(),
+                                (dv.lo - V.lo) / dv.length(), (V.hi - dv.hi) / dv.length()});
+  return fmt::format("the pcurves of face {} run up to {:.2g} % of its surface's parameter range past its bounds: "
+                     "its patch is the surface continued exactly over [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}], as "
+                     "OpenCASCADE evaluates it there",
+                     info.faceIndex, 100.0 * most, U.lo, U.hi, V.lo, V.hi);
+}
+
 }  // namespace
 
 namespace detail {
 
 std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
                                                   const std::vector<TopoDS_Face>& faces,
-                                                  const CadImport& import, std::string& whyNot,
-                                                  std::vector<std::string>& notes) {
+                                                  CadImport& import, std::string& whyNot,
+                                                  std::vector<std::string>& notes,
+                                                  std::vector<int>* invalidInputFaces) {
   OcctSignalGuard guard;
   try {
     OCC_CATCH_SIGNALS
@@ -445,8 +501,10 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
       const TopoDS_Face& face = faces[fi];
       const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
       const Handle(Geom_Surface) surf = BRep_Tool::Surface(fwd);
-      const Handle(Geom_BSplineSurface) patch = toOcctSurface(import.model.patches[fi].surface);
       const CadFace& info = import.faces[fi];
+      if (std::string note = extendPatchToPcurves(fwd, surf, info, import.model.patches[fi]); !note.empty())
+        notes.push_back(std::move(note));
+      const Handle(Geom_BSplineSurface) patch = toOcctSurface(import.model.patches[fi].surface);
       BRepFace bf;
       bf.patch = static_cast<int>(fi);
       bf.reversed = face.Orientation() == TopAbs_REVERSED;
@@ -469,7 +527,11 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
         for (BRepTools_WireExplorer ex(w, fwd); ex.More(); ex.Next()) ordered.push_back(ex.Current());
         if (static_cast<int>(ordered.size()) != stored) {
           // BRepTools_WireExplorer gives up on some wires (two edges meeting at both ends, gaps beyond the
-          // vertex tolerances): the wire's stored order, whose closure validateBRep checks.
+          // vertex tolerances): the wire's stored order, whose closure validateBRep checks. When OpenCASCADE's
+          // own check finds the face invalid, the input is at fault: said with the refusal (cad_io.cpp).
+          if (invalidInputFaces != nullptr && BRepCheck_Analyzer(face, false).IsValid() == Standard_False &&
+              (invalidInputFaces->empty() || invalidInputFaces->back() != info.faceIndex))
+            invalidInputFaces->push_back(info.faceIndex);
           ordered.clear();
           for (TopoDS_Iterator it(w); it.More(); it.Next())
             if (it.Value().ShapeType() == TopAbs_EDGE) ordered.push_back(TopoDS::Edge(it.Value()));

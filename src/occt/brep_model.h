@@ -19,13 +19,16 @@ namespace seam::occt::detail {
 /// patch within the tolerances. Pcurves are kept where the patch has its face's parameterisation (checked by
 /// sampling); elsewhere (analytic faces converted to rational patches, approximated faces) each pcurve is
 /// fitted again through the points of the face's surface projected onto the patch, and kept only within the
-/// edge's tolerance. 3-D curves likewise: converted exactly where the parameterisation is kept (lines,
-/// B-splines, Bezier), fitted otherwise (circles, ellipses, ...). `notes` says how many were fitted and their
-/// largest error.
+/// edge's tolerance. A patch that is its face's B-spline surface is continued exactly where the face's pcurves
+/// run past its bounds (import.model.patches changes; said in `notes`). 3-D curves likewise: converted exactly
+/// where the parameterisation is kept (lines, B-splines, Bezier), fitted otherwise (circles, ellipses, ...).
+/// `notes` says how many were fitted and their largest error. `invalidInputFaces` (optional) gets the 1-based
+/// indices of faces whose wire does not connect and that OpenCASCADE's BRepCheck_Analyzer finds invalid as read.
 std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
                                                   const std::vector<TopoDS_Face>& faces,
-                                                  const CadImport& import, std::string& whyNot,
-                                                  std::vector<std::string>& notes);
+                                                  CadImport& import, std::string& whyNot,
+                                                  std::vector<std::string>& notes,
+                                                  std::vector<int>* invalidInputFaces = nullptr);
 
 /// The shape of model.brep: a compound of its roots (solids, shells, faces), in the topology's order, so that
 /// the faces of TopExp::MapShapes are the topology's faces in order (when every face is reached once). Errors

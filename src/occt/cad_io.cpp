@@ -13,6 +13,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -770,14 +771,32 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
     // be carried onto the patches, the model stays without them and the patch-only writers refuse it.
     std::string whyNot;
     std::vector<std::string> notes;
-    out->model.brep = detail::brepFromFaces(*shape, faces, *out, whyNot, notes);
+    std::vector<Patch> asRead = out->model.patches;  // brepFromFaces may continue patches; undone without a B-rep
+    std::vector<int> invalidFaces;
+    out->model.brep = detail::brepFromFaces(*shape, faces, *out, whyNot, notes, &invalidFaces);
     if (out->model.brep) {
       if (Status st = validateBRep(out->model, *out->model.brep, file.string()); !st) {
         out->model.brep.reset();
         whyNot = st.message();
       }
     }
-    for (const std::string& n : notes) out->warnings.push_back(fmt::format("{}: {}", file.string(), n));
+    if (out->model.brep)
+      for (const std::string& n : notes) out->warnings.push_back(fmt::format("{}: {}", file.string(), n));
+    else
+      out->model.patches = std::move(asRead);
+    if (!out->model.brep && !invalidFaces.empty())
+    {
+      std::vector<std::string> names, brepIds;
+      for (int f : invalidFaces) {
+        names.push_back(fmt::format("F{}", f));
+        brepIds.push_back(std::to_string(f - 1));
+      }
+      whyNot += fmt::format("; OpenCASCADE's BRepCheck_Analyzer finds {} {} (brep face{} {}) invalid as read, a "
+                            "wire whose edges do not connect: STEP/IGES outputs keep {} as read",
+                            invalidFaces.size() > 1 ? "faces" : "face", fmt::join(names, ", "),
+                            invalidFaces.size() > 1 ? "s" : "", fmt::join(brepIds, ", "),
+                            invalidFaces.size() > 1 ? "them" : "it");
+    }
     if (!out->model.brep)
       out->warnings.push_back(
           fmt::format("{}: the trims of the {} trimmed faces cannot be kept as plain data ({}): "

@@ -774,3 +774,25 @@ void GridEvaluator::evaluate(Matrix* points, Matrix* du, Matrix* dv) const {
 }
 
 }  // namespace seam
+
+namespace seam::detail {
+
+Result<BSplineSurface> extendedSurface(const BSplineSurface& s, Interval u, Interval v) {
+  const Interval du = s.domainU(), dv = s.domainV();
+  if (!(u.lo <= du.lo && u.hi >= du.hi && v.lo <= dv.lo && v.hi >= dv.hi) || !std::isfinite(u.lo) ||
+      !std::isfinite(u.hi) || !std::isfinite(v.lo) || !std::isfinite(v.hi))
+    return invalidInput(fmt::format("the domain [{}, {}] x [{}, {}] does not contain the surface's [{}, {}] x [{}, {}]",
+                                    u.lo, u.hi, v.lo, v.hi, du.lo, du.hi, dv.lo, dv.hi));
+  std::vector<double> kU = s.knotsU().values(), kV = s.knotsV().values();
+  Matrix h = s.homogeneous();
+  int nu = s.numU(), nv = s.numV();
+  applyU(s.degreeU(), kU, h, nu, nv, [&](int p, auto& kn, auto& rows) { extendDomain(p, kn, rows, u.lo, u.hi); });
+  applyV(s.degreeV(), kV, h, nu, nv, [&](int p, auto& kn, auto& rows) { extendDomain(p, kn, rows, v.lo, v.hi); });
+  if (!h.allFinite()) return invalidInput("the continued control net is not finite");
+  if (s.isRational() && (h.col(h.cols() - 1).array() <= 0.0).any())
+    return invalidInput("the continued control net has a weight that is not positive");
+  return BSplineSurface::fromHomogeneous(s.degreeU(), s.degreeV(), KnotVector(std::move(kU)),
+                                         KnotVector(std::move(kV)), nu, nv, h, s.isRational());
+}
+
+}  // namespace seam::detail

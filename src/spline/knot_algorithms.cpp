@@ -142,6 +142,52 @@ std::vector<Interval> decompose(int degree, std::vector<double>& knots, Matrix& 
   return spans;
 }
 
+namespace {
+
+/// The blossom of the polynomial piece of span s (knots[s] < knots[s+1]) of a degree-p B-spline at x[0..p-1]:
+/// de Boor's algorithm with argument x[r-1] at level r. The blossom is symmetric and affine in each argument, so
+/// arguments outside the span continue the piece's polynomial.
+Matrix blossomOfSpan(int p, const std::vector<double>& t, const Matrix& rows, int s, const double* x) {
+  Matrix d = rows.middleRows(s - p, p + 1);
+  for (int r = 1; r <= p; ++r)
+    for (int j = p; j >= r; --j) {
+      const int i = s - p + j;
+      const double a = (x[r - 1] - t[static_cast<size_t>(i)]) /
+                       (t[static_cast<size_t>(i + p + 1 - r)] - t[static_cast<size_t>(i)]);
+      d.row(j) = (1.0 - a) * d.row(j - 1) + a * d.row(j);
+    }
+  return d.row(p);
+}
+
+}  // namespace
+
+void extendDomain(int degree, std::vector<double>& knots, Matrix& rows, double lo, double hi) {
+  const int p = degree;
+  clampEnds(p, knots, rows);
+  const int n = static_cast<int>(rows.rows());
+  const auto at = [](int i) { return static_cast<size_t>(i); };
+  if (hi > knots[at(n)]) {
+    // Control point i is the blossom of any piece in its support at knots i+1..i+p. The last p of them see
+    // the new end knots: blossoms of the last piece there. The others keep their knots and so their values.
+    const std::vector<double> t = knots;
+    int s = n - 1;
+    while (s > p && t[at(s)] >= t[at(s + 1)]) --s;
+    for (int k = n; k <= n + p; ++k) knots[at(k)] = hi;
+    Matrix out = rows;
+    for (int i = std::max(0, n - p); i < n; ++i) out.row(i) = blossomOfSpan(p, t, rows, s, &knots[at(i + 1)]);
+    rows = std::move(out);
+  }
+  if (lo < knots[at(p)]) {
+    const std::vector<double> t = knots;
+    int s = p;
+    while (s < n - 1 && t[at(s + 1)] <= t[at(s)]) ++s;
+    for (int k = 0; k <= p; ++k) knots[at(k)] = lo;
+    Matrix out = rows;
+    for (int i = 0; i < std::min(p, n); ++i) out.row(i) = blossomOfSpan(p, t, rows, s, &knots[at(i + 1)]);
+    rows = std::move(out);
+  }
+}
+
 void elevateDegree(int degree, std::vector<double>& knots, Matrix& rows, int by) {
   if (by <= 0) return;
   const int p = degree, q = degree + by;

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "seam/core/bernstein.h"
+#include "seam/core/result.h"
 #include "seam/core/types.h"
 #include "seam/spline/bspline_curve.h"
 
@@ -62,5 +63,16 @@ Matrix transposeGrid(const Matrix& rows, int nu, int nv);
 Matrix curveQuotientRule(const Matrix& H);
 /// Quotient rule for surfaces: H[k][l] = (A_{kl}, w_{kl}) for k + l <= order; returns S[k][l] (NURBS Book A4.4).
 std::vector<std::vector<VecX>> surfaceQuotientRule(const std::vector<std::vector<VecX>>& H);
+
+/// Clamps the ends and continues the first and last pieces' polynomials to [lo, hi] (a larger domain; an end that
+/// is already beyond is left as it is). Exact: every control point is a blossom of a piece (knot_algorithms.cpp).
+void extendDomain(int degree, std::vector<double>& knots, Matrix& rows, double lo, double hi);
+
+/// The same surface over the larger domain u x v (each containing the current one): the polynomials of the end
+/// pieces (rational surfaces: of the homogeneous net) continued exactly, as OpenCASCADE evaluates a B-spline surface
+/// beyond its bounds. Ends come out clamped. An error when the domain does not contain the surface's, or when the
+/// continued net would have a weight that is not positive or a coordinate that is not finite. Used where a trimmed
+/// face's pcurves run past its surface's bounds (src/occt/brep_model.cpp).
+Result<BSplineSurface> extendedSurface(const BSplineSurface& s, Interval u, Interval v);
 
 }  // namespace seam::detail
