@@ -73,6 +73,8 @@ namespace {
 constexpr double kSameParamRelTol = 1e-10;
 /// Samples per curve for that test and for the fits' error.
 constexpr int kParamSamples = 17;
+/// Samples per pcurve when looking for pcurves that run past their surface's bounds (extendPatchToPcurves).
+constexpr int kOverhangSamples = 256;
 /// Points of a fit (cubic interpolation at the edge's own parameters, GeomAPI_Interpolate): first try, then
 /// four times as many up to the last.
 constexpr int kFitPointsFirst = 33;
@@ -392,24 +394,15 @@ std::string extendPatchToPcurves(const TopoDS_Face& fwd, const Handle(Geom_Surfa
     double f = 0, l = 0;
     const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(TopoDS::Edge(ex.Current()), fwd, f, l);
     if (pc.IsNull() || !(f < l)) continue;
-    // The box of the pcurve's B-spline poles holds the pcurve (convex hull); samples where it has no such form.
-    Handle(Geom2d_BSplineCurve) b;
-    try {
-      OCC_CATCH_SIGNALS
-      b = Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(pc, f, l));
-    } catch (const Standard_Failure& e) {
-      if (isSignal(e)) throw;
-      b.Nullify();
-    }
-    if (!b.IsNull())
-      for (int i = 1; i <= b->NbPoles(); ++i) add(b->Pole(i));
-    else
-      for (int i = 0; i <= 4 * kParamSamples; ++i) add(pc->Value(f + (l - f) * i / (4 * kParamSamples)));
+    // Dense samples: the continuation is made only where a pcurve really runs past the bounds (the box of a
+    // curved pcurve's poles is much larger than the curve), and its margin below covers what lies between them.
+    for (int i = 0; i <= kOverhangSamples; ++i) add(pc->Value(f + (l - f) * i / kOverhangSamples));
   }
+  // Sides past the domain check's slack (kBRepDomainRelTol) are continued to the samples' box plus that slack.
   const double su = kBRepDomainRelTol * du.length(), sv = kBRepDomainRelTol * dv.length();
   const bool uPer = surf->IsUPeriodic(), vPer = surf->IsVPeriodic();
-  const Interval U{!uPer && ulo < du.lo - su ? ulo : du.lo, !uPer && uhi > du.hi + su ? uhi : du.hi};
-  const Interval V{!vPer && vlo < dv.lo - sv ? vlo : dv.lo, !vPer && vhi > dv.hi + sv ? vhi : dv.hi};
+  const Interval U{!uPer && ulo < du.lo - su ? ulo - su : du.lo, !uPer && uhi > du.hi + su ? uhi + su : du.hi};
+  const Interval V{!vPer && vlo < dv.lo - sv ? vlo - sv : dv.lo, !vPer && vhi > dv.hi + sv ? vhi + sv : dv.hi};
   if (U == du && V == dv) return "";
   if (!std::isfinite(U.lo) || !std::isfinite(U.hi) || !std::isfinite(V.lo) || !std::isfinite(V.hi)) return "";
   Result<BSplineSurface> e = seam::detail::extendedSurface(patch.surface, U, V);
