@@ -141,12 +141,45 @@ std::vector<Vec3> sampleCurve(const BSplineCurve& c, Interval d, int n) {
   return out;
 }
 
-/// One line plot (value against t) with a dashed tolerance line.
-std::string plot(const std::vector<double>& t, const std::vector<double>& y, double tol, const std::string& label,
-                 int w, int h) {
-  double ymax = tol;
-  for (double v : y)
-    if (std::isfinite(v)) ymax = std::max(ymax, v);
+/// The seam's table value for one measure and where its measured maximum lies (issue 38 goal 5: the plot and the
+/// table show the same measure).
+struct PlotPeak {
+  double t = 0.0;      ///< parameter of the refined maximum on A's edge (SeamReport::g0Worst.t, ...)
+  double value = 0.0;  ///< the refined maximum there (g0Sampled, ...): the plot's peak
+  double table = 0.0;  ///< the table's value (g0Max, ...): a certified bound at or above it, or the same number
+};
+
+/// The samples with the seam's refined maximum added at its parameter, so that the plot peaks at the number the
+/// sampled column of the table shows (the samples alone miss a maximum between them, or at an end overhang).
+void addPeak(std::vector<double>& t, std::vector<double>& y, const PlotPeak& peak) {
+  if (!std::isfinite(peak.t) || !std::isfinite(peak.value) || t.empty()) return;
+  const auto at = std::lower_bound(t.begin(), t.end(), peak.t);
+  const auto i = at - t.begin();
+  if (at != t.end() && *at == peak.t) {
+    y[static_cast<size_t>(i)] = std::max(y[static_cast<size_t>(i)], peak.value);
+    return;
+  }
+  t.insert(at, peak.t);
+  y.insert(y.begin() + i, peak.value);
+}
+
+/// One line plot (value against t) with a dashed tolerance line, a dot at the measured maximum and, where the
+/// table shows a certified bound above it, a dotted line at the bound. data-peak / data-table carry the two
+/// numbers for tests and scripts.
+std::string plot(std::vector<double> t, std::vector<double> y, double tol, const std::string& label, int w, int h,
+                 const PlotPeak& peak) {
+  addPeak(t, y, peak);
+  double ymax = std::isfinite(peak.table) ? std::max(tol, peak.table) : tol;
+  double highest = -std::numeric_limits<double>::infinity();
+  double highestT = t.front();
+  for (size_t i = 0; i < y.size(); ++i)
+    if (std::isfinite(y[i])) {
+      ymax = std::max(ymax, y[i]);
+      if (y[i] > highest) {
+        highest = y[i];
+        highestT = t[i];
+      }
+    }
   ymax = ymax > 0.0 ? 1.1 * ymax : 1.0;
   const double t0 = t.front(), t1 = t.back() > t.front() ? t.back() : t.front() + 1.0;
   const double left = 70, right = 10, top = 18, bottom = 22;
@@ -155,7 +188,9 @@ std::string plot(const std::vector<double>& t, const std::vector<double>& y, dou
   std::string pts;
   for (size_t i = 0; i < t.size(); ++i)
     if (std::isfinite(y[i])) pts += fmt::format("{:.1f},{:.1f} ", X(t[i]), Y(y[i]));
-  std::string s = fmt::format("<svg class=\"plot\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\">", w, h, w, h);
+  std::string s = fmt::format(
+      "<svg class=\"plot\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" data-peak=\"{}\" data-table=\"{}\">", w, h, w,
+      h, jsonNum(highest, 17), jsonNum(peak.table, 17));
   s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#fafafa\" stroke=\"#ccc\"/>", left, top,
                    w - left - right, h - top - bottom);
   s += fmt::format("<text x=\"{}\" y=\"12\" class=\"lbl\">{}</text>", left, escape(label));
@@ -168,7 +203,16 @@ std::string plot(const std::vector<double>& t, const std::vector<double>& y, dou
       "<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#d62728\" stroke-dasharray=\"5,4\"/>"
       "<text x=\"{}\" y=\"{:.1f}\" class=\"ax\" fill=\"#d62728\" text-anchor=\"end\">tol {}</text>",
       left, w - right, Y(tol), Y(tol), w - right - 2, Y(tol) - 3, num(tol));
+  if (std::isfinite(peak.table) && std::isfinite(highest) && peak.table > highest * (1.0 + 1e-9) + 1e-300)
+    s += fmt::format(
+        "<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#555\" stroke-dasharray=\"1,3\"/>"
+        "<text x=\"{}\" y=\"{:.1f}\" class=\"ax\" text-anchor=\"start\">bound {}</text>",
+        left, w - right, Y(peak.table), Y(peak.table), left + 2, Y(peak.table) - 3, num(peak.table));
   s += fmt::format("<polyline fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"{}\"/>", pts);
+  if (std::isfinite(highest))
+    s += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3\" fill=\"#1f77b4\"><title>max {} at t = {}</title>"
+                     "</circle>",
+                     X(highestT), Y(highest), num(highest), num(highestT));
   s += "</svg>";
   return s;
 }
@@ -592,9 +636,12 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
                      k, k, escape(s.a), s.aEdge.empty() ? "" : ":" + escape(s.aEdge), escape(s.b),
                      s.bEdge.empty() ? "" : ":" + escape(s.bEdge), static_cast<int>(r.geometric),
                      toString(r.geometric), toString(r.parametric), r.certified ? ", certified" : ", sampled");
-    h += plot(t, y0, tol.distance, "G0 gap", options.plotWidth, options.plotHeight);
-    h += plot(t, y1, tol.angleDeg, "G1 angle (degrees)", options.plotWidth, options.plotHeight);
-    h += plot(t, y2, tol.curvatureRel, "G2 jump (relative)", options.plotWidth, options.plotHeight);
+    h += plot(t, y0, tol.distance, "G0 gap", options.plotWidth, options.plotHeight,
+              {r.g0Worst.t, r.g0Sampled, r.g0Max});
+    h += plot(t, y1, tol.angleDeg, "G1 angle (degrees)", options.plotWidth, options.plotHeight,
+              {r.g1Worst.t, r.g1SampledDeg, r.g1MaxDeg});
+    h += plot(t, y2, tol.curvatureRel, "G2 jump (relative)", options.plotWidth, options.plotHeight,
+              {r.g2Worst.t, r.g2RelSampled, r.g2RelMax});
     h += "</div>\n";
   }
 
