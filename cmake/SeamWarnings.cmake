@@ -37,10 +37,11 @@ endfunction()
 
 # Precompiled headers (SEAM_PRECOMPILED_HEADERS, default on) for the tests and the CLI: the third-party and standard
 # headers that most of their files include (gtest, Eigen, nlohmann::json, fmt, CLI11), parsed once per target instead
-# of once per file. Parsing them was about 8 of a test file's 47 s. Not for the library, whose files spend their time
+# of once per file. Parsing them was about 8 of a test file's 47 s. Only third-party headers: a change to a seam header
+# rebuilds the files that include it, not every file of the target. Not for the library, whose files spend their time
 # in the optimiser, and where GCC 12 with a precompiled header reports -Warray-bounds/-Wstringop-overflow false
-# positives from inside libstdc++ (src/continuity/corner.cpp, seam.cpp, report.cpp) that it does not report without. Only third-party headers: a change to a seam header rebuilds the
-# files that include it, not every file of the target. Turn off to check that every file includes what it uses.
+# positives from inside libstdc++ (src/continuity/corner.cpp, seam.cpp, report.cpp) that it does not report without
+# one. Turn off to check that every file includes what it uses.
 option(SEAM_PRECOMPILED_HEADERS "Precompile the common third-party headers of each target" ON)
 function(seam_precompile target)
   if(SEAM_PRECOMPILED_HEADERS AND NOT SEAM_FUZZ)

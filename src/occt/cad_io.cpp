@@ -780,28 +780,27 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
         whyNot = st.message();
       }
     }
-    if (out->model.brep)
+    if (out->model.brep) {
       for (const std::string& n : notes) out->warnings.push_back(fmt::format("{}: {}", file.string(), n));
-    else
+    } else {
       out->model.patches = std::move(asRead);
-    if (!out->model.brep && !invalidFaces.empty())
-    {
-      std::vector<std::string> names, brepIds;
-      for (int f : invalidFaces) {
-        names.push_back(fmt::format("F{}", f));
-        brepIds.push_back(std::to_string(f - 1));
+      if (!invalidFaces.empty()) {
+        std::vector<std::string> names, brepIds;
+        for (int f : invalidFaces) {
+          names.push_back(fmt::format("F{}", f));
+          brepIds.push_back(std::to_string(f - 1));
+        }
+        const bool many = invalidFaces.size() > 1;
+        whyNot += fmt::format("; OpenCASCADE's BRepCheck_Analyzer finds {} {} (brep face{} {}) invalid as read, a "
+                              "wire whose edges do not connect: STEP/IGES outputs keep {} as read",
+                              many ? "faces" : "face", fmt::join(names, ", "), many ? "s" : "",
+                              fmt::join(brepIds, ", "), many ? "them" : "it");
       }
-      whyNot += fmt::format("; OpenCASCADE's BRepCheck_Analyzer finds {} {} (brep face{} {}) invalid as read, a "
-                            "wire whose edges do not connect: STEP/IGES outputs keep {} as read",
-                            invalidFaces.size() > 1 ? "faces" : "face", fmt::join(names, ", "),
-                            invalidFaces.size() > 1 ? "s" : "", fmt::join(brepIds, ", "),
-                            invalidFaces.size() > 1 ? "them" : "it");
-    }
-    if (!out->model.brep)
       out->warnings.push_back(
           fmt::format("{}: the trims of the {} trimmed faces cannot be kept as plain data ({}): "
                       "outputs other than STEP/IGES from this file are refused",
                       file.string(), out->model.trimmedFaces, whyNot));
+    }
   }
   if (out) out->warnings.insert(out->warnings.begin(), readWarnings.begin(), readWarnings.end());
   if (out) out->units = units.units;

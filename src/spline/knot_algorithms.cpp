@@ -166,25 +166,25 @@ void extendDomain(int degree, std::vector<double>& knots, Matrix& rows, double l
   clampEnds(p, knots, rows);
   const int n = static_cast<int>(rows.rows());
   const auto at = [](int i) { return static_cast<size_t>(i); };
-  if (hi > knots[at(n)]) {
-    // Control point i is the blossom of any piece in its support at knots i+1..i+p. The last p of them see
-    // the new end knots: blossoms of the last piece there. The others keep their knots and so their values.
+  // Control point i is the blossom of any piece in its support at knots i+1..i+p. Moving the end knots k0..k1 to
+  // `to` changes the control points [i0, i1) that see them: blossoms of the end piece s at their new knots. The
+  // others keep their knots and so their values.
+  auto continueEnd = [&](int s, int k0, int k1, int i0, int i1, double to) {
     const std::vector<double> t = knots;
-    int s = n - 1;
-    while (s > p && t[at(s)] >= t[at(s + 1)]) --s;
-    for (int k = n; k <= n + p; ++k) knots[at(k)] = hi;
+    for (int k = k0; k <= k1; ++k) knots[at(k)] = to;
     Matrix out = rows;
-    for (int i = std::max(0, n - p); i < n; ++i) out.row(i) = blossomOfSpan(p, t, rows, s, &knots[at(i + 1)]);
+    for (int i = i0; i < i1; ++i) out.row(i) = blossomOfSpan(p, t, rows, s, &knots[at(i + 1)]);
     rows = std::move(out);
+  };
+  if (hi > knots[at(n)]) {
+    int s = n - 1;  // the last non-empty span
+    while (s > p && knots[at(s)] >= knots[at(s + 1)]) --s;
+    continueEnd(s, n, n + p, std::max(0, n - p), n, hi);
   }
   if (lo < knots[at(p)]) {
-    const std::vector<double> t = knots;
-    int s = p;
-    while (s < n - 1 && t[at(s + 1)] <= t[at(s)]) ++s;
-    for (int k = 0; k <= p; ++k) knots[at(k)] = lo;
-    Matrix out = rows;
-    for (int i = 0; i < std::min(p, n); ++i) out.row(i) = blossomOfSpan(p, t, rows, s, &knots[at(i + 1)]);
-    rows = std::move(out);
+    int s = p;  // the first non-empty span
+    while (s < n - 1 && knots[at(s + 1)] <= knots[at(s)]) ++s;
+    continueEnd(s, 0, p, 0, std::min(p, n), lo);
   }
 }
 
