@@ -669,6 +669,66 @@ TEST(BSplineSurface, PointAndFirstDerivativesWithCompileTimeDegreesGiveTheSameBi
       }
 }
 
+TEST(BSplineSurface, EvaluateIsTheZerothDerivativeBitForBitAndTheDeBoorPoint) {
+  // evaluate() of a 3-D surface takes the allocation-free loops (degrees <= 15); derivatives(u, v, 0)[0][0] is the
+  // general algorithm (NURBS Book A2.3 and A3.6, A4.4 when rational). The two must give the same bits, so that a
+  // caller mixing them never sees a point move. Independently of both, the point is the de Boor point: tensor-product
+  // de Boor recursion on the control net (homogeneous when rational), within a few ulps of the net's size.
+  std::mt19937_64 rng(2811);
+  std::vector<BSplineSurface> cases;
+  for (int pu = 1; pu <= 5; ++pu)
+    for (int pv : {1, 3, 4})
+      for (bool rational : {false, true})
+        cases.push_back(randomSurface(rng, pu, pv, 3, {.rational = rational, .minSpans = 1, .maxSpans = 4}));
+  cases.push_back(randomSurface(rng, 16, 2, 3, {.rational = true, .minSpans = 1, .maxSpans = 1}));
+  cases.push_back(randomSurface(rng, 2, 3, 2, {.rational = false, .minSpans = 1, .maxSpans = 3}));
+  cases.push_back(randomSurface(rng, 3, 2, 4, {.rational = true, .minSpans = 1, .maxSpans = 3}));
+  auto deBoor = [](const std::vector<double>& U, int p, double t, std::vector<VecX> d) {
+    // d: the n control values; de Boor's algorithm on the span of t (the last non-empty span at the right end).
+    const int n = static_cast<int>(d.size());
+    int k = p;
+    while (k + 1 < n && U[static_cast<size_t>(k + 1)] <= t) ++k;
+    std::vector<VecX> w(d.begin() + (k - p), d.begin() + (k + 1));
+    for (int r = 1; r <= p; ++r)
+      for (int j = p; j >= r; --j) {
+        const int i = k - p + j;
+        const double a = (t - U[static_cast<size_t>(i)]) / (U[static_cast<size_t>(i + p - r + 1)] - U[static_cast<size_t>(i)]);
+        w[static_cast<size_t>(j)] = (1.0 - a) * w[static_cast<size_t>(j - 1)] + a * w[static_cast<size_t>(j)];
+      }
+    return w[static_cast<size_t>(p)];
+  };
+  for (const BSplineSurface& s : cases) {
+    const Interval du = s.domainU(), dv = s.domainV();
+    const Matrix h = s.homogeneous();
+    const double size = h.leftCols(s.dim()).cwiseAbs().maxCoeff();
+    std::vector<double> us{du.lo, du.hi}, vs{dv.lo, dv.hi};
+    for (double k : s.knotsU().values()) us.push_back(k);
+    for (double k : s.knotsV().values()) vs.push_back(k);
+    for (int i = 0; i < 60; ++i) {
+      us.push_back(uniformReal(rng, du.lo, du.hi));
+      vs.push_back(uniformReal(rng, dv.lo, dv.hi));
+    }
+    for (size_t i = 0; i < us.size(); ++i) {
+      const double u = us[i], v = vs[(i * 7 + 3) % vs.size()];
+      const VecX fast = s.evaluate(u, v), general = s.derivatives(u, v, 0)[0][0];
+      ASSERT_EQ(fast.size(), s.dim()) << describe(s);
+      ASSERT_EQ(general.size(), s.dim()) << describe(s);
+      for (Eigen::Index k = 0; k < fast.size(); ++k)
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(fast[k]), std::bit_cast<std::uint64_t>(general[k]))
+            << describe(s) << " at (" << u << ", " << v << ")";
+      std::vector<VecX> columns;
+      for (int a = 0; a < s.numU(); ++a) {
+        std::vector<VecX> row;
+        for (int b = 0; b < s.numV(); ++b) row.push_back(h.row(a * s.numV() + b).transpose());
+        columns.push_back(deBoor(s.knotsV().values(), s.degreeV(), v, row));
+      }
+      const VecX hp = deBoor(s.knotsU().values(), s.degreeU(), u, columns);
+      const VecX want = s.isRational() ? VecX(hp.head(s.dim()) / hp[s.dim()]) : hp;
+      EXPECT_LT((fast - want).norm(), 1e-12 * size) << describe(s) << " at (" << u << ", " << v << ")";
+    }
+  }
+}
+
 TEST(BSplineSurface, OrientedFromMakesTheEdgeU0) {
   std::mt19937_64 rng(555);
   for (const auto& [s, samples] : geometryCases(rng)) {

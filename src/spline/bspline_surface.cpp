@@ -129,7 +129,18 @@ Matrix BSplineSurface::homogeneous() const {
   return h;
 }
 
-VecX BSplineSurface::evaluate(double u, double v) const { return derivatives(u, v, 0)[0][0]; }
+VecX BSplineSurface::evaluate(double u, double v) const {
+  // Points in 3-D: the allocation-free loops of pointAndFirstDerivatives, whose point is derivatives()'s
+  // [0][0] operation for operation (the same basis arithmetic, the same sums in the same order, the same division
+  // by w), so the same bits. The general route allocates a vector of vectors per call, which dominated the callers
+  // that evaluate densely (samplers, closest-point searches), above all under AddressSanitizer.
+  if (points_.cols() == 3 && pu_ <= detail::kMaxFastBasisDegree && pv_ <= detail::kMaxFastBasisDegree) {
+    Vec3 point, du, dv;
+    detail::pointAndFirstDerivativesFast(*this, u, v, true, point, du, dv);
+    return point;
+  }
+  return derivatives(u, v, 0)[0][0];
+}
 
 std::vector<std::vector<VecX>> BSplineSurface::derivatives(double u, double v, int order) const {
   assert(order >= 0);
