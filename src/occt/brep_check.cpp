@@ -614,6 +614,14 @@ struct EdgeCertificate {
   /// The certified gap at equal edge parameters, when it was above the tolerance and the closest-point pairing
   /// certified a smaller one (which replaced it); 0 otherwise.
   double equalParameterGap = 0.0;
+  /// The certified angle at equal edge parameters (degrees), when samples between closest points lay above it and
+  /// the closest-point pairing certified the edge instead (retryAngleByClosestPoints); 0 otherwise.
+  double equalParameterAngleDeg = 0.0;
+  /// The largest angle of the sampled route (A's edge points and the closest points of B's edge), degrees.
+  double closestSampleAngleDeg = 0.0;
+  /// The certified angle makes the seam a kink, the samples between closest points do not, the pcurves drift and
+  /// the closest-point pairing could not be certified (retryAngleByClosestPoints): the samples' angle is shown.
+  bool kinkFromPairing = false;
   /// G0 and G1 (g2: and G2) values will come from the certified route (unless reconcileVerdict withdraws them).
   [[nodiscard]] bool certifies() const { return bounds && bounds->isOk(); }
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
@@ -638,6 +646,34 @@ void pairByCorrespondence(EdgeCertificate& c) {
   c.opt.maxBoundWork = std::min(c.opt.maxBoundWork, detail::kCorrespondenceBoundWork);
   c.a = c.masterA ? &master.side : &(*c.correspondence)->b;
   c.b = c.masterA ? &(*c.correspondence)->b : &master.side;
+}
+
+/// a and b point into c's own optionals: point them again after c was moved or copied.
+void repoint(EdgeCertificate& c) {
+  c.a = c.masterA ? &(*c.sideA)->side : &(*c.correspondence)->b;
+  c.b = c.masterA ? &(*c.correspondence)->b : &(*c.sideB)->side;
+}
+
+/// The certificate of c's two sides paired by the closest-point correspondence (pairByCorrespondence) instead of
+/// their equal edge parameters, when it certifies: the retry of a SameParameter edge whose pcurves drift.
+std::optional<EdgeCertificate> closestPointCertificate(const EdgeCertificate& c, const SpansCache& spans,
+                                                       size_t patchA, size_t patchB) {
+  EdgeCertificate closest;
+  closest.sideA = c.sideA;
+  closest.sideB = c.sideB;
+  closest.sameParameter = true;
+  closest.opt = c.opt;
+  pairByCorrespondence(closest);
+  if (closest.a == nullptr) return std::nullopt;
+  closest.bounds.emplace(certifyPCurveSeam(*closest.a, *closest.b, closest.opt, spans.at(patchA), spans.at(patchB)));
+  if (!closest.certifies()) return std::nullopt;
+  return closest;
+}
+
+/// c becomes `closest` (its pointers into its own data renewed).
+void adopt(EdgeCertificate& c, EdgeCertificate&& closest) {
+  c = std::move(closest);
+  repoint(c);
 }
 
 void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const FaceBoxCache& boxes, int fa,
@@ -665,20 +701,10 @@ void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, co
     // certified bound is kept (below that fraction the equal-parameter bound stands: it changes no verdict, and
     // the retry costs a correspondence per seam).
     if (!c.certifies() || (*c.bounds)->g0Bound <= kDriftRetryFraction * opt.tol.distance) return;
-    EdgeCertificate closest;
-    closest.sideA = c.sideA;
-    closest.sideB = c.sideB;
-    closest.sameParameter = true;
-    closest.opt = opt;
-    pairByCorrespondence(closest);
-    if (closest.a == nullptr) return;
-    closest.bounds.emplace(certifyPCurveSeam(*closest.a, *closest.b, closest.opt, spans.at(patchA), spans.at(patchB)));
-    if (!closest.certifies() || !((*closest.bounds)->g0Bound < (*c.bounds)->g0Bound)) return;
-    closest.equalParameterGap = (*c.bounds)->g0Bound;
-    c = std::move(closest);
-    // a and b point into the moved optionals' values: point them again.
-    c.a = c.masterA ? &(*c.sideA)->side : &(*c.correspondence)->b;
-    c.b = c.masterA ? &(*c.correspondence)->b : &(*c.sideB)->side;
+    std::optional<EdgeCertificate> closest = closestPointCertificate(c, spans, patchA, patchB);
+    if (!closest || !((*closest->bounds)->g0Bound < (*c.bounds)->g0Bound)) return;
+    closest->equalParameterGap = (*c.bounds)->g0Bound;
+    adopt(c, std::move(*closest));
     return;
   } else {
     pairByCorrespondence(c);
@@ -689,6 +715,98 @@ void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, co
   c.bounds.emplace(certifyPCurveSeam(*c.a, *c.b, c.opt, spans.at(patchA), spans.at(patchB)));
 }
 
+/// A sample of the closest-point route above the certified angle by more than this (degrees, plus
+/// kAngleRetryRelSlack of the bound) makes retryAngleByClosestPoints certify the edge again. Both routes evaluate the
+/// same surfaces; their angles differ by round-off (1e-13 deg on bearing.iges) unless they pair different points.
+constexpr double kAngleRetrySlackDeg = 1e-9;
+constexpr double kAngleRetryRelSlack = 1e-9;
+/// The search near the worst point (closestAngleNearDeg) runs only where the samples between closest points reach
+/// this fraction of the certified angle: far below it a drift of the pairing (1e-6 of the model on bearing.iges)
+/// cannot lift the angle past the bound, and each search costs 30 evaluations through OpenCASCADE's span caches.
+constexpr double kAngleSearchFraction = 0.9;
+/// Golden-section steps of closestAngleNearDeg (the bracket shrinks to 0.618^30 = 5e-7 of two sample spacings).
+constexpr int kClosestAngleSearchSteps = 30;
+
+/// The largest angle of the edge's samples (A's edge points and the closest points of B's edge), in degrees.
+double closestSampleAngleDeg(const EdgeSamples& s) {
+  double g1 = 0.0;
+  for (const PointData& m : s.ms)
+    if (m.normalsOk && std::isfinite(m.g1)) g1 = std::max(g1, m.g1);
+  return g1 * kRadToDeg;
+}
+
+/// The largest angle between closest points (measure) near A's edge parameter t0, within h of it: a golden-section
+/// search for the maximum, with t0 itself, in degrees. The samples are evenly spaced; the certified route's worst
+/// point is where a drift of the pairing shows first, so the search looks there.
+double closestAngleNearDeg(const FaceSide& A, const FaceSide& B, double t0, double h) {
+  const double lo0 = std::max(A.first, t0 - h), hi0 = std::min(A.last, t0 + h);
+  auto g1 = [&](double t) {
+    const PointData m = measure(A, B, t);
+    return m.normalsOk && std::isfinite(m.g1) ? m.g1 : 0.0;
+  };
+  double best = g1(std::clamp(t0, A.first, A.last));
+  if (!(hi0 > lo0)) return best * kRadToDeg;
+  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+  double lo = lo0, hi = hi0, x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo);
+  double f1 = g1(x1), f2 = g1(x2);
+  for (int i = 0; i < kClosestAngleSearchSteps; ++i) {
+    if (f1 >= f2) {
+      hi = x2, x2 = x1, f2 = f1;
+      x1 = hi - phi * (hi - lo), f1 = g1(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2;
+      x2 = lo + phi * (hi - lo), f2 = g1(x2);
+    }
+  }
+  return std::max({best, f1, f2}) * kRadToDeg;
+}
+
+/// Whether an angle between closest points (measure) exceeds `boundDeg` (beyond the retry slack): at kMinSamples + 1
+/// evenly spaced points of A's edge, then near the largest of them (closestAngleNearDeg). Not next to a pole.
+bool closestAnglesAboveDeg(const FaceSide& A, const FaceSide& B, double boundDeg) {
+  const double limit = boundDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
+  const int n = kMinSamples;
+  const double h = (A.last - A.first) / n;
+  double best = -1.0, bestT = A.first;
+  for (int i = 0; i <= n; ++i) {
+    const double t = A.first + h * i;
+    const PointData m = measure(A, B, t);
+    if (!m.curvatureOk) return false;  // a pole (or an ill-conditioned chart): the sampled normals are limits
+    if (!m.normalsOk || !std::isfinite(m.g1)) continue;
+    if (m.g1 * kRadToDeg > limit) return true;
+    if (m.g1 > best) best = m.g1, bestT = t;
+  }
+  return best * kRadToDeg >= kAngleSearchFraction * boundDeg && closestAngleNearDeg(A, B, bestT, h) > limit;
+}
+
+/// Issue 35 §1 for angles: the equal-parameter route compares the normals at equal edge parameters. Where a
+/// SameParameter pcurve drifts along the edge those points are not the closest ones, and on a strongly curved seam
+/// the angle between them can stay below the angle between closest points (bearing.iges, a model 0.1 mm across
+/// whose pcurves drift by 1e-6: 0.0229 deg certified, 0.0253 deg between closest points). When a sample of the
+/// closest-point route lies above the certified angle, the edge is certified again through the closest-point
+/// correspondence, whose bounds then stand (its G0 bound too: closest points are never farther apart).
+void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size_t patchA, size_t patchB) {
+  if (!c.certifies() || c.byCorrespondence) return;
+  const PCurveSeamBounds& b = **c.bounds;
+  const double bound = b.g1BoundDeg, sample = c.closestSampleAngleDeg;
+  // The bound is below a sample between closest points (it may not stand), or it makes the seam a kink where every
+  // sample between closest points is within the angle tolerance and the pcurves drift (it may be too loose:
+  // bearing.iges, 0.0257 deg at equal parameters, 0.0025 deg between closest points, edge 105).
+  const bool belowSamples = sample > bound * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
+  const bool looseKink = bound > c.opt.tol.angleDeg && sample <= c.opt.tol.angleDeg && b.g0Bound > 0.0;
+  if (!belowSamples && !looseKink) return;
+  std::optional<EdgeCertificate> closest = closestPointCertificate(c, spans, patchA, patchB);
+  if (!closest) {
+    // No certified closest-point pairing: a kink made by the pairing alone is not shown as certified.
+    c.kinkFromPairing = looseKink;
+    return;
+  }
+  if (!belowSamples && !((*closest->bounds)->g1BoundDeg < bound)) return;
+  closest->equalParameterAngleDeg = bound;
+  closest->closestSampleAngleDeg = sample;
+  adopt(c, std::move(*closest));
+}
+
 /// Applies the certified route (tryCertificate) to the edge's sampled report.
 void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::string& nameA, const std::string& nameB,
                       double modelSize) {
@@ -697,6 +815,29 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
     return;
   }
   certifyThroughPCurves(rep, *c.bounds, *c.a, c.opt, modelSize);
+  if (rep.certified && c.kinkFromPairing) {
+    rep.notes.push_back(fmt::format(
+        "not certified: at equal edge parameters the normals make up to {:.4g} deg, between the sampled closest "
+        "points {:.4g} deg (the SameParameter pcurves drift along the edge, the equal-parameter points are up to "
+        "{:.3g} apart) and the closest-point pairing could not be certified: the sampled angle is shown",
+        rep.g1MaxDeg, c.closestSampleAngleDeg, rep.g0Max));
+    rep.g1MaxDeg = rep.g1SampledDeg = c.closestSampleAngleDeg;
+    rep.certified = false;
+    reconcileVerdict(rep, c.opt.tol);
+  }
+  if (rep.certified &&
+      c.closestSampleAngleDeg > rep.g1MaxDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg) {
+    // The bound holds for the points the certified route pairs, not for closest points (the closest-point
+    // pairing could not be certified, or its pairing error shows): the sample is shown, and the seam is not called
+    // certified.
+    rep.notes.push_back(fmt::format(
+        "not certified: the samples between closest points reach {:.4g} deg, above the {:.4g} deg certified for "
+        "the points the certified route pairs (the pcurves drift along the edge); the larger value is shown",
+        c.closestSampleAngleDeg, rep.g1MaxDeg));
+    rep.g1MaxDeg = rep.g1SampledDeg = c.closestSampleAngleDeg;
+    rep.certified = false;
+    reconcileVerdict(rep, c.opt.tol);
+  }
   if (!c.byCorrespondence || !rep.certified) return;
   const FacePCurve& a = **c.sideA;
   const FacePCurve& b = **c.sideB;
@@ -707,6 +848,11 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
                          ? fmt::format("at equal edge parameters the pcurves' images are up to {:.4g} apart, a drift "
                                        "of the SameParameter pcurves, not a gap between the boundaries",
                                        c.equalParameterGap)
+                     : c.equalParameterAngleDeg > 0.0
+                         ? fmt::format("the SameParameter pcurves drift along the edge: at equal edge parameters the "
+                                       "normals make up to {:.4g} deg, between the sampled closest points {:.4g} deg, "
+                                       "so the normals are compared between closest points",
+                                       c.equalParameterAngleDeg, c.closestSampleAngleDeg)
                          : "";
   for (const auto& [s, name] : {std::pair{&a, &nameA}, std::pair{&b, &nameB}})
     if (s->ownParameter)
@@ -909,6 +1055,24 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
             out.import.faces[pa].trimmed || ia == ib ? std::nullopt : naturalSide(ea, fa, faceBoxes.at(ia));
         const std::optional<Edge> sb =
             out.import.faces[pb].trimmed || ia == ib ? std::nullopt : naturalSide(eb, fb, faceBoxes.at(ib));
+        // Both faces' sides of the edge through OpenCASCADE (the pcurve route, and the patch-edge route's check);
+        // false when the edge is not on both faces.
+        auto loadSides = [&] {
+          A.surface = BRep_Tool::Surface(fa);
+          B.surface = BRep_Tool::Surface(fb);
+          A.pcurve = BRep_Tool::CurveOnSurface(ea, fa, A.first, A.last);
+          B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
+          if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
+              !(A.last > A.first) || !(B.last > B.first))
+            return false;
+          A.surfaceEval.Load(A.surface);
+          B.surfaceEval.Load(B.surface);
+          A.pcurveEval.Load(A.pcurve, A.first, A.last);
+          B.pcurveEval.Load(B.pcurve, B.first, B.last);
+          A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+          B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+          return true;
+        };
         bool done = false;
         if (sa && sb) {
           Result<SeamReport> r =
@@ -917,25 +1081,24 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
             seam.report = std::move(r).value();
             seam.viaPatchEdges = true;
             done = true;
+            // The patch-edge route pairs the two sides by an affine map of their parameters. Where the sides'
+            // parametrisations drift apart along the edge, its certified angle can stay below the angle between
+            // closest points (bearing.iges: 0.00883 deg certified, 0.00910 between closest points): checked at
+            // the pcurve route's sample count; past it the edge takes the pcurve route, which pairs closest points.
+            if (seam.report.certified && !seam.report.g1Identity && loadSides() &&
+                closestAnglesAboveDeg(A, B, seam.report.g1MaxDeg)) {
+              done = false;
+              seam.report = SeamReport{};
+              seam.viaPatchEdges = false;
+            }
           }
         }
         if (!done) {
-          A.surface = BRep_Tool::Surface(fa);
-          B.surface = BRep_Tool::Surface(fb);
-          A.pcurve = BRep_Tool::CurveOnSurface(ea, fa, A.first, A.last);
-          B.pcurve = BRep_Tool::CurveOnSurface(eb, fb, B.first, B.last);
-          if (A.surface.IsNull() || B.surface.IsNull() || A.pcurve.IsNull() || B.pcurve.IsNull() ||
-              !(A.last > A.first) || !(B.last > B.first)) {
+          if (!loadSides()) {
             o.kind = EdgeOutcome::kFree;  // not on both faces
             o.free = {i, seam.a, edgeMidpoint(edge), edgePolyline(edge)};
             return o;
           }
-          A.surfaceEval.Load(A.surface);
-          B.surfaceEval.Load(B.surface);
-          A.pcurveEval.Load(A.pcurve, A.first, A.last);
-          B.pcurveEval.Load(B.pcurve, B.first, B.last);
-          A.sign = fa.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
-          B.sign = fb.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
           const bool exact = out.import.faces[pa].exact && out.import.faces[pb].exact;
           EdgeSamples samples;
           EdgeCertificate cert;
@@ -972,6 +1135,19 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
             tasks.wait();
             if (sampleError) std::rethrow_exception(sampleError);
             if (certError) std::rethrow_exception(certError);
+          }
+          if (exact) {
+            // Not next to a pole (a vanishing normal: the samples' normals there are limits, the certified
+            // route's are exact) and not where the certified route proved G1 as an identity.
+            cert.closestSampleAngleDeg =
+                samples.degenerate || (cert.certifies() && (*cert.bounds)->g1Identity) ? 0.0
+                                                                                      : closestSampleAngleDeg(samples);
+            if (cert.certifies() && !cert.byCorrespondence && samples.ts.size() > 1 &&
+                cert.closestSampleAngleDeg >= kAngleSearchFraction * (*cert.bounds)->g1BoundDeg)
+              cert.closestSampleAngleDeg =
+                  std::max(cert.closestSampleAngleDeg,
+                           closestAngleNearDeg(A, B, (*cert.bounds)->g1At, samples.ts[1] - samples.ts[0]));
+            retryAngleByClosestPoints(cert, spansCache, pa, pb);
           }
           seam.report = sampledSeam(samples, A, B, seam.a, seam.b, seamOpt, !cert.certifies(), !cert.certifiesG2());
           if (exact) {
