@@ -236,6 +236,41 @@ TEST_F(CliVerdicts, JsonVerdictPerSeamAndSummary) {
   EXPECT_EQ(k["summary"]["worst_kink"]["a"], "A1");
 }
 
+// Numbers in text (issue 38 goal 7): 4 significant digits by default, --digits N before or after the command, never
+// "0.0000" (a gap of exactly 0 prints "0", a small one in its own digits), JSON exact whatever --digits says. The
+// 3-degree hinge's angle is known from its construction, and the JSON gives its exact value; the text must show that
+// value rounded to the digits asked for.
+TEST_F(CliVerdicts, DigitsOfTheTextAndExactJson) {
+  const nlohmann::json j = nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json --digits 2").out);
+  const double angle = j["seams"][6]["g1_max_deg"].get<double>();
+  EXPECT_NEAR(angle, 3.0, 1e-9);
+  EXPECT_EQ(nlohmann::json::parse(runSeam("check \"" + hinges_ + "\" --json").out)["seams"][6]["g1_max_deg"].get<double>(),
+            angle)  // --digits never touches the JSON
+      << "JSON must be exact";
+  for (const int digits : {2, 4, 9, 17}) {
+    for (const bool before : {false, true}) {
+      const std::string opt = " --digits " + std::to_string(digits) + " ";
+      const CliRun t = runSeam(before ? opt + "check \"" + hinges_ + "\"" : "check \"" + hinges_ + "\"" + opt);
+      ASSERT_EQ(t.exitCode, 0) << t.out;
+      char want[64];
+      std::snprintf(want, sizeof want, "%.*g", digits, angle);
+      // The A6 row: its angle cell, as printf rounds the exact value.
+      const size_t row = t.out.find("A6  ");
+      ASSERT_NE(row, std::string::npos) << t.out;
+      const std::string line = t.out.substr(row, t.out.find('\n', row) - row);
+      EXPECT_NE(line.find(std::string(" ") + want + " "), std::string::npos) << digits << ": " << line;
+      if (digits <= 4) EXPECT_EQ(t.out.find("0.0000"), std::string::npos) << t.out;  // 17: 10.000000000000002
+    }
+  }
+  // The default is 4 digits: the 10-degree kink's summary line (exactly 10 up to round-off) prints "10".
+  EXPECT_NE(runSeam("check \"" + hinges_ + "\"").out.find("angle 10 deg"), std::string::npos);
+  for (const char* bad : {"0", "18", "4.5", "x", "-3", ""}) {
+    const CliRun b = runSeam(std::string("check \"") + hinges_ + "\" --digits '" + bad + "'", true);
+    EXPECT_EQ(b.exitCode, 2) << bad;
+    EXPECT_NE(b.out.find("--digits"), std::string::npos) << b.out;
+  }
+}
+
 // One exit-code rule for check and batch (issue 38 goal 8): the hinge model has two kinks and a gap. Without
 // --require both exit 0 (the batch row still says "problem"); with a class the model misses both exit 1; with one it
 // meets both exit 0. The expected codes follow from the model's construction (kinks of 10 and 45 degrees, a gap of
@@ -292,7 +327,7 @@ TEST_F(CliVerdicts, SortTopAndOnlyProblems) {
   EXPECT_NE(creaseRows.find("n/a (crease angle)"), std::string::npos) << creaseRows;
   EXPECT_EQ(creaseRows.find('%'), std::string::npos) << creaseRows;
   EXPECT_EQ(t.out.substr(0, creases).find("n/a (crease angle)"), std::string::npos) << t.out;
-  for (const char* text : {"verdicts: gap 1, kink 2, crease 3", "worst kink: A0:u1 / B0:u0, angle 10.000 deg",
+  for (const char* text : {"verdicts: gap 1, kink 2, crease 3", "worst kink: A0:u1 / B0:u0, angle 10 deg",
                            "worst gap: A4:u1 / B4:u0, gap 0.01"})
     EXPECT_NE(t.out.find(text), std::string::npos) << text << "\n" << t.out;
   const CliRun p = runSeam("check \"" + hinges_ + "\" --only problems");

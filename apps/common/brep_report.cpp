@@ -49,14 +49,14 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
     report::ReportSeam rs;
     rs.a = s.a;
     rs.b = s.b;
-    rs.aEdge = fmt::format("e{}", s.edge);
+    rs.aEdge = fmt::format("edge {}", s.edge);  // one spelling of an edge (issue 38 §7), as `check` prints it
     rs.report = s.report;
     rs.extra = s.occtContinuity;
     rs.curve = s.curve;
     d.seams.push_back(std::move(rs));
   }
   for (const occt::BRepFreeEdge& f : r->freeEdges) {
-    d.freeEdges.push_back(fmt::format("e{} of {}", f.edge, f.face));
+    d.freeEdges.push_back(fmt::format("edge {} ({})", f.edge, f.face));
     if (!f.curve.empty()) d.outline.push_back(f.curve);
   }
   for (int k = 0; k < r->degenerateEdges; ++k) d.degenerateEdges.push_back("pole");

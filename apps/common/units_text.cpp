@@ -2,9 +2,19 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace seam::cli {
 
-std::string formatNumber(double x) { return fmt::format("{:.10g}", x); }
+namespace {
+int gDisplayDigits = kDefaultDisplayDigits;
+}  // namespace
+
+void setDisplayDigits(int digits) { gDisplayDigits = std::clamp(digits, 1, kMaxDisplayDigits); }
+
+int displayDigits() { return gDisplayDigits; }
+
+std::string formatNumber(double x) { return fmt::format("{:.{}g}", x, gDisplayDigits); }
 
 std::string withUnit(const std::string& length, const ModelUnits& units) {
   return units.length ? length + " " + units.name() : length;

@@ -7,7 +7,18 @@
 
 namespace seam::cli {
 
-/// A number for tables: up to 10 significant digits (%.10g).
+/// Significant digits of every number in text output (tables, summaries, messages; JSON keeps round-trip
+/// precision): `--digits N` of the CLI (issue 38 §7), kDefaultDisplayDigits otherwise.
+inline constexpr int kDefaultDisplayDigits = 4;
+/// --digits accepts 1 to this (17: every double prints exactly, as in JSON).
+inline constexpr int kMaxDisplayDigits = 17;
+/// Sets the digits of formatNumber (clamped to [1, kMaxDisplayDigits]). Set once, before any output (the CLI's
+/// option parser); not meant to change while other threads format numbers.
+void setDisplayDigits(int digits);
+/// The digits formatNumber uses.
+int displayDigits();
+/// A number for text: displayDigits() significant digits (%.{d}g: "0.3282", "2.818", "92.51", "3.187e-05"); 0 as
+/// "0", never "0.0000".
 std::string formatNumber(double x);
 /// "0.001 mm": a formatted length followed by the model's unit (nothing for a unit-less model).
 std::string withUnit(const std::string& length, const ModelUnits& units);

@@ -160,6 +160,23 @@ void addTimeLimitOption(CLI::App& app) {
                   formatNumber(kDefaultCadTimeLimitSeconds)));
 }
 
+void addDigitsOption(CLI::App& app) {
+  app.add_option_function<std::string>(
+      "--digits",
+      [](const std::string& text) {
+        int digits = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, digits);
+        if (text.empty() || ec != std::errc() || ptr != end || digits < 1 || digits > kMaxDisplayDigits)
+          throw CLI::ValidationError(
+              "--digits", fmt::format("\"{}\" is not a whole number from 1 to {}", text, kMaxDisplayDigits));
+        setDisplayDigits(digits);
+      },
+      fmt::format("Significant digits of the numbers in tables and text (default {}; {}: every number exactly, as "
+                  "in the JSON, which is always exact); before or after the command",
+                  kDefaultDisplayDigits, kMaxDisplayDigits));
+}
+
 // Only the main thread writes the stage, so it may read it without the lock.
 const std::string& activity() { return runLimit().stage; }
 
@@ -413,17 +430,11 @@ std::string jsonText(const OrderedJson& value) {
 
 void printJson(const OrderedJson& value) { std::cout << jsonText(value) << std::flush; }
 
-std::string formatAngle(double deg) { return fmt::format("{:.3f}", deg); }
+std::string formatAngle(double deg) { return formatNumber(deg); }
 
-std::string formatDistance(double x, double tolerance) {
-  if (x == 0.0) return "0";
-  if (!std::isfinite(x) || !(tolerance > 0.0) || !std::isfinite(tolerance)) return formatNumber(x);
-  constexpr int kMaxDecimals = 12;
-  const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(tolerance) - 1e-9)) + 1, 1, kMaxDecimals);
-  return fmt::format("{:.{}f}", x, decimals);
-}
+std::string formatDistance(double x) { return x == 0.0 ? "0" : formatNumber(x); }
 
-std::string formatRatio(double x) { return fmt::format("{:.4g}", x); }
+std::string formatRatio(double x) { return formatNumber(x); }
 
 std::string formatVector(const double* values, int count) {
   std::string s = "[";

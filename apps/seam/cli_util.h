@@ -36,6 +36,10 @@ inline constexpr double kDefaultCadTimeLimitSeconds = 300.0;
 /// Adds the global `--time-limit SECONDS` option (0 = no limit) to the application; it may be given before or after
 /// the command's name.
 void addTimeLimitOption(CLI::App& app);
+/// Adds the global `--digits N` option (significant digits of text output, setDisplayDigits; 1 to
+/// kMaxDisplayDigits); before or after the command's name (after addTimeLimitOption, which makes options fall
+/// through to the commands).
+void addDigitsOption(CLI::App& app);
 
 /// The whole-run time limit (--time-limit, default kDefaultCadTimeLimitSeconds, counted from the command's first
 /// stage, i.e. once the command line is parsed and the first file is opened): main starts its watcher before parsing. When the limit passes, the watcher removes the temporary files
@@ -127,13 +131,12 @@ std::string jsonText(const OrderedJson& value);
 /// Prints jsonText(value) on stdout.
 void printJson(const OrderedJson& value);
 
-/// An angle in degrees for tables and text: three decimals ("0.000", "2.816", "90.000"; issue 17 §6). JSON keeps
-/// full precision.
+/// An angle in degrees for tables and text: formatNumber ("2.818", "92.51", "5e-13"; --digits). JSON keeps full
+/// precision.
 std::string formatAngle(double deg);
-/// A distance (a gap) for tables and text, to the digits of the tolerance it is judged by, plus one: with a
-/// tolerance of 0.001, four decimals ("0.0000", "0.5240"); at most 12 decimals; 0 prints as "0".
-std::string formatDistance(double x, double tolerance);
-/// A ratio such as a relative curvature jump for tables: four significant digits (%.4g).
+/// A distance (a gap) for tables and text: formatNumber, 0 as "0" ("0.3282", "3.187e-05": never "0.0000", issue 38 §7).
+std::string formatDistance(double x);
+/// A ratio such as a relative curvature jump for tables: formatNumber.
 std::string formatRatio(double x);
 /// "[x, y, z]" with formatNumber for each coordinate.
 std::string formatVector(const double* values, int count);

@@ -154,21 +154,20 @@ std::string seamName(const Model& m, const ModelSeam& s) {
 }
 
 /// The worst kink and the worst gap with their location (issue 17: what a CAD user looks at first).
-std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg, double distanceTol,
-                       const ModelUnits& units, const std::function<std::string(size_t)>& name) {
+std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg, const ModelUnits& units, const std::function<std::string(size_t)>& name) {
   const WorstDefects w = worstDefects(reports, creaseAngleDeg);
   std::string out;
   if (w.kink) {
     const SeamReport& x = *reports[*w.kink];
     out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), formatAngle(x.g1MaxDeg),
-                       formatVector(x.g1Worst.point.data(), 3), withUnit(formatDistance(x.g0Max, distanceTol), units));
+                       formatVector(x.g1Worst.point.data(), 3), withUnit(formatDistance(x.g0Max), units));
   } else {
     out += "worst kink: none\n";
   }
   if (w.gap) {
     const SeamReport& x = *reports[*w.gap];
     out += fmt::format("worst gap: {}, gap {} at {} (angle {} deg)\n", name(*w.gap),
-                       withUnit(formatDistance(x.g0Max, distanceTol), units), formatVector(x.g0Worst.point.data(), 3),
+                       withUnit(formatDistance(x.g0Max), units), formatVector(x.g0Worst.point.data(), 3),
                        formatAngle(x.g1MaxDeg));
   } else {
     out += "worst gap: none\n";
@@ -184,7 +183,7 @@ std::string worstLines(const std::vector<const SeamReport*>& reports, double cre
 std::string formatCurvatureJump(const SeamReport& x, double creaseAngleDeg) {
   if (x.g1MaxDeg >= creaseAngleDeg) return "n/a (crease angle)";
   if (!std::isfinite(x.g2RelMax) || !std::isfinite(x.g2Max)) return formatRatio(x.g2Max);
-  return fmt::format("{:.3g}% ({:.4g})", 100.0 * x.g2RelMax, x.g2Max);
+  return fmt::format("{}% ({})", formatNumber(100.0 * x.g2RelMax), formatNumber(x.g2Max));
 }
 
 /// "G0 gap (mm)", or "G0 gap" for a unit-less model.
@@ -208,7 +207,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
     if (s.report) {
       const SeamReport& x = *s.report;
       row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))),
-                             formatDistance(x.g0Max, r.tolerances.distance), formatAngle(x.g1MaxDeg),
+                             formatDistance(x.g0Max), formatAngle(x.g1MaxDeg),
                              formatCurvatureJump(x, sel.creaseAngleDeg), std::string(toString(x.geometric)),
                              std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
     } else {
@@ -306,7 +305,7 @@ std::string summaryLine(const Model& m, const ModelCheckReport& r, const std::op
                                 : fmt::format("; all meet {}", toString(*require));
   const std::vector<const SeamReport*> reports = reportsOf(r);
   return line + "\n" + verdictLine(countVerdicts(reports, creaseAngleDeg), creaseAngleDeg) +
-         worstLines(reports, creaseAngleDeg, r.tolerances.distance, units,
+         worstLines(reports, creaseAngleDeg, units,
                     [&](size_t k) { return seamName(m, r.seams[k]); });
 }
 
@@ -384,7 +383,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
       for (size_t k : list) {
         const occt::BRepSeam& s = r->seams[k];
         rows.push_back({std::to_string(s.edge), face(s.a), face(s.b), std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
-                        formatDistance(s.report.g0Max, tol.distance), formatAngle(s.report.g1MaxDeg),
+                        formatDistance(s.report.g0Max), formatAngle(s.report.g1MaxDeg),
                         formatCurvatureJump(s.report, sel.creaseAngleDeg),
                         std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
                         s.occtContinuity});
@@ -405,20 +404,23 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                  creasesNote(l, sel),
                  table(l.creases));
     }
+    // One spelling of an edge everywhere (issue 38 §7): "edge N", its face beside it.
     fmt::print("\nfree edges ({}):", r->freeEdges.size());
-    for (const occt::BRepFreeEdge& f : r->freeEdges) fmt::print(" {}@{}", f.edge, f.face);
+    for (size_t k = 0; k < r->freeEdges.size(); ++k)
+      fmt::print("{} edge {} ({})", k ? "," : "", r->freeEdges[k].edge, r->freeEdges[k].face);
     fmt::print("\nnon-manifold edges ({}):", r->nonManifoldEdges.size());
-    for (const occt::BRepNonManifoldEdge& e : r->nonManifoldEdges) fmt::print(" {}", e.edge);
+    for (size_t k = 0; k < r->nonManifoldEdges.size(); ++k)
+      fmt::print("{} edge {}", k ? "," : "", r->nonManifoldEdges[k].edge);
     double maxGap = 0.0;
     for (const occt::BRepSeam& s : r->seams) maxGap = std::max(maxGap, s.report.g0Max);
     fmt::print("\n\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}, max gap {}; {} free "
                "edges, {} non-manifold, {} degenerate, {} loose (bound no face); OpenCASCADE agrees on G1-or-not for "
                "{} of {}\n",
                r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
-               toString(r->worstGeometric), withUnit(formatDistance(maxGap, tol.distance), r->units), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
+               toString(r->worstGeometric), withUnit(formatDistance(maxGap), r->units), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
                r->looseEdges, r->occtAgreement, r->seams.size());
     fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
-               worstLines(reports, sel.creaseAngleDeg, tol.distance, r->units, [&](size_t k) {
+               worstLines(reports, sel.creaseAngleDeg, r->units, [&](size_t k) {
                  const occt::BRepSeam& s = r->seams[k];
                  return fmt::format("edge {} ({} / {})", s.edge, face(s.a), face(s.b));
                }));

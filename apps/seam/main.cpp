@@ -22,13 +22,14 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.footer(
         "Exit codes: 0 success, 1 a problem was found in the geometry, 2 bad usage or invalid input.\n"
-        "Run 'seam <command> --help' for the options of a command. --time-limit works with every command.\n");
+        "Run 'seam <command> --help' for the options of a command. --time-limit and --digits work with every command.\n");
 
     std::vector<seam::cli::CommandEntry> commands = seam::cli::commandRegistry();
     std::sort(
         commands.begin(), commands.end(),
         [](const seam::cli::CommandEntry& a, const seam::cli::CommandEntry& b) { return a.name < b.name; });
     seam::cli::addTimeLimitOption(app);  // before the commands: they inherit its fall-through
+    seam::cli::addDigitsOption(app);
     int exitCode = seam::cli::kExitOk;
     for (const seam::cli::CommandEntry& command : commands) command.add(app, exitCode);
 

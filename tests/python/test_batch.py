@@ -95,7 +95,7 @@ def test_cli_batch_table_names_each_gap_tolerance(cli, run_cli, shared_data, exa
         code, single, err = run_cli("check", f, "--json", *flags)
         assert code in (0, 1), err
         distance, unit = single["tolerances"]["distance"], single["units"]["length"]
-        cell = "%.10g" % distance + (" " + unit if unit else "")  # the CLI's formatNumber: %.10g
+        cell = "%.4g" % distance + (" " + unit if unit else "")  # the CLI's text: 4 significant digits (--digits)
         line = next(line for line in lines if line.startswith(f + " "))
         assert line[:column_end].endswith(" " + cell), (cell, header, line)
         row = next(r for r in rows if r["file"] == f)
