@@ -632,6 +632,20 @@ TEST(BSplineSurface, CrossDerivativeRowsOnTheStackAndOffItGiveTheSameBits) {
       }
 }
 
+/// Parameters in u and in v: the domain's ends, every knot, then `count` uniformly random ones.
+std::pair<std::vector<double>, std::vector<double>> endsKnotsAndRandomParams(std::mt19937_64& rng,
+                                                                            const BSplineSurface& s, int count) {
+  const Interval du = s.domainU(), dv = s.domainV();
+  std::vector<double> us{du.lo, du.hi}, vs{dv.lo, dv.hi};
+  for (double k : s.knotsU().values()) us.push_back(k);
+  for (double k : s.knotsV().values()) vs.push_back(k);
+  for (int i = 0; i < count; ++i) {
+    us.push_back(uniformReal(rng, du.lo, du.hi));
+    vs.push_back(uniformReal(rng, dv.lo, dv.hi));
+  }
+  return {us, vs};
+}
+
 TEST(BSplineSurface, PointAndFirstDerivativesWithCompileTimeDegreesGiveTheSameBits) {
   // pointAndFirstDerivatives runs its loops with the degrees known at compile time up to degree 3: the same
   // operations in the same order as with run-time degrees, so the same bits. Degrees 1-4 in each direction (4:
@@ -642,14 +656,7 @@ TEST(BSplineSurface, PointAndFirstDerivativesWithCompileTimeDegreesGiveTheSameBi
       for (bool rational : {false, true}) {
         const BSplineSurface s =
             randomSurface(rng, pu, pv, 3, {.rational = rational, .minSpans = 1, .maxSpans = 4});
-        const Interval du = s.domainU(), dv = s.domainV();
-        std::vector<double> us{du.lo, du.hi}, vs{dv.lo, dv.hi};
-        for (double k : s.knotsU().values()) us.push_back(k);
-        for (double k : s.knotsV().values()) vs.push_back(k);
-        for (int i = 0; i < 200; ++i) {
-          us.push_back(uniformReal(rng, du.lo, du.hi));
-          vs.push_back(uniformReal(rng, dv.lo, dv.hi));
-        }
+        const auto [us, vs] = endsKnotsAndRandomParams(rng, s, 200);
         for (size_t i = 0; i < us.size(); ++i)
           for (size_t j : {i % vs.size(), (i * 7 + 3) % vs.size()}) {
             Vec3 p0, u0, v0, p1, u1, v1, p2, u2, v2;
@@ -698,16 +705,9 @@ TEST(BSplineSurface, EvaluateIsTheZerothDerivativeBitForBitAndTheDeBoorPoint) {
     return w[static_cast<size_t>(p)];
   };
   for (const BSplineSurface& s : cases) {
-    const Interval du = s.domainU(), dv = s.domainV();
     const Matrix h = s.homogeneous();
     const double size = h.leftCols(s.dim()).cwiseAbs().maxCoeff();
-    std::vector<double> us{du.lo, du.hi}, vs{dv.lo, dv.hi};
-    for (double k : s.knotsU().values()) us.push_back(k);
-    for (double k : s.knotsV().values()) vs.push_back(k);
-    for (int i = 0; i < 60; ++i) {
-      us.push_back(uniformReal(rng, du.lo, du.hi));
-      vs.push_back(uniformReal(rng, dv.lo, dv.hi));
-    }
+    const auto [us, vs] = endsKnotsAndRandomParams(rng, s, 60);
     for (size_t i = 0; i < us.size(); ++i) {
       const double u = us[i], v = vs[(i * 7 + 3) % vs.size()];
       const VecX fast = s.evaluate(u, v), general = s.derivatives(u, v, 0)[0][0];

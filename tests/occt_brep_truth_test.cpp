@@ -167,6 +167,60 @@ TEST(OcctTruth, TheSeamOfAPeriodicSurfaceComparesItsTwoSides) {
   }
 }
 
+/// A face of `sa` over its unit square with a round hole, sewn to `faceB` (a face of `sb`): the hole makes A a
+/// trimmed face, so that the seam goes through the pcurves (an untrimmed pair of faces is compared along its
+/// patches' sides, which a pcurve cannot change). The shape, the edge the two faces share and B's face in the shape
+/// (null when sewing found none).
+struct HoledPair {
+  TopoDS_Shape shape;
+  TopoDS_Edge shared;
+  TopoDS_Face faceB;
+};
+HoledPair holedPairSewn(const Handle(Geom_BSplineSurface)& sa, const TopoDS_Face& faceB,
+                        const Handle(Geom_BSplineSurface)& sb, double size) {
+  TopoDS_Edge circle = BRepBuilderAPI_MakeEdge(new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1, 0)), 0.1),
+                                               sa, 0.0, 2 * kPi);
+  BRepLib::BuildCurve3d(circle);
+  BRepBuilderAPI_MakeFace withHole(BRepBuilderAPI_MakeFace(sa, 0.0, 1.0, 0.0, 1.0, 1e-9 * size).Face());
+  withHole.Add(TopoDS::Wire(BRepBuilderAPI_MakeWire(circle).Wire().Reversed()));
+  HoledPair p;
+  if (!withHole.IsDone()) return p;
+  p.shape = sewn({withHole.Face(), faceB});
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(p.shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  for (int i = 1; i <= edgeFaces.Extent(); ++i)
+    if (edgeFaces(i).Extent() == 2) {
+      p.shared = TopoDS::Edge(edgeFaces.FindKey(i));
+      for (const TopoDS_Shape& f : edgeFaces(i))
+        if (BRep_Tool::Surface(TopoDS::Face(f)) == sb) p.faceB = TopoDS::Face(f);
+    }
+  return p;
+}
+
+/// Replaces B's pcurve of the shared edge by the quadratic from its first to its last point whose middle pole moves
+/// along the segment by `drift` x its length (v(t) = t + 2 drift t (1 - t)), the ends first moved outwards by
+/// `overhang` x its length; SameParameter and SameRange set, the edge's tolerance `tolerance` (or kept when 0).
+/// False when B's face has no pcurve of the edge.
+bool replaceBsPCurve(const HoledPair& p, double drift, double overhang, double tolerance) {
+  double first = 0, last = 0;
+  const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(p.shared, p.faceB, first, last);
+  if (old.IsNull()) return false;
+  gp_XY p0 = old->Value(first).XY(), p1 = old->Value(last).XY();
+  const gp_XY d = (p1 - p0) * overhang;
+  p0 -= d, p1 += d;
+  TColgp_Array1OfPnt2d poles(1, 3);
+  poles(1) = gp_Pnt2d(p0), poles(2) = gp_Pnt2d((p0 + p1) * 0.5 + (p1 - p0) * drift), poles(3) = gp_Pnt2d(p1);
+  TColStd_Array1OfReal ck(1, 2);
+  TColStd_Array1OfInteger cm(1, 2);
+  ck(1) = first, ck(2) = last, cm(1) = cm(2) = 3;
+  BRep_Builder builder;
+  builder.UpdateEdge(p.shared, new Geom2d_BSplineCurve(poles, ck, cm, 2), p.faceB,
+                     tolerance > 0.0 ? tolerance : BRep_Tool::Tolerance(p.shared));
+  builder.SameParameter(p.shared, true);
+  builder.SameRange(p.shared, true);
+  return true;
+}
+
 // Issue 35 §1: the gap of a seam is measured between the two boundaries, not at equal edge parameters. Two bilinear
 // faces meet at a 30-degree fold along x = z = 0, y in [0, 1]; then B's pcurve of the shared edge is replaced, the
 // SameParameter flag kept:
@@ -193,46 +247,14 @@ TEST(OcctTruth, SeamGapsAreBetweenTheBoundariesWhenPCurvesDriftOrOverhang) {
       knots(1) = 0.0, knots(2) = 1.0, mults(1) = mults(2) = 2;
       const Handle(Geom_BSplineSurface) sa = new Geom_BSplineSurface(pa, knots, knots, mults, mults, 1, 1);
       const Handle(Geom_BSplineSurface) sb = new Geom_BSplineSurface(pb, knots, knots, mults, mults, 1, 1);
-      // A round hole in A makes it a trimmed face: the seam then goes through the pcurves (an untrimmed pair of
-      // faces is compared along its patches' sides, which a pcurve cannot change).
-      TopoDS_Edge circle = BRepBuilderAPI_MakeEdge(new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1, 0)), 0.1),
-                                                   sa, 0.0, 2 * kPi);
-      BRepLib::BuildCurve3d(circle);
-      BRepBuilderAPI_MakeFace withHole(BRepBuilderAPI_MakeFace(sa, 0.0, 1.0, 0.0, 1.0, 1e-9 * size).Face());
-      withHole.Add(TopoDS::Wire(BRepBuilderAPI_MakeWire(circle).Wire().Reversed()));
-      ASSERT_TRUE(withHole.IsDone());
-      const TopoDS_Shape shape = sewn({withHole.Face(), BRepBuilderAPI_MakeFace(sb, 0.0, 1.0, 0.25, 0.75, 1e-9 * size)});
-      TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
-      TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
-      TopoDS_Edge shared;
-      TopoDS_Face faceB;
-      for (int i = 1; i <= edgeFaces.Extent(); ++i)
-        if (edgeFaces(i).Extent() == 2) {
-          shared = TopoDS::Edge(edgeFaces.FindKey(i));
-          for (const TopoDS_Shape& f : edgeFaces(i))
-            if (BRep_Tool::Surface(TopoDS::Face(f)) == sb) faceB = TopoDS::Face(f);
-        }
-      ASSERT_FALSE(shared.IsNull());
-      ASSERT_FALSE(faceB.IsNull());
-      double first = 0, last = 0;
-      const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(shared, faceB, first, last);
-      ASSERT_FALSE(old.IsNull());
-      gp_XY p0 = old->Value(first).XY(), p1 = old->Value(last).XY();
-      const double drift = overhang ? 0.0 : 0.1;  // the quadratic's middle pole moves by drift x the segment
-      if (overhang) {
-        const gp_XY d = (p1 - p0) * 0.01;  // 0.01 of the unit-length segment in 3-D
-        p0 -= d, p1 += d;
-      }
-      TColgp_Array1OfPnt2d poles(1, 3);
-      poles(1) = gp_Pnt2d(p0), poles(2) = gp_Pnt2d((p0 + p1) * 0.5 + (p1 - p0) * drift), poles(3) = gp_Pnt2d(p1);
-      TColStd_Array1OfReal ck(1, 2);
-      TColStd_Array1OfInteger cm(1, 2);
-      ck(1) = first, ck(2) = last, cm(1) = cm(2) = 3;
-      BRep_Builder builder;
-      builder.UpdateEdge(shared, new Geom2d_BSplineCurve(poles, ck, cm, 2), faceB,
-                         overhang ? 0.02 * size : BRep_Tool::Tolerance(shared));
-      builder.SameParameter(shared, true);
-      builder.SameRange(shared, true);
+      const HoledPair pair =
+          holedPairSewn(sa, BRepBuilderAPI_MakeFace(sb, 0.0, 1.0, 0.25, 0.75, 1e-9 * size).Face(), sb, size);
+      ASSERT_FALSE(pair.shared.IsNull());
+      ASSERT_FALSE(pair.faceB.IsNull());
+      // Drift: the quadratic's middle pole moves by 0.1 x the segment. Overhang: the ends move out by 0.01 of the
+      // unit-length segment in 3-D, within an edge tolerance of 0.02.
+      ASSERT_TRUE(replaceBsPCurve(pair, overhang ? 0.0 : 0.1, overhang ? 0.01 : 0.0, overhang ? 0.02 * size : 0.0));
+      const TopoDS_Shape& shape = pair.shape;
       occt::detail::FileUnits units;
       const Result<occt::BRepCheckReport> r =
           occt::detail::checkBRepShape(shape, "fold.step", {}, units, {}, occt::BRepCheckOptions{});
@@ -282,39 +304,11 @@ TEST(OcctTruth, SeamAnglesAreBetweenClosestPointsWhenPCurvesDrift) {
       return Handle(Geom_BSplineSurface)(new Geom_BSplineSurface(poles, knots, knots, m1, m2, 1, 2));
     };
     const Handle(Geom_BSplineSurface) sa = face(-1.0, 0.0, -1.0), sb = face(0.0, 1.0, 1.0);
-    // A round hole in A makes the seam go through the pcurves (as in the test above).
-    TopoDS_Edge circle = BRepBuilderAPI_MakeEdge(new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1, 0)), 0.1),
-                                                 sa, 0.0, 2 * kPi);
-    BRepLib::BuildCurve3d(circle);
-    BRepBuilderAPI_MakeFace withHole(BRepBuilderAPI_MakeFace(sa, 0.0, 1.0, 0.0, 1.0, 1e-9 * size).Face());
-    withHole.Add(TopoDS::Wire(BRepBuilderAPI_MakeWire(circle).Wire().Reversed()));
-    ASSERT_TRUE(withHole.IsDone());
-    const TopoDS_Shape shape = sewn({withHole.Face(), BRepBuilderAPI_MakeFace(sb, 1e-9 * size).Face()});
-    TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
-    TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
-    TopoDS_Edge shared;
-    TopoDS_Face faceB;
-    for (int i = 1; i <= edgeFaces.Extent(); ++i)
-      if (edgeFaces(i).Extent() == 2) {
-        shared = TopoDS::Edge(edgeFaces.FindKey(i));
-        for (const TopoDS_Shape& f : edgeFaces(i))
-          if (BRep_Tool::Surface(TopoDS::Face(f)) == sb) faceB = TopoDS::Face(f);
-      }
-    ASSERT_FALSE(shared.IsNull());
-    ASSERT_FALSE(faceB.IsNull());
-    double first = 0, last = 0;
-    const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(shared, faceB, first, last);
-    ASSERT_FALSE(old.IsNull());
-    const gp_XY p0 = old->Value(first).XY(), p1 = old->Value(last).XY();
-    TColgp_Array1OfPnt2d poles(1, 3);
-    poles(1) = gp_Pnt2d(p0), poles(2) = gp_Pnt2d((p0 + p1) * 0.5 + (p1 - p0) * 0.3), poles(3) = gp_Pnt2d(p1);
-    TColStd_Array1OfReal ck(1, 2);
-    TColStd_Array1OfInteger cm(1, 2);
-    ck(1) = first, ck(2) = last, cm(1) = cm(2) = 3;
-    BRep_Builder builder;
-    builder.UpdateEdge(shared, new Geom2d_BSplineCurve(poles, ck, cm, 2), faceB, BRep_Tool::Tolerance(shared));
-    builder.SameParameter(shared, true);
-    builder.SameRange(shared, true);
+    const HoledPair pair = holedPairSewn(sa, BRepBuilderAPI_MakeFace(sb, 1e-9 * size).Face(), sb, size);
+    ASSERT_FALSE(pair.shared.IsNull());
+    ASSERT_FALSE(pair.faceB.IsNull());
+    ASSERT_TRUE(replaceBsPCurve(pair, 0.3, 0.0, 0.0));
+    const TopoDS_Shape& shape = pair.shape;
     // A distance tolerance of 20 x size: the equal-parameter gap (0.15 x size) stays below the fraction of it that
     // makes the gap's own retry pair closest points (the test above), so that the angle alone must.
     occt::detail::FileUnits units;
