@@ -57,11 +57,18 @@ try {
   await page.waitForFunction(() => window.seamView && window.seamView.ready, null, { timeout: 60000 });
   const info = await page.evaluate(() => ({ seams: window.seamView.seams, meshes: window.seamView.meshes }));
   check(info.seams > 0 && info.meshes > 0, `view holds ${info.meshes} meshes and ${info.seams} seams`);
+  const checked = JSON.parse(spawnSync(seam, ['check', model, '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout);
   if (allFacesShaded) {
-    const checked = spawnSync(seam, ['check', model, '--json'], { encoding: 'utf8', maxBuffer: 1 << 28 });
-    const faces = JSON.parse(checked.stdout).model.patches;
+    const faces = checked.model.patches;
     check(info.meshes === faces, `every face is shaded: ${info.meshes} meshes for ${faces} faces`);
   }
+  // Free (naked) edges have their own colour and legend entry (issue 38 §9): as many as `seam check` finds.
+  const naked = await page.evaluate(() => ({
+    n: window.seamView.nakedEdges,
+    legend: [...document.querySelectorAll('#view3d-ui .legend span')].some((e) => /free \(naked\) edge/.test(e.textContent)),
+  }));
+  check(naked.n === checked.free_edges.length && naked.legend,
+        `free edges drawn: ${naked.n} (seam check: ${checked.free_edges.length}), legend entry: ${naked.legend}`);
 
   // Pixel statistics of a PNG screenshot, decoded by the browser itself.
   const stats = async (png) => page.evaluate(async (b64) => {
@@ -106,6 +113,16 @@ try {
   await page.uncheck('#view3d-zebra');
   await page.selectOption('#view3d-spikes', 'g1');
   await canvas.screenshot({ path: path.join(outDir, 'spikes.png') });
+  // The spikes' noise floor: none below the angle tolerance (or the curvature tolerance), which `seam check` states;
+  // the scale line says so.
+  for (const m of ['g1', 'g2']) {
+    const sp = await page.evaluate((mm) => window.seamView.spikes(mm), m);
+    const want = m === 'g1' ? checked.tolerances.angle_deg : checked.tolerances.curvature_rel;
+    check(sp.tol === want && (sp.drawn === 0 || sp.minDrawn >= want),
+          `${m} spikes: ${sp.drawn} drawn, smallest ${sp.minDrawn}, tolerance ${sp.tol} (seam check: ${want})`);
+  }
+  const scaleText = await page.evaluate(() => document.getElementById('view3d-spike-scale').textContent);
+  check(/tolerance/.test(scaleText), `the spike scale names the noise floor: "${scaleText}"`);
   await page.selectOption('#view3d-spikes', 'none');
 
   // Click a seam that has plots and no other seam near its middle on screen.

@@ -7,6 +7,8 @@
 //             a, b: patch names, w: [x,y,z] worst point or null, s: {t, g1, g2} samples for the spikes or null,
 //             plot: true when the page has its plots (#seam-k)}]
 //   outline [[x,y,z,...]]   other boundary curves
+//   free    [[x,y,z,...]]   free (naked) edges: no other face continues them (drawn in NAKED_COLOUR)
+//   tol     {g1, g2}        the angle (deg) and relative curvature tolerances: no spike below them
 // Output: a canvas in #view3d; the 2-D drawing (#view2d) stays when WebGL is not available. window.seamView is a
 // small hook for the browser test (tests/report_view_test.mjs).
 import * as THREE from 'three';
@@ -15,6 +17,7 @@ import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 const VERDICT_COLOURS = ['#d62728', '#ff7f0e', '#9467bd', '#1f77b4', '#2ca02c'];
 const FAILED_COLOUR = '#000000';
 const OUTLINE_COLOUR = '#9a9a9a';
+const NAKED_COLOUR = '#e377c2';   // src/report/report.cpp kNakedEdgeColour
 
 function webglAvailable() {
   try {
@@ -77,6 +80,7 @@ function start() {
   data.meshes.forEach((m) => grow(m.p));
   data.seams.forEach((s) => grow(s.c));
   data.outline.forEach((c) => grow(c));
+  (data.free || []).forEach((c) => grow(c));
   if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
   const centre = box.getCenter(new THREE.Vector3());
   const diag = Math.max(box.getSize(new THREE.Vector3()).length(), 1e-12);
@@ -116,6 +120,13 @@ function start() {
   const outlineGroup = new THREE.Group();
   data.outline.forEach((c) => outlineGroup.add(lineOf(c, OUTLINE_COLOUR)));
   scene.add(outlineGroup);
+  const nakedGroup = new THREE.Group();   // over the outline: a naked edge is never hidden as "other boundary"
+  (data.free || []).forEach((c) => {
+    const line = lineOf(c, NAKED_COLOUR);
+    line.renderOrder = 1;
+    nakedGroup.add(line);
+  });
+  scene.add(nakedGroup);
   const seamGroup = new THREE.Group();
   const worstPts = [], worstCols = [];
   for (const s of data.seams) {
@@ -167,11 +178,15 @@ function start() {
     return { p: p.clone().lerp(q, a), t: q.clone().sub(p).normalize() };
   };
   const spikeGroups = {};
+  const tol = data.tol || { g1: 0, g2: 0 };
   for (const measure of ['g1', 'g2']) {
-    let maxV = 0;
+    let maxV = 0, drawn = 0, minDrawn = Infinity;
     // Design creases (verdict 2) get no spikes: their angle is intended and would dwarf every defect's spikes.
     const spiked = data.seams.filter((s) => s.s && s.v !== 2 && s.c.length >= 6);
-    spiked.forEach((s) => s.s[measure].forEach((v) => { if (Number.isFinite(v)) maxV = Math.max(maxV, v); }));
+    // The noise floor: values below the tolerance are not drawn, so round-off (the teapot's 5e-13 deg) never gets
+    // a full-length spike of its own.
+    const shown = (v) => Number.isFinite(v) && v >= tol[measure] && v > 0;
+    spiked.forEach((s) => s.s[measure].forEach((v) => { if (shown(v)) maxV = Math.max(maxV, v); }));
     const pos = [], col = [];
     if (maxV > 0) {
       for (const s of spiked) {
@@ -180,7 +195,9 @@ function start() {
         const colour = new THREE.Color(s.v >= 0 ? VERDICT_COLOURS[s.v] : FAILED_COLOUR);
         let tip = null;
         for (let j = 0; j < ts.length; ++j) {
-          if (!Number.isFinite(vs[j])) continue;
+          if (!shown(vs[j])) { tip = null; continue; }
+          ++drawn;
+          minDrawn = Math.min(minDrawn, vs[j]);
           const { p, t } = pointAt(s.c, (ts[j] - t0) / (t1 - t0));
           let dir = normalNear([s.a, s.b], p);
           if (!dir) dir = t.clone().cross(p.clone().sub(centre)).normalize();
@@ -199,7 +216,7 @@ function start() {
     const seg = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true }));
     seg.visible = false;
     scene.add(seg);
-    spikeGroups[measure] = { seg, maxV };
+    spikeGroups[measure] = { seg, maxV, drawn, minDrawn };
   }
 
   // ---- camera and controls
@@ -230,9 +247,11 @@ function start() {
     spikeGroups.g1.seg.visible = v === 'g1';
     spikeGroups.g2.seg.visible = v === 'g2';
     const sc = byId('view3d-spike-scale');
-    if (sc) sc.textContent = v === 'none' ? '' : v === 'g1'
-      ? `longest spike: ${spikeGroups.g1.maxV.toPrecision(3)}\u00b0`
-      : `longest spike: ${spikeGroups.g2.maxV.toPrecision(3)} (relative)`;
+    const floor = (m, unit) => `values below the tolerance (${tol[m]}${unit}) not drawn`;
+    const scale = (m, unit) => spikeGroups[m].drawn > 0
+      ? `longest spike: ${spikeGroups[m].maxV.toPrecision(3)}${unit}; ${floor(m, unit)}`
+      : `no value at or above the tolerance (${tol[m]}${unit}): no spikes`;
+    if (sc) sc.textContent = v === 'none' ? '' : v === 'g1' ? scale('g1', '\u00b0') : scale('g2', ' relative');
     render();
   });
   byId('view3d-outline').addEventListener('change', (e) => { outlineGroup.visible = e.target.checked; render(); });
@@ -299,6 +318,9 @@ function start() {
     ready: true,
     seams: data.seams.length,
     meshes: data.meshes.length,
+    nakedEdges: (data.free || []).length,
+    // Spikes drawn for a measure ('g1', 'g2'), the smallest value among them, and the tolerance (the noise floor).
+    spikes(m) { return { drawn: spikeGroups[m].drawn, minDrawn: spikeGroups[m].minDrawn, tol: tol[m] }; },
     // Screen point (client coordinates) of the middle of seam k, and whether no other seam is within 12 px there.
     seamScreenPoint(k) {
       const s = data.seams.find((x) => x.k === k);

@@ -57,7 +57,7 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
   }
   for (const occt::BRepFreeEdge& f : r->freeEdges) {
     d.freeEdges.push_back(fmt::format("edge {} ({})", f.edge, f.face));
-    if (!f.curve.empty()) d.outline.push_back(f.curve);
+    if (!f.curve.empty()) d.freeEdgeCurves.push_back(f.curve);
   }
   for (int k = 0; k < r->degenerateEdges; ++k) d.degenerateEdges.push_back("pole");
   // The 3-D view: the untrimmed faces' patches meshed as for a patch model, the trimmed faces by OpenCASCADE

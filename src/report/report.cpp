@@ -39,6 +39,8 @@ std::string num(double x) {
 /// Colours of the geometric classes (none, G0, G1, G2) and of free edges.
 constexpr std::array<const char*, 4> kClassColour{"#d62728", "#ff7f0e", "#1f77b4", "#2ca02c"};
 constexpr const char* kFreeColour = "#9a9a9a";
+/// Free (naked) edges: a boundary no other face continues (web/viewer.js NAKED_COLOUR, the same colour).
+constexpr const char* kNakedEdgeColour = "#e377c2";
 
 const char* classColour(GeometricClass c) { return kClassColour[static_cast<size_t>(c)]; }
 
@@ -318,7 +320,15 @@ std::string viewData(const ReportData& data, const std::vector<const SeamReport*
     if (i) j += ",";
     appendPoints(j, data.outline[i]);
   }
-  return j + "]}";
+  j += "],\"free\":[";
+  for (size_t i = 0; i < data.freeEdgeCurves.size(); ++i) {
+    if (i) j += ",";
+    appendPoints(j, data.freeEdgeCurves[i]);
+  }
+  // The spikes' noise floor: values below the tolerances are not drawn (issue 38 §9: the teapot's 5e-13 deg of
+  // round-off drawn as full-length spikes looked like kinks).
+  return j + fmt::format("],\"tol\":{{\"g1\":{},\"g2\":{}}}}}", jsonNum(data.tolerances.angleDeg),
+                         jsonNum(data.tolerances.curvatureRel));
 }
 
 }  // namespace
@@ -348,9 +358,12 @@ ReportData reportData(const Model& model, const ModelCheckReport& report, int sa
     r.curve = sampleCurve(c, s.pair.overlapA, samplesPerEdge);
     d.seams.push_back(std::move(r));
   }
-  for (const FreeEdge& f : report.freeEdges)
+  for (const FreeEdge& f : report.freeEdges) {
     d.freeEdges.push_back(fmt::format("{}:{}{}", name(f.edge.patch), edgeName(f.edge.edge),
                                       f.partial ? fmt::format(" [{}, {}]", num(f.range.lo), num(f.range.hi)) : ""));
+    const BSplineCurve c = model.patches[static_cast<size_t>(f.edge.patch)].surface.boundaryCurve(f.edge.edge);
+    d.freeEdgeCurves.push_back(sampleCurve(c, f.range, samplesPerEdge));
+  }
   for (const DegenerateEdge& g : report.degenerateEdges)
     d.degenerateEdges.push_back(fmt::format("{}:{}", name(g.edge.patch), edgeName(g.edge.edge)));
   for (const ModelCorner& c : report.corners) {
@@ -496,8 +509,10 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     for (int v = 0; v < 5; ++v)
       h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kVerdictColour[v],
                        toString(static_cast<SeamVerdict>(v)));
-    h += "<span><span class=\"sw\" style=\"background:#000\"></span>analysis failed</span></div>"
-         "<label><input type=\"checkbox\" id=\"view3d-zebra\"> zebra stripes</label>"
+    h += fmt::format("<span><span class=\"sw\" style=\"background:#000\"></span>analysis failed</span>"
+                     "<span><span class=\"sw\" style=\"background:{}\"></span>free (naked) edge</span></div>",
+                     kNakedEdgeColour);
+    h += "<label><input type=\"checkbox\" id=\"view3d-zebra\"> zebra stripes</label>"
          "<label>spikes along the seams <select id=\"view3d-spikes\"><option value=\"none\">none</option>"
          "<option value=\"g1\">G1 angle</option><option value=\"g2\">G2 jump (relative)</option></select></label>"
          "<span id=\"view3d-spike-scale\"></span> "
@@ -511,8 +526,9 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   for (int c = 3; c >= 0; --c)
     h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kClassColour[c],
                      toString(static_cast<GeometricClass>(c)));
-  h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>other boundary</span></div>\n",
-                   kFreeColour);
+  h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>other boundary</span>"
+                   "<span><span class=\"sw\" style=\"background:{}\"></span>free (naked) edge</span></div>\n",
+                   kFreeColour, kNakedEdgeColour);
   {
     std::vector<std::vector<Vec3>> all = data.outline;
     for (const ReportSeam& s : data.seams) all.push_back(s.curve);
@@ -530,6 +546,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     h += fmt::format("<svg width=\"{0}\" height=\"{0}\" viewBox=\"0 0 {0} {0}\" style=\"border:1px solid #ddd\">",
                      options.overviewSize);
     for (const auto& c : data.outline) polyline(c, kFreeColour, 0.8, "boundary");
+    for (const auto& c : data.freeEdgeCurves) polyline(c, kNakedEdgeColour, 1.4, "free (naked) edge");
     for (size_t k = 0; k < data.seams.size(); ++k) {
       const ReportSeam& s = data.seams[k];
       const GeometricClass c = s.report ? s.report->geometric : GeometricClass::kNone;

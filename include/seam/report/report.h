@@ -64,6 +64,9 @@ struct ReportData {
   std::vector<ReportSeam> seams;
   std::vector<std::vector<Vec3>> outline;       ///< every boundary curve (drawn thin grey under the seams)
   std::vector<std::string> freeEdges, degenerateEdges;   ///< labels
+  /// The free (naked) edges' curves: drawn in kNakedEdgeColour over the outline, in the 3-D view and the 2-D
+  /// drawing, with a legend entry (issue 38 §9).
+  std::vector<std::vector<Vec3>> freeEdgeCurves;
   std::vector<const CornerReport*> corners;     ///< not owned
   std::vector<std::string> cornerPatchNames;    ///< per corner: the names of its patches, space separated
   std::vector<ReportMesh> meshes;               ///< shaded surfaces of the 3-D view (may be empty)
