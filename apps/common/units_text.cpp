@@ -12,8 +12,6 @@ int gDisplayDigits = kDefaultDisplayDigits;
 
 void setDisplayDigits(int digits) { gDisplayDigits = std::clamp(digits, 1, kMaxDisplayDigits); }
 
-int displayDigits() { return gDisplayDigits; }
-
 std::string formatNumber(double x) { return fmt::format("{:.{}g}", x, gDisplayDigits); }
 
 std::string withUnit(const std::string& length, const ModelUnits& units) {

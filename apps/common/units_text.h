@@ -15,10 +15,8 @@ inline constexpr int kMaxDisplayDigits = 17;
 /// Sets the digits of formatNumber (clamped to [1, kMaxDisplayDigits]). Set once, before any output (the CLI's
 /// option parser); not meant to change while other threads format numbers.
 void setDisplayDigits(int digits);
-/// The digits formatNumber uses.
-int displayDigits();
-/// A number for text: displayDigits() significant digits (%.{d}g: "0.3282", "2.818", "92.51", "3.187e-05"); 0 as
-/// "0", never "0.0000".
+/// A number for text (gaps, angles, ratios, coordinates): the digits of setDisplayDigits, significant (%.{d}g:
+/// "0.3282", "2.818", "92.51", "3.187e-05"); 0 as "0", never "0.0000".
 std::string formatNumber(double x);
 /// "0.001 mm": a formatted length followed by the model's unit (nothing for a unit-less model).
 std::string withUnit(const std::string& length, const ModelUnits& units);

@@ -430,12 +430,6 @@ std::string jsonText(const OrderedJson& value) {
 
 void printJson(const OrderedJson& value) { std::cout << jsonText(value) << std::flush; }
 
-std::string formatAngle(double deg) { return formatNumber(deg); }
-
-std::string formatDistance(double x) { return x == 0.0 ? "0" : formatNumber(x); }
-
-std::string formatRatio(double x) { return formatNumber(x); }
-
 std::string formatVector(const double* values, int count) {
   std::string s = "[";
   for (int k = 0; k < count; ++k) {

@@ -131,13 +131,6 @@ std::string jsonText(const OrderedJson& value);
 /// Prints jsonText(value) on stdout.
 void printJson(const OrderedJson& value);
 
-/// An angle in degrees for tables and text: formatNumber ("2.818", "92.51", "5e-13"; --digits). JSON keeps full
-/// precision.
-std::string formatAngle(double deg);
-/// A distance (a gap) for tables and text: formatNumber, 0 as "0" ("0.3282", "3.187e-05": never "0.0000", issue 38 §7).
-std::string formatDistance(double x);
-/// A ratio such as a relative curvature jump for tables: formatNumber.
-std::string formatRatio(double x);
 /// "[x, y, z]" with formatNumber for each coordinate.
 std::string formatVector(const double* values, int count);
 

@@ -154,21 +154,22 @@ std::string seamName(const Model& m, const ModelSeam& s) {
 }
 
 /// The worst kink and the worst gap with their location (issue 17: what a CAD user looks at first).
-std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg, const ModelUnits& units, const std::function<std::string(size_t)>& name) {
+std::string worstLines(const std::vector<const SeamReport*>& reports, double creaseAngleDeg, const ModelUnits& units,
+                       const std::function<std::string(size_t)>& name) {
   const WorstDefects w = worstDefects(reports, creaseAngleDeg);
   std::string out;
   if (w.kink) {
     const SeamReport& x = *reports[*w.kink];
-    out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), formatAngle(x.g1MaxDeg),
-                       formatVector(x.g1Worst.point.data(), 3), withUnit(formatDistance(x.g0Max), units));
+    out += fmt::format("worst kink: {}, angle {} deg at {} (gap {})\n", name(*w.kink), formatNumber(x.g1MaxDeg),
+                       formatVector(x.g1Worst.point.data(), 3), withUnit(formatNumber(x.g0Max), units));
   } else {
     out += "worst kink: none\n";
   }
   if (w.gap) {
     const SeamReport& x = *reports[*w.gap];
     out += fmt::format("worst gap: {}, gap {} at {} (angle {} deg)\n", name(*w.gap),
-                       withUnit(formatDistance(x.g0Max), units), formatVector(x.g0Worst.point.data(), 3),
-                       formatAngle(x.g1MaxDeg));
+                       withUnit(formatNumber(x.g0Max), units), formatVector(x.g0Worst.point.data(), 3),
+                       formatNumber(x.g1MaxDeg));
   } else {
     out += "worst gap: none\n";
   }
@@ -182,7 +183,7 @@ std::string worstLines(const std::vector<const SeamReport*>& reports, double cre
 /// 1.36e6). The JSON keeps the number measured.
 std::string formatCurvatureJump(const SeamReport& x, double creaseAngleDeg) {
   if (x.g1MaxDeg >= creaseAngleDeg) return "n/a (crease angle)";
-  if (!std::isfinite(x.g2RelMax) || !std::isfinite(x.g2Max)) return formatRatio(x.g2Max);
+  if (!std::isfinite(x.g2RelMax) || !std::isfinite(x.g2Max)) return formatNumber(x.g2Max);
   return fmt::format("{}% ({})", formatNumber(100.0 * x.g2RelMax), formatNumber(x.g2Max));
 }
 
@@ -207,7 +208,7 @@ std::string seamTable(const Model& m, const ModelCheckReport& r, const SeamSelec
     if (s.report) {
       const SeamReport& x = *s.report;
       row.insert(row.end(), {std::string(toString(seamVerdict(x, sel.creaseAngleDeg))),
-                             formatDistance(x.g0Max), formatAngle(x.g1MaxDeg),
+                             formatNumber(x.g0Max), formatNumber(x.g1MaxDeg),
                              formatCurvatureJump(x, sel.creaseAngleDeg), std::string(toString(x.geometric)),
                              std::string(toString(x.parametric)), x.certified ? "yes" : "no"});
     } else {
@@ -249,7 +250,7 @@ std::string cornerTable(const Model& m, const ModelCheckReport& r) {
     std::string names;
     for (const PatchCorner& k : x.corners) names += (names.empty() ? "" : " ") + patchName(m, k.patch);
     rows.push_back({formatVector(x.point.data(), 3), std::to_string(x.valence) + (x.closed ? "" : " (boundary)"),
-                    names, x.normalSpreadDeg ? formatAngle(*x.normalSpreadDeg) : (x.degenerate ? "degenerate" : "-"),
+                    names, x.normalSpreadDeg ? formatNumber(*x.normalSpreadDeg) : (x.degenerate ? "degenerate" : "-"),
                     x.curvatureSpreadRel ? num(100.0 * *x.curvatureSpreadRel) : "-",
                     x.fourPatch ? num(x.fourPatch->g1Residual) : "-",
                     x.fourPatch && x.fourPatch->g2Residual ? num(*x.fourPatch->g2Residual) : "-"});
@@ -383,7 +384,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
       for (size_t k : list) {
         const occt::BRepSeam& s = r->seams[k];
         rows.push_back({std::to_string(s.edge), face(s.a), face(s.b), std::string(toString(seamVerdict(s.report, sel.creaseAngleDeg))),
-                        formatDistance(s.report.g0Max), formatAngle(s.report.g1MaxDeg),
+                        formatNumber(s.report.g0Max), formatNumber(s.report.g1MaxDeg),
                         formatCurvatureJump(s.report, sel.creaseAngleDeg),
                         std::string(toString(s.report.geometric)), s.report.certified ? "yes" : "no",
                         s.occtContinuity});
@@ -417,7 +418,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
                "edges, {} non-manifold, {} degenerate, {} loose (bound no face); OpenCASCADE agrees on G1-or-not for "
                "{} of {}\n",
                r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
-               toString(r->worstGeometric), withUnit(formatDistance(maxGap), r->units), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
+               toString(r->worstGeometric), withUnit(formatNumber(maxGap), r->units), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
                r->looseEdges, r->occtAgreement, r->seams.size());
     fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
                worstLines(reports, sel.creaseAngleDeg, r->units, [&](size_t k) {

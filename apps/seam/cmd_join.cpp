@@ -47,10 +47,10 @@ std::string yesNo(bool b) { return b ? "yes" : "no"; }
 std::string measureTable(const SeamReport& b, const SeamReport& a, const ModelUnits& units) {
   std::vector<std::vector<std::string>> rows = {
       // Table precision (issue 17 §6): angles to 0.001 deg, gaps and jumps to 4 significant digits (JSON: full).
-      {units.length ? "G0 gap (" + units.name() + ")" : "G0 gap", formatRatio(b.g0Max), formatRatio(a.g0Max)},
-      {"G1 angle (deg)", formatAngle(b.g1MaxDeg), formatAngle(a.g1MaxDeg)},
-      {units.length ? "G2 jump (1/" + units.name() + ")" : "G2 jump (1/length)", formatRatio(b.g2Max),
-       formatRatio(a.g2Max)},
+      {units.length ? "G0 gap (" + units.name() + ")" : "G0 gap", formatNumber(b.g0Max), formatNumber(a.g0Max)},
+      {"G1 angle (deg)", formatNumber(b.g1MaxDeg), formatNumber(a.g1MaxDeg)},
+      {units.length ? "G2 jump (1/" + units.name() + ")" : "G2 jump (1/length)", formatNumber(b.g2Max),
+       formatNumber(a.g2Max)},
       {"lambda range", "[" + formatNumber(b.lambdaRange.lo) + ", " + formatNumber(b.lambdaRange.hi) + "]",
        "[" + formatNumber(a.lambdaRange.lo) + ", " + formatNumber(a.lambdaRange.hi) + "]"},
       {"geometric", std::string(toString(b.geometric)), std::string(toString(a.geometric))},

@@ -720,63 +720,54 @@ void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, co
 /// same surfaces; their angles differ by round-off (1e-13 deg on bearing.iges) unless they pair different points.
 constexpr double kAngleRetrySlackDeg = 1e-9;
 constexpr double kAngleRetryRelSlack = 1e-9;
-/// The search near the worst point (closestAngleNearDeg) runs only where the samples between closest points reach
-/// this fraction of the certified angle: far below it a drift of the pairing (1e-6 of the model on bearing.iges)
-/// cannot lift the angle past the bound, and each search costs 30 evaluations through OpenCASCADE's span caches.
+/// The refinement of the largest angle between closest points (closestAngleOfEdgeDeg, closestAnglesAboveDeg) runs only
+/// where the samples reach this fraction of the certified angle: far below it a drift of the pairing (1e-6 of the
+/// model on bearing.iges) cannot lift the angle past the bound, and each refinement costs 8-15 evaluations through
+/// OpenCASCADE's span caches.
 constexpr double kAngleSearchFraction = 0.9;
-/// Golden-section steps of closestAngleNearDeg (the bracket shrinks to 0.618^30 = 5e-7 of two sample spacings).
-constexpr int kClosestAngleSearchSteps = 30;
 
-/// The largest angle of the edge's samples (A's edge points and the closest points of B's edge), in degrees.
-double closestSampleAngleDeg(const EdgeSamples& s) {
-  double g1 = 0.0;
+/// The angle between A's normal at its edge point t and B's at the closest point of B's edge (measure), in
+/// degrees; 0 where a normal is not defined.
+double closestAngleDeg(const FaceSide& A, const FaceSide& B, double t) {
+  const PointData m = measure(A, B, t);
+  return m.normalsOk && std::isfinite(m.g1) ? m.g1 * kRadToDeg : 0.0;
+}
+
+/// The largest angle between closest points of an edge whose equal-parameter route certified `c`: the samples' (A's
+/// edge points and the closest points of B's edge), refined within a sample spacing of the certified worst point
+/// (Brent's steps, detail::refineMaxParabolic) when the samples reach kAngleSearchFraction of the bound, in degrees.
+/// 0 next to a pole (the samples' normals there are limits, the certified route's exact) and where the certified
+/// route proved G1 as an identity: no retry there.
+double closestAngleOfEdgeDeg(const EdgeSamples& s, const EdgeCertificate& c, const FaceSide& A, const FaceSide& B) {
+  if (s.degenerate || !c.certifies() || (*c.bounds)->g1Identity) return 0.0;
+  double best = 0.0;
   for (const PointData& m : s.ms)
-    if (m.normalsOk && std::isfinite(m.g1)) g1 = std::max(g1, m.g1);
-  return g1 * kRadToDeg;
+    if (m.normalsOk && std::isfinite(m.g1)) best = std::max(best, m.g1 * kRadToDeg);
+  const PCurveSeamBounds& b = **c.bounds;
+  if (c.byCorrespondence || s.ts.size() < 2 || best < kAngleSearchFraction * b.g1BoundDeg) return best;
+  const double h = s.ts[1] - s.ts[0];
+  const auto f = [&](double t) { return closestAngleDeg(A, B, t); };
+  const double lo = std::max(A.first, b.g1At - h), hi = std::min(A.last, b.g1At + h);
+  best = std::max(best, f(std::clamp(b.g1At, A.first, A.last)));
+  return hi > lo ? std::max(best, seam::detail::refineMaxParabolic(f, lo, hi).second) : best;
 }
 
-/// The largest angle between closest points (measure) near A's edge parameter t0, within h of it: a golden-section
-/// search for the maximum, with t0 itself, in degrees. The samples are evenly spaced; the certified route's worst
-/// point is where a drift of the pairing shows first, so the search looks there.
-double closestAngleNearDeg(const FaceSide& A, const FaceSide& B, double t0, double h) {
-  const double lo0 = std::max(A.first, t0 - h), hi0 = std::min(A.last, t0 + h);
-  auto g1 = [&](double t) {
-    const PointData m = measure(A, B, t);
-    return m.normalsOk && std::isfinite(m.g1) ? m.g1 : 0.0;
-  };
-  double best = g1(std::clamp(t0, A.first, A.last));
-  if (!(hi0 > lo0)) return best * kRadToDeg;
-  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
-  double lo = lo0, hi = hi0, x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo);
-  double f1 = g1(x1), f2 = g1(x2);
-  for (int i = 0; i < kClosestAngleSearchSteps; ++i) {
-    if (f1 >= f2) {
-      hi = x2, x2 = x1, f2 = f1;
-      x1 = hi - phi * (hi - lo), f1 = g1(x1);
-    } else {
-      lo = x1, x1 = x2, f1 = f2;
-      x2 = lo + phi * (hi - lo), f2 = g1(x2);
-    }
-  }
-  return std::max({best, f1, f2}) * kRadToDeg;
-}
-
-/// Whether an angle between closest points (measure) exceeds `boundDeg` (beyond the retry slack): at kMinSamples + 1
-/// evenly spaced points of A's edge, then near the largest of them (closestAngleNearDeg). Not next to a pole.
+/// Whether an angle between closest points exceeds `boundDeg` beyond the retry slack: at kMinSamples + 1 evenly
+/// spaced points of A's edge, their largest maxima refined (detail::refinedMaximum) when they reach
+/// kAngleSearchFraction of the bound. False next to a pole (the sampled normals there are limits).
 bool closestAnglesAboveDeg(const FaceSide& A, const FaceSide& B, double boundDeg) {
   const double limit = boundDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
-  const int n = kMinSamples;
-  const double h = (A.last - A.first) / n;
-  double best = -1.0, bestT = A.first;
-  for (int i = 0; i <= n; ++i) {
-    const double t = A.first + h * i;
-    const PointData m = measure(A, B, t);
-    if (!m.curvatureOk) return false;  // a pole (or an ill-conditioned chart): the sampled normals are limits
-    if (!m.normalsOk || !std::isfinite(m.g1)) continue;
-    if (m.g1 * kRadToDeg > limit) return true;
-    if (m.g1 > best) best = m.g1, bestT = t;
+  std::vector<double> ts(kMinSamples + 1), values(ts.size());
+  for (size_t i = 0; i < ts.size(); ++i) {
+    ts[i] = A.first + (A.last - A.first) * static_cast<double>(i) / kMinSamples;
+    const PointData m = measure(A, B, ts[i]);
+    if (!m.curvatureOk) return false;
+    values[i] = m.normalsOk && std::isfinite(m.g1) ? m.g1 * kRadToDeg : 0.0;
   }
-  return best * kRadToDeg >= kAngleSearchFraction * boundDeg && closestAngleNearDeg(A, B, bestT, h) > limit;
+  const double best = *std::max_element(values.begin(), values.end());
+  if (best > limit) return true;
+  return best >= kAngleSearchFraction * boundDeg &&
+         seam::detail::refinedMaximum(ts, values, [&](double t) { return closestAngleDeg(A, B, t); }).second > limit;
 }
 
 /// Issue 35 §1 for angles: the equal-parameter route compares the normals at equal edge parameters. Where a
@@ -815,25 +806,17 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
     return;
   }
   certifyThroughPCurves(rep, *c.bounds, *c.a, c.opt, modelSize);
-  if (rep.certified && c.kinkFromPairing) {
+  // The bound holds for the points the certified route pairs, not for closest points: a kink made by that pairing
+  // alone (the closest-point pairing could not be certified), or a sample between closest points above the bound
+  // (its pairing error shows). The sampled angle is shown, and the seam is not called certified.
+  const bool belowSamples =
+      c.closestSampleAngleDeg > rep.g1MaxDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
+  if (rep.certified && (c.kinkFromPairing || belowSamples)) {
     rep.notes.push_back(fmt::format(
-        "not certified: at equal edge parameters the normals make up to {:.4g} deg, between the sampled closest "
-        "points {:.4g} deg (the SameParameter pcurves drift along the edge, the equal-parameter points are up to "
-        "{:.3g} apart) and the closest-point pairing could not be certified: the sampled angle is shown",
+        "not certified: at the points the certified route pairs the normals make up to {:.4g} deg, between the "
+        "sampled closest points {:.4g} deg (the SameParameter pcurves drift along the edge, the paired points are up "
+        "to {:.3g} apart, and the closest-point pairing could not be certified closer): the sampled angle is shown",
         rep.g1MaxDeg, c.closestSampleAngleDeg, rep.g0Max));
-    rep.g1MaxDeg = rep.g1SampledDeg = c.closestSampleAngleDeg;
-    rep.certified = false;
-    reconcileVerdict(rep, c.opt.tol);
-  }
-  if (rep.certified &&
-      c.closestSampleAngleDeg > rep.g1MaxDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg) {
-    // The bound holds for the points the certified route pairs, not for closest points (the closest-point
-    // pairing could not be certified, or its pairing error shows): the sample is shown, and the seam is not called
-    // certified.
-    rep.notes.push_back(fmt::format(
-        "not certified: the samples between closest points reach {:.4g} deg, above the {:.4g} deg certified for "
-        "the points the certified route pairs (the pcurves drift along the edge); the larger value is shown",
-        c.closestSampleAngleDeg, rep.g1MaxDeg));
     rep.g1MaxDeg = rep.g1SampledDeg = c.closestSampleAngleDeg;
     rep.certified = false;
     reconcileVerdict(rep, c.opt.tol);
@@ -1137,16 +1120,7 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
             if (certError) std::rethrow_exception(certError);
           }
           if (exact) {
-            // Not next to a pole (a vanishing normal: the samples' normals there are limits, the certified
-            // route's are exact) and not where the certified route proved G1 as an identity.
-            cert.closestSampleAngleDeg =
-                samples.degenerate || (cert.certifies() && (*cert.bounds)->g1Identity) ? 0.0
-                                                                                      : closestSampleAngleDeg(samples);
-            if (cert.certifies() && !cert.byCorrespondence && samples.ts.size() > 1 &&
-                cert.closestSampleAngleDeg >= kAngleSearchFraction * (*cert.bounds)->g1BoundDeg)
-              cert.closestSampleAngleDeg =
-                  std::max(cert.closestSampleAngleDeg,
-                           closestAngleNearDeg(A, B, (*cert.bounds)->g1At, samples.ts[1] - samples.ts[0]));
+            cert.closestSampleAngleDeg = closestAngleOfEdgeDeg(samples, cert, A, B);
             retryAngleByClosestPoints(cert, spansCache, pa, pb);
           }
           seam.report = sampledSeam(samples, A, B, seam.a, seam.b, seamOpt, !cert.certifies(), !cert.certifiesG2());
