@@ -917,6 +917,134 @@ TEST(HealCrease, NinetyDegreeCreaseIsLeftBitIdentical) {
   EXPECT_EQ(r91->report.creasesKept, 0);
 }
 
+// Issue 38 goal 4: the gap of a design crease is closed and its angle kept. A is the bicubic plane z = 0
+// (x in [-1, 0]), B the bicubic plane x = 0 standing on A's edge x = 0 at 90 degrees, with the two middle points of
+// its boundary row lifted by 0.005 (the corners shared): a gap of 0.005 x (B_1 + B_2)(1/2) = 0.00375 in the middle.
+// Either side may move (by symmetry both keep the angle; the pass takes the first of equal displacements). Expected,
+// by construction and by an independent evaluation (de Casteljau on the control rows, in the test): the other patch
+// bit-identical; the moved boundary row on the other's boundary row; the moved patch's rows 0 and 1 moved by the same
+// vectors (cross-boundary derivative unchanged); the normals of the two sides at 90 degrees along the whole seam.
+TEST(HealCrease, CreaseGapIsClosedAndItsAngleKept) {
+  auto cubicPatch = [](const std::string& name, auto point) {
+    Matrix pts(16, 3);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) pts.row(i * 4 + j) = point(i / 3.0, j / 3.0).transpose();
+    return Patch{name, PatchKind::kBezier,
+                 BSplineSurface(3, 3, KnotVector::bezier(3), KnotVector::bezier(3), 4, 4, pts)};
+  };
+  Model m;
+  m.patches.push_back(cubicPatch("A", [](double s, double t) { return Vec3(-1.0 + s, t, 0.0); }));
+  m.patches.push_back(cubicPatch("B", [](double s, double t) {
+    const bool lifted = s == 0.0 && t > 0.0 && t < 1.0;
+    return Vec3(0.0, t, s + (lifted ? 0.005 : 0.0));
+  }));
+  HealOptions opt;
+  opt.maxGap = 0.01;
+  auto r = healModel(m, opt);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const HealReport& rep = r->report;
+  ASSERT_EQ(rep.seams.size(), 1u);
+  const HealSeam& s = rep.seams[0];
+  EXPECT_EQ(s.action, "crease: gap closed");
+  EXPECT_NEAR(s.before.g0Max, 0.00375, 1e-9);  // the input's gap, not the gap after the crease pass
+  EXPECT_NEAR(s.before.g1MaxDeg, 90.0, 1e-6);
+  ASSERT_TRUE(s.after.has_value());
+  EXPECT_FALSE(s.worse);
+  EXPECT_EQ(rep.creasesKept, 1);
+  EXPECT_EQ(rep.creaseGapsClosed, 1);
+  ASSERT_TRUE(s.moved == "A" || s.moved == "B") << s.moved;
+  const size_t mover = s.moved == "A" ? 0 : 1, still = 1 - mover;
+  ASSERT_EQ(rep.patchesChanged, std::vector<std::string>{s.moved});
+  ASSERT_EQ(rep.patches.size(), 1u);
+  EXPECT_NEAR(rep.patches[0].maxDisplacement, 0.005, 1e-12);
+  EXPECT_TRUE((r->model.patches[still].surface.points().array() == m.patches[still].surface.points().array()).all());
+  const BSplineSurface& in = m.patches[mover].surface;
+  const BSplineSurface& out = r->model.patches[mover].surface;
+  ASSERT_EQ(out.numU(), 4);
+  ASSERT_EQ(out.numV(), 4);
+  // The seam is A's row i = 3 and B's row i = 0 (rows indexed by i, the u index).
+  const int row0 = mover == 0 ? 3 : 0, row1 = mover == 0 ? 2 : 1, otherRow = mover == 0 ? 0 : 3;
+  const BSplineSurface& other = m.patches[still].surface;
+  for (int j = 0; j < 4; ++j) {
+    // On the other side's boundary: its control points (same degree and parametrisation).
+    EXPECT_LE((out.point(row0, j) - other.point(otherRow, j)).norm(), 1e-12) << j;
+    const Vec3 crossIn = (in.point(row1, j) - in.point(row0, j)).transpose();
+    const Vec3 crossOut = (out.point(row1, j) - out.point(row0, j)).transpose();
+    EXPECT_LE((crossOut - crossIn).norm(), 1e-12) << j;
+  }
+  // Independent normals: de Casteljau on the control rows of each patch (u across, t along the seam).
+  auto bezier = [](std::vector<Vec3> p, double t) {
+    for (size_t k = p.size() - 1; k > 0; --k)
+      for (size_t q = 0; q < k; ++q) p[q] = (1.0 - t) * p[q] + t * p[q + 1];
+    return p[0];
+  };
+  auto rowCurve = [&](const BSplineSurface& b, int i, double t) {
+    std::vector<Vec3> p;
+    for (int j = 0; j < 4; ++j) p.push_back(b.point(i, j).transpose());
+    return bezier(p, t);
+  };
+  auto normalAt = [&](const BSplineSurface& b, int r0, int r1, bool into, double t) {
+    const double h = 1e-6;
+    const Vec3 along = (rowCurve(b, r0, t + h) - rowCurve(b, r0, t - h)) / (2 * h);
+    const Vec3 across = (rowCurve(b, r1, t) - rowCurve(b, r0, t)) * (into ? 1.0 : -1.0);  // increasing u
+    return Vec3(across.cross(along).normalized());
+  };
+  const BSplineSurface& a = r->model.patches[0].surface;
+  const BSplineSurface& b = r->model.patches[1].surface;
+  for (int k = 1; k < 20; ++k) {
+    const double t = k / 20.0;
+    const Vec3 na = normalAt(a, 3, 2, false, t), nb = normalAt(b, 0, 1, true, t);
+    EXPECT_NEAR(std::acos(std::clamp(na.dot(nb), -1.0, 1.0)) * 180.0 / std::numbers::pi, 90.0, 1e-6) << t;
+    EXPECT_LE((rowCurve(a, 3, t) - rowCurve(b, 0, t)).norm(), 1e-12) << t;  // no gap, at equal parameters too
+  }
+}
+
+// A bilinear hinge whose B is lifted by 0.004: the row next to A's edge is A's opposite edge, so the crease pass
+// moves the whole of A by the same vector (a rigid translation, expected by construction: every point of A moves by
+// exactly (0, 0, 0.004) and the angle stays 90 degrees).
+TEST(HealCrease, BilinearHingeGapClosesByATranslation) {
+  const Model m = test::hingeModel({90.0}, {0.004});
+  auto r = healModel(m);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_EQ(r->report.seams.size(), 1u);
+  const HealSeam& s = r->report.seams[0];
+  EXPECT_EQ(s.action, "crease: gap closed");
+  EXPECT_EQ(s.moved, "A0");
+  EXPECT_NEAR(s.before.g0Max, 0.004, 1e-12);
+  ASSERT_TRUE(s.after.has_value());
+  EXPECT_NEAR(s.after->g1MaxDeg, 90.0, 1e-9);
+  const Matrix moved = r->model.patches[0].surface.points() - m.patches[0].surface.points();
+  for (Eigen::Index k = 0; k < moved.rows(); ++k)
+    EXPECT_LE((moved.row(k) - Eigen::RowVector3d(0.0, 0.0, 0.004)).norm(), 1e-15) << k;
+  EXPECT_TRUE((r->model.patches[1].surface.points().array() == m.patches[1].surface.points().array()).all());
+}
+
+// The same hinge with a coplanar neighbour on each far side (C:u1 = A:u0, B:u1 = D:u0, exact): closing the crease
+// gap would open one of those seams, so it is reported as not closed, with the reason, and every patch is left
+// bit-identical.
+TEST(HealCrease, CreaseGapThatWouldOpenAnotherSeamIsReportedNotClosed) {
+  Model m = test::hingeModel({90.0}, {0.004});
+  m.patches.push_back(test::planarPatch("C", Vec3(-2.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0)));
+  m.patches.push_back(test::planarPatch("D", Vec3(0.0, 0.0, 1.004), Vec3(0.0, 0.0, 1.0), Vec3(0.0, 1.0, 0.0)));
+  auto r = healModel(m);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  bool found = false;
+  for (const HealSeam& s : r->report.seams) {
+    if (!((s.a == "A0" && s.b == "B0") || (s.a == "B0" && s.b == "A0"))) continue;
+    found = true;
+    EXPECT_EQ(s.action, "crease: gap not closed");  // never "crease kept" while a gap is left
+    std::string notes;
+    for (const std::string& n : s.notes) notes += n + "\n";
+    EXPECT_NE(notes.find("moving A0"), std::string::npos) << notes;
+    EXPECT_NE(notes.find("moving B0"), std::string::npos) << notes;
+  }
+  EXPECT_TRUE(found);
+  EXPECT_EQ(r->report.creaseGapsClosed, 0);
+  for (size_t k = 0; k < m.patches.size(); ++k)
+    EXPECT_TRUE((r->model.patches[k].surface.points().array() == m.patches[k].surface.points().array()).all())
+        << m.patches[k].name;
+}
+
 }  // namespace
 }  // namespace seam
 

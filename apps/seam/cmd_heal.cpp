@@ -299,8 +299,11 @@ void addHeal(CLI::App& app, int& exit) {
                               r.regions[static_cast<size_t>(st.region)].method);
       }
       if (r.creasesKept > 0)
-        text += fmt::format("creases, left as designed (angle above {} deg): {}\n", formatNumber(r.maxAngleDeg),
-                            r.creasesKept);
+        text += fmt::format("creases, left as designed (angle above {} deg): {}{}\n", formatNumber(r.maxAngleDeg),
+                            r.creasesKept,
+                            r.creaseGapsClosed > 0
+                                ? fmt::format("; the gap of {} closed or narrowed, the angle kept", r.creaseGapsClosed)
+                                : std::string());
       std::string changed;
       for (const std::string& p : r.patchesChanged) changed += (changed.empty() ? "" : ", ") + p;
       text += fmt::format("\npatches changed: {}\n", changed.empty() ? "none" : changed);

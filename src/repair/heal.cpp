@@ -278,6 +278,47 @@ struct Candidate {
   std::string note;                              // why it is not acceptable, or the region's shortfall
 };
 
+/// The gaps of design creases, closed before the heal proper (issue 38 goal 4): a crease keeps its angle, but its gap
+/// is a defect. Per crease seam with a gap above the distance tolerance (and within maxGap), one side moves: the G0
+/// least-squares join (detail::leastSquaresJoin) moves its boundary row onto the other side's boundary, and the row
+/// next to it moves by the same displacement, so that the cross-boundary derivative S_n = p (P_1 - P_0) / h along
+/// the edge is unchanged (exactly for polynomial patches) and the normal turns only as much as the boundary's
+/// tangent does. The move is kept when the crease's gap shrinks, its angle stays within the angle tolerance, no
+/// other seam of the patch is worse (worseThan) and the patch does not fold; of the two sides the one that moves
+/// least. The heal proper then runs on the result, with the crease left alone as before.
+struct CreaseOutcome {
+  int work = -1;              // index into the first Healer's work_
+  std::string action;         // "crease: gap closed", "crease: gap narrowed" or "crease: gap not closed"
+  std::string mover;          // the patch that moved ("" when none did)
+  std::string note;
+};
+struct CreaseGapPass {
+  Model model;
+  bool changed = false;
+  std::vector<CreaseOutcome> outcomes;
+  std::vector<int> movedPatches;
+};
+
+/// The constraint that joins edge `se` of the moving patch S to edge `xe` of the fixed patch X (`cur`: their seam as
+/// analysed now, S as side A), with the targets' cross derivatives up to `order`. Whole edge against whole edge:
+/// corners within the gap limit meet (detail::cornerSnappedOverlap). `overlapS` (if given): the part of S's edge joined.
+detail::EdgeConstraint seamConstraint(const Patch& S, Edge se, const Patch& X, Edge xe, const SeamReport& cur,
+                                      const EdgePair& pair, double maxGap, int order, Interval* overlapS = nullptr) {
+  Interval oA = cur.overlapA, oB = cur.overlapB;
+  if (pair.fullA && pair.fullB) {
+    const detail::JoinOverlap ov =
+        detail::cornerSnappedOverlap(S.surface, se, X.surface, xe, oA, oB, cur.reversed, maxGap);
+    oA = ov.s;
+    oB = ov.t;
+  }
+  detail::EdgeConstraint c;
+  c.edge = se;
+  const BSplineSurface Xf = detail::toEdgeFrame(X.surface, xe, cur.reversed);
+  c.target = detail::targetFromFrame(Xf, oA, cur.reversed ? -oB.hi : oB.lo, oB.length() / oA.length(), order);
+  if (overlapS) *overlapS = oA;
+  return c;
+}
+
 struct SuccessiveRun {
   Model model;
   std::vector<HealStep> steps;
@@ -289,7 +330,17 @@ class Healer {
  public:
   Healer(const Model& input, const HealOptions& opt) : in_(input), opt_(opt) {}
 
-  Result<HealResult> run();
+  /// Checks the options, pairs the edges and analyses every seam of the input.
+  Status prepare();
+  /// The heal proper (after prepare).
+  Result<HealResult> finish();
+  /// Closes the gaps of design creases (issue 38 goal 4, after prepare): see CreaseGapPass.
+  CreaseGapPass closeCreaseGaps() const;
+  /// The report of a heal of `pass.model` (a second Healer's finish) told against this Healer's input: seams before
+  /// as in the input, the creases' actions, the displacements against the input patches.
+  void mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const;
+  [[nodiscard]] const Tolerances& tolerances() const { return tol_; }
+  [[nodiscard]] double maxGap() const { return maxGap_; }
 
  private:
   std::string seamName(const EdgePair& p) const {
@@ -313,6 +364,9 @@ class Healer {
   /// asks for that), or more self-intersections than the input patch.
   std::string foldOf(int i, const BSplineSurface& cand) const;
   std::string leftAloneBroken(const Model& m, int k, const SeamReport& now, int region) const;
+  /// Patch `me.patch` of `m` with the gap of crease seam `pair` closed by moving it (see CreaseGapPass);
+  /// `lockOthers`: the positions along its other three edges stay.
+  Result<BSplineSurface> creaseGapMove(const Model& m, const EdgePair& pair, bool moverIsA, bool lockOthers) const;
 
   const Model& in_;
   HealOptions opt_;
@@ -338,6 +392,7 @@ class Healer {
   std::vector<std::shared_ptr<Model>> localModels_;  // the local scheme's results (candidates point into them)
   /// Self-intersections found in each input patch (-1: not searched yet; foldOf searches on demand).
   mutable std::vector<int> inputSelfIntersections_;
+  std::vector<std::string> prepareNotes_;  // seams that could not be analysed
 };
 
 std::string Healer::foldOf(int i, const BSplineSurface& cand) const {
@@ -495,17 +550,8 @@ SuccessiveRun Healer::successive(bool strict) const {
         run.notes[k].push_back("analysis before the join failed: " + cur.status().message());
         continue;
       }
-      Interval oA = cur->overlapA, oB = cur->overlapB;
-      if (w.pair.fullA && w.pair.fullB) {  // whole edge against whole edge: corners within the gap limit meet
-        const detail::JoinOverlap ov = detail::cornerSnappedOverlap(S.surface, me.edge, X.surface, other.edge, oA, oB,
-                                                                    cur->reversed, maxGap_);
-        oA = ov.s;
-        oB = ov.t;
-      }
-      detail::EdgeConstraint c;
-      c.edge = me.edge;
-      const BSplineSurface Xf = detail::toEdgeFrame(X.surface, other.edge, cur->reversed);
-      c.target = detail::targetFromFrame(Xf, oA, cur->reversed ? -oB.hi : oB.lo, oB.length() / oA.length(), 1);
+      Interval oA;
+      detail::EdgeConstraint c = seamConstraint(S, me.edge, X, other.edge, *cur, w.pair, maxGap_, 1, &oA);
       // Straight seam lines through the vertices that later patches close (docs: §4.1 and the vertex condition).
       const BSplineSurface& ss = S.surface;
       auto endPoint = [&](double t) -> Vec3 {
@@ -802,7 +848,7 @@ bool Healer::freeEdgesKept(const Model& m, int region, std::string* why) const {
   return true;
 }
 
-Result<HealResult> Healer::run() {
+Status Healer::prepare() {
   const Model& model = in_;
   if (model.patches.empty()) return invalidInput("the model has no patches");
   if (opt_.continuity == GeometricClass::kNone) return invalidInput("heal joins G0, G1 or G2");
@@ -831,13 +877,6 @@ Result<HealResult> Healer::run() {
   auto pairing = pairEdgesWithin(model, tol_, maxGap_, diag_);
   if (!pairing) return pairing.status();
   pairing_ = std::move(*pairing);
-
-  HealResult res;
-  HealReport& rep = res.report;
-  rep.requested = opt_.continuity;
-  rep.method = opt_.method;
-  rep.maxGap = maxGap_;
-  rep.maxAngleDeg = maxAngle;
   maxAngle_ = maxAngle;
   np_ = static_cast<int>(model.patches.size());
 
@@ -846,7 +885,7 @@ Result<HealResult> Healer::run() {
     w.pair = p;
     auto r = analyse(model, p);
     if (!r) {
-      rep.notes.push_back(fmt::format("seam {} could not be analysed: {}", seamName(p), r.status().message()));
+      prepareNotes_.push_back(fmt::format("seam {} could not be analysed: {}", seamName(p), r.status().message()));
       continue;
     }
     w.before = *r;
@@ -859,6 +898,19 @@ Result<HealResult> Healer::run() {
     else w.state = SeamState::kToJoin;
     work_.push_back(std::move(w));
   }
+  return Status::ok();
+}
+
+Result<HealResult> Healer::finish() {
+  const Model& model = in_;
+  const double maxAngle = maxAngle_;
+  HealResult res;
+  HealReport& rep = res.report;
+  rep.requested = opt_.continuity;
+  rep.method = opt_.method;
+  rep.maxGap = maxGap_;
+  rep.maxAngleDeg = maxAngle;
+  rep.notes = prepareNotes_;
 
   // Regions: connected components of the graph of seams within maxGap (seams of one patch with itself included).
   patchRegion_.assign(static_cast<size_t>(np_), -1);
@@ -1260,8 +1312,218 @@ Result<HealResult> Healer::run() {
   return res;
 }
 
+Result<BSplineSurface> Healer::creaseGapMove(const Model& m, const EdgePair& pair, bool moverIsA,
+                                             bool lockOthers) const {
+  const EdgeRef me = moverIsA ? pair.a : pair.b, other = moverIsA ? pair.b : pair.a;
+  const Patch& S = m.patches[static_cast<size_t>(me.patch)];
+  const Patch& X = m.patches[static_cast<size_t>(other.patch)];
+  auto cur = analyzeSeam(S, me.edge, X, other.edge, so_, rangeOf(pair, moverIsA));
+  if (!cur) return cur.status();
+  const detail::EdgeConstraint c = seamConstraint(S, me.edge, X, other.edge, *cur, pair, maxGap_, 0);
+  detail::LsJoinOptions lo;
+  lo.continuity = GeometricClass::kG0;
+  lo.scale = diag_;
+  lo.lockedRows = 1;
+  if (lockOthers)
+    for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1})
+      if (e != me.edge) lo.lockedEdges.push_back(e);
+  auto out = detail::leastSquaresJoin(S.surface, {c}, lo);
+  if (!out) return out.status();
+  if (out->unchanged) return Status(ErrorCode::kNoSolution, "the G0 join found no solution");
+  // The row next to the edge moves with the boundary row: S_n along the edge stays (see CreaseGapPass).
+  const BSplineSurface old = detail::expressedLike(S.surface, out->surface);
+  if (old.numU() != out->surface.numU() || old.numV() != out->surface.numV() ||
+      old.isRational() != out->surface.isRational())
+    return Status(ErrorCode::kUnsupported, "the join changed the patch's form");
+  BSplineSurface fo = detail::toEdgeFrame(old, me.edge, false);
+  BSplineSurface fn = detail::toEdgeFrame(out->surface, me.edge, false);
+  if (lockOthers && fn.numV() == 2)
+    return Status(ErrorCode::kUnsupported, "the row next to the edge is the opposite edge, which stays");
+  Matrix pts = fn.points();
+  for (int a = 0; a < fn.numU(); ++a) {
+    const Eigen::Index r0 = static_cast<Eigen::Index>(a) * fn.numV(), r1 = r0 + 1;
+    pts.row(r1) += fn.points().row(r0) - fo.points().row(r0);
+  }
+  const BSplineSurface moved(fn.degreeU(), fn.degreeV(), fn.knotsU(), fn.knotsV(), fn.numU(), fn.numV(),
+                             std::move(pts), fn.weights());
+  return detail::fromEdgeFrame(moved, me.edge, false);
+}
+
+CreaseGapPass Healer::closeCreaseGaps() const {
+  CreaseGapPass pass;
+  pass.model = in_;
+  std::vector<SeamReport> current(work_.size());
+  for (size_t k = 0; k < work_.size(); ++k) current[k] = work_[k].before;
+  for (size_t k = 0; k < work_.size(); ++k) {
+    const Work& w = work_[k];
+    if (!w.crease || !(w.before.g0Max > tol_.distance)) continue;
+    CreaseOutcome oc;
+    oc.work = static_cast<int>(k);
+    struct Best {
+      BSplineSurface surface;
+      int patch = -1;
+      double displacement = 0.0;
+      SeamReport after;
+      std::vector<std::pair<int, SeamReport>> touched;
+    };
+    std::optional<Best> best;
+    std::vector<std::string> why;
+    for (bool moverIsA : {true, false}) {
+      const EdgeRef me = moverIsA ? w.pair.a : w.pair.b, other = moverIsA ? w.pair.b : w.pair.a;
+      if (me.patch == other.patch) {
+        why.push_back("a seam of a patch with itself");
+        break;
+      }
+      const std::string& name = in_.patches[static_cast<size_t>(me.patch)].name;
+      for (bool lockOthers : {true, false}) {
+        auto cand = creaseGapMove(pass.model, w.pair, moverIsA, lockOthers);
+        if (!cand) {
+          why.push_back(fmt::format("moving {}: {}", name, cand.status().message()));
+          continue;
+        }
+        std::string reason = foldOf(me.patch, *cand);
+        Model& m = pass.model;
+        const BSplineSurface keep = m.patches[static_cast<size_t>(me.patch)].surface;
+        m.patches[static_cast<size_t>(me.patch)].surface = *cand;
+        std::optional<SeamReport> crease;
+        std::vector<std::pair<int, SeamReport>> touched;
+        for (size_t q = 0; q < work_.size() && reason.empty(); ++q) {
+          const Work& u = work_[q];
+          if (u.pair.a.patch != me.patch && u.pair.b.patch != me.patch) continue;
+          auto now = analyse(m, u.pair);
+          if (!now) {
+            reason = fmt::format("{} no longer analysable ({})", seamName(u.pair), now.status().message());
+            break;
+          }
+          if (q == k) {
+            if (!(now->g0Max < current[k].g0Max))
+              reason = fmt::format("the gap would not shrink ({:.4g} -> {:.4g})", current[k].g0Max, now->g0Max);
+            else if (std::abs(now->g1MaxDeg - w.before.g1MaxDeg) > tol_.angleDeg)
+              reason = fmt::format("the crease angle would change from {:.6g} to {:.6g} deg", w.before.g1MaxDeg,
+                                   now->g1MaxDeg);
+            crease = *now;
+          } else if (std::string r = worseThan(*now, current[q], tol_); !r.empty()) {
+            reason = fmt::format("{}: {}", seamName(u.pair), r);
+          }
+          touched.emplace_back(static_cast<int>(q), *now);
+        }
+        m.patches[static_cast<size_t>(me.patch)].surface = keep;
+        if (!reason.empty() || !crease) {
+          why.push_back(fmt::format("moving {}{}: {}", name, lockOthers ? "" : " (its other edges free)",
+                                    reason.empty() ? "not analysed" : reason));
+          continue;
+        }
+        const HealPatch d = displacementOf(in_.patches[static_cast<size_t>(me.patch)],
+                                           Patch{name, PatchKind::kBSpline, *cand}, kRoundoff * diag_);
+        if (!best || d.maxSurfaceDisplacement < best->displacement)
+          best = Best{*cand, me.patch, d.maxSurfaceDisplacement, *crease, std::move(touched)};
+        break;  // the other edges locked is preferred when it works
+      }
+    }
+    if (!best) {
+      oc.action = "crease: gap not closed";
+      for (const std::string& r : why) oc.note += (oc.note.empty() ? "" : "; ") + r;
+      pass.outcomes.push_back(std::move(oc));
+      continue;
+    }
+    Patch& moved = pass.model.patches[static_cast<size_t>(best->patch)];
+    moved = detail::replacedSurface(moved, best->surface);
+    for (auto& [q, r] : best->touched) current[static_cast<size_t>(q)] = r;
+    pass.changed = true;
+    if (std::find(pass.movedPatches.begin(), pass.movedPatches.end(), best->patch) == pass.movedPatches.end())
+      pass.movedPatches.push_back(best->patch);
+    oc.mover = in_.patches[static_cast<size_t>(best->patch)].name;
+    const bool closed = best->after.g0Max <= tol_.distance;
+    oc.action = closed ? "crease: gap closed" : "crease: gap narrowed";
+    oc.note = fmt::format("crease gap {:.4g} -> {:.4g} by moving {} (its edge and the next row by the same amount, so "
+                          "the angle stays: {:.6g} -> {:.6g} deg)",
+                          w.before.g0Max, best->after.g0Max, oc.mover, w.before.g1MaxDeg, best->after.g1MaxDeg);
+    pass.outcomes.push_back(std::move(oc));
+  }
+  return pass;
+}
+
+void Healer::mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const {
+  HealReport& rep = res.report;
+  const auto key = [](const std::string& a, Edge ea, const std::string& b, Edge eb) {
+    return fmt::format("{}:{}/{}:{}", a, edgeName(ea), b, edgeName(eb));
+  };
+  std::map<std::string, int> workOf;
+  for (size_t k = 0; k < work_.size(); ++k) {
+    const Work& w = work_[k];
+    const std::string& a = in_.patches[static_cast<size_t>(w.pair.a.patch)].name;
+    const std::string& b = in_.patches[static_cast<size_t>(w.pair.b.patch)].name;
+    workOf[key(a, w.pair.a.edge, b, w.pair.b.edge)] = static_cast<int>(k);
+    workOf[key(b, w.pair.b.edge, a, w.pair.a.edge)] = static_cast<int>(k);
+  }
+  std::map<int, const CreaseOutcome*> outcomeOf;
+  for (const CreaseOutcome& o : pass.outcomes) outcomeOf[o.work] = &o;
+  rep.seamsWorse = 0;
+  for (HealSeam& hs : rep.seams) {
+    const auto it = workOf.find(key(hs.a, hs.aEdge, hs.b, hs.bEdge));
+    if (it != workOf.end()) {
+      hs.before = work_[static_cast<size_t>(it->second)].before;
+      if (const auto o = outcomeOf.find(it->second); o != outcomeOf.end()) {
+        hs.action = o->second->action;
+        if (!o->second->mover.empty()) hs.moved = o->second->mover;
+        hs.notes.push_back(o->second->note);
+        if (o->second->action != "crease: gap not closed") ++rep.creaseGapsClosed;
+      }
+      if (hs.after) hs.worse = !worseThan(*hs.after, hs.before, tol_).empty();
+    }
+    if (hs.worse) ++rep.seamsWorse;
+  }
+  if (!pass.changed) return;
+  // The displacements against the input.
+  for (int i : pass.movedPatches) {
+    const Patch& before = in_.patches[static_cast<size_t>(i)];
+    const Patch& after = res.model.patches[static_cast<size_t>(i)];
+    HealPatch hp = displacementOf(before, after, kRoundoff * diag_);
+    const auto same = [&](const HealPatch& p) { return p.name == before.name; };
+    if (auto it = std::find_if(rep.patches.begin(), rep.patches.end(), same); it != rep.patches.end()) {
+      hp.region = it->region;
+      *it = std::move(hp);
+    } else {
+      hp.region = -1;
+      for (const HealSeam& s : rep.seams)
+        if (s.a == before.name || s.b == before.name) hp.region = s.region;
+      rep.patches.push_back(std::move(hp));
+      rep.patchesChanged.push_back(before.name);
+    }
+  }
+  rep.maxDisplacement = rep.maxSurfaceDisplacement = rep.maxSurfaceDisplacementRel = 0.0;
+  rep.movedPoints = 0;
+  rep.surfaceDisplacementCertified = true;
+  for (const HealPatch& hp : rep.patches) {
+    rep.maxDisplacement = std::max(rep.maxDisplacement, hp.maxDisplacement);
+    rep.movedPoints += hp.movedPoints;
+    rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, hp.maxSurfaceDisplacement);
+    rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, hp.maxSurfaceDisplacementRel);
+    rep.surfaceDisplacementCertified = rep.surfaceDisplacementCertified && hp.surfaceDisplacementCertified;
+  }
+}
+
 }  // namespace
 
-Result<HealResult> healModel(const Model& model, const HealOptions& options) { return Healer(model, options).run(); }
+Result<HealResult> healModel(const Model& model, const HealOptions& options) {
+  Healer first(model, options);
+  if (Status st = first.prepare(); !st.isOk()) return st;
+  const CreaseGapPass pass = first.closeCreaseGaps();
+  if (!pass.changed) {
+    auto res = first.finish();
+    if (res) first.mergeCreasePass(*res, pass);
+    return res;
+  }
+  // The heal proper of the model with the creases closed, with the first heal's tolerances and gap limit (the
+  // bounding box moved by the gaps at most).
+  HealOptions again = options;
+  again.tolerances = first.tolerances();
+  again.maxGap = first.maxGap();
+  Healer second(pass.model, again);
+  if (Status st = second.prepare(); !st.isOk()) return st;
+  auto res = second.finish();
+  if (res) first.mergeCreasePass(*res, pass);
+  return res;
+}
 
 }  // namespace seam

@@ -197,8 +197,8 @@ std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double
 Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
                                         const Eigen::VectorXd& weight, double* residual) {
   const Eigen::Index n = C.cols();
-  if (C.rows() == 0) {
-    if (residual) *residual = 0.0;
+  if (C.rows() == 0 || n == 0) {  // nothing to meet, or nothing free (every point locked): x0 and what it misses
+    if (residual) *residual = C.rows() == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
     return x0;
   }
   // Tall sparse systems (the joins of many seams at once, as the patch route's heal of a whole model makes them):
@@ -267,8 +267,8 @@ Eigen::VectorXd nullspaceLeastSquares(const Eigen::MatrixXd& Cin, const Eigen::V
 
 Eigen::VectorXd constrainedLeastSquaresQR(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
                                           const Eigen::VectorXd& weight, double* residual) {
-  if (C.rows() == 0) {
-    if (residual) *residual = 0.0;
+  if (C.rows() == 0 || C.cols() == 0) {  // nothing to meet, or nothing free: x0 and what it misses
+    if (residual) *residual = C.rows() == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
     return x0;
   }
   if (C.rows() <= kSmallSystem && C.cols() <= kSmallSystem)
@@ -413,7 +413,7 @@ struct System {
   std::vector<Eigen::VectorXd> rows;
   std::vector<double> rhs;
   void add(Eigen::VectorXd row, double r) {
-    const double s = row.cwiseAbs().maxCoeff();
+    const double s = row.size() > 0 ? row.cwiseAbs().maxCoeff() : 0.0;  // no unknowns: every point locked
     if (!(s > 0.0)) {
       row.setZero();
       rows.push_back(std::move(row));

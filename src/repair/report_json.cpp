@@ -167,6 +167,7 @@ nlohmann::ordered_json healReportValue(const HealReport& r) {
   j["surface_displacement_certified"] = r.surfaceDisplacementCertified;
   j["seams_to_reach"] = r.seamsToReach;
   j["creases_kept"] = r.creasesKept;
+  j["crease_gaps_closed"] = r.creaseGapsClosed;
   j["seams_achieved"] = r.seamsAchieved;
   j["seams_worse"] = r.seamsWorse;
   j["worst"] = Json{{"geometric", std::string(toString(r.worst))}, {"g0_max", num(r.worstG0)},

@@ -88,8 +88,10 @@ struct HealSeam {
   std::optional<SeamReport> after;  ///< empty when the analysis failed after healing
   std::string moved;                ///< the patch that moved to meet this seam ("" if none did)
   /// "kept" (already at the requested continuity), "joined" (reaches it now), "skipped" (gap above maxGap),
-  /// "crease kept" (kink angle above maxAngleDeg: a design crease, left alone), "failed" (should have been joined and
-  /// was not; left as good as it was, possibly improved).
+  /// "crease kept" (kink angle above maxAngleDeg: a design crease, left alone, no gap), "crease: gap closed" /
+  /// "crease: gap narrowed" (a design crease whose gap was closed, its angle kept: one side's boundary row and the
+  /// row next to it moved by the same amount), "crease: gap not closed" (the notes say why), "failed" (should have
+  /// been joined and was not; left as good as it was, possibly improved).
   std::string action;
   bool achieved = false;            ///< after.geometric meets the requested continuity
   /// After is worse than before (larger gap or angle beyond the tolerances, lower class, a fold): never expected,
@@ -153,7 +155,9 @@ struct HealReport {
   bool surfaceDisplacementCertified = true;  ///< every changed patch's value is a certified bound
   int seamsAchieved = 0;                   ///< seams to reach that meet the requested continuity after
   int seamsToReach = 0;                    ///< seams within maxGap and not design creases
-  int creasesKept = 0;                     ///< seams left alone as design creases
+  int creasesKept = 0;                     ///< seams left alone as design creases (their angle kept)
+  /// Design creases whose gap was closed or narrowed (their angle kept): "crease: gap closed" / "... narrowed".
+  int creaseGapsClosed = 0;
   int seamsWorse = 0;                      ///< seams worse than in the input (0 by construction)
   int stepsReverted = 0;
   GeometricClass worst = GeometricClass::kG2;  ///< worst geometric class over the seams after healing
