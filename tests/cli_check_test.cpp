@@ -589,6 +589,30 @@ TEST_F(CliVerdicts, StepFileHasMillimetresAndTheAbsoluteDefault) {
     EXPECT_NEAR(q[k].get<double>(), 1000.0 * p[k].get<double>(), 1e-6 * (1.0 + 1000.0 * std::abs(p[k].get<double>())));
 }
 
+// Issue 38 goal 2: a CAD file is judged at the CAD G1 angle. Hinges of exactly 0.2 and 3 degrees (by construction):
+// as a unit-less JSON model both are kinks (0.01 deg); written as STEP (a length unit) the 0.2-degree one is G1 at
+// the default 0.5 deg and a kink again with --tol-angle 0.01; the 3-degree one is a kink either way. The text says
+// which angle is used and why; the JSON names its source.
+TEST_F(CliVerdicts, CadFilesAreJudgedAtTheCadAngle) {
+  const std::filesystem::path json = dir_ / "small_kinks.json";
+  const std::string step = (dir_ / "small_kinks.step").string();
+  ASSERT_TRUE(io::writeModelJson(test::hingeModel({0.2, 3.0}), json).isOk());
+  ASSERT_EQ(runSeam("convert \"" + json.string() + "\" \"" + step + "\"").exitCode, 0);
+  auto verdicts = [&](const std::string& file, const std::string& options) {
+    const nlohmann::json j = nlohmann::json::parse(runSeam("check \"" + file + "\" --json " + options).out);
+    return std::make_tuple(j["summary"]["verdicts"]["kink"].get<int>(), j["tolerances"]["angle_deg"].get<double>(),
+                           j["tolerances"]["angle_source"].get<std::string>());
+  };
+  EXPECT_EQ(verdicts(json.string(), ""), std::make_tuple(2, 0.01, std::string("strict default")));
+  EXPECT_EQ(verdicts(step, ""), std::make_tuple(1, 0.5, std::string("CAD default")));
+  EXPECT_EQ(verdicts(step, "--tol-angle 0.01"), std::make_tuple(2, 0.01, std::string("option")));
+  EXPECT_EQ(verdicts(step, "--preset rhino"), std::make_tuple(1, 1.0, std::string("preset")));
+  EXPECT_EQ(verdicts(json.string(), "--units mm"), std::make_tuple(1, 0.5, std::string("CAD default")));
+  const CliRun text = runSeam("check \"" + step + "\"");
+  EXPECT_NE(text.out.find("angle 0.5 deg (default for models with a length unit, as CATIA and NX)"), std::string::npos)
+      << text.out;
+}
+
 // Issue 34 §1: a trimmed model is never written as patches. convert to JSON keeps the trims (the JSON's
 // "brep"); heal to JSON exits 2 and writes nothing (the patches would move without their trims), and so does
 // convert to JSON of a file whose trims cannot be kept as plain data yet (trj3_s1-al-214.stp); convert and

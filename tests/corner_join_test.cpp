@@ -797,7 +797,7 @@ TEST(CornerCli, ReportsTheConditionsAndJoins) {
   EXPECT_EQ(rc2, 0) << text2;
   EXPECT_NE(text2.find("ratio-chain"), std::string::npos) << text2;
   for (const char* w : {"gap before", "kink before (deg)", "kink after (deg)", "certified before/after", "gap",
-                        "tangent (G1)", "largest surface displacement"})
+                        "G1", "largest surface displacement"})
     EXPECT_NE(text2.find(w), std::string::npos) << w << "\n" << text2;
   // Four patches whose joins would open a G1 seam: exit 1, the output is the input, the report says why.
   {

@@ -852,6 +852,33 @@ TEST(HealCli, NotAchievedExitsOneAndWritesTheOutput) {
   std::filesystem::remove_all(dir);
 }
 
+// Issue 38 goal 6: the heal report in the words of `seam check`, with distances. The bilinear hinge lifted by 0.004
+// (HealCrease.BilinearHingeGapClosesByATranslation): the crease's gap is closed by moving A0 by exactly 0.004, so its
+// edge moved 0.004 and the patch's surface moved 0.004 (in the text and the JSON); the states are check's verdicts.
+TEST(HealCli, ReportSaysWhatMovedAndByHowMuchInCheckWords) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("seam_heal_cli_words_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path in = dir / "in.json", out = dir / "out.json", log = dir / "log.txt";
+  ASSERT_TRUE(io::writeModelJson(test::hingeModel({90.0, 3.0}, {0.004, 0.0}), in).isOk());
+  std::string text;
+  EXPECT_EQ(runCli("heal " + in.string() + " -o " + out.string() + " --json", log, &text), 0) << text;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  bool crease = false;
+  for (const auto& x : j["seams"])
+    if (x["action"] == "crease: gap closed") {
+      crease = true;
+      EXPECT_NEAR(x["edge_moved"].get<double>(), 0.004, 1e-12);
+      EXPECT_EQ(x["moved"], "A0");
+    }
+  EXPECT_TRUE(crease) << text;
+  EXPECT_EQ(runCli("heal " + in.string() + " -o " + out.string(), log, &text), 0) << text;
+  for (const char* w : {"patch moved", "edge moved", "crease: gap closed", "A0 (0.004)", "crease", "G1"})
+    EXPECT_NE(text.find(w), std::string::npos) << w << "\n" << text;
+  for (const char* w : {"tangent (G1)", "smooth (G2)", "fold"}) EXPECT_EQ(text.find(w), std::string::npos) << w;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(HealCli, MethodOption) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("seam_heal_cli_method_" + std::to_string(::getpid()));
@@ -1010,6 +1037,7 @@ TEST(HealCrease, BilinearHingeGapClosesByATranslation) {
   const HealSeam& s = r->report.seams[0];
   EXPECT_EQ(s.action, "crease: gap closed");
   EXPECT_EQ(s.moved, "A0");
+  EXPECT_NEAR(s.edgeMoved, 0.004, 1e-12);  // A0's edge, translated by exactly 0.004
   EXPECT_NEAR(s.before.g0Max, 0.004, 1e-12);
   ASSERT_TRUE(s.after.has_value());
   EXPECT_NEAR(s.after->g1MaxDeg, 90.0, 1e-9);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "seam/core/tolerances.h"
+#include "seam/core/tolerance_presets.h"
 #include "seam/core/units.h"
 
 namespace seam {
@@ -65,6 +66,39 @@ TEST(LengthUnits, ModelsWithAUnitGetAbsoluteDefaultsAndConvertedPresets) {
   ModelUnits mm;
   mm.length = LengthUnit::kMillimetre;
   EXPECT_EQ(resolveTolerances({}, mm, 1e6).tolerances.distance, kDefaultAbsoluteDistanceMm);
+}
+
+// Issue 38 goal 2: a model with a length unit is judged at the CAD G1 angle (0.5 deg, the value CATIA's and NX's
+// presets carry in include/seam/core/tolerance_presets.h, written out here), a unit-less one at 0.01 deg; a preset's
+// or an option's angle wins, and each says where it comes from.
+TEST(LengthUnits, CadModelsGetTheCadAngleAndUnitLessModelsTheStrictOne) {
+  const ModelUnits none;
+  ModelUnits mm;
+  mm.length = LengthUnit::kMillimetre;
+  ModelUnits feet;
+  feet.length = LengthUnit::kFoot;
+  ResolvedTolerances r = resolveTolerances({}, none, 10.0);
+  EXPECT_EQ(r.tolerances.angleDeg, 0.01);
+  EXPECT_EQ(r.angleSource, AngleSource::kStrictDefault);
+  for (const ModelUnits& u : {mm, feet}) {
+    r = resolveTolerances({}, u, 10.0);
+    EXPECT_EQ(r.tolerances.angleDeg, 0.5);
+    EXPECT_EQ(r.angleSource, AngleSource::kCadDefault);
+  }
+  ToleranceOverrides rhino;
+  ASSERT_TRUE(applyTolerancePreset(rhino, "rhino"));
+  r = resolveTolerances(rhino, mm, 10.0);
+  EXPECT_EQ(r.tolerances.angleDeg, 1.0);
+  EXPECT_EQ(r.angleSource, AngleSource::kPreset);
+  EXPECT_EQ(angleSourceText(r.angleSource, r.preset), "--preset rhino");
+  ToleranceOverrides strict;
+  strict.angleDeg = 0.01;
+  ASSERT_TRUE(applyTolerancePreset(strict, "catia"));  // --tol-angle wins over the preset's angle
+  r = resolveTolerances(strict, mm, 10.0);
+  EXPECT_EQ(r.tolerances.angleDeg, 0.01);
+  EXPECT_EQ(r.angleSource, AngleSource::kOption);
+  EXPECT_STREQ(toString(AngleSource::kCadDefault), "CAD default");
+  EXPECT_STREQ(toString(AngleSource::kStrictDefault), "strict default");
 }
 
 TEST(LengthUnits, SourcesHaveTheWordsOfTheJsonSchema) {

@@ -17,6 +17,7 @@ void setReportUnits(report::ReportData& d, const ModelUnits& units, const Resolv
   constexpr std::string_view kPrefix = "length unit: ";
   d.unitNote = unitText(units).substr(kPrefix.size());
   d.distanceSource = distanceSourceText(tol.distanceSource, tol.preset);
+  d.angleSource = angleSourceText(tol.angleSource, tol.preset);
 }
 
 #ifdef SEAM_HAVE_OCCT
@@ -39,7 +40,7 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
   report::ReportData d;
   d.warnings = r->import.warnings;
   d.tolerances = r->tolerances;
-  setReportUnits(d, r->units, {r->tolerances, r->distanceSource, tol.preset});
+  setReportUnits(d, r->units, {r->tolerances, r->distanceSource, r->angleSource, tol.preset});
   d.extraHeader = "OpenCASCADE";
   d.facts.emplace_back("faces", fmt::format("{}{}", r->import.faces.size(), r->sewn ? " (sewn)" : ""));
   d.facts.emplace_back("non-manifold edges", std::to_string(r->nonManifoldEdges.size()));

@@ -247,10 +247,11 @@ void cornerFields(Out& o, const Model& m, const CornerReport& c) {
 }
 
 OrderedJson tolerancesJson(const Tolerances& t, std::optional<double> pairing, double creaseAngleDeg,
-                           DistanceSource source) {
+                           DistanceSource source, AngleSource angleSource) {
   OrderedJson j{{"distance", t.distance},
                 {"distance_source", toString(source)},
                 {"angle_deg", t.angleDeg},
+                {"angle_source", toString(angleSource)},
                 {"curvature_rel", t.curvatureRel},
                 {"parametric", t.parametric},
                 {"crease_angle_deg", creaseAngleDeg}};
@@ -363,11 +364,11 @@ template <class Out>
 void modelCheckFields(Out& o, const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
                       const std::optional<GeometricClass>& require, std::optional<double> pairing,
                       double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource,
-                      const std::vector<std::string>& warnings) {
+                      const std::vector<std::string>& warnings, AngleSource angleSource) {
   o.field("warnings", warnings);
   o.object("model", [&](auto& x) { x.field("patches", m.patches.size()); });
   o.field("units", unitsJson(units));
-  o.field("tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg, distanceSource));
+  o.field("tolerances", tolerancesJson(report.tolerances, pairing, creaseAngleDeg, distanceSource, angleSource));
   o.objects("seams", order.size(), [&](auto& x, size_t k) {
     modelSeamFields(x, m, report.seams[order[k]], order[k], creaseAngleDeg);
   });
@@ -415,10 +416,10 @@ OrderedJson inputFormat(const std::filesystem::path& file) {
 OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& report, const std::vector<size_t>& order,
                            const std::optional<GeometricClass>& require, std::optional<double> pairing,
                            double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource,
-                           const std::vector<std::string>& warnings) {
+                           const std::vector<std::string>& warnings, AngleSource angleSource) {
   OrderedJson j = OrderedJson::object();
   DomObject o(j);
-  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource, warnings);
+  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource, warnings, angleSource);
   return j;
 }
 
@@ -426,13 +427,13 @@ void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, c
                          const ModelCheckReport& report, const std::vector<size_t>& order,
                          const std::optional<GeometricClass>& require, std::optional<double> pairing,
                          double creaseAngleDeg, const ModelUnits& units, DistanceSource distanceSource,
-                         const std::vector<std::string>& warnings) {
+                         const std::vector<std::string>& warnings, AngleSource angleSource) {
   JsonTextWriter w(&out);
   TextObject o(w);
   w.beginObject();
   o.field("file", file.string());
   o.field("format", inputFormat(file));
-  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource, warnings);
+  modelCheckFields(o, m, report, order, require, pairing, creaseAngleDeg, units, distanceSource, warnings, angleSource);
   w.endObject();
   w.flush();
   out << '\n';
@@ -482,6 +483,7 @@ void brepCheckFields(Out& o, const occt::BRepCheckReport& r, const std::vector<s
     x.field("distance", tol.distance);
     x.field("distance_source", toString(r.distanceSource));
     x.field("angle_deg", tol.angleDeg);
+    x.field("angle_source", toString(r.angleSource));
     x.field("curvature_rel", tol.curvatureRel);
     x.field("crease_angle_deg", creaseAngleDeg);
   });
@@ -649,7 +651,7 @@ Result<FileCheck> checkModel(const Model& model, const std::string& name, const 
   out.belowRequired = o.require && r->summary.belowRequired > 0;
   out.json = withInputFile(name, modelCheckJson(model, *r, selectSeams(reportsOf(*r), o.selection), o.require,
                                                r->pairingTolerance, o.selection.creaseAngleDeg, units,
-                                               resolved.distanceSource));
+                                               resolved.distanceSource, {}, resolved.angleSource));
   return out;
 }
 

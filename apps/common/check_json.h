@@ -28,12 +28,14 @@ std::vector<const SeamReport*> reportsOf(const ModelCheckReport& r);
 
 /// `seam check --json` of a patch model: `order` lists the seams to print (selectSeams of the listing options),
 /// `pairing` is the pairing tolerance of a whole-model check (nullopt for a single --seam).
-/// `units` is the model's length unit (unitsJson) and `distanceSource` where tolerances.distance comes from.
+/// `units` is the model's length unit (unitsJson), `distanceSource` and `angleSource` where tolerances.distance and
+/// tolerances.angle_deg come from.
 OrderedJson modelCheckJson(const Model& m, const ModelCheckReport& r, const std::vector<size_t>& order,
                            const std::optional<GeometricClass>& require, std::optional<double> pairing,
                            double creaseAngleDeg, const ModelUnits& units = {},
                            DistanceSource distanceSource = DistanceSource::kRelative,
-                           const std::vector<std::string>& warnings = {});
+                           const std::vector<std::string>& warnings = {},
+                           AngleSource angleSource = AngleSource::kStrictDefault);
 
 /// `seam check FILE --json` of a patch model written to `out` as jsonText(withInputFile(file, modelCheckJson(...)))
 /// prints it, byte for byte, without building the document: each seam and corner record is written as it is
@@ -44,7 +46,8 @@ void writeModelCheckJson(std::ostream& out, const std::filesystem::path& file, c
                          const std::optional<GeometricClass>& require, std::optional<double> pairing,
                          double creaseAngleDeg, const ModelUnits& units = {},
                          DistanceSource distanceSource = DistanceSource::kRelative,
-                         const std::vector<std::string>& warnings = {});
+                         const std::vector<std::string>& warnings = {},
+                         AngleSource angleSource = AngleSource::kStrictDefault);
 
 /// `seam check --json`'s "units" (issue 17 §2): {"length": "mm" | null (unit-less), "file_unit": the STEP/IGES
 /// header's name ("MM", "INCH") | null, "source": "file header" | "--units" | "none (unit-less model)",

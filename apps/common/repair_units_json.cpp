@@ -7,6 +7,7 @@ OrderedJson repairTolerancesJson(const ResolvedTolerances& tol) {
   j["distance"] = tol.tolerances.distance;
   j["distance_source"] = toString(tol.distanceSource);
   j["angle_deg"] = tol.tolerances.angleDeg;
+  j["angle_source"] = toString(tol.angleSource);
   j["curvature_rel"] = tol.tolerances.curvatureRel;
   return j;
 }

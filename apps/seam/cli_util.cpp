@@ -240,9 +240,10 @@ std::string unitNames() {
 std::string unitLine(const ModelUnits& units, const ResolvedTolerances& tol, double creaseAngleDeg,
                      std::optional<double> pairing) {
   const Tolerances& t = tol.tolerances;
-  return fmt::format("{}\ngap tolerance {} ({}), angle {} deg, curvature {} relative{}; crease angle {} deg\n", unitText(units),
-                     withUnit(formatNumber(t.distance), units), distanceSourceText(tol.distanceSource, tol.preset),
-                     formatNumber(t.angleDeg), formatNumber(t.curvatureRel),
+  return fmt::format("{}\ngap tolerance {} ({}), angle {} deg ({}), curvature {} relative{}; crease angle {} deg\n",
+                     unitText(units), withUnit(formatNumber(t.distance), units),
+                     distanceSourceText(tol.distanceSource, tol.preset), formatNumber(t.angleDeg),
+                     angleSourceText(tol.angleSource, tol.preset), formatNumber(t.curvatureRel),
                      pairing ? fmt::format(", pairing {}", withUnit(formatNumber(*pairing), units)) : "",
                      formatNumber(creaseAngleDeg));
 }
@@ -437,6 +438,47 @@ std::string formatVector(const double* values, int count) {
     s += formatNumber(values[k]);
   }
   return s + "]";
+}
+
+std::string wrapText(std::string_view text, size_t width, std::string_view indent) {
+  std::string out, line;
+  auto flush = [&] {
+    if (line.empty()) return;
+    if (!out.empty()) out += "\n" + std::string(indent);
+    out += line;
+    line.clear();
+  };
+  size_t i = 0;
+  while (i < text.size()) {
+    const size_t space = text.find(' ', i);
+    std::string_view word = text.substr(i, space == std::string_view::npos ? std::string_view::npos : space - i);
+    i = space == std::string_view::npos ? text.size() : space + 1;
+    if (word.empty()) continue;
+    const size_t room = width > indent.size() && !out.empty() ? width - indent.size() : width;
+    if (!line.empty() && line.size() + 1 + word.size() > room) flush();
+    line += (line.empty() ? "" : " ") + std::string(word);
+    if (word.back() == ';') flush();  // one clause per line
+  }
+  flush();
+  return out;
+}
+
+std::string wrapList(const std::vector<std::string>& items, size_t width, std::string_view indent) {
+  std::string out;
+  size_t lineLength = 0;
+  for (size_t k = 0; k < items.size(); ++k) {
+    const std::string piece = items[k] + (k + 1 < items.size() ? "," : "");
+    if (lineLength > 0 && lineLength + 1 + piece.size() > width) {
+      out += "\n" + std::string(indent);
+      lineLength = indent.size();
+    } else if (lineLength > 0) {
+      out += ' ';
+      ++lineLength;
+    }
+    out += piece;
+    lineLength += piece.size();
+  }
+  return out;
 }
 
 std::string formatTable(const std::vector<std::string>& header,

@@ -141,6 +141,14 @@ std::string formatTable(const std::vector<std::string>& header,
                         const std::vector<std::vector<std::string>>& rows,
                         const std::vector<bool>& rightAligned = {});
 
+/// `text` broken at spaces into lines of at most `width` characters (a longer word stays whole), every line but the
+/// first starting with `indent`; "; " also ends a line, so that the clauses of a long note stand one per line.
+/// No trailing newline.
+std::string wrapText(std::string_view text, size_t width, std::string_view indent);
+/// `items` joined by ", " into lines of at most `width` characters, broken only between items (an item stays whole),
+/// every line but the first starting with `indent`. No trailing newline.
+std::string wrapList(const std::vector<std::string>& items, size_t width, std::string_view indent);
+
 /// Writes a model by extension (.json; .step/.stp/.iges/.igs when built with OpenCASCADE), atomically; on failure
 /// prints the message on stderr and returns false. Every command that writes a model uses it.
 bool saveModel(const Model& model, const std::filesystem::path& file);

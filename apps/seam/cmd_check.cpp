@@ -369,7 +369,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     writeBRepCheckJson(std::cout, o.file, *r, selectSeams(reports, sel), require, sel.creaseAngleDeg);
   } else {
     fmt::print("{}: B-rep of {} faces{}; {}\n", o.file, r->import.faces.size(), r->sewn ? " (sewn)" : "",
-               unitLine(r->units, {tol, r->distanceSource, o.tol.preset}, sel.creaseAngleDeg));
+               unitLine(r->units, {tol, r->distanceSource, r->angleSource, o.tol.preset}, sel.creaseAngleDeg));
     const SeamListing l = listSeams(reports, sel);
     // A face as "F12 #1283" where the file names its entity (docs/check-output.md).
     std::map<std::string, std::string> entityOf;
@@ -528,7 +528,7 @@ int runCheck(const CheckOptions& o) {
     // Streamed record by record (the DOM of a 10 000-patch check took ~300 MB and 3 s); the same bytes as
     // jsonText(withInputFile(file, modelCheckJson(...))), which the Python module returns as a dict.
     writeModelCheckJson(std::cout, o.file, *model, report, selectSeams(reportsOf(report), *sel), require, pairing,
-                        sel->creaseAngleDeg, units, resolved.distanceSource, warnings);
+                        sel->creaseAngleDeg, units, resolved.distanceSource, warnings, resolved.angleSource);
   } else {
     std::string out = fmt::format("{}: {}\n", o.file, unitLine(units, resolved, sel->creaseAngleDeg, pairing));
     out += seamTable(*model, report, *sel, units);

@@ -17,6 +17,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "seam/continuity/verdict.h"
 #include "seam/continuity/model_check.h"
 #include "seam/io/json.h"
 #include "seam/repair/corner_join.h"
@@ -62,13 +63,8 @@ std::string conditionsTable(const std::vector<ConditionCheck>& checks) {
   return formatTable({"condition", "residual", "tolerance", "holds", "worst"}, rows, {false, true, true, false, false});
 }
 
-// The state of a seam in plain words (as `seam heal` says it).
-std::string state(const SeamReport& x) {
-  if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
-  if (x.g1SampledDeg >= kFoldAngleDeg || (x.lambdaRange.hi != 0.0 && x.lambdaRange.lo <= 0.0)) return "fold";
-  if (!meets(x.geometric, GeometricClass::kG1)) return "crease";
-  return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
-}
+// The state of a seam in the words of `seam check` (gap, kink, crease, G1, G2).
+std::string state(const SeamReport& x) { return std::string(toString(seamVerdict(x))); }
 
 /// "achieved", or why not, for the first line of the output.
 std::string cornerOutcome(const CornerJoinReport& r) {

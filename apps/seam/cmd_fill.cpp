@@ -180,9 +180,10 @@ void runFill(const FillCliOptions& o, int& exit) {
     addRepairUnits(j, units, resolved);
     printJson(j);
   } else {
-    fmt::print("{}\ngap tolerance {} ({}), angle {} deg\n", unitText(units),
+    fmt::print("{}\ngap tolerance {} ({}), angle {} deg ({})\n", unitText(units),
                withUnit(formatNumber(resolved.tolerances.distance), units),
-               distanceSourceText(resolved.distanceSource, resolved.preset), formatNumber(resolved.tolerances.angleDeg));
+               distanceSourceText(resolved.distanceSource, resolved.preset), formatNumber(resolved.tolerances.angleDeg),
+               angleSourceText(resolved.angleSource, resolved.preset));
     fmt::print("{}", fillTable(*fill, check ? &*check : nullptr, full, units));
     if (!fill->surroundingG1) {
       fmt::print("result: the surface around the hole is not G1; nothing was built and {} was not written\n",

@@ -22,6 +22,7 @@
 #include "command_registry.h"
 #include "repair_units_json.h"
 #include "seam/continuity/model_check.h"
+#include "seam/continuity/verdict.h"
 #include "seam/io/json.h"
 #include "seam/repair/heal.h"
 #include "seam/repair/join.h"
@@ -43,12 +44,8 @@ struct HealCliOptions {
 };
 
 #ifdef SEAM_HAVE_OCCT
-/// One seam's state in plain words (B-rep heal).
-std::string brepState(const SeamReport& x, double creaseDeg) {
-  if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
-  if (!meets(x.geometric, GeometricClass::kG1)) return x.g1MaxDeg > creaseDeg ? "crease" : "kink";
-  return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
-}
+/// One seam's state in the words of `seam check` (gap, kink, crease, G1, G2).
+std::string brepState(const SeamReport& x, double creaseDeg) { return std::string(toString(seamVerdict(x, creaseDeg))); }
 
 OrderedJson brepSeamJson(const SeamReport& r, double creaseDeg) {
   OrderedJson j;
@@ -238,17 +235,13 @@ void addHeal(CLI::App& app, int& exit) {
       j["output"] = o->out;
       printJson(j);
     } else {
-      // The state of a seam in plain words.
-      auto state = [&r](const SeamReport& x) -> std::string {
-        if (!meets(x.geometric, GeometricClass::kG0)) return "gap";
-        if (x.g1SampledDeg >= kFoldAngleDeg || (x.lambdaRange.hi != 0.0 && x.lambdaRange.lo <= 0.0)) return "fold";
-        if (!meets(x.geometric, GeometricClass::kG1)) return std::string(toString(seamVerdict(x, r.maxAngleDeg)));
-        return x.geometric == GeometricClass::kG2 ? "smooth (G2)" : "tangent (G1)";
-      };
+      // The state of a seam in the words of `seam check`.
+      auto state = [&r](const SeamReport& x) { return std::string(toString(seamVerdict(x, r.maxAngleDeg))); };
       std::vector<std::vector<std::string>> rows;
       for (const HealSeam& s : r.seams) {
         rows.push_back({fmt::format("{}:{} / {}:{}", s.a, edgeName(s.aEdge), s.b, edgeName(s.bEdge)),
                         std::to_string(s.region + 1), s.action, s.moved.empty() ? "-" : s.moved,
+                        s.edgeMoved > 0.0 ? formatNumber(s.edgeMoved) : "0",
                         formatNumber(s.before.g0Max), formatNumber(s.before.g1MaxDeg), state(s.before),
                         s.after ? formatNumber(s.after->g0Max) : "?", s.after ? formatNumber(s.after->g1MaxDeg) : "?",
                         s.after ? state(*s.after) : "?",
@@ -259,8 +252,8 @@ void addHeal(CLI::App& app, int& exit) {
           auto jump = [](const SeamReport& x) {
             return meets(x.geometric, GeometricClass::kG1) ? formatNumber(100.0 * x.g2RelMax) : std::string("-");
           };
-          rows.back().insert(rows.back().begin() + 7, jump(s.before));
-          rows.back().insert(rows.back().begin() + 11, s.after ? jump(*s.after) : "?");
+          rows.back().insert(rows.back().begin() + 8, jump(s.before));
+          rows.back().insert(rows.back().begin() + 12, s.after ? jump(*s.after) : "?");
         }
       }
       std::string text = fmt::format("seam heal {} ({} requested, method {}, gaps up to {}, creases above {} deg "
@@ -269,15 +262,16 @@ void addHeal(CLI::App& app, int& exit) {
                                      withUnit(formatNumber(r.maxGap), units), formatNumber(r.maxAngleDeg));
       text += unitLine(units, resolved, r.maxAngleDeg) + "\n";
       const std::string gapUnit = units.length ? " (" + units.name() + ")" : "";
-      std::vector<std::string> head = {"seam", "region", "action", "moved", "gap before" + gapUnit,
-                                       "kink before (deg)", "before", "gap after" + gapUnit, "kink after (deg)",
-                                       "after", "certified before/after", ""};
-      std::vector<bool> right = {false, true, false, false, true, true, false, true, true, false, false, false};
+      // "edge moved": how far the seam's two boundary curves moved (the larger), in the model's unit.
+      std::vector<std::string> head = {"seam", "region", "action", "patch moved", "edge moved" + gapUnit,
+                                       "gap before" + gapUnit, "angle before (deg)", "before", "gap after" + gapUnit,
+                                       "angle after (deg)", "after", "certified before/after", ""};
+      std::vector<bool> right = {false, true, false, false, true, true, true, false, true, true, false, false, false};
       if (r.requested == GeometricClass::kG2) {
-        head.insert(head.begin() + 7, "curvature jump before (%)");
-        right.insert(right.begin() + 7, true);
-        head.insert(head.begin() + 11, "curvature jump after (%)");
-        right.insert(right.begin() + 11, true);
+        head.insert(head.begin() + 8, "curvature jump before (%)");
+        right.insert(right.begin() + 8, true);
+        head.insert(head.begin() + 12, "curvature jump after (%)");
+        right.insert(right.begin() + 12, true);
       }
       text += formatTable(head, rows, right);
       std::vector<std::vector<std::string>> regions;
@@ -287,11 +281,15 @@ void addHeal(CLI::App& app, int& exit) {
         for (size_t i = 0; i < x.patches.size() && i < 6; ++i) names += (i ? ", " : "") + x.patches[i];
         if (x.patches.size() > 6) names += fmt::format(", ... ({} patches)", x.patches.size());
         regions.push_back({std::to_string(g + 1), names, x.method, fmt::format("{} of {}", x.seamsAchieved, x.seams),
-                           x.achieved ? "yes" : "no", x.note});
+                           x.achieved ? "yes" : "no"});
       }
       text += "\n" + formatTable({"region", "patches", "method", "seams reaching " + std::string(toString(r.requested)),
-                                  "achieved", "note"},
-                                 regions, {true, false, false, false, false, false});
+                                  "achieved"},
+                                 regions, {true, false, false, false, false});
+      // The regions' notes below the table, wrapped, one clause per line.
+      for (size_t g = 0; g < r.regions.size(); ++g)
+        if (!r.regions[g].note.empty())
+          text += fmt::format("region {}: {}\n", g + 1, wrapText(r.regions[g].note, 110, "    "));
       for (const HealStep& st : r.steps) {
         if (!st.accepted) text += fmt::format("step reverted: {} stays as it was: {}\n", st.patch, st.reason);
         else if (!st.kept)
@@ -304,9 +302,11 @@ void addHeal(CLI::App& app, int& exit) {
                             r.creaseGapsClosed > 0
                                 ? fmt::format("; the gap of {} closed or narrowed, the angle kept", r.creaseGapsClosed)
                                 : std::string());
-      std::string changed;
-      for (const std::string& p : r.patchesChanged) changed += (changed.empty() ? "" : ", ") + p;
-      text += fmt::format("\npatches changed: {}\n", changed.empty() ? "none" : changed);
+      // Each changed patch with its largest surface displacement.
+      std::vector<std::string> changed;
+      for (const HealPatch& p : r.patches)
+        changed.push_back(fmt::format("{} ({})", p.name, withUnit(formatNumber(p.maxSurfaceDisplacement), units)));
+      text += fmt::format("\npatches changed: {}\n", changed.empty() ? "none" : wrapList(changed, 110, "    "));
       text += fmt::format("largest surface displacement: {} ({} of the patch's size{}); control points: {}, moved "
                           "points: {}\n",
                           withUnit(formatNumber(r.maxSurfaceDisplacement), units),
@@ -315,7 +315,11 @@ void addHeal(CLI::App& app, int& exit) {
                           formatNumber(r.maxDisplacement), r.movedPoints);
       text += fmt::format("seams reaching {}: {} of {}; worse than before: {}\n", toString(r.requested),
                           r.seamsAchieved, r.seamsToReach, r.seamsWorse);
-      text += fmt::format("worst after healing: {} (gap {}, kink angle {} deg)\n", toString(r.worst),
+      // Below G2 the heal certifies G0 and G1 only (the G2 subdivision is skipped): "G1" means G1 or better.
+      text += fmt::format("worst after healing: {}{} (gap {}, angle {} deg)\n", toString(r.worst),
+                          r.requested != GeometricClass::kG2 && r.worst == GeometricClass::kG1
+                              ? " or better (a G0/G1 heal does not check G2; `seam check` the output for it)"
+                              : "",
                           withUnit(formatNumber(r.worstG0), units), formatNumber(r.worstG1Deg));
       for (const std::string& n : r.notes) text += "note: " + n + "\n";
       text += fmt::format("output: {}\n", o->out);

@@ -619,9 +619,10 @@ struct EdgeCertificate {
   double equalParameterAngleDeg = 0.0;
   /// The largest angle of the sampled route (A's edge points and the closest points of B's edge), degrees.
   double closestSampleAngleDeg = 0.0;
-  /// The certified angle makes the seam a kink, the samples between closest points do not, the pcurves drift and
-  /// the closest-point pairing could not be certified (retryAngleByClosestPoints): the samples' angle is shown.
-  bool kinkFromPairing = false;
+  /// The certified angle lies above seam's strict angle (kStrictAngleDeg, or the tolerance when smaller), the samples
+  /// between closest points do not, the pcurves drift and the closest-point pairing could not be certified
+  /// (retryAngleByClosestPoints): the angle is the pairing's, and the samples' angle is shown.
+  bool angleFromPairing = false;
   /// G0 and G1 (g2: and G2) values will come from the certified route (unless reconcileVerdict withdraws them).
   [[nodiscard]] bool certifies() const { return bounds && bounds->isOk(); }
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
@@ -780,16 +781,18 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   if (!c.certifies() || c.byCorrespondence) return;
   const PCurveSeamBounds& b = **c.bounds;
   const double bound = b.g1BoundDeg, sample = c.closestSampleAngleDeg;
-  // The bound is below a sample between closest points (it may not stand), or it makes the seam a kink where every
-  // sample between closest points is within the angle tolerance and the pcurves drift (it may be too loose:
-  // bearing.iges, 0.0257 deg at equal parameters, 0.0025 deg between closest points, edge 105).
+  // The bound is below a sample between closest points (it may not stand), or it lies above seam's strict angle
+  // (kStrictAngleDeg, or the tolerance when smaller) where every sample between closest points is below it and the
+  // pcurves drift (it may be too loose: bearing.iges, 0.0257 deg at equal parameters, 0.0025 deg between closest
+  // points, edge 105). The numbers shown, and whether they are certified, do not depend on the tolerance.
+  const double strict = std::min(c.opt.tol.angleDeg, kStrictAngleDeg);
   const bool belowSamples = sample > bound * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
-  const bool looseKink = bound > c.opt.tol.angleDeg && sample <= c.opt.tol.angleDeg && b.g0Bound > 0.0;
-  if (!belowSamples && !looseKink) return;
+  const bool looseBound = bound > strict && sample <= strict && b.g0Bound > 0.0;
+  if (!belowSamples && !looseBound) return;
   std::optional<EdgeCertificate> closest = closestPointCertificate(c, spans, patchA, patchB);
   if (!closest) {
-    // No certified closest-point pairing: a kink made by the pairing alone is not shown as certified.
-    c.kinkFromPairing = looseKink;
+    // No certified closest-point pairing: an angle made by the pairing alone is not shown as certified.
+    c.angleFromPairing = looseBound;
     return;
   }
   if (!belowSamples && !((*closest->bounds)->g1BoundDeg < bound)) return;
@@ -811,7 +814,7 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
   // (its pairing error shows). The sampled angle is shown, and the seam is not called certified.
   const bool belowSamples =
       c.closestSampleAngleDeg > rep.g1MaxDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
-  if (rep.certified && (c.kinkFromPairing || belowSamples)) {
+  if (rep.certified && (c.angleFromPairing || belowSamples)) {
     rep.notes.push_back(fmt::format(
         "not certified: at the points the certified route pairs the normals make up to {:.4g} deg, between the "
         "sampled closest points {:.4g} deg (the SameParameter pcurves drift along the edge, the paired points are up "
@@ -965,6 +968,7 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
         resolveTolerances(options.tolerances, out.units, out.import.model.boundingBox().diagonal());
     out.tolerances = resolved.tolerances;
     out.distanceSource = resolved.distanceSource;
+    out.angleSource = resolved.angleSource;
     SeamOptions seamOpt = options.seam;
     seamOpt.tol = out.tolerances;
     const double size = out.import.model.boundingBox().diagonal();

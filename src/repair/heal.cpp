@@ -1234,6 +1234,10 @@ Result<HealResult> Healer::finish() {
       hs.bEdge = w.pair.b.edge;
       hs.region = g;
       hs.before = w.before;
+      hs.edgeMoved = std::max(edgeMovement(model.patches[static_cast<size_t>(w.pair.a.patch)].surface,
+                                           res.model.patches[static_cast<size_t>(w.pair.a.patch)].surface, w.pair.a.edge),
+                              edgeMovement(model.patches[static_cast<size_t>(w.pair.b.patch)].surface,
+                                           res.model.patches[static_cast<size_t>(w.pair.b.patch)].surface, w.pair.b.edge));
       if (from) {
         hs.notes = from->notes[static_cast<size_t>(k)];
         if (from->mover[static_cast<size_t>(k)] >= 0)
@@ -1462,7 +1466,13 @@ void Healer::mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const {
   for (HealSeam& hs : rep.seams) {
     const auto it = workOf.find(key(hs.a, hs.aEdge, hs.b, hs.bEdge));
     if (it != workOf.end()) {
-      hs.before = work_[static_cast<size_t>(it->second)].before;
+      const Work& w = work_[static_cast<size_t>(it->second)];
+      hs.before = w.before;
+      if (pass.changed)  // against the input, not the crease pass's model
+        hs.edgeMoved = std::max(edgeMovement(in_.patches[static_cast<size_t>(w.pair.a.patch)].surface,
+                                             res.model.patches[static_cast<size_t>(w.pair.a.patch)].surface, w.pair.a.edge),
+                                edgeMovement(in_.patches[static_cast<size_t>(w.pair.b.patch)].surface,
+                                             res.model.patches[static_cast<size_t>(w.pair.b.patch)].surface, w.pair.b.edge));
       if (const auto o = outcomeOf.find(it->second); o != outcomeOf.end()) {
         hs.action = o->second->action;
         if (!o->second->mover.empty()) hs.moved = o->second->mover;

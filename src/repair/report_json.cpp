@@ -118,6 +118,7 @@ nlohmann::ordered_json healReportValue(const HealReport& r) {
                          {"region", s.region},
                          {"action", s.action},
                          {"moved", s.moved.empty() ? Json(nullptr) : Json(s.moved)},
+                         {"edge_moved", num(s.edgeMoved)},
                          {"achieved", s.achieved},
                          {"worse", s.worse},
                          {"notes", strings(s.notes)}});

@@ -494,9 +494,10 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   if (!data.warnings.empty()) row("reader warnings", fmt::format("<a href=\"#warnings\">{}</a>", data.warnings.size()));
   for (const auto& [k, v] : data.facts) row(k, escape(v));
   if (!data.unitNote.empty()) row("length unit", escape(data.unitNote));
-  row("tolerances", fmt::format("distance {}{}, angle {}&deg;, curvature {} relative", len(tol.distance),
+  row("tolerances", fmt::format("distance {}{}, angle {}&deg;{}, curvature {} relative", len(tol.distance),
                                 data.distanceSource.empty() ? "" : " (" + escape(data.distanceSource) + ")",
-                                num(tol.angleDeg), num(tol.curvatureRel)));
+                                num(tol.angleDeg), data.angleSource.empty() ? "" : " (" + escape(data.angleSource) + ")",
+                                num(tol.curvatureRel)));
   h += "</table>\n";
 
   // ---- overview drawing

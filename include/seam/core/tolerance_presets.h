@@ -33,7 +33,10 @@ inline bool applyTolerancePreset(ToleranceOverrides& o, std::string_view name) {
     if (name != p.name) continue;
     o.preset = p.name;
     o.presetDistanceMm = p.distance;  // converted to model units once the unit is known
-    if (!o.angleDeg) o.angleDeg = p.angleDeg;
+    if (!o.angleDeg) {
+      o.angleDeg = p.angleDeg;
+      o.angleFromPreset = true;
+    }
     if (!o.curvatureRel && p.curvatureRel > 0.0) o.curvatureRel = p.curvatureRel;
     return true;
   }

@@ -23,11 +23,15 @@ inline constexpr double kKnotRelTol = 1e-12;
 /// orders of margin while any real defect of a CAD model (>= 1e-8 relative) stays far above it.
 inline constexpr double kIdentityRelTol = 1e-10;
 
+/// seam's own G1 angle, in degrees: the default of Tolerances::angleDeg (unit-less models), and the level below which
+/// a certified angle's number is worth sharpening whatever the tolerance (e.g. the B-rep route's closest-point retry).
+inline constexpr double kStrictAngleDeg = 0.01;
+
 /// Model-dependent tolerances used to classify geometry. Defaults follow `seam check` (issue 3):
 /// distance = 1e-6 x bounding-box diagonal, angle = 0.01 degrees, curvature = 1 % relative.
 struct Tolerances {
   double distance = 1e-6;       ///< absolute length; G0 gaps at or below it count as closed
-  double angleDeg = 0.01;       ///< degrees; tangent-plane angles at or below it count as G1
+  double angleDeg = kStrictAngleDeg;  ///< degrees; tangent-plane angles at or below it count as G1
   double curvatureRel = 0.01;   ///< relative; normal-curvature jumps at or below it (relative) count as G2
   double parametric = 1e-9;     ///< relative; parametric derivative mismatch (C1/C2) relative to the derivative size
 
@@ -44,6 +48,45 @@ struct Tolerances {
 /// the 0.001 mm CATIA and Rhino (mm template) work with. CAD checkers judge gaps in absolute length, not relative to
 /// the part's size. docs/tolerances.md, "Units", gives the measurements behind the choice.
 inline constexpr double kDefaultAbsoluteDistanceMm = 0.001;
+
+/// Default G1 angle of a model whose length unit is known (STEP/IGES; JSON/.bpt with --units), in degrees: the
+/// tangency threshold CAD checkers ship (CATIA's smooth/sharp edge limit and Connect Checker habit, NX's modeling
+/// angle tolerance: 0.5 degrees; Rhino's document default is 1 degree). Exported B-reps carry kinks of 0.02-0.25
+/// degrees from their modellers' own approximations, which every CAD checker calls tangent (issue 38 goal 2).
+/// Unit-less models (JSON/.bpt networks, constructions) keep Tolerances::angleDeg (0.01 degrees), seam's strict
+/// default; `--tol-angle 0.01` asks for it on a CAD file. docs/tolerances.md gives the sources.
+inline constexpr double kDefaultCadAngleDeg = 0.5;
+
+/// Where a classification's angle tolerance comes from.
+enum class AngleSource {
+  kStrictDefault,  ///< Tolerances::angleDeg (0.01 degrees): unit-less models
+  kCadDefault,     ///< kDefaultCadAngleDeg: models with a length unit
+  kPreset,         ///< a --preset's angle
+  kOption,         ///< --tol-angle
+};
+
+/// The words of the text output and of `--json`'s tolerances.angle_source.
+inline const char* toString(AngleSource s) {
+  switch (s) {
+    case AngleSource::kStrictDefault: return "strict default";
+    case AngleSource::kCadDefault: return "CAD default";
+    case AngleSource::kPreset: return "preset";
+    case AngleSource::kOption: break;
+  }
+  return "option";
+}
+
+/// "default for unit-less models", "default for models with a length unit (CATIA, NX: 0.5 deg)", "--preset catia",
+/// "--tol-angle".
+inline std::string angleSourceText(AngleSource s, const std::string& preset = {}) {
+  switch (s) {
+    case AngleSource::kStrictDefault: return "default for unit-less models";
+    case AngleSource::kCadDefault: return "default for models with a length unit, as CATIA and NX";
+    case AngleSource::kPreset: return "--preset " + preset;
+    case AngleSource::kOption: break;
+  }
+  return "--tol-angle";
+}
 
 /// Where a classification's distance tolerance comes from.
 enum class DistanceSource {
@@ -83,6 +126,7 @@ struct ToleranceOverrides {
   /// model it is taken as a number in model units). `distance` wins over it.
   std::optional<double> presetDistanceMm;
   std::string preset;                 ///< the preset's name ("" without one)
+  bool angleFromPreset = false;       ///< `angleDeg` is the preset's (no --tol-angle given)
   /// The unit of the model's numbers as the user states it (--units): a JSON/.bpt model gets this unit; a STEP/IGES
   /// file's coordinates are taken in it whatever its header says (and rescaled to mm). nullopt: as the file says.
   std::optional<LengthUnit> units;
@@ -100,19 +144,27 @@ struct ToleranceOverrides {
 struct ResolvedTolerances {
   Tolerances tolerances;
   DistanceSource distanceSource = DistanceSource::kRelative;
-  std::string preset;  ///< the preset's name when distanceSource is kPreset
+  AngleSource angleSource = AngleSource::kStrictDefault;
+  std::string preset;  ///< the preset's name when a value comes from it
 };
 
 /// The tolerances of a model with `units` and bounding-box diagonal `diagonal`: the overrides, and for the distance
-/// without one: kDefaultAbsoluteDistanceMm in model units when the model has a length unit, else 1e-6 x diagonal.
+/// without one: kDefaultAbsoluteDistanceMm in model units when the model has a length unit, else 1e-6 x diagonal;
+/// for the angle without one: kDefaultCadAngleDeg when the model has a length unit, else Tolerances::angleDeg.
 inline ResolvedTolerances resolveTolerances(const ToleranceOverrides& o, const ModelUnits& units, double diagonal) {
   ResolvedTolerances r;
   r.tolerances = o.appliedTo(Tolerances::forModelSize(diagonal));
+  r.preset = o.preset;
+  if (o.angleDeg) {
+    r.angleSource = o.angleFromPreset ? AngleSource::kPreset : AngleSource::kOption;
+  } else if (units.fromMillimetres(kDefaultAbsoluteDistanceMm)) {
+    r.angleSource = AngleSource::kCadDefault;
+    r.tolerances.angleDeg = kDefaultCadAngleDeg;
+  }
   if (o.distance) {
     r.distanceSource = DistanceSource::kOption;
   } else if (o.presetDistanceMm) {
     r.distanceSource = DistanceSource::kPreset;
-    r.preset = o.preset;
     r.tolerances.distance = units.fromMillimetres(*o.presetDistanceMm).value_or(*o.presetDistanceMm);
   } else if (const std::optional<double> d = units.fromMillimetres(kDefaultAbsoluteDistanceMm)) {
     r.distanceSource = DistanceSource::kAbsoluteDefault;

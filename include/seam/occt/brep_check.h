@@ -113,6 +113,7 @@ struct BRepNonManifoldEdge {
 struct BRepCheckReport {
   Tolerances tolerances;
   DistanceSource distanceSource = DistanceSource::kAbsoluteDefault;  ///< where tolerances.distance comes from
+  AngleSource angleSource = AngleSource::kCadDefault;                ///< where tolerances.angleDeg comes from
   ModelUnits units;           ///< millimetres; the file's unit name and declared resolution (cadModelUnits)
   bool sewn = false;          ///< the file was sewn before the check
   CadImport import;           ///< the faces as patches (same names as in the seams)

@@ -87,6 +87,9 @@ struct HealSeam {
   SeamReport before;                ///< the input (before.certified: the values are certified bounds)
   std::optional<SeamReport> after;  ///< empty when the analysis failed after healing
   std::string moved;                ///< the patch that moved to meet this seam ("" if none did)
+  /// How far the seam's two boundary curves moved against the input (the larger of the two; 33 samples at equal
+  /// normalised edge parameters), in the model's length unit: 0 when neither side moved.
+  double edgeMoved = 0.0;
   /// "kept" (already at the requested continuity), "joined" (reaches it now), "skipped" (gap above maxGap),
   /// "crease kept" (kink angle above maxAngleDeg: a design crease, left alone, no gap), "crease: gap closed" /
   /// "crease: gap narrowed" (a design crease whose gap was closed, its angle kept: one side's boundary row and the

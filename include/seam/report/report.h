@@ -59,6 +59,7 @@ struct ReportData {
   std::string unitNote;
   /// Where the distance tolerance comes from, e.g. "default for models with a length unit" ("" = not said).
   std::string distanceSource;
+  std::string angleSource;  ///< where the angle tolerance comes from (angleSourceText)
   std::vector<std::pair<std::string, std::string>> facts;  ///< summary rows after the computed ones
   std::string extraHeader;                                 ///< header of ReportSeam::extra ("" = none)
   std::vector<ReportSeam> seams;
