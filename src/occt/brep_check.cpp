@@ -1232,13 +1232,16 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
 
 std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg) {
   const double gapLimit = std::max(before.g0Max, tol.distance) + kWorseSlackRel * tol.distance;
+  // Angles are judged on seam's strict scale whatever the verdict's tolerance: with the CAD default (0.5 deg) a kink
+  // of 0.62 deg could otherwise grow to 0.66 and a 0.1-degree seam to 0.5 without counting as worse.
+  const double strict = std::min(tol.angleDeg, kStrictAngleDeg);
   if (after.g0Max > gapLimit) return fmt::format("its gap would grow from {:.3g} to {:.3g}", before.g0Max, after.g0Max);
   if (before.g1MaxDeg > creaseDeg) {
-    if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > tol.angleDeg)
+    if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > strict)
       return fmt::format("its crease angle would change from {:.4g} to {:.4g} deg", before.g1MaxDeg, after.g1MaxDeg);
     return {};
   }
-  const double angleLimit = std::max(before.g1MaxDeg, tol.angleDeg) + kWorseSlackRel * tol.angleDeg;
+  const double angleLimit = std::max(before.g1MaxDeg, strict) + kWorseSlackRel * strict;
   if (after.g1MaxDeg > angleLimit)
     return fmt::format("its angle would grow from {:.3g} to {:.3g} deg", before.g1MaxDeg, after.g1MaxDeg);
   return {};

@@ -28,7 +28,7 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& shape, const std::fil
 
 /// A seam is worse after a change (a heal, a write and read back) when its gap (angle) grows by more than this
 /// fraction of the tolerance beyond max(before, tolerance): a tenth of a tolerance is below what the tolerance says
-/// about the geometry.
+/// about the geometry. Angles use seam's strict scale, min(tolerance, kStrictAngleDeg), not the verdict's tolerance.
 inline constexpr double kWorseSlackRel = 0.1;
 
 /// Why the seam `after` is worse than `before`, "" when it is not. A crease (angle above `creaseDeg`) is worse when
