@@ -107,6 +107,29 @@ double edgeMovement(const BSplineSurface& before, const BSplineSurface& after, E
   return d;
 }
 
+/// How far seam `pair`'s two boundary curves moved from `before` to `after` (the larger of the two).
+double seamEdgeMovement(const Model& before, const Model& after, const EdgePair& pair) {
+  double d = 0.0;
+  for (const EdgeRef& e : {pair.a, pair.b})
+    d = std::max(d, edgeMovement(before.patches[static_cast<size_t>(e.patch)].surface,
+                                 after.patches[static_cast<size_t>(e.patch)].surface, e.edge));
+  return d;
+}
+
+/// The report's totals over its changed patches (rep.patches).
+void sumPatchDisplacements(HealReport& rep) {
+  rep.maxDisplacement = rep.maxSurfaceDisplacement = rep.maxSurfaceDisplacementRel = 0.0;
+  rep.movedPoints = 0;
+  rep.surfaceDisplacementCertified = true;
+  for (const HealPatch& hp : rep.patches) {
+    rep.maxDisplacement = std::max(rep.maxDisplacement, hp.maxDisplacement);
+    rep.movedPoints += hp.movedPoints;
+    rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, hp.maxSurfaceDisplacement);
+    rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, hp.maxSurfaceDisplacementRel);
+    rep.surfaceDisplacementCertified = rep.surfaceDisplacementCertified && hp.surfaceDisplacementCertified;
+  }
+}
+
 /// Basis values of one direction of a polynomial B-spline at the lattice of `grid` equally spaced parameters of its
 /// domain (sampledSurfaceDistance's lattice): per lattice line the first non-zero function and the p + 1 values.
 struct LatticeBasis {
@@ -1236,10 +1259,7 @@ Result<HealResult> Healer::finish() {
       hs.bEdge = w.pair.b.edge;
       hs.region = g;
       hs.before = w.before;
-      hs.edgeMoved = std::max(edgeMovement(model.patches[static_cast<size_t>(w.pair.a.patch)].surface,
-                                           res.model.patches[static_cast<size_t>(w.pair.a.patch)].surface, w.pair.a.edge),
-                              edgeMovement(model.patches[static_cast<size_t>(w.pair.b.patch)].surface,
-                                           res.model.patches[static_cast<size_t>(w.pair.b.patch)].surface, w.pair.b.edge));
+      hs.edgeMoved = seamEdgeMovement(model, res.model, w.pair);
       if (from) {
         hs.notes = from->notes[static_cast<size_t>(k)];
         if (from->mover[static_cast<size_t>(k)] >= 0)
@@ -1304,13 +1324,9 @@ Result<HealResult> Healer::finish() {
                                                     : displacementOf(b, a, kRoundoff * diag_);
     hp.region = patchRegion_[static_cast<size_t>(i)];
     rep.patchesChanged.push_back(a.name);
-    rep.maxDisplacement = std::max(rep.maxDisplacement, hp.maxDisplacement);
-    rep.movedPoints += hp.movedPoints;
-    rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, hp.maxSurfaceDisplacement);
-    rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, hp.maxSurfaceDisplacementRel);
-    rep.surfaceDisplacementCertified = rep.surfaceDisplacementCertified && hp.surfaceDisplacementCertified;
     rep.patches.push_back(std::move(hp));
   }
+  sumPatchDisplacements(rep);
   if (rep.stepsReverted > 0)
     rep.notes.push_back(fmt::format("{} join step(s) reverted: each would have made a seam worse or could not move "
                                     "the patch without a fold (the reason is given per step)",
@@ -1471,10 +1487,7 @@ void Healer::mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const {
       const Work& w = work_[static_cast<size_t>(it->second)];
       hs.before = w.before;
       if (pass.changed)  // against the input, not the crease pass's model
-        hs.edgeMoved = std::max(edgeMovement(in_.patches[static_cast<size_t>(w.pair.a.patch)].surface,
-                                             res.model.patches[static_cast<size_t>(w.pair.a.patch)].surface, w.pair.a.edge),
-                                edgeMovement(in_.patches[static_cast<size_t>(w.pair.b.patch)].surface,
-                                             res.model.patches[static_cast<size_t>(w.pair.b.patch)].surface, w.pair.b.edge));
+        hs.edgeMoved = seamEdgeMovement(in_, res.model, w.pair);
       if (const auto o = outcomeOf.find(it->second); o != outcomeOf.end()) {
         hs.action = o->second->action;
         if (!o->second->mover.empty()) hs.moved = o->second->mover;
@@ -1503,16 +1516,7 @@ void Healer::mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const {
       rep.patchesChanged.push_back(before.name);
     }
   }
-  rep.maxDisplacement = rep.maxSurfaceDisplacement = rep.maxSurfaceDisplacementRel = 0.0;
-  rep.movedPoints = 0;
-  rep.surfaceDisplacementCertified = true;
-  for (const HealPatch& hp : rep.patches) {
-    rep.maxDisplacement = std::max(rep.maxDisplacement, hp.maxDisplacement);
-    rep.movedPoints += hp.movedPoints;
-    rep.maxSurfaceDisplacement = std::max(rep.maxSurfaceDisplacement, hp.maxSurfaceDisplacement);
-    rep.maxSurfaceDisplacementRel = std::max(rep.maxSurfaceDisplacementRel, hp.maxSurfaceDisplacementRel);
-    rep.surfaceDisplacementCertified = rep.surfaceDisplacementCertified && hp.surfaceDisplacementCertified;
-  }
+  sumPatchDisplacements(rep);
 }
 
 }  // namespace
