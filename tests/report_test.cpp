@@ -1,6 +1,7 @@
 // HTML report and OBJ mesh (src/report/report.cpp), and the `seam report` / `seam export-mesh` / `seam convert`
 // commands. Expected values: counts from the check report itself (one table row per seam), explicit Bernstein
 // sums for mesh vertices, the analytic normal of a plane, and files that must not change.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,9 +10,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "hinge_models.h"
 #include "seam/continuity/model_check.h"
@@ -103,6 +106,64 @@ TEST(HtmlReport, KinksFirstAndCreasesApart) {
   EXPECT_NE(h.find("Showing 2 of 4."), std::string::npos);
   EXPECT_EQ(count(h, "<div class=\"seam\" id=\"seam-"), 0u);  // no samples kept: no plots
   EXPECT_EQ(count(h, "<table"), count(h, "</table>"));
+}
+
+// Issue 38 §11: value labels on the worst gaps and kinks (the hinges' exact angles and gap as the expected values),
+// in the table's order, none on creases or smooth seams; the limit holds; 0 turns them off.
+struct Label {
+  int seam = 0, rank = 0;
+  std::string verdict;
+  double value = 0.0;
+};
+std::vector<Label> viewLabels(const std::string& h) {
+  std::vector<Label> out;
+  const std::string key = "\"l\":\"#";
+  for (size_t p = h.find(key); p != std::string::npos; p = h.find(key, p + 1)) {
+    Label l;
+    std::istringstream in(h.substr(p + key.size(), 80));
+    in >> l.seam >> l.verdict >> l.value;
+    l.rank = std::stoi(h.substr(h.find("\"lr\":", p) + 5));
+    out.push_back(l);
+  }
+  return out;
+}
+
+TEST(HtmlReport, ValueLabelsGoToTheWorstGapsAndKinksInTableOrder) {
+  //                                   0     1     2     3      4    5    6
+  const Model m = test::hingeModel({10.0, 45.0, 90.0, 150.0, 0.0, 0.0, 3.0}, {0.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0});
+  const ModelCheckReport r = checkModel(m).value();
+  ASSERT_EQ(r.seams.size(), 7u);
+  report::HtmlReportOptions o;
+  std::string h = report::htmlReport(m, r, o);
+  // The 2-D drawing has them in every build.
+  EXPECT_EQ(count(h, "class=\"vlabel\""), 3u);
+  for (const char* seam : {"0", "6", "4"})
+    EXPECT_EQ(count(h, fmt::format("class=\"vlabel\" data-seam=\"{}\">#{} ", seam, seam)), 1u) << seam;
+  if (report::hasViewer3d()) {
+    const std::vector<Label> labels = viewLabels(h);
+    ASSERT_EQ(labels.size(), 3u);
+    std::map<int, Label> bySeam;
+    for (const Label& l : labels) bySeam[l.seam] = l;
+    ASSERT_EQ(bySeam.size(), 3u);
+    // Kinks first, the larger angle first, then the gap; values within the bounds' 1 % refinement (and 4 digits).
+    EXPECT_EQ(bySeam[0].rank, 0);
+    EXPECT_EQ(bySeam[0].verdict, "kink");
+    EXPECT_NEAR(bySeam[0].value, 10.0, 0.011 * 10.0);
+    EXPECT_EQ(bySeam[6].rank, 1);
+    EXPECT_EQ(bySeam[6].verdict, "kink");
+    EXPECT_NEAR(bySeam[6].value, 3.0, 0.011 * 3.0);
+    EXPECT_EQ(bySeam[4].rank, 2);
+    EXPECT_EQ(bySeam[4].verdict, "gap");
+    EXPECT_NEAR(bySeam[4].value, 0.01, 0.011 * 0.01);
+  }
+  o.maxValueLabels = 2;
+  h = report::htmlReport(m, r, o);
+  EXPECT_EQ(count(h, "class=\"vlabel\""), 2u);
+  EXPECT_EQ(count(h, "class=\"vlabel\" data-seam=\"4\""), 0u);  // the gap comes after both kinks
+  o.maxValueLabels = 0;
+  h = report::htmlReport(m, r, o);
+  EXPECT_EQ(count(h, "class=\"vlabel\""), 0u);
+  EXPECT_EQ(count(h, "\"l\":"), 0u);
 }
 
 /// Bernstein polynomial B_i^n(t), written out.
@@ -230,6 +291,26 @@ TEST(ReportCli, ReportAndMeshAreWrittenAndBadInputIsExitTwo) {
   r = run("export-mesh '" + (dir / "missing.json").string() + "' -o '" + (dir / "m.obj").string() + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_FALSE(fs::exists(dir / "m.obj"));
+  fs::remove_all(dir);
+}
+
+// `seam report --max-labels N`: N labels on network_fan5 (25 kinks), none with 0; a negative count is exit 2.
+TEST(ReportCli, MaxLabelsSetsHowManySeamsAreLabelled) {
+  const fs::path dir = fs::temp_directory_path() / ("seam_report_labels_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string fan = std::string(SEAM_EXAMPLES_DIR) + "/models/network_fan5.json";
+  const std::string html = (dir / "fan.html").string();
+  for (const auto& [option, want] : std::vector<std::pair<std::string, size_t>>{{"", 12}, {" --max-labels 3", 3},
+                                                                                {" --max-labels 0", 0}}) {
+    const CliRun r = run("report '" + fan + "' -o '" + html + "'" + option);
+    EXPECT_EQ(r.code, 0) << option << r.err;
+    EXPECT_EQ(count(readText(html), "class=\"vlabel\""), want) << option;
+  }
+  fs::remove(html);
+  const CliRun r = run("report '" + fan + "' -o '" + html + "' --max-labels -1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--max-labels"), std::string::npos);
+  EXPECT_FALSE(fs::exists(html));
   fs::remove_all(dir);
 }
 

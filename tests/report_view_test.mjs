@@ -3,7 +3,8 @@
 //        (CTest: report_view_browser; report_view_browser_brep on a STEP file with trimmed faces)
 // Writes OUT_DIR/report.html with `seam report`, opens it from file:// and checks: no console error or page error,
 // the WebGL canvas is not blank (pixel variance of a screenshot), zebra stripes change the picture, a click on a
-// seam opens its three plots in the side panel; without WebGL (getContext refused) the 2-D drawing is the view.
+// seam opens its three plots in the side panel, value labels name the worst gaps and kinks; without WebGL
+// (getContext refused) the 2-D drawing is the view.
 // Exit 0 on success, 1 with the failures on stderr.
 import { spawnSync } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -124,6 +125,45 @@ try {
   const scaleText = await page.evaluate(() => document.getElementById('view3d-spike-scale').textContent);
   check(/tolerance/.test(scaleText), `the spike scale names the noise floor: "${scaleText}"`);
   await page.selectOption('#view3d-spikes', 'none');
+
+  // Value labels (issue 38 §11): the worst gaps and kinks by `seam check --json` (its verdicts and numbers, not the
+  // report's), at most 12, kinks before gaps, the largest values first; each label's number is the check's value within
+  // the bounds' refinement gap; the checkbox hides them.
+  {
+    const labels = await page.evaluate(() => window.seamView.labels());
+    const seams = [];   // by the seam's index (the report's #k)
+    checked.seams.forEach((s, i) => { seams[s.index ?? i] = s; });
+    const value = (s) => (s.verdict === 'kink' ? s.g1_max_deg : s.g0_max);
+    const problem = (s) => !!s && (s.verdict === 'kink' || s.verdict === 'gap');
+    const nProblems = seams.filter(problem).length;
+    check(labels.length === Math.min(12, nProblems),
+          `value labels: ${labels.length} (gaps and kinks by seam check: ${nProblems}, at most 12)`);
+    const bad = labels.filter((l) => {
+      const s = seams[l.k];
+      const m = /^#(\d+) (kink|gap) ([-+0-9.e]+)/.exec(l.text);
+      if (!s || !problem(s) || !m || Number(m[1]) !== l.k || m[2] !== s.verdict) return true;
+      // Both are certified bounds refined until within 1 % of a sampled value (SeamOptions::boundRelGap), `seam
+      // report` with its samples kept: they may differ by that much, plus the label's 4 digits.
+      return Math.abs(Number(m[3]) - value(s)) > 0.011 * Math.abs(value(s));
+    });
+    check(bad.length === 0, `each label names a gap or kink with its value${bad.length ? ': ' + JSON.stringify(bad) : ''}`);
+    // The worst ones: no unlabelled kink above the smallest labelled kink; a gap labelled only when every kink is.
+    const isLabelled = new Set(labels.map((l) => l.k));
+    const kinks = seams.map((s, k) => ({ s, k })).filter(({ s }) => s && s.verdict === 'kink');
+    const labelledKinks = kinks.filter(({ k }) => isLabelled.has(k)).map(({ s }) => s.g1_max_deg);
+    const floor = labelledKinks.length ? Math.min(...labelledKinks) : Infinity;
+    const passed = kinks.filter(({ s, k }) => !isLabelled.has(k) && s.g1_max_deg > floor * (1 + 1e-9));
+    const gapsEarly = labels.some((l) => seams[l.k].verdict === 'gap') && labelledKinks.length < kinks.length;
+    check(passed.length === 0 && !gapsEarly,
+          `the labels go to the worst seams (${passed.length} larger kinks passed over, gaps before kinks: ${gapsEarly})`);
+    if (labels.length) {
+      await page.uncheck('#view3d-labels');
+      const hidden = await page.evaluate(() => window.seamView.labels().every((l) => !l.shown));
+      await page.check('#view3d-labels');
+      const shown = await page.evaluate(() => window.seamView.labels().some((l) => l.shown));
+      check(hidden && shown, `the checkbox hides the labels (${hidden}) and shows them again (${shown})`);
+    }
+  }
 
   // Click a seam that has plots and no other seam near its middle on screen.
   const target = await page.evaluate(() => {

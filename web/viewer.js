@@ -5,7 +5,9 @@
 //   meshes  [{name, p: [x,y,z,...], n: [nx,ny,nz,...], i: [triangle indices]}]   one per shaded patch
 //   seams   [{k, v: verdict 0..4 (gap kink crease G1 G2) or -1 (failed), c: [x,y,z,...] points along the seam,
 //             a, b: patch names, w: [x,y,z] worst point or null, s: {t, g1, g2} samples for the spikes or null,
-//             plot: true when the page has its plots (#seam-k)}]
+//             plot: true when the page has its plots (#seam-k),
+//             l: the value label ("#k kink 0.618°") of the worst gaps and kinks, absent on the others,
+//             lr: its rank in the seam table (0 = the worst)}]
 //   outline [[x,y,z,...]]   other boundary curves
 //   free    [[x,y,z,...]]   free (naked) edges: no other face continues them (drawn in NAKED_COLOUR)
 //   tol     {g1, g2}        the angle (deg) and relative curvature tolerances: no spike below them
@@ -230,9 +232,44 @@ function start() {
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.enableDamping = false;
   home();
+  // ---- value labels (Rhino's edge analysis style): HTML boxes over the canvas at the worst points of the worst
+  // gaps and kinks, moved with the view; hidden behind the camera or outside the canvas.
+  // In the table's order (s.lr: the label's rank), so that where labels would overlap the worse seam's stays put and
+  // the next one moves down below it.
+  const labelled = data.seams.filter((s) => s.l && s.w).sort((a, b) => (a.lr ?? 0) - (b.lr ?? 0));
+  const labelDivs = labelled.map((s) => {
+    const d = document.createElement('div');
+    d.className = 'v3label';
+    d.textContent = s.l;
+    d.setAttribute('data-seam', String(s.k));
+    d.style.borderColor = s.v >= 0 ? VERDICT_COLOURS[s.v] : FAILED_COLOUR;
+    canvasHost.appendChild(d);
+    return d;
+  });
+  let labelsOn = true;
+  const placeLabels = () => {
+    const placed = [];   // boxes of the labels shown so far: [left, top, right, bottom]
+    labelled.forEach((s, i) => {
+      const d = labelDivs[i];
+      const v = new THREE.Vector3(s.w[0], s.w[1], s.w[2]).project(camera);
+      const x = (v.x + 1) / 2 * width;
+      let y = (1 - v.y) / 2 * height;
+      const inside = v.z < 1 && x >= 0 && x <= width && y >= 0 && y <= height;
+      d.style.display = labelsOn && inside ? '' : 'none';
+      if (d.style.display !== 'none') {
+        const w = d.offsetWidth, h = d.offsetHeight;
+        const hit = () => placed.find((b) => x + 6 < b[2] && x + 6 + w > b[0] && y - h / 2 < b[3] && y + h / 2 > b[1]);
+        for (let tries = 0, b = hit(); b && tries < 8; ++tries, b = hit()) y = b[3] + h / 2 + 1;
+        placed.push([x + 6, y - h / 2, x + 6 + w, y + h / 2]);
+      }
+      d.style.left = `${x.toFixed(1)}px`;
+      d.style.top = `${y.toFixed(1)}px`;
+    });
+  };
   const render = () => {
     sun.position.copy(camera.position).add(new THREE.Vector3(0, 0, diag));
     renderer.render(scene, camera);
+    placeLabels();
   };
   controls.addEventListener('change', render);
 
@@ -255,6 +292,7 @@ function start() {
     render();
   });
   byId('view3d-outline').addEventListener('change', (e) => { outlineGroup.visible = e.target.checked; render(); });
+  byId('view3d-labels').addEventListener('change', (e) => { labelsOn = e.target.checked; render(); });
   byId('view3d-home').addEventListener('click', () => { home(); render(); });
 
   // ---- clicking a seam: the nearest seam within 8 px on screen opens its plots in the panel
@@ -330,6 +368,14 @@ function start() {
       return { x: q.x, y: q.y, clear, plot: !!s.plot };
     },
     seamIndices() { return data.seams.map((s) => s.k); },
+    // The value labels: seam index, text, shown or not, and the label's anchor in client coordinates.
+    labels() {
+      const r = renderer.domElement.getBoundingClientRect();
+      return labelled.map((s, i) => ({
+        k: s.k, text: labelDivs[i].textContent, shown: labelDivs[i].style.display !== 'none',
+        x: r.left + parseFloat(labelDivs[i].style.left), y: r.top + parseFloat(labelDivs[i].style.top),
+      }));
+    },
   };
 }
 

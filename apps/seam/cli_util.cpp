@@ -201,7 +201,10 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
   cmd.add_option("--tol-distance", overrides.distance,
                  "G0 tolerance, in the model's length unit (mm for STEP/IGES); default 0.001 mm for models with a "
                  "length unit (STEP/IGES, or --units), 1e-6 x bounding-box diagonal for unit-less ones");
-  cmd.add_option("--tol-angle", overrides.angleDeg, "G1 tolerance in degrees; default 0.01");
+  cmd.add_option("--tol-angle", overrides.angleDeg,
+                 fmt::format("G1 tolerance in degrees; default {} deg for models with a length unit (STEP/IGES, or "
+                             "--units), {} deg for unit-less ones",
+                             kDefaultCadAngleDeg, kStrictAngleDeg));
   cmd.add_option("--tol-curvature", overrides.curvatureRel, "G2 tolerance, relative; default 0.01");
   // Added after the --tol-* options: CLI11 runs the callbacks in this order, so an explicit --tol-* value is already
   // set when the preset fills the others (whatever the order on the command line).

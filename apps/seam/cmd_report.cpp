@@ -38,6 +38,7 @@ struct ReportOptions {
   std::string file, out;
   ToleranceOverrides tol;
   int maxPlots = 400;
+  int maxLabels = 12;
   std::optional<double> creaseAngle;
   std::string sort = "file";
   std::optional<size_t> top;
@@ -103,6 +104,7 @@ int runReport(const ReportOptions& o) {
   report::HtmlReportOptions ro;
   ro.title = "seam report: " + std::filesystem::path(o.file).filename().string();
   ro.maxPlottedSeams = o.maxPlots;
+  ro.maxValueLabels = o.maxLabels;
   if (!parseSelection(o, ro.selection)) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
   if (isCadFile(o.file)) {
@@ -143,7 +145,11 @@ void addReport(CLI::App& app, int& exit) {
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
   addToleranceOptions(*cmd, o->tol);
-  cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::Range(0, 1000000));
+  cmd->add_option("--max-labels", o->maxLabels,
+                  "Value labels (\"#12 kink 0.618°\") on the worst gaps and kinks in the 3-D view and the drawing "
+                  "(default 12; 0: none)")
+      ->check(CLI::Range(0, 1000000));
   cmd->add_option("--crease-angle", o->creaseAngle,
                   "Seams whose angle is at or above this (degrees, in (0, 180]) are design creases, in a table of "
                   "their own (default 20)");

@@ -232,6 +232,9 @@ th{background:#f2f2f2;cursor:pointer;user-select:none} td.l,th.l{text-align:left
 .v3row{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start}
 #view3d-canvas{width:720px;height:540px;border:1px solid #ddd;cursor:grab}
 #view3d-panel{max-width:600px;font-size:.9em;color:#444}
+.vlabel{font-size:11px;fill:#222;paint-order:stroke;stroke:#fff;stroke-width:3px}
+#view3d-canvas{position:relative}.v3label{position:absolute;font:11px sans-serif;color:#222;background:#fffc;
+border:1px solid #999;border-radius:3px;padding:0 3px;white-space:nowrap;pointer-events:none;transform:translate(6px,-50%)}
 )";
 
 constexpr const char* kScript = R"(
@@ -254,9 +257,17 @@ document.querySelectorAll('table.sortable th').forEach(function(th, col){
 });
 )";
 
+/// A seam's value label (HtmlReportOptions::maxValueLabels): its text and its rank in the seam table.
+struct ValueLabel {
+  std::string text;
+  int rank = 0;
+  [[nodiscard]] bool empty() const { return text.empty(); }
+};
+
 /// The JSON read by the 3-D view (web/viewer.js documents the fields).
 std::string viewData(const ReportData& data, const std::vector<const SeamReport*>& reports,
-                     const std::vector<bool>& hasPlots, double creaseAngleDeg, int maxSpikeSamples) {
+                     const std::vector<bool>& hasPlots, const std::vector<ValueLabel>& labels,
+                     double creaseAngleDeg, int maxSpikeSamples) {
   std::string j = "{\"meshes\":[";
   for (size_t m = 0; m < data.meshes.size(); ++m) {
     const ReportMesh& mesh = data.meshes[m];
@@ -294,6 +305,7 @@ std::string viewData(const ReportData& data, const std::vector<const SeamReport*
     } else {
       j += "null";
     }
+    if (!labels[k].empty()) j += fmt::format(",\"l\":{},\"lr\":{}", jsonString(labels[k].text), labels[k].rank);
     j += ",\"s\":";
     if (r && r->samples.size() >= 2 && keep > 0.0) {
       // Thin the samples evenly (first and last kept) to this seam's share of maxSpikeSamples.
@@ -500,6 +512,32 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
                                 num(tol.curvatureRel)));
   h += "</table>\n";
 
+  // ---- value labels: the worst gaps and kinks, in the seam table's order (issue 38 §11)
+  std::vector<ValueLabel> labels(data.seams.size());
+  {
+    SeamSelection byVerdict = sel;
+    byVerdict.only = SeamFilter::kAll;
+    byVerdict.top.reset();
+    byVerdict.sort = SeamSortKey::kVerdict;
+    int given = 0;
+    for (size_t k : selectSeams(reports, byVerdict)) {
+      if (given >= options.maxValueLabels) break;
+      if (!reports[k] || !passes(sel.only, reports[k], sel.creaseAngleDeg)) continue;
+      const SeamVerdict v = verdictOf(k);
+      if (v == SeamVerdict::kKink)
+        labels[k].text = fmt::format("#{} kink {}\u00b0", k, num(reports[k]->g1MaxDeg));
+      else if (v == SeamVerdict::kGap)
+        labels[k].text = fmt::format("#{} gap {}{}", k, num(reports[k]->g0Max),
+                                     data.lengthUnit.empty() ? "" : " " + data.lengthUnit);
+      else
+        continue;
+      labels[k].rank = given++;
+    }
+  }
+  auto worstPoint = [&](size_t k) -> const Vec3& {
+    return verdictOf(k) == SeamVerdict::kGap ? reports[k]->g0Worst.point : reports[k]->g1Worst.point;
+  };
+
   // ---- overview drawing
   h += "<h2 id=\"overview\">Model</h2>\n";
   const bool view3d = options.view3d && hasViewer3d();
@@ -518,6 +556,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
          "<option value=\"g1\">G1 angle</option><option value=\"g2\">G2 jump (relative)</option></select></label>"
          "<span id=\"view3d-spike-scale\"></span> "
          "<label><input type=\"checkbox\" id=\"view3d-outline\" checked> other boundaries</label>"
+         "<label><input type=\"checkbox\" id=\"view3d-labels\" checked> value labels</label>"
          "<button id=\"view3d-home\" type=\"button\">reset view</button></div>\n"
          "<div class=\"v3row\"><div id=\"view3d-canvas\"></div><div id=\"view3d-panel\">Click a seam in the view "
          "to see its G0/G1/G2 plots here.</div></div></div>\n"
@@ -552,6 +591,14 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
       const ReportSeam& s = data.seams[k];
       const GeometricClass c = s.report ? s.report->geometric : GeometricClass::kNone;
       polyline(s.curve, classColour(c), 1.8, fmt::format("#{} {} / {}: {}", k, s.a, s.b, toString(c)));
+    }
+    for (size_t k = 0; k < data.seams.size(); ++k) {
+      if (labels[k].empty()) continue;
+      const auto [x, y] = view.map(worstPoint(k));
+      h += fmt::format("<circle cx=\"{0:.1f}\" cy=\"{1:.1f}\" r=\"2.5\" fill=\"{2}\"/><text x=\"{3:.1f}\" "
+                       "y=\"{4:.1f}\" class=\"vlabel\" data-seam=\"{5}\">{6}</text>",
+                       x, y, kVerdictColour[static_cast<int>(verdictOf(k))], x + 4.0, y - 4.0, k,
+                       escape(labels[k].text));
     }
     h += "</svg>\n";
   }
@@ -689,7 +736,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
   h += fmt::format("<script>{}</script>\n", kScript);
   if (view3d) {
     h += "<script id=\"seam-view-data\" type=\"application/json\">";
-    h += viewData(data, reports, hasPlots, sel.creaseAngleDeg, options.maxSpikeSamples);
+    h += viewData(data, reports, hasPlots, labels, sel.creaseAngleDeg, options.maxSpikeSamples);
     h += "</script>\n<script>";
     h += detail::kViewerJs;
     h += "</script>\n";

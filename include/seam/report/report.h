@@ -32,6 +32,11 @@ struct HtmlReportOptions {
   /// At most this many spike samples in the page (over all seams; each seam's samples are thinned evenly to at most
   /// 64).
   int maxSpikeSamples = 20000;
+  /// Value labels (issue 38 §11, as Rhino's edge analysis labels its edges): the worst gaps and kinks, at most this
+  /// many, in the order of the seam table (kinks by angle, then gaps by size), get a label at their worst point in the
+  /// 3-D view and in the 2-D drawing, "#k kink 0.618°" or "#k gap 0.0012 mm", with the table's digits. 0: none.
+  /// Design creases get none (they are intended).
+  int maxValueLabels = 12;
 };
 
 /// A triangle mesh of one patch for the 3-D view: a grid of (nu + 1) x (nv + 1) points with unit normals.
