@@ -151,6 +151,45 @@ TEST_F(CliCheck, TableOutput) {
     EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
 }
 
+// Issue 38 §11: a duplicated patch (its control points copied, orientation reversed) is listed as overlapping, in the
+// table, its summary line and the JSON; the exit code stays the check's (0: no --require); a model without one lists
+// none and says 0; a trimmed B-rep as patches says it was not searched (null), never its faces' shared surfaces.
+TEST_F(CliCheck, ADuplicatedPatchIsListedAsOverlapping) {
+  Model m = g1OnlyModel();
+  Patch copy = m.patches[1];
+  copy.name = "B copy";
+  copy.surface = copy.surface.reversedU();
+  m.patches.push_back(copy);
+  const std::string file = (dir_ / "dup.json").string();
+  ASSERT_TRUE(io::writeModelJson(m, file).isOk());
+  const CliRun table = runSeam("check \"" + file + "\"");
+  EXPECT_EQ(table.exitCode, 0);
+  EXPECT_NE(table.out.find("overlapping faces (1 pair:"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("  B / B copy: 100 %, within "), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find(", 1 overlapping face pair\n"), std::string::npos) << table.out;
+  const nlohmann::json j = nlohmann::json::parse(runSeam("check \"" + file + "\" --json").out);
+  ASSERT_EQ(j["overlaps"].size(), 1u);
+  EXPECT_EQ(j["overlaps"][0]["a"], "B");
+  EXPECT_EQ(j["overlaps"][0]["b"], "B copy");
+  EXPECT_EQ(j["overlaps"][0]["fraction"], 1.0);
+  EXPECT_LE(j["overlaps"][0]["max_distance"].get<double>(), 1e-12);  // a copy: 0 up to the projection's round-off
+  EXPECT_EQ(j["summary"]["overlaps"], 1);
+  const nlohmann::json none = nlohmann::json::parse(runSeam("check \"" + model_ + "\" --json").out);
+  EXPECT_EQ(none["overlaps"].size(), 0u);
+  EXPECT_EQ(none["summary"]["overlaps"], 0);
+  EXPECT_EQ(runSeam("check \"" + model_ + "\"").out.find("overlapping"), std::string::npos);
+#ifdef SEAM_HAVE_OCCT_CLI
+  const std::string trj3 = std::string(SEAM_SHARED_DATA_DIR) + "/step/trj3_s1-al-214.stp";
+  if (std::filesystem::exists(trj3)) {
+    const nlohmann::json p = nlohmann::json::parse(runSeam("check \"" + trj3 + "\" --patches --json").out);
+    EXPECT_TRUE(p["summary"]["overlaps"].is_null());
+    EXPECT_EQ(p["overlaps"].size(), 0u);
+    EXPECT_NE(runSeam("check \"" + trj3 + "\" --patches").out.find("overlapping faces: not searched"),
+              std::string::npos);
+  }
+#endif
+}
+
 TEST_F(CliCheck, BadInputExitsWith2) {
   EXPECT_EQ(runSeam("check \"" + (dir_ / "missing.json").string() + "\"").exitCode, 2);
   {

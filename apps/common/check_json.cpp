@@ -286,7 +286,8 @@ OrderedJson summaryJson(const ModelCheckReport& r, const std::optional<Geometric
                 {"corner_curvature_spread_rel_max", optionalNumber(s.cornerCurvatureSpreadRelMax)},
                 {"free_edges", s.freeEdges},
                 {"degenerate_edges", s.degenerateEdges},
-                {"coincident_edge_groups", s.coincidentEdgeGroups}};
+                {"coincident_edge_groups", s.coincidentEdgeGroups},
+                {"overlaps", r.overlapsSearched ? OrderedJson(s.overlaps) : OrderedJson(nullptr)}};
   j["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
   j["below_required"] = s.belowRequired;
   return j;
@@ -386,6 +387,14 @@ void modelCheckFields(Out& o, const Model& m, const ModelCheckReport& report, co
     x.field("patch", patchName(m, d.edge.patch));
     x.field("edge", edgeName(d.edge.edge));
     x.field("point", d.point);
+  });
+  o.objects("overlaps", report.overlaps.size(), [&](auto& x, size_t k) {
+    const FaceOverlap& v = report.overlaps[k];
+    x.field("a", patchName(m, v.a));
+    x.field("b", patchName(m, v.b));
+    x.field("fraction", v.fraction);
+    x.field("max_distance", v.maxDistance);
+    x.field("point", v.point);
   });
   o.objects("coincident_edges", report.coincidentEdges.size(), [&](auto& x, size_t k) {
     const CoincidentEdges& c = report.coincidentEdges[k];

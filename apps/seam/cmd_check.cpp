@@ -274,6 +274,18 @@ std::string edgeLists(const Model& m, const ModelCheckReport& r) {
   for (const DegenerateEdge& d : r.degenerateEdges)
     out += fmt::format("  {}:{} at {}\n", patchName(m, d.edge.patch), edgeName(d.edge.edge),
                        formatVector(d.point.data(), 3));
+  if (!r.overlapsSearched && (m.trimmedFaces > 0 || m.brep))
+    out += "\noverlapping faces: not searched (the trimmed faces are analysed as the patches of their parameter "
+           "boxes, and faces trimmed from one surface would overlap as patches)\n";
+  if (!r.overlaps.empty()) {  // faces lying on each other: listed only when there are some
+    out += fmt::format("\noverlapping faces ({} pair{}: the patches lie on each other within the distance tolerance; "
+                       "share of the samples of one on the other, the largest distance among them, and one such "
+                       "point)\n",
+                       r.overlaps.size(), r.overlaps.size() == 1 ? "" : "s");
+    for (const FaceOverlap& o : r.overlaps)
+      out += fmt::format("  {} / {}: {} %, within {} at {}\n", patchName(m, o.a), patchName(m, o.b),
+                         num(100.0 * o.fraction), num(o.maxDistance), formatVector(o.point.data(), 3));
+  }
   if (!r.coincidentEdges.empty()) {  // duplicated faces: listed only when there are some
     constexpr size_t kNamesShown = 8;  // per group; a group can hold thousands of edges
     out += fmt::format("\ncoincident edges / duplicated faces ({} groups; only the first two edges of each are "
@@ -301,6 +313,7 @@ std::string summaryLine(const Model& m, const ModelCheckReport& r, const std::op
       toString(s.worstParametric), withUnit(num(s.g0Max), units), num(s.g1MaxDeg), num(s.g2Max), s.corners,
       s.fourValentCorners,
       s.degenerateCorners, s.freeEdges, s.degenerateEdges);
+  if (s.overlaps > 0) line += fmt::format(", {} overlapping face pair{}", s.overlaps, s.overlaps == 1 ? "" : "s");
   if (require)
     line += s.belowRequired > 0 ? fmt::format("; {} below {}", s.belowRequired, toString(*require))
                                 : fmt::format("; all meet {}", toString(*require));
@@ -512,6 +525,7 @@ int runCheck(const CheckOptions& o) {
     mo.tolerances = tol;
     if (o.threads) mo.threads = *o.threads;
     mo.require = require;
+    mo.findOverlaps = true;
     if (model->patches.size() > kProgressPatches)
       std::cerr << fmt::format("seam: checking {} patches (pairing, seams in parallel, corners)...\n",
                                model->patches.size());

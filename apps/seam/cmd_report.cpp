@@ -125,6 +125,7 @@ int runReport(const ReportOptions& o) {
   const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model->boundingBox().diagonal());
   mo.tolerances = resolved.tolerances;
   mo.seam.keepSamples = true;
+  mo.findOverlaps = true;
   if (model->patches.size() > kProgressPatches) std::cerr << fmt::format("seam: checking {} patches...\n", model->patches.size());
   const Result<ModelCheckReport> report = checkModel(*model, mo);
   if (!report) {

@@ -1443,6 +1443,13 @@ Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions&
   S.freeEdges = static_cast<int>(report.freeEdges.size());
   S.degenerateEdges = static_cast<int>(report.degenerateEdges.size());
   S.coincidentEdgeGroups = static_cast<int>(report.coincidentEdges.size());
+  report.overlapsSearched = options.findOverlaps && model.trimmedFaces == 0 && !model.brep;
+  if (report.overlapsSearched) {
+    OverlapOptions oo = options.overlap;
+    oo.threads = options.threads;
+    report.overlaps = findOverlaps(model, tol.distance, oo);
+  }
+  S.overlaps = static_cast<int>(report.overlaps.size());
   for (int k = 0; k < S.seams; ++k) {
     const ModelSeam& ms = report.seams[static_cast<size_t>(k)];
     if (!ms.report) {

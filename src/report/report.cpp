@@ -353,6 +353,17 @@ ReportData reportData(const Model& model, const ModelCheckReport& report, int sa
   d.facts.emplace_back("patches", std::to_string(model.patches.size()));
   d.facts.emplace_back("corners", fmt::format("{} ({} 4-valent, {} degenerate)", S.corners, S.fourValentCorners,
                                               S.degenerateCorners));
+  if (report.overlapsSearched) {  // faces lying on each other (issue 38 §11), as `seam check` lists them
+    constexpr size_t kListed = 20;
+    std::string text = report.overlaps.empty() ? "none" : fmt::format("{} pairs:", report.overlaps.size());
+    for (size_t k = 0; k < std::min(report.overlaps.size(), kListed); ++k) {
+      const FaceOverlap& o = report.overlaps[k];
+      text += fmt::format("{} {} / {} ({} %, within {})", k ? "," : "", name(o.a), name(o.b), num(100.0 * o.fraction),
+                          num(o.maxDistance));
+    }
+    if (report.overlaps.size() > kListed) text += fmt::format(" and {} more", report.overlaps.size() - kListed);
+    d.facts.emplace_back("overlapping faces", text);
+  }
   for (const Patch& p : model.patches)
     for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
       const BSplineCurve c = p.surface.boundaryCurve(e);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "seam/continuity/corner.h"
+#include "seam/continuity/overlap.h"
 #include "seam/continuity/seam.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
@@ -83,6 +84,7 @@ struct ModelCheckSummary {
   int freeEdges = 0;
   int degenerateEdges = 0;
   int coincidentEdgeGroups = 0;  ///< groups of 3 or more coincident edges (duplicated faces)
+  int overlaps = 0;              ///< overlapping face pairs (when ModelCheckOptions::findOverlaps)
   int failedSeams = 0;        ///< analyzeSeam returned an error
   int certifiedSeams = 0;
   std::array<int, 4> geometric{};   ///< counts per GeometricClass (kNone, kG0, kG1, kG2)
@@ -126,6 +128,12 @@ struct ModelCheckOptions {
   /// candidate tests, corner analyses): 0 = all hardware threads, 1 = serial on the calling thread. The report does
   /// not depend on it (every task writes its own slot; seams and vertices are kept in pairing order).
   int threads = 0;
+  /// Overlapping faces (findOverlaps, seam/continuity/overlap.h) within tolerances.distance: off by default (an extra
+  /// pass over the patch pairs whose boxes meet); `seam check` and `seam report` turn it on. Not searched in a model
+  /// with trimmed faces (Model::trimmedFaces, Model::brep): its patches are the faces' whole surfaces, and two faces
+  /// trimmed from one surface would overlap as patches (ModelCheckReport::overlapsSearched says so).
+  bool findOverlaps = false;
+  OverlapOptions overlap;  ///< its settings (its threads are `threads` above)
 };
 
 struct ModelCheckReport {
@@ -136,6 +144,8 @@ struct ModelCheckReport {
   std::vector<FreeEdge> freeEdges;
   std::vector<DegenerateEdge> degenerateEdges;
   std::vector<CoincidentEdges> coincidentEdges;
+  std::vector<FaceOverlap> overlaps;  ///< ModelCheckOptions::findOverlaps; empty otherwise
+  bool overlapsSearched = false;      ///< findOverlaps was asked for and the model has no trimmed faces
   ModelCheckSummary summary;
 };
 
