@@ -467,6 +467,7 @@ std::string writeReport(const PyModel& m, const std::filesystem::path& out, cons
     ModelCheckOptions mo;
     mo.tolerances = Tolerances::forModelSize(m.model.boundingBox().diagonal());
     mo.seam.keepSamples = true;
+    mo.findOverlaps = true;  // as `seam report`
     const Result<ModelCheckReport> checked = checkModel(m.model, mo);
     if (!checked) {
       written = checked.status().withContext(m.source);

@@ -655,6 +655,7 @@ Result<FileCheck> checkModel(const Model& model, const std::string& name, const 
   const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model.boundingBox().diagonal());
   mo.tolerances = resolved.tolerances;
   mo.require = o.require;
+  mo.findOverlaps = true;  // as `seam check`: the same JSON from the CLI, batch and Python
   Result<ModelCheckReport> r = seam::checkModel(model, mo);
   if (!r) return r.status().withContext(name);
   out.belowRequired = o.require && r->summary.belowRequired > 0;
