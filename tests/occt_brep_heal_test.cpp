@@ -676,6 +676,22 @@ TEST(BRepHeal, RealFilesKeepTheirFacesAndTrimsAndNoSeamGetsWorse) {
     // The plain STEP round trip of trj3 already turns 2 seams into gaps by the probe (OpenCASCADE's reader rebuilds
     // their pcurves): the heal is held to what `seam convert` writes.
     EXPECT_LE(gaps1, gaps0 + 2) << rel;
+    if (std::string(rel) == "step/linkrods.step") {
+      // A kink whose larger face cannot move is healed by moving the other face (edge 100, F31/F34: F34 goes back,
+      // F31 moves): by the probe, some seam of 0.45 deg or more comes out below 0.2 deg.
+      EXPECT_GT(r->seamsHealed, 0) << rel;
+      bool healedByProbe = false;
+      for (const Shared& a : e1) {
+        const gp_Pnt m = midpoint(a.edge);
+        size_t nearest = 0;
+        for (size_t q = 1; q < e0.size(); ++q)
+          if (distanceTo(m, e0[q].edge) < distanceTo(m, e0[nearest].edge)) nearest = q;
+        const double was = probeEdge(e0[nearest].edge, e0[nearest].a, e0[nearest].b, 100).maxAngleDeg;
+        const double now = probeEdge(a.edge, a.a, a.b, 100).maxAngleDeg;
+        healedByProbe |= was >= 0.45 && now < 0.2;
+      }
+      EXPECT_TRUE(healedByProbe) << rel;
+    }
     if (std::string(rel) == "step/trj3_s1-al-214.stp") {
       EXPECT_LT(gaps1, gaps0) << rel;
       EXPECT_GT(r->seamsHealed, 0) << rel;
