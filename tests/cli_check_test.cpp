@@ -153,7 +153,8 @@ TEST_F(CliCheck, TableOutput) {
 
 // Issue 38 §11: a duplicated patch (its control points copied, orientation reversed) is listed as overlapping, in the
 // table, its summary line and the JSON; the exit code stays the check's (0: no --require); a model without one lists
-// none and says 0; a trimmed B-rep as patches says it was not searched (null), never its faces' shared surfaces.
+// none and says 0; a trimmed B-rep as patches says it was not searched (null): trj3 would list 24 pairs of faces
+// trimmed from one surface, bearing.iges 138.
 TEST_F(CliCheck, ADuplicatedPatchIsListedAsOverlapping) {
   Model m = g1OnlyModel();
   Patch copy = m.patches[1];
@@ -179,12 +180,13 @@ TEST_F(CliCheck, ADuplicatedPatchIsListedAsOverlapping) {
   EXPECT_EQ(none["summary"]["overlaps"], 0);
   EXPECT_EQ(runSeam("check \"" + model_ + "\"").out.find("overlapping"), std::string::npos);
 #ifdef SEAM_HAVE_OCCT_CLI
-  const std::string trj3 = std::string(SEAM_SHARED_DATA_DIR) + "/step/trj3_s1-al-214.stp";
-  if (std::filesystem::exists(trj3)) {
-    const nlohmann::json p = nlohmann::json::parse(runSeam("check \"" + trj3 + "\" --patches --json").out);
+  // occ22470.igs: 4 faces, trimmed (the smallest trimmed file of ../shared/data).
+  const std::string trimmed = std::string(SEAM_SHARED_DATA_DIR) + "/iges/occ22470.igs";
+  if (std::filesystem::exists(trimmed)) {
+    const nlohmann::json p = nlohmann::json::parse(runSeam("check \"" + trimmed + "\" --patches --json").out);
     EXPECT_TRUE(p["summary"]["overlaps"].is_null());
     EXPECT_EQ(p["overlaps"].size(), 0u);
-    EXPECT_NE(runSeam("check \"" + trj3 + "\" --patches").out.find("overlapping faces: not searched"),
+    EXPECT_NE(runSeam("check \"" + trimmed + "\" --patches").out.find("overlapping faces: not searched"),
               std::string::npos);
   }
 #endif
@@ -298,7 +300,9 @@ TEST_F(CliVerdicts, DigitsOfTheTextAndExactJson) {
       ASSERT_NE(row, std::string::npos) << t.out;
       const std::string line = t.out.substr(row, t.out.find('\n', row) - row);
       EXPECT_NE(line.find(std::string(" ") + want + " "), std::string::npos) << digits << ": " << line;
-      if (digits <= 4) EXPECT_EQ(t.out.find("0.0000"), std::string::npos) << t.out;  // 17: 10.000000000000002
+      if (digits <= 4) {
+        EXPECT_EQ(t.out.find("0.0000"), std::string::npos) << t.out;  // 17: 10.000000000000002
+      }
     }
   }
   // The default is 4 digits: the 10-degree kink's summary line (exactly 10 up to round-off) prints "10".
