@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace seam {
@@ -21,6 +22,10 @@ constexpr int kStartGrid = 5;
 /// A closest point within this fraction of the domain's width from a side counts as on the boundary (not interior):
 /// the projection of a point beyond the patch stops on its boundary.
 constexpr double kBoundaryRel = 1e-9;
+/// Ridge of the projection's 2 x 2 normal equations, relative to their trace (a pole: S_u or S_v vanishes).
+constexpr double kNormalRidgeRel = 1e-14;
+/// Round-off allowed when minFraction x samples is turned into a count (1/8 of 64 is 8, not 9).
+constexpr double kCountRoundOff = 1e-9;
 
 /// What the overlap test needs of one patch.
 struct PatchData {
@@ -93,7 +98,7 @@ std::optional<double> onInterior(const BSplineSurface& s, const PatchData& d, co
     const Vec3 r = p - q;
     Eigen::Matrix2d J;
     J << su.dot(su), su.dot(sv), su.dot(sv), sv.dot(sv);
-    J += Eigen::Matrix2d::Identity() * (1e-14 * J.trace() + std::numeric_limits<double>::min());
+    J += Eigen::Matrix2d::Identity() * (kNormalRidgeRel * J.trace() + std::numeric_limits<double>::min());
     const Eigen::Vector2d step = J.ldlt().solve(Eigen::Vector2d(su.dot(r), sv.dot(r)));
     if (!step.allFinite()) break;
     const double nu = std::clamp(u + step.x(), d.du.lo, d.du.hi), nv = std::clamp(v + step.y(), d.dv.lo, d.dv.hi);
@@ -152,7 +157,7 @@ std::vector<FaceOverlap> findOverlaps(const Model& model, double distanceToleran
       if (boxesWithin(data[order[i]].box, data[order[j]].box, distanceTolerance))
         pairs.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
   std::vector<std::optional<FaceOverlap>> found(pairs.size());
-  const size_t needed = static_cast<size_t>(std::ceil(options.minFraction * n * n - 1e-9));
+  const size_t needed = static_cast<size_t>(std::ceil(options.minFraction * n * n - kCountRoundOff));
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pairs.size()), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t k = r.begin(); k != r.end(); ++k) {
