@@ -100,6 +100,8 @@ Vec2 edgePointUV(const BSplineSurface& s, Edge e, double t) {
   return {0.0, 0.0};
 }
 
+double boxDistance(const BoundingBox& b, const Vec3& p) { return (p.cwiseMax(b.min).cwiseMin(b.max) - p).norm(); }
+
 }  // namespace detail
 
 namespace {
@@ -418,17 +420,12 @@ std::optional<std::pair<size_t, size_t>> longestRun(const std::vector<detail::Ed
   return best;
 }
 
-/// Distance from p to an axis-aligned box (0 inside).
-double boxDistance(const BoundingBox& b, const Vec3& p) {
-  return (p.cwiseMax(b.min).cwiseMin(b.max) - p).norm();
-}
-
 /// Cheap necessary condition for a shared part (whose ends are always edge ends, see endsExplained): some end point
 /// of one edge lies within tol of the other edge's control box, and where that end point coincides with an end point
 /// of the other edge, both edges leave it in nearly the same direction.
 bool mayOverlap(const EdgeInfo& a, const EdgeInfo& b, double tol) {
   auto check = [tol](const Vec3& E, const Vec3& dir, const EdgeInfo& o) {
-    if (boxDistance(o.box, E) > tol) return false;
+    if (detail::boxDistance(o.box, E) > tol) return false;
     if ((E - o.start).norm() <= tol) return dir.dot(o.startDir) > kDepartureCos;
     if ((E - o.end).norm() <= tol) return dir.dot(o.endDir) > kDepartureCos;
     return true;  // near the other edge's interior: a T-junction is possible

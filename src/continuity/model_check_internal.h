@@ -1,8 +1,10 @@
 #pragma once
-// Private helpers shared by corner.cpp and model_check.cpp: closest points on edge curves and collapsed-edge tests.
+// Private helpers shared by corner.cpp, model_check.cpp and overlap.cpp: closest points on edge curves, collapsed-edge
+// tests, distances to boxes.
 #include <optional>
 
 #include "seam/core/types.h"
+#include "seam/model/model.h"
 #include "seam/spline/bspline_curve.h"
 #include "seam/spline/bspline_surface.h"
 
@@ -25,5 +27,8 @@ Interval edgeDomain(const BSplineSurface& s, Edge e);
 
 /// The surface parameters (u, v) of the point at edge parameter t on edge `e`.
 Vec2 edgePointUV(const BSplineSurface& s, Edge e, double t);
+
+/// Distance from p to an axis-aligned box (0 inside).
+double boxDistance(const BoundingBox& b, const Vec3& p);
 
 }  // namespace seam::detail

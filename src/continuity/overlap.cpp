@@ -10,6 +10,8 @@
 #include <limits>
 #include <optional>
 
+#include "continuity/model_check_internal.h"
+
 namespace seam {
 
 namespace {
@@ -75,18 +77,13 @@ PatchData prepare(const BSplineSurface& s, int n) {
   return d;
 }
 
-double boxDistance(const BoundingBox& b, const Vec3& p) {
-  const Vec3 below = (b.min - p).cwiseMax(0.0), above = (p - b.max).cwiseMax(0.0);
-  return (below + above).norm();
-}
-
 bool boxesWithin(const BoundingBox& a, const BoundingBox& b, double tol) {
   return (a.min.array() <= b.max.array() + tol).all() && (b.min.array() <= a.max.array() + tol).all();
 }
 
 /// The distance from p to patch s at an interior closest point, or nothing (not near, or nearest on the boundary).
 std::optional<double> onInterior(const BSplineSurface& s, const PatchData& d, const Vec3& p, double tol) {
-  if (boxDistance(d.box, p) > tol) return std::nullopt;
+  if (detail::boxDistance(d.box, p) > tol) return std::nullopt;
   if (std::abs(d.normal.dot(p - d.centre)) > d.thickness + tol) return std::nullopt;
   size_t best = 0;
   for (size_t k = 1; k < d.starts.size(); ++k)

@@ -257,6 +257,14 @@ document.querySelectorAll('table.sortable th').forEach(function(th, col){
 });
 )";
 
+/// Where a seam's dot and label go: the worst gap of a gap, the largest angle of a kink or crease, else the largest
+/// curvature jump.
+const Vec3& worstPointOf(const SeamReport& r, SeamVerdict v) {
+  if (v == SeamVerdict::kGap) return r.g0Worst.point;
+  if (v == SeamVerdict::kKink || v == SeamVerdict::kCrease) return r.g1Worst.point;
+  return r.g2Worst.point;
+}
+
 /// A seam's value label (HtmlReportOptions::maxValueLabels): its text and its rank in the seam table.
 struct ValueLabel {
   std::string text;
@@ -297,10 +305,7 @@ std::string viewData(const ReportData& data, const std::vector<const SeamReport*
     appendPoints(j, s.curve);
     j += ",\"w\":";
     if (r) {
-      const SeamVerdict sv = static_cast<SeamVerdict>(v);
-      const Vec3& w = sv == SeamVerdict::kGap                                   ? r->g0Worst.point
-                      : sv == SeamVerdict::kKink || sv == SeamVerdict::kCrease ? r->g1Worst.point
-                                                                                : r->g2Worst.point;
+      const Vec3& w = worstPointOf(*r, static_cast<SeamVerdict>(v));
       j += fmt::format("[{},{},{}]", jsonNum(w.x()), jsonNum(w.y()), jsonNum(w.z()));
     } else {
       j += "null";
@@ -545,10 +550,6 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
       labels[k].rank = given++;
     }
   }
-  auto worstPoint = [&](size_t k) -> const Vec3& {
-    return verdictOf(k) == SeamVerdict::kGap ? reports[k]->g0Worst.point : reports[k]->g1Worst.point;
-  };
-
   // ---- overview drawing
   h += "<h2 id=\"overview\">Model</h2>\n";
   const bool view3d = options.view3d && hasViewer3d();
@@ -605,7 +606,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     }
     for (size_t k = 0; k < data.seams.size(); ++k) {
       if (labels[k].empty()) continue;
-      const auto [x, y] = view.map(worstPoint(k));
+      const auto [x, y] = view.map(worstPointOf(*reports[k], verdictOf(k)));
       h += fmt::format("<circle cx=\"{0:.1f}\" cy=\"{1:.1f}\" r=\"2.5\" fill=\"{2}\"/><text x=\"{3:.1f}\" "
                        "y=\"{4:.1f}\" class=\"vlabel\" data-seam=\"{5}\">{6}</text>",
                        x, y, kVerdictColour[static_cast<int>(verdictOf(k))], x + 4.0, y - 4.0, k,
