@@ -542,6 +542,40 @@ TEST(JsonBRep, WithoutBRepATrimmedModelIsStillRefusedByThePatchWriter) {
   EXPECT_FALSE(fs::exists("never_written.json"));
 }
 
+// A face whose loops do not close in its source file (trj3_s1-al-214.stp: 12 faces OpenCASCADE finds invalid as
+// read) is kept as read with "open_as_read": "yes": the same open loop is accepted with the flag, refused without
+// it, written back with it, and the flag takes only "yes".
+TEST(JsonBRep, AFaceOpenAsReadKeepsItsOpenLoop) {
+  nlohmann::json doc = plateWithHole();
+  doc["brep"]["faces"][0]["loops"][0][1]["pcurve"]["points"][0] = {1.0, 0.5};  // the loop no longer closes
+  ASSERT_FALSE(io::parseModelJson(doc.dump(), "open.json"));
+  doc["brep"]["faces"][0]["open_as_read"] = "yes";
+  const std::string text = doc.dump();
+  expectSameOnBothRoutes(text, "open.json");
+  const Result<Model> m = io::parseModelJson(text, "open.json");
+  ASSERT_TRUE(m) << m.status().message();
+  ASSERT_TRUE(m->brep);
+  EXPECT_TRUE(m->brep->faces[0].openAsRead);
+  const std::string written = io::modelToJson(*m);
+  EXPECT_NE(written.find("\"open_as_read\": \"yes\""), std::string::npos);
+  const Result<Model> again = io::parseModelJson(written, "again.json");
+  ASSERT_TRUE(again) << again.status().message();
+  EXPECT_TRUE(again->brep->faces[0].openAsRead);
+  EXPECT_EQ(io::modelToJson(*again), written);
+  // A closed face is written without the key.
+  const Result<Model> plate = io::parseModelJson(plateWithHole().dump(), "plate.json");
+  ASSERT_TRUE(plate);
+  EXPECT_EQ(io::modelToJson(*plate).find("open_as_read"), std::string::npos);
+  for (const nlohmann::json& bad : {nlohmann::json(true), nlohmann::json("no"), nlohmann::json(1)}) {
+    doc["brep"]["faces"][0]["open_as_read"] = bad;
+    const Result<Model> r = io::parseModelJson(doc.dump(), "bad.json");
+    ASSERT_FALSE(r) << bad.dump();
+    EXPECT_EQ(r.status().message(),
+              "bad.json: brep face 0: \"open_as_read\" must be \"yes\" (the face's loops do not close in the file "
+              "it was read from), found " + bad.dump());
+  }
+}
+
 /// A hostile variant of the plate: `edit` changes the document; the message must be `expected` exactly, on
 /// both routes (a crash or an exception fails the test; they run under ASan+UBSan in CI).
 void expectRefused(const std::function<void(nlohmann::json&)>& edit, const std::string& expected) {

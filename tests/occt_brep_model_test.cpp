@@ -70,8 +70,17 @@ namespace fs = std::filesystem;
 /// for bit, pcurves and 3-D curves exactly or fitted within a tenth of their edge's tolerance
 /// (docs/format.md).
 constexpr double kAreaRelTol = 1e-6;
-/// The one file whose trims JSON does not keep (see the test): four of its faces are invalid as read.
-constexpr const char* kTrimsNotYetKept = "step/trj3_s1-al-214.stp";
+/// The file with faces whose wires do not close as read (see the round trip).
+constexpr const char* kFacesOpenAsRead = "step/trj3_s1-al-214.stp";
+
+/// The faces of `s` that OpenCASCADE's BRepCheck_Analyzer finds invalid, each checked alone.
+int occtInvalidFaces(const TopoDS_Shape& s) {
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(s, TopAbs_FACE, faces);
+  int invalid = 0;
+  for (int i = 1; i <= faces.Extent(); ++i) invalid += BRepCheck_Analyzer(faces(i)).IsValid() ? 0 : 1;
+  return invalid;
+}
 
 // ---- OpenCASCADE alone
 // -------------------------------------------------------------------------------------------
@@ -107,21 +116,21 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
   const double readSeconds = seconds(t0);
   const Model& model = imported->model;
   const fs::path json = scratch(in.stem().string() + ".json");
-  if (std::string(GetParam()) == kTrimsNotYetKept) {
-    // Faces F14, F16, F17 and F19 of this file are invalid as read: OpenCASCADE's BRepCheck_Analyzer says so, and
-    // their wires' edges do not connect (F14's loop has two edges, at v = 0 and v = 1 of a surface that is not
-    // closed in v). Plain data cannot hold a loop that does not close, so the JSON output is refused and says
-    // why, never written untrimmed. (Its face 22, whose pcurves run 0.33 % past its surface's v range, is
-    // carried over by continuing the patch: BRepModel.PcurvesPastTheSurfaceContinueItsPatchExactly.)
-    ASSERT_GT(model.trimmedFaces, 0);
-    ASSERT_FALSE(model.brep);
+  if (std::string(GetParam()) == kFacesOpenAsRead) {
+    // Twelve faces of this file are invalid as read: OpenCASCADE's BRepCheck_Analyzer says so, and their wires do
+    // not close (F14's loop has two edges, at v = 0 and v = 1 of a surface that is not closed in v; F30's one
+    // edge runs from v = -6 to v = -10). They are kept as read, open ("open_as_read"), and a warning names them.
+    // (Its face 22, whose pcurves run 0.33 % past its surface's v range, is carried over by continuing the
+    // patch: BRepModel.PcurvesPastTheSurfaceContinueItsPatchExactly.)
+    ASSERT_TRUE(model.brep);
+    int open = 0;
+    for (const BRepFace& f : model.brep->faces) open += f.openAsRead ? 1 : 0;
+    EXPECT_EQ(open, occtInvalidFaces(occtRead(in)));
     bool named = false;
     for (const std::string& w : imported->warnings)
-      named = named || w.find("finds faces F14, F16, F17, F19 (brep faces 13, 15, 16, 18) invalid") != std::string::npos;
-    EXPECT_TRUE(named) << "the refusal does not name the faces that are invalid as read";
-    EXPECT_FALSE(io::writeModelJson(model, json));
-    EXPECT_FALSE(fs::exists(json));
-    return;
+      named = named || w.find("finds F14 (brep face 13), F16 (brep face 15), F17 (brep face 16), F19 (brep face "
+                              "18), F30 (brep face 29)") != std::string::npos;
+    EXPECT_TRUE(named) << "no warning names the faces kept open as read";
   }
   ASSERT_EQ(model.trimmedFaces > 0, model.brep != nullptr)
       << "a trimmed model without its topology: "
@@ -168,6 +177,9 @@ TEST_P(RealFileRoundTrip, StepOrIgesToJsonToStepKeepsTheBRep) {
       readJsonSeconds, writeStepSeconds);
   EXPECT_EQ(after.faces, before.faces);
   EXPECT_NEAR(after.area, before.area, kAreaRelTol * before.area);
+  if (fs::exists(step)) {  // no face becomes invalid, none is repaired behind the user's back
+    EXPECT_EQ(occtInvalidFaces(occtRead(step)), occtInvalidFaces(occtRead(in)));
+  }
   if (model.brep) {  // the B-rep route: trims, solids and topology kept
     EXPECT_EQ(after.trimmed, before.trimmed);
     EXPECT_EQ(after.solids, before.solids);
@@ -321,11 +333,6 @@ TEST_P(RealFileCheck, CheckOfTheJsonAgreesWithCheckOfTheFile) {
   if (!fs::exists(in)) GTEST_SKIP() << in << " is missing (../shared/data)";
   const fs::path json = scratch(in.stem().string() + ".json");
   const CliRun conv = runCli(fmt::format("convert '{}' '{}'", in.string(), json.string()));
-  if (std::string(GetParam()) == kTrimsNotYetKept) {  // refused, never written untrimmed (see the round trip)
-    EXPECT_EQ(conv.code, 2) << conv.out;
-    EXPECT_FALSE(fs::exists(json));
-    return;
-  }
   ASSERT_EQ(conv.code, 0) << conv.out;
   const nlohmann::json doc = nlohmann::json::parse(std::ifstream(json));
   if (!doc.contains("brep"))
@@ -351,8 +358,25 @@ TEST_P(RealFileCheck, CheckOfTheJsonAgreesWithCheckOfTheFile) {
       sb["g1_max_deg"].is_number() ? sb["g1_max_deg"].get<double>() : -1.0);
   EXPECT_EQ(sb["seams"], sa["seams"]);
   EXPECT_EQ(sb["free_edges"], sa["free_edges"]);
-  EXPECT_EQ(sb["verdicts"], sa["verdicts"]);
   EXPECT_EQ(sb["worst_geometric"], sa["worst_geometric"]);
+  // Seam by seam (the same edge numbers): the same verdict, except G2 against G1 on a seam whose normal vanishes
+  // (a pole) on both routes, where the G2 bound does not close and the jump is sampled next to the pole, on a
+  // patch that JSON holds continued past its surface's bounds (trj3's F22/F23: 0 against 1.4e-6 1/mm at 2e-4 mm
+  // from the pole). Issue 35's "undetermined at a pole" verdict is for these.
+  ASSERT_EQ(ja["seams"].size(), jb["seams"].size());
+  auto atPole = [](const nlohmann::json& seam) {
+    for (const auto& n : seam["notes"])
+      if (n.get<std::string>().find("the normal vanishes somewhere on the edge") != std::string::npos) return true;
+    return false;
+  };
+  for (size_t k = 0; k < ja["seams"].size(); ++k) {
+    const auto &x = ja["seams"][k], &y = jb["seams"][k];
+    ASSERT_EQ(x["edge"], y["edge"]);
+    if (x["verdict"] == y["verdict"]) continue;
+    const bool g1g2 = (x["verdict"] == "G1" || x["verdict"] == "G2") && (y["verdict"] == "G1" || y["verdict"] == "G2");
+    EXPECT_TRUE(g1g2 && atPole(x) && atPole(y))
+        << GetParam() << " edge " << x["edge"] << ": " << x["verdict"] << " / " << y["verdict"];
+  }
   fs::remove_all(json.parent_path());
 }
 

@@ -840,7 +840,7 @@ class ModelReader {
       current_ = w;
       const auto& f = faces[i];
       if (Status s = needObject(f, w); !s) return s;
-      if (Status s = onlyKeys(f, w, {"patch", "orientation", "tolerance", "loops"}); !s) return s;
+      if (Status s = onlyKeys(f, w, {"patch", "orientation", "tolerance", "loops", "open_as_read"}); !s) return s;
       BRepFace face;
       if (!f.contains("patch") || !f["patch"].is_string())
         return fail(w, "\"patch\" must be the name of the face's patch");
@@ -850,6 +850,13 @@ class ModelReader {
       face.patch = it->second;
       if (Status s = readOrientation(f, w, face.reversed); !s) return s;
       if (Status s = readTolerance(f, w, face.tolerance); !s) return s;
+      if (f.contains("open_as_read")) {
+        const auto& o = f["open_as_read"];
+        if (!(o.is_string() && o.template get<std::string>() == "yes"))
+          return fail(w, "\"open_as_read\" must be \"yes\" (the face's loops do not close in the file it was read "
+                         "from), found " + brief(o));
+        face.openAsRead = true;
+      }
       if (Status s = needArray(f, w, "loops"); !s) return s;
       const auto& loops = f["loops"];
       for (size_t l = 0; l < loops.size(); ++l) {
@@ -1498,6 +1505,7 @@ void appendBRep(std::string& out, const Model& model, const BRepTopology& b) {
     out += "\"patch\": " + quote(model.patches[static_cast<size_t>(f.patch)].name) + ", \"orientation\": \"" +
            orientationName(f.reversed) + "\", \"tolerance\": ";
     appendNumber(out, f.tolerance);
+    if (f.openAsRead) out += ", \"open_as_read\": \"yes\"";
     out += ", \"loops\": [";
     for (size_t l = 0; l < f.loops.size(); ++l) {
       out += l == 0 ? "\n        [" : ",\n        [";

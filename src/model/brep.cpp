@@ -128,8 +128,9 @@ Status validateBRep(const Model& model, const BRepTopology& brep, const std::str
                                 du.lo, du.hi, dv.lo, dv.hi, q[0], q[1]));
         }
       }
-      // Closure: where each coedge ends, the next one starts (on the surface, within the tolerances).
-      for (size_t k = 0; k < loop.size(); ++k) {
+      // Closure: where each coedge ends, the next one starts (on the surface, within the tolerances). A face
+      // that was open in its source file is kept as read (BRepFace::openAsRead).
+      for (size_t k = 0; k < loop.size() && !face.openAsRead; ++k) {
         const BRepCoedge& a = loop[k];
         const BRepCoedge& b = loop[(k + 1) % loop.size()];
         const BRepEdge& ea = brep.edges[static_cast<size_t>(a.edge)];

@@ -9,6 +9,7 @@
 
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepCheck_Analyzer.hxx>
+#include <BRepCheck_Wire.hxx>
 #include <BRepLib.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
@@ -518,13 +519,19 @@ std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
         for (TopoDS_Iterator it(w); it.More(); it.Next()) ++stored;
         std::vector<TopoDS_Edge> ordered;
         for (BRepTools_WireExplorer ex(w, fwd); ex.More(); ex.Next()) ordered.push_back(ex.Current());
-        if (static_cast<int>(ordered.size()) != stored) {
-          // BRepTools_WireExplorer gives up on some wires (two edges meeting at both ends, gaps beyond the
-          // vertex tolerances): the wire's stored order, whose closure validateBRep checks. When OpenCASCADE's
-          // own check finds the face invalid, the input is at fault: said with the refusal (cad_io.cpp).
-          if (invalidInputFaces != nullptr && BRepCheck_Analyzer(face, false).IsValid() == Standard_False &&
-              (invalidInputFaces->empty() || invalidInputFaces->back() != info.faceIndex))
-            invalidInputFaces->push_back(info.faceIndex);
+        const bool explored = static_cast<int>(ordered.size()) == stored;
+        BRepCheck_Wire closure(w);
+        // A wire that does not close (trj3's F30: one open edge), or that BRepTools_WireExplorer gives up on (two
+        // edges meeting at both ends, gaps beyond the vertex tolerances): when OpenCASCADE's own check finds the
+        // face invalid, the input is at fault, and the face is kept as it was read, open (BRepFace::openAsRead;
+        // said in a warning, cad_io.cpp). Otherwise validateBRep checks the loop's closure.
+        if (!bf.openAsRead &&
+            (!explored || closure.Closed() != BRepCheck_NoError || closure.Closed2d(fwd) != BRepCheck_NoError) &&
+            BRepCheck_Analyzer(face, false).IsValid() == Standard_False) {
+          bf.openAsRead = true;
+          if (invalidInputFaces != nullptr) invalidInputFaces->push_back(info.faceIndex);
+        }
+        if (!explored) {  // the wire's stored order
           ordered.clear();
           for (TopoDS_Iterator it(w); it.More(); it.Next())
             if (it.Value().ShapeType() == TopAbs_EDGE) ordered.push_back(TopoDS::Edge(it.Value()));

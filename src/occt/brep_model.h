@@ -22,8 +22,9 @@ namespace seam::occt::detail {
 /// edge's tolerance. A patch that is its face's B-spline surface is continued exactly where the face's pcurves
 /// run past its bounds (import.model.patches changes; said in `notes`). 3-D curves likewise: converted exactly
 /// where the parameterisation is kept (lines, B-splines, Bezier), fitted otherwise (circles, ellipses, ...).
-/// `notes` says how many were fitted and their largest error. `invalidInputFaces` (optional) gets the 1-based
-/// indices of faces whose wire does not connect and that OpenCASCADE's BRepCheck_Analyzer finds invalid as read.
+/// `notes` says how many were fitted and their largest error. A face whose wire does not connect and that
+/// OpenCASCADE's BRepCheck_Analyzer finds invalid as read is kept as read (BRepFace::openAsRead);
+/// `invalidInputFaces` (optional) gets the 1-based indices of those faces.
 std::shared_ptr<const BRepTopology> brepFromFaces(const TopoDS_Shape& shape,
                                                   const std::vector<TopoDS_Face>& faces,
                                                   CadImport& import, std::string& whyNot,

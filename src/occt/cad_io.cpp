@@ -782,6 +782,14 @@ Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& option
     }
     if (out->model.brep) {
       for (const std::string& n : notes) out->warnings.push_back(fmt::format("{}: {}", file.string(), n));
+      if (!invalidFaces.empty()) {
+        std::vector<std::string> names;
+        for (int f : invalidFaces) names.push_back(fmt::format("F{} (brep face {})", f, f - 1));
+        out->warnings.push_back(fmt::format(
+            "{}: OpenCASCADE's BRepCheck_Analyzer finds {} invalid as read, a wire whose edges do not connect: "
+            "kept as read, with {} loops open (\"open_as_read\"), in every output",
+            file.string(), fmt::join(names, ", "), invalidFaces.size() > 1 ? "their" : "its"));
+      }
     } else {
       out->model.patches = std::move(asRead);
       if (!invalidFaces.empty()) {

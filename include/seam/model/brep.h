@@ -50,6 +50,11 @@ struct BRepFace {
   bool reversed = false;
   double tolerance = 0.0;
   std::vector<std::vector<BRepCoedge>> loops;
+  /// True for a face whose loops do not close in the file it was read from (its wire's edges do not connect and
+  /// OpenCASCADE's BRepCheck_Analyzer finds it invalid as read). Such a face is kept as it was read, so that a
+  /// conversion loses nothing: validateBRep does not require its loops to close, and the writers write it as it
+  /// is (invalid, as the input was). JSON: `"open_as_read": "yes"`.
+  bool openAsRead = false;
 };
 
 /// A face in a shell, a shell in a solid, or a top-level shape, with its orientation there.
