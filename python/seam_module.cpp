@@ -37,6 +37,8 @@
 #include "seam/regularity/regularity.h"
 #include "seam/version.h"
 #ifdef SEAM_HAVE_OCCT
+#include "brep_heal_json.h"
+#include "seam/occt/brep_heal.h"
 #include "seam/occt/cad_io.h"
 #endif
 
@@ -422,6 +424,59 @@ py::object repairDict(const std::string& json, const RepairUnits& ru) {
   return toPython(j);
 }
 
+/// heal of a model with trimmed faces: the B-rep heal of the STEP/IGES file it was read from (occt::healBRepFile,
+/// as `seam heal FILE -o OUT.step`: every face, trim, edge and solid kept), into a temporary file of the same format
+/// that is read back as the healed model, then removed. A JSON model with trimmed faces is refused, as by the CLI
+/// (its patches would move without their trims).
+py::tuple healBRep(const PyModel& m, const HealOptions& ho, const std::string& method,
+                   const std::optional<std::string>& units, const std::optional<std::string>& preset) {
+#ifdef SEAM_HAVE_OCCT
+  const std::filesystem::path in = m.source;
+  if (!isCadPath(in) || !std::filesystem::is_regular_file(in))
+    throw py::value_error(fmt::format("{}: {} faces of the model are trimmed: a trimmed model is healed as a B-rep "
+                                      "from its STEP/IGES file (load one), never as patches without their trims",
+                                      m.source, m.model.trimmedFaces));
+  if (method != "auto")
+    throw py::value_error("method: a STEP/IGES B-rep is healed face by face along its pcurves (method=\"auto\" only)");
+  occt::BRepHealOptions bo;
+  applyUnitsAndPreset(bo.tolerances, units, preset);
+  bo.continuity = ho.continuity;
+  bo.maxGap = ho.maxGap;
+  if (ho.maxAngleDeg) bo.creaseAngleDeg = *ho.maxAngleDeg;
+  std::filesystem::path temp = io::temporaryPathFor(std::filesystem::temp_directory_path() / "healed");
+  temp += in.extension();
+  struct Remove {
+    const std::filesystem::path& path;
+    ~Remove() {
+      std::error_code ec;
+      std::filesystem::remove(path, ec);
+    }
+  } remove{temp};
+  Result<occt::BRepHealReport> r = Status(ErrorCode::kIoError, "not healed");
+  {
+    py::gil_scoped_release release;
+    std::lock_guard lock(cadMutex());
+    r = occt::healBRepFile(in, temp, bo);
+  }
+  if (!r) raise(r.status());
+  std::vector<std::string> readWarnings;  // the input's, as load() gave them; they name the temporary file
+  Model healed = readAnyModel(temp, readWarnings);
+  if (!r->warnings.empty()) {
+    py::module_ warn = py::module_::import("warnings");
+    for (const std::string& w : r->warnings) warn.attr("warn")(fmt::format("{}: {}", m.source, w));
+  }
+  return py::make_tuple(PyModel{std::move(healed), m.source + " (healed)", m.units},
+                        toPython(cli::brepHealJson(*r, m.source, std::nullopt)));
+#else
+  (void)ho;
+  (void)method;
+  (void)units;
+  (void)preset;
+  throw py::value_error(fmt::format("{}: {} faces of the model are trimmed, and this build has no OpenCASCADE to heal "
+                                    "a B-rep", m.source, m.model.trimmedFaces));
+#endif
+}
+
 /// heal: the healed model and the dict of `seam heal --json` (without its "output").
 py::tuple heal(const PyModel& m, const std::string& continuity, const std::string& method,
                std::optional<double> maxGap, std::optional<double> creaseAngle, const std::optional<std::string>& units,
@@ -443,6 +498,7 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
     ho.maxAngleDeg = creaseAngle;
   }
   if (m.model.patches.empty()) throw py::value_error(m.source + ": the model has no patches: nothing to heal");
+  if (m.model.trimmedFaces > 0) return healBRep(m, ho, method, units, preset);
   const RepairUnits tol = repairTolerances(m, units, preset);
   ho.tolerances = tol.tol.tolerances;
   Result<HealResult> r = Status(ErrorCode::kIoError, "not healed");
@@ -484,8 +540,23 @@ std::string writeReport(const PyModel& m, const std::filesystem::path& out, cons
 void save(const PyModel& m, const std::filesystem::path& out) {
   std::string ext = out.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".json") throw py::value_error(fmt::format("{}: save writes .json models (use `seam convert` for STEP/IGES)", out.string()));
   if (const Status s = io::checkOutputFile(out); !s) raise(s);
+#ifdef SEAM_HAVE_OCCT
+  // STEP/IGES as `seam convert x.json y.step`: a model with its B-rep (one loaded or healed from STEP/IGES) keeps
+  // every face, trim, edge and solid; a trimmed model without it is refused; untrimmed patches are sewn.
+  if (const std::optional<occt::CadFormat> format = occt::cadFormatOf(out)) {
+    Status written = Status::ok();
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(cadMutex());
+      written = occt::writeCadFile(m.model, out, *format);
+    }
+    if (!written) raise(written);
+    return;
+  }
+#endif
+  if (ext != ".json")
+    throw py::value_error(fmt::format("{}: save writes .json, .step/.stp and .iges/.igs models", out.string()));
   if (const Status s = io::writeModelJson(m.model, out); !s) raise(s);
 }
 
@@ -876,7 +947,7 @@ PYBIND11_MODULE(_seam, mod) {
           py::arg("units") = py::none(), py::arg("preset") = py::none(),
           "`seam report FILE -o PATH`: a .json/.bpt model file, or the B-rep report of a STEP/IGES file (every "
           "shared edge, OpenCASCADE alongside, trimmed faces shaded); returns the path");
-  mod.def("save", &save, py::arg("model"), py::arg("path"), "Writes a model as .json (atomically)");
+  mod.def("save", &save, py::arg("model"), py::arg("path"), "Writes a model as .json, or as STEP/IGES by the extension (the B-rep of a model loaded or healed from STEP/IGES kept), atomically");
 
   auto checkDoc =
       "Continuity of every seam, corner and free edge: the dict of `seam check FILE --json` with the same options "

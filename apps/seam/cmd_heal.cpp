@@ -21,6 +21,9 @@
 #include "cli_util.h"
 #include "command_registry.h"
 #include "repair_units_json.h"
+#ifdef SEAM_HAVE_OCCT
+#include "brep_heal_json.h"
+#endif
 #include "seam/continuity/model_check.h"
 #include "seam/continuity/verdict.h"
 #include "seam/io/json.h"
@@ -44,19 +47,6 @@ struct HealCliOptions {
 };
 
 #ifdef SEAM_HAVE_OCCT
-/// One seam's state in the words of `seam check` (gap, kink, crease, G1, G2).
-std::string brepState(const SeamReport& x, double creaseDeg) { return std::string(toString(seamVerdict(x, creaseDeg))); }
-
-OrderedJson brepSeamJson(const SeamReport& r, double creaseDeg) {
-  OrderedJson j;
-  j["gap"] = r.g0Max;
-  j["angle_deg"] = r.g1MaxDeg;
-  j["class"] = std::string(toString(r.geometric));
-  j["state"] = brepState(r, creaseDeg);
-  j["certified"] = r.certified;
-  return j;
-}
-
 /// `seam heal` of a STEP/IGES file into STEP/IGES: the B-rep kept (occt::healBRepFile). Returns the exit code.
 int healBRep(const HealCliOptions& o, const HealOptions& ho) {
   occt::BRepHealOptions bo;
@@ -79,44 +69,7 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
   const occt::BRepHealReport& r = *res;
   for (const std::string& w : r.warnings) std::cerr << "seam: warning: " << w << "\n";
   if (o.json) {
-    OrderedJson j;
-    j["input"] = o.file;
-    j["output"] = o.out;
-    j["route"] = "brep";
-    j["requested"] = std::string(toString(r.requested));
-    j["unit"] = r.unit;
-    j["tolerances"] = {{"distance_mm", r.tolerances.distance}, {"angle_deg", r.tolerances.angleDeg}};
-    j["max_gap_mm"] = r.maxGap;
-    j["crease_angle_deg"] = r.creaseAngleDeg;
-    OrderedJson seams = OrderedJson::array();
-    for (const occt::BRepHealSeam& s : r.seams) {
-      OrderedJson x;
-      x["edge"] = s.edge;
-      x["a"] = s.a;
-      x["b"] = s.b;
-      x["entity_a"] = s.entityA;
-      x["entity_b"] = s.entityB;
-      x["action"] = s.action;
-      x["moved"] = s.moved;
-      x["before"] = brepSeamJson(s.before, r.creaseAngleDeg);
-      x["after"] = s.after ? brepSeamJson(*s.after, r.creaseAngleDeg) : OrderedJson();
-      x["worse"] = s.worse;
-      seams.push_back(std::move(x));
-    }
-    j["seams"] = std::move(seams);
-    j["faces_changed"] = r.facesChanged;
-    j["faces_reverted"] = r.facesReverted;
-    j["max_surface_displacement_mm"] = r.maxSurfaceDisplacement;
-    const occt::BRepCounts &b = r.before, &a = r.after;
-    j["counts"] = {{"faces", {b.faces, a.faces}},       {"trimmed_faces", {b.trimmedFaces, a.trimmedFaces}},
-                   {"edges", {b.edges, a.edges}},       {"solids", {b.solids, a.solids}},
-                   {"area_mm2", {b.area, a.area}},      {"valid", {b.valid, a.valid}}};
-    j["seams_to_heal"] = r.seamsToHeal;
-    j["seams_healed"] = r.seamsHealed;
-    j["seams_worse"] = r.seamsWorse;
-    j["notes"] = r.notes;
-    j["achieved"] = r.achieved;
-    printJson(j);
+    printJson(brepHealJson(r, o.file, o.out));
   } else {
     std::vector<std::vector<std::string>> rows;
     for (const occt::BRepHealSeam& s : r.seams) {
@@ -124,9 +77,9 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
       rows.push_back({std::to_string(s.edge), s.a + (s.entityA.empty() ? "" : " " + s.entityA),
                       s.b + (s.entityB.empty() ? "" : " " + s.entityB), s.moved.empty() ? "-" : s.moved,
                       formatNumber(s.before.g0Max), formatNumber(s.before.g1MaxDeg),
-                      brepState(s.before, r.creaseAngleDeg), s.after ? formatNumber(s.after->g0Max) : "?",
+                      brepSeamState(s.before, r.creaseAngleDeg), s.after ? formatNumber(s.after->g0Max) : "?",
                       s.after ? formatNumber(s.after->g1MaxDeg) : "?",
-                      s.after ? brepState(*s.after, r.creaseAngleDeg) : "?", s.action, s.worse ? "WORSE" : ""});
+                      s.after ? brepSeamState(*s.after, r.creaseAngleDeg) : "?", s.action, s.worse ? "WORSE" : ""});
     }
     std::string text = fmt::format("seam heal {} (B-rep kept; {} requested, gaps up to {} mm, creases above {} deg "
                                    "keep their angle; tolerances {} mm, {} deg)\n",

@@ -1,0 +1,67 @@
+#include "brep_heal_json.h"
+
+#include "seam/continuity/verdict.h"
+
+namespace seam::cli {
+
+namespace {
+
+OrderedJson seamJson(const SeamReport& r, double creaseDeg) {
+  OrderedJson j;
+  j["gap"] = r.g0Max;
+  j["angle_deg"] = r.g1MaxDeg;
+  j["class"] = std::string(toString(r.geometric));
+  j["state"] = brepSeamState(r, creaseDeg);
+  j["certified"] = r.certified;
+  return j;
+}
+
+}  // namespace
+
+std::string brepSeamState(const SeamReport& r, double creaseDeg) {
+  return std::string(toString(seamVerdict(r, creaseDeg)));
+}
+
+OrderedJson brepHealJson(const occt::BRepHealReport& r, const std::string& input,
+                         const std::optional<std::string>& output) {
+  OrderedJson j;
+  j["input"] = input;
+  if (output) j["output"] = *output;
+  j["route"] = "brep";
+  j["requested"] = std::string(toString(r.requested));
+  j["unit"] = r.unit;
+  j["tolerances"] = {{"distance_mm", r.tolerances.distance}, {"angle_deg", r.tolerances.angleDeg}};
+  j["max_gap_mm"] = r.maxGap;
+  j["crease_angle_deg"] = r.creaseAngleDeg;
+  OrderedJson seams = OrderedJson::array();
+  for (const occt::BRepHealSeam& s : r.seams) {
+    OrderedJson x;
+    x["edge"] = s.edge;
+    x["a"] = s.a;
+    x["b"] = s.b;
+    x["entity_a"] = s.entityA;
+    x["entity_b"] = s.entityB;
+    x["action"] = s.action;
+    x["moved"] = s.moved;
+    x["before"] = seamJson(s.before, r.creaseAngleDeg);
+    x["after"] = s.after ? seamJson(*s.after, r.creaseAngleDeg) : OrderedJson();
+    x["worse"] = s.worse;
+    seams.push_back(std::move(x));
+  }
+  j["seams"] = std::move(seams);
+  j["faces_changed"] = r.facesChanged;
+  j["faces_reverted"] = r.facesReverted;
+  j["max_surface_displacement_mm"] = r.maxSurfaceDisplacement;
+  const occt::BRepCounts &b = r.before, &a = r.after;
+  j["counts"] = {{"faces", {b.faces, a.faces}},       {"trimmed_faces", {b.trimmedFaces, a.trimmedFaces}},
+                 {"edges", {b.edges, a.edges}},       {"solids", {b.solids, a.solids}},
+                 {"area_mm2", {b.area, a.area}},      {"valid", {b.valid, a.valid}}};
+  j["seams_to_heal"] = r.seamsToHeal;
+  j["seams_healed"] = r.seamsHealed;
+  j["seams_worse"] = r.seamsWorse;
+  j["notes"] = r.notes;
+  j["achieved"] = r.achieved;
+  return j;
+}
+
+}  // namespace seam::cli
