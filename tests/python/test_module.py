@@ -226,8 +226,11 @@ def test_report_writes_html(examples, tmp_path):
     assert not [p for p in tmp_path.iterdir() if p.name != "r.html"]  # atomic: no temporary file left
     with pytest.raises(OSError):
         seam.report(m, tmp_path)  # a directory is not an output file
-    with pytest.raises(ValueError, match="save writes .json"):
+    with pytest.raises(ValueError, match=r"save writes .json, .step/.stp and .iges/.igs"):
+        seam.save(m, tmp_path / "m.obj")
+    if seam.has_occt:  # STEP by the extension, as `seam convert x.json y.step`: the patches sewn
         seam.save(m, tmp_path / "m.step")
+        assert seam.check(str(tmp_path / "m.step"))["summary"]["seams"] == seam.check(m)["summary"]["seams"]
 
 
 def test_curve_parameters_are_a_number_or_a_list_of_reals(examples):
