@@ -43,6 +43,7 @@ OrderedJson brepHealJson(const occt::BRepHealReport& r, const std::string& input
     x["entity_b"] = s.entityB;
     x["action"] = s.action;
     x["moved"] = s.moved;
+    x["moved_mm"] = s.moved.empty() ? OrderedJson() : OrderedJson(s.movedBy);
     x["before"] = seamJson(s.before, r.creaseAngleDeg);
     x["after"] = s.after ? seamJson(*s.after, r.creaseAngleDeg) : OrderedJson();
     x["worse"] = s.worse;
@@ -52,6 +53,10 @@ OrderedJson brepHealJson(const occt::BRepHealReport& r, const std::string& input
   j["faces_changed"] = r.facesChanged;
   j["faces_reverted"] = r.facesReverted;
   j["max_surface_displacement_mm"] = r.maxSurfaceDisplacement;
+  OrderedJson moves = OrderedJson::array();
+  for (const occt::BRepFaceMove& m : r.faceMoves)
+    moves.push_back({{"face", m.face}, {"moved_mm", m.sampled}, {"bound_mm", m.bound}});
+  j["face_moves"] = std::move(moves);
   const occt::BRepCounts &b = r.before, &a = r.after;
   j["counts"] = {{"faces", {b.faces, a.faces}},       {"trimmed_faces", {b.trimmedFaces, a.trimmedFaces}},
                  {"edges", {b.edges, a.edges}},       {"solids", {b.solids, a.solids}},

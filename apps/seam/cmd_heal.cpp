@@ -75,7 +75,8 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
     for (const occt::BRepHealSeam& s : r.seams) {
       if (s.action == "already G1" || s.action == "already G0" || s.action == "crease kept") continue;
       rows.push_back({std::to_string(s.edge), s.a + (s.entityA.empty() ? "" : " " + s.entityA),
-                      s.b + (s.entityB.empty() ? "" : " " + s.entityB), s.moved.empty() ? "-" : s.moved,
+                      s.b + (s.entityB.empty() ? "" : " " + s.entityB),
+                      s.moved.empty() ? "-" : fmt::format("{} {}", s.moved, formatNumber(s.movedBy)),
                       formatNumber(s.before.g0Max), formatNumber(s.before.g1MaxDeg),
                       brepSeamState(s.before, r.creaseAngleDeg), s.after ? formatNumber(s.after->g0Max) : "?",
                       s.after ? formatNumber(s.after->g1MaxDeg) : "?",
@@ -87,15 +88,24 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
                                    formatNumber(r.creaseAngleDeg), formatNumber(r.tolerances.distance),
                                    formatNumber(r.tolerances.angleDeg));
     text += rows.empty() ? std::string("no seam needs healing\n")
-                         : formatTable({"edge", "face A", "face B", "moved", "gap before (mm)", "angle before (deg)",
-                                        "before", "gap after (mm)", "angle after (deg)", "after", "action", ""},
+                         : formatTable({"edge", "face A", "face B", "moved (mm)", "gap before (mm)",
+                                        "angle before (deg)", "before", "gap after (mm)", "angle after (deg)", "after",
+                                        "action", ""},
                                        rows,
                                        {true, false, false, false, true, true, false, true, true, false, false, false});
     std::string changed;
-    for (const std::string& f : r.facesChanged) changed += (changed.empty() ? "" : ", ") + f;
+    double largest = 0.0;
+    for (const occt::BRepFaceMove& m : r.faceMoves) {
+      changed += fmt::format("{}{} {} mm (control points {} mm)", changed.empty() ? "" : ", ", m.face,
+                             formatNumber(m.sampled), formatNumber(m.bound));
+      largest = std::max(largest, m.sampled);
+    }
     text += fmt::format("\nfaces changed: {}\n", changed.empty() ? "none" : changed);
-    text += fmt::format("largest surface displacement: {} mm (a bound: the largest control-point move)\n",
-                        formatNumber(r.maxSurfaceDisplacement));
+    if (!r.faceMoves.empty())
+      text += fmt::format("largest surface displacement: {} mm, measured inside the trims on a {} x {} grid (bound: {} "
+                          "mm, the largest control-point move)\n",
+                          formatNumber(largest), occt::kHealFoldGrid, occt::kHealFoldGrid,
+                          formatNumber(r.maxSurfaceDisplacement));
     text += fmt::format("kept: faces {} -> {}, trimmed faces {} -> {}, edges {} -> {}, solids {} -> {}; area {} -> "
                         "{} mm²; OpenCASCADE's BRepCheck valid {} -> {}\n",
                         r.before.faces, r.after.faces, r.before.trimmedFaces, r.after.trimmedFaces, r.before.edges,

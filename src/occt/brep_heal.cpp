@@ -485,13 +485,13 @@ void unrefine(const Handle(Geom_BSplineSurface)& bs, const Saved& saved) {
 }
 
 
-/// True when the surface's normal inside the face's trims reverses against `before` somewhere on a grid.
 /// What a move did to a face, on the kHealFoldGrid grid of its (u, v) box, points inside its trims: whether its
 /// normal reverses anywhere (a fold), and its area against before, as the ratio of the sums of |S_u x S_v| (the
 /// same grid weighs both: the ratio of the areas within the grid's quadrature error, far below kHealFaceAreaRel).
 struct FaceChange {
   bool folds = false;
   double areaRatio = 1.0;
+  double maxMove = 0.0;  ///< the largest |S_now - S_before| at the grid's points (in the surface's own frame)
 };
 /// The points of the kHealFoldGrid grid of a face's (u, v) box that lie inside its trims (classified once per face:
 /// the trims do not move).
@@ -515,8 +515,10 @@ FaceChange compareFace(const std::vector<gp_Pnt2d>& grid, const Handle(Geom_BSpl
   for (const gp_Pnt2d& uv : grid) {
     gp_Pnt p;
     gp_Vec au, av, bu, bv;
+    gp_Pnt q;
     now->D1(uv.X(), uv.Y(), p, au, av);
-    before->D1(uv.X(), uv.Y(), p, bu, bv);
+    before->D1(uv.X(), uv.Y(), q, bu, bv);
+    c.maxMove = std::max(c.maxMove, p.Distance(q));
     const gp_Vec na = au.Crossed(av), nb = bu.Crossed(bv);
     areaNow += na.Magnitude();
     areaBefore += nb.Magnitude();
@@ -811,7 +813,8 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
   for (size_t k = 0; k < plans.size(); ++k)
     if (plans[k].kind != Plan::kNothing) byMover[plans[k].mover].push_back(k);
   std::map<int, Saved> saved;
-  std::map<int, double> displacement;
+  std::map<int, double> displacement;  // by face: its largest control-point move (mm, a bound)
+  std::map<int, double> moved;         // by face: its largest move at its fold grid's points (mm, measured)
   const double sigmaAngle = tol.angleDeg * kDegToRad;
   auto moveFaces = [&](const std::map<int, std::vector<size_t>>& movers) {
     for (const auto& [fi, seamIdx] : movers) {
@@ -915,6 +918,7 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
     unrefine(e.surface, sv);
     saved.erase(fi);
     displacement.erase(fi);
+    moved.erase(fi);
   };
   std::map<int, std::string> reverted;
   Result<BRepCheckReport> after = mid;
@@ -931,11 +935,13 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
         const TopoDS_Face face = TopoDS::Face(faceMap(fi));
         auto& grid = grids[fi];
         if (grid.empty()) grid = gridInside(face);
-        const FaceChange change = compareFace(grid, editable[static_cast<size_t>(fi)]->surface, sv.copy);
+        const Editable& e = *editable[static_cast<size_t>(fi)];
+        const FaceChange change = compareFace(grid, e.surface, sv.copy);
+        moved[fi] = change.maxMove * std::abs(e.toModel.ScaleFactor());
         if (change.folds)
-          bad[fi] = fmt::format("the face would fold (its normal reverses inside its trims; its largest control-point "
-                                "move was {:.3g})",
-                                displacement[fi]);
+          bad[fi] = fmt::format("the face would fold (its normal reverses inside its trims; it moved by up to {:.3g} "
+                                "mm there, its control points by up to {:.3g} mm)",
+                                moved[fi], displacement[fi]);
         else if (std::abs(change.areaRatio - 1.0) > kHealFaceAreaRel)
           bad[fi] = fmt::format("the face's area would change by {:.3g} %", 100.0 * (change.areaRatio - 1.0));
       }
@@ -1044,7 +1050,11 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
   for (const auto& [fi, d] : displacement) {
     report.facesChanged.push_back(fmt::format("F{}", fi));
     report.maxSurfaceDisplacement = std::max(report.maxSurfaceDisplacement, d);
+    report.faceMoves.push_back({fmt::format("F{}", fi), moved.count(fi) ? moved.at(fi) : d, d});
   }
+  for (BRepHealSeam& hs : report.seams)
+    if (!hs.moved.empty())
+      if (const auto it = moved.find(faceIndex(hs.moved)); it != moved.end()) hs.movedBy = it->second;
   for (const auto& [fi, why] : reverted) {
     report.facesReverted.push_back(fmt::format("F{}", fi));
     report.notes.push_back(fmt::format("F{} put back as it was: {}", fi, why));
@@ -1214,6 +1224,7 @@ Result<BRepHealReport> unchangedAfterReadBack(const fs::path& in, const fs::path
     if (s.moved.empty() && s.action.rfind("trims projected", 0) != 0) continue;
     s.action = "left: the healed file, read back, had a seam worse than the input (" + worse + ")";
     s.moved.clear();
+    s.movedBy = 0.0;
     s.after = s.before;
   }
   report.notes.push_back(fmt::format("nothing of the heal was written: read back from the written file, {}; the "
@@ -1222,6 +1233,7 @@ Result<BRepHealReport> unchangedAfterReadBack(const fs::path& in, const fs::path
   std::erase_if(report.notes, [](const std::string& n) { return n.find("projected again") != std::string::npos; });
   report.facesReverted.insert(report.facesReverted.end(), report.facesChanged.begin(), report.facesChanged.end());
   report.facesChanged.clear();
+  report.faceMoves.clear();
   report.maxSurfaceDisplacement = 0.0;
   report.trimsReprojected = 0;
   report.seamsHealed = 0;

@@ -82,8 +82,18 @@ struct BRepHealSeam {
   /// "healed", "crease: gap closed", "left: <reason>", "already G1", "crease kept", "above --max-gap", ...
   std::string action;
   std::string moved;                ///< the face moved, "" when none
+  /// How far the moved face moved (mm, BRepFaceMove::sampled of `moved`); 0 when none moved.
+  double movedBy = 0.0;
   bool worse = false;               ///< after is worse than before (never in a written output: such faces revert)
   Vec3 midpoint = Vec3::Zero();     ///< the middle point of the edge (pairs the seams of the written file)
+};
+
+/// A face the heal moved and kept moved: how far, in mm.
+struct BRepFaceMove {
+  std::string face;      ///< "F<n>", as `seam check` names it
+  double sampled = 0.0;  ///< the largest distance between the surface before and after, at the points of a
+                         ///< kHealFoldGrid x kHealFoldGrid grid of the face's (u, v) box inside its trims (measured)
+  double bound = 0.0;    ///< the largest control-point move: a bound of the surface's move (convex hull)
 };
 
 struct BRepHealReport {
@@ -98,6 +108,8 @@ struct BRepHealReport {
   /// Largest displacement of a healed surface, mm: max |dP| over its control points, a bound of the surface's
   /// displacement (convex hull, positive weights).
   double maxSurfaceDisplacement = 0.0;
+  /// Every face moved and kept moved, in face order, with how far (issue 38 goal 6).
+  std::vector<BRepFaceMove> faceMoves;
   int seamsToHeal = 0, seamsHealed = 0, seamsWorse = 0, creasesKept = 0;
   /// Edges whose trims alone had a gap (their 3-D curve on both surfaces): their pcurves were projected again.
   int trimsReprojected = 0;
