@@ -6,7 +6,7 @@
 # The STEP and IGES harnesses (fuzz_step, fuzz_iges: seam's reader over OpenCASCADE, about a hundred inputs a second)
 # run a fixed number of inputs instead, CAD_RUNS (default 400), so that a CI run repeats exactly; CAD_RUNS=0 skips them.
 # The writer harness (fuzz_export: JSON models written as STEP / IGES by seam's writer, issue 39 §6) runs EXPORT_RUNS
-# inputs (default 1000, about 25 s; 0 skips it), as the readers do.
+# inputs (default 1000, about 15 s; 0 skips it), as the readers do.
 # The JSON, .bpt and expression harnesses run memory-capped (issue 39 §6): no single allocation above MALLOC_LIMIT_MB
 # (default 64) and at most 512 MB resident; an input of at most 64 kB that asks for more is a blow-up (a size read
 # from the input and trusted), which libFuzzer reports as a crash with the input.
