@@ -514,8 +514,17 @@ py::tuple heal(const PyModel& m, const std::string& continuity, const std::strin
 }
 
 /// report: the HTML page of `seam report` for a patch model, written atomically; returns the path.
+std::string writeBRepReport(const std::filesystem::path& file, const std::filesystem::path& out,
+                            const std::optional<std::string>& title, const std::optional<std::string>& units,
+                            const std::optional<std::string>& preset, const Model* model);
+
 std::string writeReport(const PyModel& m, const std::filesystem::path& out, const std::optional<std::string>& title) {
   if (m.model.patches.empty()) throw py::value_error(m.source + ": the model has no patches: nothing to check");
+#ifdef SEAM_HAVE_OCCT
+  // A model with its trimmed faces' topology (a JSON with "brep", or loaded from STEP/IGES): the B-rep page, as
+  // `seam report` of the JSON.
+  if (m.model.brep) return writeBRepReport(m.source, out, title, std::nullopt, std::nullopt, &m.model);
+#endif
   if (const Status s = io::checkOutputFile(out); !s) raise(s);
   Status written = Status::ok();
   {
@@ -565,11 +574,12 @@ void save(const PyModel& m, const std::filesystem::path& out) {
 /// written atomically; returns the path.
 std::string writeBRepReport(const std::filesystem::path& file, const std::filesystem::path& out,
                             const std::optional<std::string>& title, const std::optional<std::string>& units,
-                            const std::optional<std::string>& preset) {
+                            const std::optional<std::string>& preset, const Model* model = nullptr) {
   ToleranceOverrides tol;
   applyUnitsAndPreset(tol, units, preset);
   if (const Status s = io::checkOutputFile(out); !s) raise(s);
-  if (const Status s = io::checkInputFile(file, io::kMaxCadFileBytes); !s) raise(s);
+  if (model == nullptr)
+    if (const Status s = io::checkInputFile(file, io::kMaxCadFileBytes); !s) raise(s);
   report::HtmlReportOptions ro;
   ro.title = title ? *title : "seam report: " + file.filename().string();
   Result<cli::BRepReportPage> page = Status(ErrorCode::kIoError, "not read");
@@ -578,7 +588,7 @@ std::string writeBRepReport(const std::filesystem::path& file, const std::filesy
     py::gil_scoped_release release;
     std::lock_guard lock(cadMutex());
     try {
-      page = cli::brepReportPage(file, tol, ro);
+      page = cli::brepReportPage(file, tol, ro, {}, model);
     } catch (const std::bad_alloc&) {
       page = Status(ErrorCode::kInvalidInput, file.string() + ": out of memory while checking the model");
     }

@@ -8,6 +8,7 @@
 #include "units_text.h"
 #ifdef SEAM_HAVE_OCCT
 #include "seam/occt/brep_check.h"
+#include "seam/occt/brep_model.h"
 #endif
 
 namespace seam::cli {
@@ -25,7 +26,7 @@ bool hasBRepReport() { return true; }
 
 Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const ToleranceOverrides& tol,
                                       const report::HtmlReportOptions& options,
-                                      const std::function<void(int, int, int)>& progress) {
+                                      const std::function<void(int, int, int)>& progress, const Model* model) {
   occt::BRepCheckOptions bo;
   bo.seam.keepSamples = true;
   bo.tolerances = tol;
@@ -35,7 +36,8 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
   bo.meshFaces = options.view3d;
   bo.meshTrimmedOnly = true;
   bo.meshVertexBudget = report::kDefaultViewVertexBudget / 2;
-  const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, bo);
+  const Result<occt::BRepCheckReport> r =
+      model != nullptr ? occt::checkBRepModel(*model, file, bo) : occt::checkBRepFile(file, bo);
   if (!r) return r.status();
   report::ReportData d;
   d.warnings = r->import.warnings;
@@ -104,7 +106,8 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
 bool hasBRepReport() { return false; }
 
 Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const ToleranceOverrides&,
-                                      const report::HtmlReportOptions&, const std::function<void(int, int, int)>&) {
+                                      const report::HtmlReportOptions&, const std::function<void(int, int, int)>&,
+                                      const Model*) {
   return Status(ErrorCode::kInvalidInput,
                 fmt::format("{}: STEP/IGES need a build with SEAM_WITH_OCCT (OpenCASCADE)", file.string()));
 }

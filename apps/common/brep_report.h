@@ -12,6 +12,7 @@
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
 #include "seam/core/units.h"
+#include "seam/model/model.h"
 #include "seam/report/report.h"
 
 namespace seam::cli {
@@ -31,10 +32,13 @@ struct BRepReportPage {
 bool hasBRepReport();
 
 /// The report page of a STEP/IGES file: occt::checkBRepFile with the tolerances `tol` (--tol-* / --preset /
-/// --units) and `options.view3d`'s face meshes. Errors: the file cannot be read, is not STEP/IGES, or OpenCASCADE
-/// failed on it (the message names the file); without OpenCASCADE, always an error.
+/// --units) and `options.view3d`'s face meshes; with `model` (a JSON model with its B-rep topology, Model::brep,
+/// read from `file`), occt::checkBRepModel of it instead, as `seam check` of that JSON. Errors: the file cannot be
+/// read, is not STEP/IGES, or OpenCASCADE failed on it (the message names the file); without OpenCASCADE, always an
+/// error.
 Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const ToleranceOverrides& tol,
                                       const report::HtmlReportOptions& options,
-                                      const std::function<void(int, int, int)>& progress = {});
+                                      const std::function<void(int, int, int)>& progress = {},
+                                      const Model* model = nullptr);
 
 }  // namespace seam::cli

@@ -74,8 +74,9 @@ bool parseSelection(const ReportOptions& o, SeamSelection& sel) {
 
 #ifdef SEAM_HAVE_OCCT
 /// STEP/IGES: the B-rep check (every shared edge through the pcurves), OpenCASCADE's verdict as an extra column
-/// (brepReportPage, apps/common/brep_report.h: the same page as Python's seam.report).
-int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
+/// (brepReportPage, apps/common/brep_report.h: the same page as Python's seam.report). `model`: a JSON model with
+/// its B-rep topology (Model::brep), reported as the shape made from it (as `seam check` of it); else o.file is read.
+int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro, const Model* model = nullptr) {
   const Result<BRepReportPage> page = [&] {
     const CadTimeLimit limit(o.file, "reading and checking");
     // The last progress call comes when every edge is checked: the 3-D view's meshing follows (the time limit's
@@ -84,7 +85,7 @@ int runBRepReport(const ReportOptions& o, const report::HtmlReportOptions& ro) {
     return brepReportPage(o.file, o.tol, ro, [printer, file = o.file](int faces, int done, int total) {
       printer(faces, done, total);
       if (done == total) setActivity(fmt::format("{}: meshing the faces for the 3-D view", file));
-    });
+    }, model);
   }();
   if (!page) {
     printError(page.status().message());
@@ -121,6 +122,11 @@ int runReport(const ReportOptions& o) {
     fmt::print("{}: the model has no patches: nothing to check (no report written)\n", o.file);
     return kExitOk;
   }
+#ifdef SEAM_HAVE_OCCT
+  // A JSON with trimmed faces and their topology: the B-rep route, as `seam check` of it (its faces' real edges,
+  // not the patches of their parameter boxes).
+  if (model->brep) return runBRepReport(o, ro, &*model);
+#endif
   ModelCheckOptions mo;
   const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model->boundingBox().diagonal());
   mo.tolerances = resolved.tolerances;

@@ -217,6 +217,27 @@ def test_brep_report_matches_cli(cli, shared_data, run_cli, tmp_path, name, kwar
         seam.report(tmp_path / "missing.step", tmp_path / "bad.html")
 
 
+@pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")
+def test_report_of_a_json_with_its_brep_is_the_brep_report(cli, shared_data, run_cli, tmp_path):
+    """A JSON with trimmed faces and their topology ("brep") is reported as a B-rep, as `seam check` of it: its
+    faces' real edges (linkrods: 108), not the patches of their parameter boxes (35); the same page from Python as
+    from the CLI."""
+    json_path = tmp_path / "linkrods.json"
+    code, _, err = run_cli("convert", os.path.join(shared_data, "step", "linkrods.step"), str(json_path))
+    assert code == 0, err
+    cli_out, py_out = tmp_path / "cli.html", tmp_path / "py.html"
+    p = subprocess.run([cli, "report", str(json_path), "-o", str(cli_out)], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 0, p.stderr
+    code, checked, err = run_cli("check", str(json_path), "--json")
+    assert code in (0, 1), err
+    assert checked["summary"]["seams"] == 108
+    assert f"({checked['summary']['seams']} B-rep seams" in p.stdout
+    assert seam.report(str(json_path), py_out) == str(py_out)
+    assert py_out.read_text() == cli_out.read_text()
+    assert "OpenCASCADE" in py_out.read_text()
+
+
 def test_report_writes_html(examples, tmp_path):
     m = seam.load(os.path.join(examples, "models", "two_patches.json"))
     out = tmp_path / "r.html"
