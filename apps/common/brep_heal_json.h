@@ -14,8 +14,9 @@ namespace seam::cli {
 std::string brepSeamState(const SeamReport& r, double creaseDeg);
 
 /// {"input", "output" (when given), "route": "brep", "requested", "unit", "tolerances", "max_gap_mm",
-/// "crease_angle_deg", "seams", "faces_changed", "faces_reverted", "max_surface_displacement_mm", "counts",
-/// "seams_to_heal", "seams_healed", "seams_worse", "notes", "achieved"} (docs/cli.md, `seam heal`).
+/// "crease_angle_deg", "seams" (each with "moved" and "moved_mm"), "faces_changed", "faces_reverted",
+/// "max_surface_displacement_mm", "face_moves", "counts", "seams_to_heal", "seams_healed", "seams_worse", "notes",
+/// "achieved"} (docs/brep-repair.md, "The report").
 OrderedJson brepHealJson(const occt::BRepHealReport& r, const std::string& input,
                          const std::optional<std::string>& output);
 
