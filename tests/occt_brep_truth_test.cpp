@@ -333,6 +333,53 @@ TEST(OcctTruth, SeamAnglesAreBetweenClosestPointsWhenPCurvesDrift) {
   }
 }
 
+// Two flat faces, each a fan S(u, v) = v C(u) of a cubic in one tilted plane (a pole at v = 0, the fan's apex, where
+// S_u vanishes), sewn along the ray from the apex; A has a hole, so that the seam goes through the pcurves. One plane:
+// the seam is G2 whatever the parametrisations. The cubics run at uneven speed so that the second derivatives do not
+// vanish, and the plane is tilted so that its normal has no exact coordinates: next to the apex the sampled curvature
+// jump is round-off over the vanishing normal. Issue 35 §2: the sampled route refined that jump into the interval
+// next to the pole and could call such a seam G1 (trj3's F22/F23 read back from JSON: 1.4e-6 1/mm, 0.75 of the flat
+// reference, 2e-4 mm from the pole). At three scales.
+TEST(OcctTruth, FlatFacesMeetingAtAPoleAreG2) {
+  for (const double size : {1e-3, 1.0, 1e4}) {
+    SCOPED_TRACE(::testing::Message() << "size " << size);
+    const gp_Dir n(0.31, -0.52, 0.79);
+    const gp_Dir e1 = gp_Dir(gp_Vec(n).Crossed(gp_Vec(0.2, 0.9, 0.1)));
+    const gp_Dir e2 = n.Crossed(e1);
+    auto inPlane = [&](double x, double y) {
+      return gp_Pnt(size * (x * e1.X() + y * e2.X()), size * (x * e1.Y() + y * e2.Y()),
+                    size * (x * e1.Z() + y * e2.Z()));
+    };
+    // The cubics in the plane: A's from (1, -1) to (1, 0), B's from (1, 0) to (1, 1), bulging, bunched unevenly.
+    auto fan = [&](const double (&x)[4], const double (&y)[4]) {
+      TColgp_Array2OfPnt poles(1, 4, 1, 2);
+      for (int i = 1; i <= 4; ++i) {
+        poles(i, 1) = inPlane(0.0, 0.0);
+        poles(i, 2) = inPlane(x[i - 1], y[i - 1]);
+      }
+      TColStd_Array1OfReal uk(1, 2), vk(1, 2);
+      TColStd_Array1OfInteger um(1, 2), vm(1, 2);
+      uk(1) = vk(1) = 0.0, uk(2) = vk(2) = 1.0, um(1) = um(2) = 4, vm(1) = vm(2) = 2;
+      return Handle(Geom_BSplineSurface)(new Geom_BSplineSurface(poles, uk, vk, um, vm, 3, 1));
+    };
+    const Handle(Geom_BSplineSurface) sa = fan({1.0, 1.3, 1.1, 1.0}, {-1.0, -0.9, -0.6, 0.0});
+    const Handle(Geom_BSplineSurface) sb = fan({1.0, 1.2, 1.25, 1.0}, {0.0, 0.05, 0.7, 1.0});
+    const HoledPair pair = holedPairSewn(sa, BRepBuilderAPI_MakeFace(sb, 1e-9 * size).Face(), sb, size);
+    ASSERT_FALSE(pair.shared.IsNull()) << "sewing found the ray";
+    const fs::path f = writeStep(pair.shape, "flat_fans_at_a_pole");
+    const Result<occt::BRepCheckReport> r = occt::checkBRepFile(f);
+    fs::remove(f);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_EQ(r->seams.size(), 1u) << "the ray from the apex";
+    const SeamReport& q = r->seams[0].report;
+    EXPECT_FALSE(r->seams[0].viaPatchEdges) << "the pcurve route";
+    EXPECT_LE(q.g0Max, 1e-9 * size);
+    EXPECT_LE(q.g1MaxDeg, 1e-6);
+    EXPECT_EQ(q.geometric, GeometricClass::kG2) << "g2 " << q.g2Max << " (relative " << q.g2RelMax << ")";
+    expectConsistent(*r);
+  }
+}
+
 // A hemisphere (in two halves) on a cylinder of its radius:// A hemisphere (in two halves) on a cylinder of its radius: tangent along the equator (G1; curvature 1/R across
 // on the sphere, 0 on the cylinder: not G2), G2 along the sphere's meridians (through the pole) and the cylinder's
 // lines.
