@@ -5,12 +5,22 @@
 //   BM_ReadLongRowPatch/n         io::parseModelJson (the fast route, simdjson) of a 2 x n patch
 //   BM_ReadLongRowPatchNlohmann/n the nlohmann route (SAX into a compact document) of the same text
 //   BM_ReadLongCurve/n            io::parseModelJson of a curve of n points
+//
+// Reading a model file of n bicubic B-spline patches (issue 37 goal 4; peak memory is measured on the whole CLI with
+// /usr/bin/time, docs/performance.md):
+//   BM_ReadModelFileStreamed/n    io::readModelJson: the streamed route, one element at a time from 1 MB chunks
+//   BM_ReadModelFileWhole/n       io::readFile, then io::parseModelJson of the whole text (the route before)
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
+#include <random>
 #include <string>
 
 #include "io/json_read.h"
+#include "seam/io/file.h"
 #include "seam/io/json.h"
 
 namespace {
@@ -61,6 +71,63 @@ void BM_ReadLongCurve(benchmark::State& state) {
   readLoop(state, longRowText(static_cast<int>(state.range(0)), true), seam::io::parseModelJson, state.range(0));
 }
 BENCHMARK(BM_ReadLongCurve)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+/// A file of n bicubic B-spline patches (one interior knot in v) written as seam writes models, in the temporary
+/// folder; removed when the benchmark ends.
+struct ModelFile {
+  std::filesystem::path path;
+  std::uintmax_t bytes = 0;
+  explicit ModelFile(int n) {
+    path = std::filesystem::temp_directory_path() / fmt::format("seam_json_read_bench_{}_{}.json", ::getpid(), n);
+    std::mt19937 rng(static_cast<unsigned>(n));
+    std::uniform_real_distribution<double> coord(-500.0, 500.0);
+    std::ofstream os(path, std::ios::binary);
+    os << "{\n  \"patches\": [";
+    for (int k = 0; k < n; ++k) {
+      os << (k == 0 ? "\n" : ",\n") << fmt::format("    {{\n      \"name\": \"P{}\",\n      \"type\": \"bspline\",\n      "
+                                                "\"degree\": [3, 3],\n      \"knots\": [[0, 0, 0, 0, 1, 1, 1, 1], "
+                                                "[0, 0, 0, 0, 0.5, 1, 1, 1, 1]],\n      \"points\": [\n",
+                                                k);
+      for (int i = 0; i < 4; ++i) {
+        os << "        [";
+        for (int j = 0; j < 5; ++j)
+          os << fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", j == 0 ? "" : ", ", coord(rng), coord(rng), coord(rng));
+        os << (i < 3 ? "],\n" : "]\n");
+      }
+      os << "      ]\n    }";
+    }
+    os << "\n  ]\n}\n";
+    os.close();
+    bytes = std::filesystem::file_size(path);
+  }
+  ~ModelFile() { std::filesystem::remove(path); }
+};
+
+void BM_ReadModelFileStreamed(benchmark::State& state) {
+  const ModelFile file(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    auto m = seam::io::readModelJson(file.path);
+    if (!m) state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(file.bytes));
+}
+BENCHMARK(BM_ReadModelFileStreamed)->Arg(1000)->Arg(30000)->Unit(benchmark::kMillisecond);
+
+void BM_ReadModelFileWhole(benchmark::State& state) {
+  const ModelFile file(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    auto text = seam::io::readFile(file.path);
+    if (!text) state.SkipWithError(text.status().message().c_str());
+    auto m = seam::io::parseModelJson(*text, file.path.string());
+    if (!m) state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(file.bytes));
+}
+BENCHMARK(BM_ReadModelFileWhole)->Arg(1000)->Arg(30000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

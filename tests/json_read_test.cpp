@@ -3,7 +3,8 @@
 // message stays the nlohmann route's. Tests: random model texts (numbers spelt in many ways, duplicate keys,
 // whitespace) give bit-identical Models on both routes and the doubles strtod gives for the same literals; every
 // hostile input gives the same message through parseModelJson as through the nlohmann route; the fast route is
-// taken for valid files.
+// taken for valid files. The streamed route of readModelJson (issue 37 goal 4: a file read in chunks, one element at
+// a time) gives the same models where it reads one, and declines everything else.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -92,8 +93,21 @@ void expectSameModel(const Model& a, const Model& b) {
 
 /// Both routes on `text`: when the fast route reads a model, the nlohmann route reads the same one; the public
 /// function gives exactly the nlohmann route's result. Returns whether the fast route was taken.
+/// `text` written to a file of the test's own and read by the streamed route (readModelJson's first).
+std::optional<Model> streamedFromFile(const std::string& text, const std::string& source) {
+  const fs::path file = fs::temp_directory_path() / fmt::format("seam_json_read_test_{}.json", ::getpid());
+  {
+    std::ofstream os(file, std::ios::binary);
+    os << text;
+  }
+  std::optional<Model> m = io::detail::readModelJsonStreamed(file, source);
+  fs::remove(file);
+  return m;
+}
+
 bool expectSameOnBothRoutes(const std::string& text, const std::string& source) {
   const std::optional<Model> fast = io::detail::parseModelJsonFast(text, source);
+  const std::optional<Model> streamed = streamedFromFile(text, source);
   const Result<Model> slow = io::detail::parseModelJsonNlohmann(text, source);
   const Result<Model> pub = io::parseModelJson(text, source);
   EXPECT_EQ(pub.isOk(), slow.isOk());
@@ -101,6 +115,12 @@ bool expectSameOnBothRoutes(const std::string& text, const std::string& source) 
     EXPECT_TRUE(slow.isOk()) << "the fast route read a model that the nlohmann route refuses: "
                              << slow.status().message();
     if (slow) expectSameModel(*fast, *slow);
+  }
+  if (streamed) {
+    EXPECT_TRUE(slow.isOk()) << "the streamed route read a model that the nlohmann route refuses: "
+                             << slow.status().message();
+    if (slow) expectSameModel(*streamed, *slow);
+    EXPECT_TRUE(fast.has_value()) << "the streamed route read a model that the fast route declines";
   }
   if (slow && pub) {
     expectSameModel(*pub, *slow);
@@ -305,6 +325,54 @@ TEST(JsonReadRoutes, WriterOutputAndExampleModelsTakeTheFastRoute) {
   }
 }
 
+// A model of several megabytes, so that elements straddle the streamed route's 1 MB chunks: the same model as the
+// nlohmann route, point for point. The same text with one bad patch near its end (a degree below 1): the streamed
+// route declines, and readModelJson gives the nlohmann route's message.
+TEST(JsonReadRoutes, AModelOfManyChunksIsStreamedAndItsLastErrorIsTheOtherRoutesMessage) {
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<double> coord(-1e3, 1e3);
+  constexpr int kPatches = 6000;
+  std::string text = "{\n  \"$schema\": \"seam-model\",\n  \"patches\": [";
+  for (int k = 0; k < kPatches; ++k) {
+    text += fmt::format("{}\n    {{\"name\": \"P{}\", \"type\": \"bspline\", \"degree\": [3, 2], "
+                        "\"knots\": [[0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 0.25, 1, 1, 1]], \"points\": [",
+                        k == 0 ? "" : ",", k);
+    for (int i = 0; i < 4; ++i) {
+      text += i == 0 ? "[" : ", [";
+      for (int j = 0; j < 4; ++j)
+        text += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", j == 0 ? "" : ", ", coord(rng), coord(rng), coord(rng));
+      text += "]";
+    }
+    text += "]}";
+  }
+  text += "\n  ],\n  \"curves\": [{\"name\": \"C\", \"type\": \"bezier\", \"points\": [[0, 0], [1, 2]]}]\n}\n";
+  ASSERT_GT(text.size(), size_t{4} << 20);
+  const std::optional<Model> streamed = streamedFromFile(text, "many.json");
+  const Result<Model> slow = io::detail::parseModelJsonNlohmann(text, "many.json");
+  ASSERT_TRUE(slow.isOk()) << slow.status().message();
+  ASSERT_TRUE(streamed.has_value());
+  expectSameModel(*streamed, *slow);
+  ASSERT_EQ(streamed->curves.size(), 1u);
+  EXPECT_EQ(streamed->curves[0].curve.numPoints(), 2);
+
+  const std::string good = "\"degree\": [3, 2]", bad = "\"degree\": [0, 2]";
+  text.replace(text.rfind(good), good.size(), bad);
+  const fs::path file = fs::temp_directory_path() / fmt::format("seam_json_many_{}.json", ::getpid());
+  {
+    std::ofstream os(file, std::ios::binary);
+    os << text;
+  }
+  EXPECT_FALSE(io::detail::readModelJsonStreamed(file, file.string()).has_value());
+  const Result<Model> viaFile = io::readModelJson(file);
+  const Result<Model> expected = io::detail::parseModelJsonNlohmann(text, file.string());
+  fs::remove(file);
+  ASSERT_FALSE(expected.isOk());
+  ASSERT_FALSE(viaFile.isOk());
+  EXPECT_EQ(viaFile.status().message(), expected.status().message());
+  EXPECT_NE(expected.status().message().find(fmt::format("P{}", kPatches - 1)), std::string::npos)
+      << expected.status().message();
+}
+
 TEST(JsonReadRoutes, HostileFilesGiveTheSameMessageOnBothRoutes) {
   int files = 0;
   for (const auto& entry : fs::directory_iterator(fs::path(SEAM_TEST_DATA_DIR) / "hostile")) {
@@ -417,8 +485,11 @@ std::vector<Model> readOnBothRoutes(const std::string& text, const std::string& 
   Result<Model> slow = io::detail::parseModelJsonNlohmann(text, source);
   if (!fast) ADD_FAILURE() << source << ": the fast route failed";
   if (!slow) ADD_FAILURE() << source << ": " << slow.status().message();
+  std::optional<Model> streamed = streamedFromFile(text, source);
+  if (!streamed) ADD_FAILURE() << source << ": the streamed route declined";
   if (fast) out.push_back(std::move(*fast));
   if (slow) out.push_back(std::move(slow).value());
+  if (streamed) out.push_back(std::move(*streamed));
   return out;
 }
 
@@ -434,8 +505,8 @@ TEST(JsonReadLongRows, TwoRowsOf100000PointsAreReadExactlyOnBothRoutes) {
                   R"("knots": [[0, 0, 1, 1], {}], "points": [{}, {}]}}]}})",
                   longRowKnots(kPoints), longRow(0, kPoints), longRow(1, kPoints));
   const std::vector<Model> routes = readOnBothRoutes(text, "long.json");
-  ASSERT_EQ(routes.size(), 2u);
-  for (const Model* m : {&routes[0], &routes[1]}) {
+  ASSERT_EQ(routes.size(), 3u);
+  for (const Model* m : {&routes[0], &routes[1], &routes[2]}) {
     ASSERT_EQ(m->patches.size(), 1u);
     const BSplineSurface& s = m->patches[0].surface;
     ASSERT_EQ(s.numU(), 2);
@@ -462,8 +533,8 @@ TEST(JsonReadLongRows, ACurveOf100000PointsIsReadExactlyOnBothRoutes) {
       fmt::format(R"({{"curves": [{{"name": "c", "type": "bspline", "degree": 3, "knots": {}, "points": {}}}]}})",
                   longRowKnots(kPoints), longRow(1, kPoints));
   const std::vector<Model> routes = readOnBothRoutes(text, "curve.json");
-  ASSERT_EQ(routes.size(), 2u);
-  for (const Model* m : {&routes[0], &routes[1]}) {
+  ASSERT_EQ(routes.size(), 3u);
+  for (const Model* m : {&routes[0], &routes[1], &routes[2]}) {
     ASSERT_EQ(m->curves.size(), 1u);
     const BSplineCurve& c = m->curves[0].curve;
     ASSERT_EQ(c.numPoints(), kPoints);
@@ -527,6 +598,13 @@ TEST(JsonBRep, ReadsTheHandWrittenPlateWithItsHole) {
   const Result<Model> again = io::parseModelJson(written, "again.json");
   ASSERT_TRUE(again) << again.status().message();
   EXPECT_EQ(io::modelToJson(*again), written);
+  // The streamed route (readModelJson's first) reads the B-rep too, before ("brep" sorts first in the dump) and
+  // after the patches: the same model, written alike.
+  for (const std::string& t : {text, written}) {
+    const std::optional<Model> streamed = streamedFromFile(t, "plate.json");
+    ASSERT_TRUE(streamed.has_value());
+    EXPECT_EQ(io::modelToJson(*streamed), written);
+  }
   const fs::path out = fs::temp_directory_path() / fmt::format("seam_brep_{}.json", ::getpid());
   EXPECT_TRUE(io::writeModelJson(*m, out));
   fs::remove(out);

@@ -2,7 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <fcntl.h>
 #include <simdjson.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -669,15 +674,28 @@ class ModelReader {
       }
     }
     if (root.contains("brep")) {
-      current_ = "brep";
-      Result<BRepTopology> brep = readBRep(root["brep"], model);
-      if (!brep) return brep.status();
-      if (Status st = validateBRep(model, *brep, src_); !st) return st;
-      model.trimmedFaces = countTrimmedFaces(model, *brep);
-      model.brep = std::make_shared<const BRepTopology>(std::move(brep).value());
+      if (Status st = addBRep(root["brep"], model); !st) return st;
     }
     return model;
   }
+
+ public:
+  // One member at a time, for the streamed route of readModelJson (streamedRoute): the same converter and checks as
+  // read(), which runs them in this order on the whole document. Out of memory throws std::bad_alloc here.
+  Result<Patch> patchAt(const J& j, size_t index) { return readPatch(j, index); }
+  Result<Curve> curveAt(const J& j, size_t index) { return readCurve(j, index); }
+  /// The "brep" member `b` of `model` (its patches read): read, checked by validateBRep, and set.
+  Status addBRep(const J& b, Model& model) {
+    current_ = "brep";
+    Result<BRepTopology> brep = readBRep(b, model);
+    if (!brep) return brep.status();
+    if (Status st = validateBRep(model, *brep, src_); !st) return st;
+    model.trimmedFaces = countTrimmedFaces(model, *brep);
+    model.brep = std::make_shared<const BRepTopology>(std::move(brep).value());
+    return Status::ok();
+  }
+
+ private:
 
   // -------------------------------------------------------------------------------------------------------------
   // "brep" (docs/format.md, "Trimmed faces"): read here, checked by validateBRep.
@@ -1689,6 +1707,218 @@ std::optional<Model> fastRoute(const char* text, size_t size, bool padded, std::
 
 }  // namespace
 
+/// The text of a file read forward in chunks, of which only the part from the oldest byte still needed is held
+/// (streamedRoute). Positions are offsets in the file. Any read error ends the text (the route then declines, and
+/// readFile says what went wrong).
+class ChunkedFile {
+ public:
+  explicit ChunkedFile(int fd) : fd_(fd) {}
+  ChunkedFile(const ChunkedFile&) = delete;
+  ChunkedFile& operator=(const ChunkedFile&) = delete;
+  ~ChunkedFile() { ::close(fd_); }
+
+  /// True when byte `pos` exists (reading more of the file if needed).
+  bool has(size_t pos) {
+    while (pos >= base_ + buf_.size()) {
+      if (eof_) return false;
+      const size_t old = buf_.size();
+      buf_.resize(old + kChunkBytes);
+      ssize_t got = 0;
+      do {
+        got = ::read(fd_, buf_.data() + old, kChunkBytes);
+      } while (got < 0 && errno == EINTR);
+      buf_.resize(old + static_cast<size_t>(std::max<ssize_t>(got, 0)));
+      if (got <= 0) eof_ = true;
+      if (got < 0) failed_ = true;
+    }
+    return true;
+  }
+  [[nodiscard]] char at(size_t pos) const { return buf_[pos - base_]; }
+  [[nodiscard]] std::string_view view(size_t from, size_t to) const {
+    return std::string_view(buf_).substr(from - base_, to - from);
+  }
+  /// Bytes before `pos` are no longer needed: dropped once they are a sizeable part of what is held.
+  void release(size_t pos) {
+    const size_t drop = pos - base_;
+    if (drop < kChunkBytes || drop < buf_.size() / 2) return;
+    buf_.erase(0, drop);
+    base_ = pos;
+  }
+  [[nodiscard]] bool failed() const { return failed_; }
+
+ private:
+  static constexpr size_t kChunkBytes = size_t{1} << 20;
+  int fd_;
+  std::string buf_;
+  size_t base_ = 0;
+  bool eof_ = false, failed_ = false;
+};
+
+bool isJsonSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+/// The end of the JSON value that starts at `pos` (past its last byte): an object or array to its matching bracket
+/// (strings skipped), a string to its closing quote, a literal to the next delimiter. nullopt on a NUL byte outside
+/// a string, nesting deeper than kMaxJsonDepth counted from the top level (the value lies `outer` levels down), or
+/// the end of the file inside the value. Not a validation: simdjson parses the value afterwards.
+std::optional<size_t> valueEnd(ChunkedFile& f, size_t pos, int outer) {
+  if (!f.has(pos)) return std::nullopt;
+  const char first = f.at(pos);
+  if (first != '{' && first != '[' && first != '"') {
+    while (f.has(pos) && !isJsonSpace(f.at(pos)) && f.at(pos) != ',' && f.at(pos) != '}' && f.at(pos) != ']') {
+      if (f.at(pos) == '\0') return std::nullopt;
+      ++pos;
+    }
+    return pos;
+  }
+  int depth = 0;
+  bool inString = false;
+  for (;; ++pos) {
+    if (!f.has(pos)) return std::nullopt;
+    const char c = f.at(pos);
+    if (inString) {
+      if (c == '\\') {
+        ++pos;
+      } else if (c == '"') {
+        inString = false;
+        if (depth == 0) return pos + 1;
+      }
+      continue;
+    }
+    if (c == '"') {
+      inString = true;
+    } else if (c == '{' || c == '[') {
+      if (++depth + outer > kMaxJsonDepth) return std::nullopt;
+    } else if (c == '}' || c == ']') {
+      if (--depth == 0) return pos + 1;
+    } else if (c == '\0') {
+      return std::nullopt;
+    }
+  }
+}
+
+/// readModelJson's first route (issue 37 goal 4: the peak memory of loading a model at most twice its file): the
+/// file is read forward in chunks and each element of "patches" and "curves" is parsed alone (simdjson) and turned
+/// into its patch or curve at once, so that neither the whole text nor a document of the whole file is ever held:
+/// the peak is the model, one chunk and the "brep" member's text and document. The same converter as the other
+/// routes (ModelReader), so the same model. nullopt (declined) on anything but a valid model: the other routes then
+/// read the file and give their message. Declined too, as in fastRoute: a \u escape, a repeated or unknown
+/// top-level key.
+std::optional<Model> streamedRoute(const std::filesystem::path& file, std::string_view source) {
+  if (!checkInputFile(file)) return std::nullopt;
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return std::nullopt;
+  ChunkedFile f(fd);
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+  try {
+    ModelReader<SimdValue> reader{std::string(source)};
+    simdjson::dom::parser parser;
+    Model model;
+    std::string brepText;
+    bool seenPatches = false, seenCurves = false, seenBRep = false, seenSchema = false;
+    size_t pos = 0;
+    auto skipSpace = [&] {
+      while (f.has(pos) && isJsonSpace(f.at(pos))) ++pos;
+    };
+    // Parses the value at [from, to) alone; nullopt on an error or a \u escape.
+    auto parsed = [&](size_t from, size_t to) -> std::optional<simdjson::dom::element> {
+      const std::string_view text = f.view(from, to);
+      if (text.find("\\u") != std::string_view::npos) return std::nullopt;
+      simdjson::dom::element e;
+      if (parser.parse(text.data(), text.size(), true).get(e) != simdjson::SUCCESS) return std::nullopt;
+      return e;
+    };
+    // The elements of the array at pos, each handed to `take` with its index.
+    auto eachElement = [&](auto take) -> bool {
+      if (!f.has(pos) || f.at(pos) != '[') return false;
+      ++pos;
+      skipSpace();
+      if (f.has(pos) && f.at(pos) == ']') {
+        ++pos;
+        return true;
+      }
+      for (size_t index = 0;; ++index) {
+        skipSpace();
+        const std::optional<size_t> end = valueEnd(f, pos, 2);
+        if (!end || f.at(pos) != '{') return false;
+        const std::optional<simdjson::dom::element> e = parsed(pos, *end);
+        if (!e || !take(SimdValue(*e), index)) return false;
+        pos = *end;
+        f.release(pos);
+        skipSpace();
+        if (!f.has(pos)) return false;
+        const char c = f.at(pos++);
+        if (c == ']') return true;
+        if (c != ',') return false;
+      }
+    };
+    skipSpace();
+    if (!f.has(pos) || f.at(pos++) != '{') return std::nullopt;
+    skipSpace();
+    if (f.has(pos) && f.at(pos) == '}') return std::nullopt;  // no "patches" or "curves": the message comes later
+    while (true) {
+      skipSpace();
+      const std::optional<size_t> keyEnd = valueEnd(f, pos, 1);
+      if (!keyEnd || f.at(pos) != '"') return std::nullopt;
+      const std::string key(f.view(pos + 1, *keyEnd - 1));
+      pos = *keyEnd;
+      skipSpace();
+      if (!f.has(pos) || f.at(pos++) != ':') return std::nullopt;
+      skipSpace();
+      if (key == "patches" && !seenPatches) {
+        seenPatches = true;
+        const bool ok = eachElement([&](const SimdValue& v, size_t index) {
+          Result<Patch> p = reader.patchAt(v, index);
+          if (!p) return false;
+          model.patches.push_back(std::move(p).value());
+          return true;
+        });
+        if (!ok) return std::nullopt;
+      } else if (key == "curves" && !seenCurves) {
+        seenCurves = true;
+        const bool ok = eachElement([&](const SimdValue& v, size_t index) {
+          Result<Curve> c = reader.curveAt(v, index);
+          if (!c) return false;
+          model.curves.push_back(std::move(c).value());
+          return true;
+        });
+        if (!ok) return std::nullopt;
+      } else if ((key == "brep" && !seenBRep) || (key == "$schema" && !seenSchema)) {
+        (key == "brep" ? seenBRep : seenSchema) = true;
+        const std::optional<size_t> end = valueEnd(f, pos, 1);
+        if (!end) return std::nullopt;
+        if (key == "brep") brepText = f.view(pos, *end);
+        if (key == "$schema" && !parsed(pos, *end)) return std::nullopt;  // not read, but it must be JSON
+        pos = *end;
+        f.release(pos);
+      } else {
+        return std::nullopt;  // unknown or repeated: the other routes say which
+      }
+      skipSpace();
+      if (!f.has(pos)) return std::nullopt;
+      const char c = f.at(pos++);
+      if (c == '}') break;
+      if (c != ',') return std::nullopt;
+    }
+    skipSpace();
+    if (f.has(pos) || f.failed() || (!seenPatches && !seenCurves)) return std::nullopt;
+    if (seenBRep) {
+      simdjson::dom::element b;
+      if (brepText.find("\\u") != std::string::npos ||
+          parser.parse(brepText.data(), brepText.size(), true).get(b) != simdjson::SUCCESS)
+        return std::nullopt;
+      if (!reader.addBRep(SimdValue(b), model)) return std::nullopt;
+    }
+    return model;
+  } catch (const std::exception&) {
+    return std::nullopt;  // out of memory: the other routes say what they could not build
+  }
+}
+
+std::optional<Model> detail::readModelJsonStreamed(const std::filesystem::path& file, std::string_view source) {
+  return streamedRoute(file, source);
+}
+
 std::optional<Model> detail::parseModelJsonFast(std::string_view text, std::string_view source) {
   return fastRoute(text.data(), text.size(), false, nullptr, source);
 }
@@ -1701,6 +1931,7 @@ Result<Model> parseModelJson(std::string_view text, std::string_view source) {
 Status checkJsonText(std::string_view text, std::string_view source) { return scanJsonText(text, source); }
 
 Result<Model> readModelJson(const std::filesystem::path& file) {
+  if (std::optional<Model> model = streamedRoute(file, file.string())) return std::move(*model);
   Result<std::string> text = readFile(file);
   if (!text) return text.status();
   const size_t size = text->size();
