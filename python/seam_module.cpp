@@ -426,15 +426,16 @@ py::object repairDict(const std::string& json, const RepairUnits& ru) {
 
 /// heal of a model with trimmed faces: the B-rep heal of the STEP/IGES file it was read from (occt::healBRepFile,
 /// as `seam heal FILE -o OUT.step`: every face, trim, edge and solid kept), into a temporary file of the same format
-/// that is read back as the healed model, then removed. A JSON model with trimmed faces is refused, as by the CLI
-/// (its patches would move without their trims).
+/// that is read back as the healed model, then removed; a model that holds its B-rep but no file of it (a JSON with
+/// "brep", a model healed before) is healed as that B-rep (occt::healBRepModel, as `seam heal IN.json`).
 py::tuple healBRep(const PyModel& m, const HealOptions& ho, const std::string& method,
                    const std::optional<std::string>& units, const std::optional<std::string>& preset) {
 #ifdef SEAM_HAVE_OCCT
   const std::filesystem::path in = m.source;
-  if (!isCadPath(in) || !std::filesystem::is_regular_file(in))
-    throw py::value_error(fmt::format("{}: {} faces of the model are trimmed: a trimmed model is healed as a B-rep "
-                                      "from its STEP/IGES file (load one), never as patches without their trims",
+  const bool fromFile = isCadPath(in) && std::filesystem::is_regular_file(in);
+  if (!fromFile && !m.model.brep)
+    throw py::value_error(fmt::format("{}: {} faces of the model are trimmed but it holds no B-rep: a trimmed model "
+                                      "is healed as a B-rep, never as patches without their trims",
                                       m.source, m.model.trimmedFaces));
   if (method != "auto")
     throw py::value_error("method: a STEP/IGES B-rep is healed face by face along its pcurves (method=\"auto\" only)");
@@ -443,30 +444,36 @@ py::tuple healBRep(const PyModel& m, const HealOptions& ho, const std::string& m
   bo.continuity = ho.continuity;
   bo.maxGap = ho.maxGap;
   if (ho.maxAngleDeg) bo.creaseAngleDeg = *ho.maxAngleDeg;
-  std::filesystem::path temp = io::temporaryPathFor(std::filesystem::temp_directory_path() / "healed");
-  temp += in.extension();
-  struct Remove {
-    const std::filesystem::path& path;
-    ~Remove() {
-      std::error_code ec;
-      std::filesystem::remove(path, ec);
+  std::optional<occt::BRepModelHeal> healed;
+  if (fromFile) {
+    std::filesystem::path temp = io::temporaryPathFor(std::filesystem::temp_directory_path() / "healed");
+    temp += in.extension();
+    const io::RemoveOnExit remove{temp};
+    Result<occt::BRepHealReport> r = Status(ErrorCode::kIoError, "not healed");
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(cadMutex());
+      r = occt::healBRepFile(in, temp, bo);
     }
-  } remove{temp};
-  Result<occt::BRepHealReport> r = Status(ErrorCode::kIoError, "not healed");
-  {
-    py::gil_scoped_release release;
-    std::lock_guard lock(cadMutex());
-    r = occt::healBRepFile(in, temp, bo);
+    if (!r) raise(r.status());
+    std::vector<std::string> readWarnings;  // the input's, as load() gave them; they name the temporary file
+    healed = occt::BRepModelHeal{std::move(r).value(), readAnyModel(temp, readWarnings)};
+  } else {
+    Result<occt::BRepModelHeal> r = Status(ErrorCode::kIoError, "not healed");
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(cadMutex());
+      r = occt::healBRepModel(m.model, m.source, occt::CadFormat::kStep, bo);
+    }
+    if (!r) raise(r.status());
+    healed = std::move(r).value();
   }
-  if (!r) raise(r.status());
-  std::vector<std::string> readWarnings;  // the input's, as load() gave them; they name the temporary file
-  Model healed = readAnyModel(temp, readWarnings);
-  if (!r->warnings.empty()) {
+  if (!healed->report.warnings.empty()) {
     py::module_ warn = py::module_::import("warnings");
-    for (const std::string& w : r->warnings) warn.attr("warn")(fmt::format("{}: {}", m.source, w));
+    for (const std::string& w : healed->report.warnings) warn.attr("warn")(fmt::format("{}: {}", m.source, w));
   }
-  return py::make_tuple(PyModel{std::move(healed), m.source + " (healed)", m.units},
-                        toPython(cli::brepHealJson(*r, m.source, std::nullopt)));
+  py::object dict = toPython(cli::brepHealJson(healed->report, m.source, std::nullopt));
+  return py::make_tuple(PyModel{std::move(healed->model), m.source + " (healed)", m.units}, std::move(dict));
 #else
   (void)ho;
   (void)method;

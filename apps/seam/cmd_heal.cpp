@@ -8,7 +8,8 @@
 // moved. Exit 0 when every such seam meets the requested continuity, 1 otherwise (OUT.json is still written and
 // holds everything achieved), 2 bad input.
 // STEP/IGES -> STEP/IGES is healed as a B-rep (occt::healBRepFile: every face, trim, edge and solid kept, faces
-// moved along their pcurves); STEP/IGES with trimmed faces -> JSON is refused (the JSON would lose the trims).
+// moved along their pcurves); so is a JSON model with trimmed faces (its "brep": occt::healBRepModel) into JSON or
+// STEP/IGES; STEP/IGES with trimmed faces -> JSON is refused (the JSON would lose the trims).
 #include <fmt/format.h>
 
 #include <cmath>
@@ -47,8 +48,10 @@ struct HealCliOptions {
 };
 
 #ifdef SEAM_HAVE_OCCT
-/// `seam heal` of a STEP/IGES file into STEP/IGES: the B-rep kept (occt::healBRepFile). Returns the exit code.
-int healBRep(const HealCliOptions& o, const HealOptions& ho) {
+/// `seam heal` of a STEP/IGES file into STEP/IGES: the B-rep kept (occt::healBRepFile); or, with `model` (a JSON
+/// model with trimmed faces, its "brep"), of that model into any model file (occt::healBRepModel, then saveModel:
+/// the JSON keeps the B-rep too). Returns the exit code.
+int healBRep(const HealCliOptions& o, const HealOptions& ho, const Model* model = nullptr) {
   occt::BRepHealOptions bo;
   bo.tolerances = o.tol;
   bo.continuity = ho.continuity;
@@ -58,10 +61,23 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho) {
     printError("--method: a STEP/IGES B-rep is healed face by face along its pcurves (--method auto only)");
     return kExitBadInput;
   }
-  Result<occt::BRepHealReport> res = [&] {
+  Result<occt::BRepHealReport> res = Status(ErrorCode::kIoError, "not healed");
+  if (model == nullptr) {
     const CadTimeLimit limit(o.file, "healing");
-    return occt::healBRepFile(o.file, o.out, bo);
-  }();
+    res = occt::healBRepFile(o.file, o.out, bo);
+  } else {
+    const std::optional<occt::CadFormat> outFormat = occt::cadFormatOf(o.out);
+    Result<occt::BRepModelHeal> healed = [&] {
+      const CadTimeLimit limit(o.file, "healing");
+      return occt::healBRepModel(*model, o.file, outFormat.value_or(occt::CadFormat::kStep), bo);
+    }();
+    if (!healed) {
+      printError(healed.status().message());
+      return kExitBadInput;
+    }
+    if (!saveModel(healed->model, o.out)) return kExitBadInput;  // .json keeps the B-rep; .step/.iges by extension
+    res = std::move(healed->report);
+  }
   if (!res) {
     printError(res.status().message());
     return kExitBadInput;
@@ -172,13 +188,17 @@ void addHeal(CLI::App& app, int& exit) {
     ModelUnits units;
     const std::optional<Model> model = loadModel(o->file, o->tol, &units);
     if (!model) return;
-    if (model->brep && model->trimmedFaces > 0)
-      return printError(
-          fmt::format("{}: not healed: the model has {} trimmed faces (its \"brep\"), and healing a JSON "
-                      "model moves its patches without its trims; heal the STEP/IGES file it came from "
-                      "(seam heal IN.step -o OUT.step keeps every trim), or convert it to STEP first "
-                      "(seam convert {} x.step); nothing written",
-                      o->file, model->trimmedFaces, o->file));
+    if (model->brep && model->trimmedFaces > 0) {
+      // A JSON model with trimmed faces is healed as its B-rep (issue 34 §2): never as patches without their trims.
+#ifdef SEAM_HAVE_OCCT
+      exit = healBRep(*o, ho, &*model);
+      return;
+#else
+      return printError(fmt::format("{}: not healed: the model has {} trimmed faces (its \"brep\"), and this build "
+                                    "has no OpenCASCADE to heal a B-rep; nothing written",
+                                    o->file, model->trimmedFaces));
+#endif
+    }
     // The classification tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
     const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());
     ho.tolerances = resolved.tolerances;

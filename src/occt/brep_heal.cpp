@@ -57,8 +57,10 @@
 #include <set>
 
 #include "occt/brep_check_internal.h"
+#include "seam/occt/cad_io.h"
 #include "occt/cad_internal.h"
 #include "seam/io/file.h"
+#include "seam/model/brep.h"
 #include "seam/continuity/model_check.h"
 
 namespace seam::occt {
@@ -1265,18 +1267,6 @@ Status writeUnchanged(const fs::path& in, CadFormat inFormat, const fs::path& fi
   }
 }
 
-/// Removes a temporary file when it goes out of scope (the heal's outputs before they are renamed into place).
-struct RemoveTemporary {
-  const fs::path& path;
-  explicit RemoveTemporary(const fs::path& p) : path(p) {}
-  RemoveTemporary(const RemoveTemporary&) = delete;
-  RemoveTemporary& operator=(const RemoveTemporary&) = delete;
-  ~RemoveTemporary() {
-    std::error_code ec;
-    fs::remove(path, ec);
-  }
-};
-
 }  // namespace
 
 Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, const BRepHealOptions& options) {
@@ -1348,7 +1338,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
       return report;
     }
     const fs::path temp = io::temporaryPathFor(out);
-    RemoveTemporary removeTemporary{temp};
+    io::RemoveOnExit removeTemporary{temp};
     detail::WrittenBack back;
     if (Status st = detail::writeCadDocument(doc, temp, *outFormat, report.unit, countsAfter, &report.notes,
                                              kHealWrittenAreaRelTol, 0.0, &back);
@@ -1365,7 +1355,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     if (!worse.empty() && !unhealed) {
       // Is it the writer's and reader's own doing? The input written unchanged, read back, is the baseline.
       const fs::path plain = io::temporaryPathFor(out);
-      RemoveTemporary removePlain{plain};
+      io::RemoveOnExit removePlain{plain};
       detail::WrittenBack plainBack;
       if (Status st = writeUnchanged(in, *inFormat, plain, *outFormat, report.unit, plainBack); !st) return st;
       Result<std::vector<BRepSeam>> plainSeams = seamsReadBack(plain, plainBack, options, region);
@@ -1399,6 +1389,87 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     if (attempt + 1 < kMaxReadBackAttempts && blameReadBack(worse, report, reprojected, excluded)) continue;
     return unchangedAfterReadBack(in, out, lastWorse, std::move(report));
   }
+}
+
+namespace {
+
+/// `text` with every occurrence of `from` replaced by `to`.
+std::string replacedAll(std::string text, const std::string& from, const std::string& to) {
+  if (from.empty()) return text;
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+}  // namespace
+
+Result<BRepModelHeal> healBRepModel(const Model& model, const std::string& source, CadFormat format,
+                                    const BRepHealOptions& options) {
+  if (!model.brep)
+    return invalidInput(fmt::format("{}: the model holds no B-rep (no \"brep\"): heal its patches instead",
+                                    source));
+  const fs::path folder = fs::temp_directory_path();
+  const char* ext = format == CadFormat::kStep ? ".step" : ".igs";
+  fs::path in = io::temporaryPathFor(folder / "in"), out = io::temporaryPathFor(folder / "out");
+  in += ext;
+  out += ext;
+  const io::RemoveOnExit removeIn{in}, removeOut{out};
+  // The temporary files never appear in what the user reads: the model is `source`, the heal's output its healed
+  // form (full paths first, then the bare names some messages use).
+  const std::string healedName = source + " (healed)";
+  const auto named = [&](std::string text) {
+    text = replacedAll(std::move(text), in.string(), source);
+    text = replacedAll(std::move(text), out.string(), healedName);
+    text = replacedAll(std::move(text), in.filename().string(), source);
+    return replacedAll(std::move(text), out.filename().string(), healedName);
+  };
+  const auto renamed = [&](const Status& st) { return Status(st.code(), named(st.message())); };
+  if (Status st = writeCadFile(model, in, format); !st) return renamed(st);
+  Result<BRepHealReport> healed = healBRepFile(in, out, options);
+  if (!healed) return renamed(healed.status());
+  Result<CadImport> back = readCadFile(out);
+  if (!back) return renamed(back.status());
+  BRepModelHeal result{std::move(healed).value(), std::move(back->model)};
+  BRepHealReport& r = result.report;
+  for (std::string& w : r.warnings) w = named(std::move(w));
+  for (std::string& n : r.notes) n = named(std::move(n));
+  // Face names: the files name faces F<n> in face order; the model's own names come back when every face read back
+  // is the patch of the model's face at its place (the same degrees and control-point counts).
+  const BRepTopology& topo = *model.brep;
+  bool sameFaces = result.model.patches.size() == topo.faces.size();
+  for (size_t i = 0; sameFaces && i < topo.faces.size(); ++i) {
+    const BSplineSurface& a = model.patches[static_cast<size_t>(topo.faces[i].patch)].surface;
+    const BSplineSurface& b = result.model.patches[i].surface;
+    sameFaces = a.degreeU() == b.degreeU() && a.degreeV() == b.degreeV() && a.numU() == b.numU() &&
+                a.numV() == b.numV();
+  }
+  std::map<std::string, std::string> nameOf;
+  if (sameFaces) {
+    for (size_t i = 0; i < topo.faces.size(); ++i) {
+      const std::string& own = model.patches[static_cast<size_t>(topo.faces[i].patch)].name;
+      nameOf[result.model.patches[i].name] = own;
+      result.model.patches[i].name = own;
+    }
+  } else {
+    r.warnings.push_back(fmt::format("{}: the faces read back do not match the model's one to one: they are named "
+                                     "F<n> in face order, not by the model's patch names",
+                                     source));
+  }
+  const auto faceName = [&](const std::string& f) {
+    const auto it = nameOf.find(f);
+    return it == nameOf.end() ? f : it->second;
+  };
+  for (BRepHealSeam& seam : r.seams) {
+    seam.a = faceName(seam.a);
+    seam.b = faceName(seam.b);
+    if (!seam.moved.empty()) seam.moved = faceName(seam.moved);
+    seam.entityA.clear();  // entities of the temporary file: nothing the user's model has
+    seam.entityB.clear();
+  }
+  for (std::string& f : r.facesChanged) f = faceName(f);
+  for (std::string& f : r.facesReverted) f = faceName(f);
+  for (BRepFaceMove& m : r.faceMoves) m.face = faceName(m.face);
+  return result;
 }
 
 }  // namespace seam::occt

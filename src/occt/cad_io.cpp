@@ -1077,14 +1077,7 @@ Status writeAtomically(const fs::path& file, const std::function<bool(std::ostre
       return ioError(file, fmt::format("cannot create temporary file {}: {}", temp.string(),
                                        std::generic_category().message(err)));
   }
-  struct RemoveTemporary {
-    const fs::path& path;
-    bool keep = false;
-    ~RemoveTemporary() {
-      std::error_code ec;
-      if (!keep) fs::remove(path, ec);
-    }
-  } removeTemporary{temp};
+  io::RemoveOnExit removeTemporary{temp};
   {
     detail::OcctSignalGuard guard;
     try {
@@ -1105,7 +1098,7 @@ Status writeAtomically(const fs::path& file, const std::function<bool(std::ostre
   std::error_code renameError;
   fs::rename(temp, file, renameError);
   if (renameError) return ioError(file, "cannot replace file: " + renameError.message());  // temporary removed
-  removeTemporary.keep = true;
+  removeTemporary.keep();
   return Status::ok();
 }
 

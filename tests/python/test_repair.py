@@ -389,7 +389,8 @@ def test_a_step_model_keeps_its_unit_and_says_it_is_trimmed(shared_data, run_cli
 def test_heal_of_a_trimmed_step_model_is_the_brep_heal_of_the_cli(shared_data, run_cli, tmp_path):
     """Issue 34 §2: seam.heal of a model loaded from STEP with trimmed faces heals the B-rep (every face, trim and
     solid kept), returns the dict of `seam heal FILE -o OUT.step --json` (without "output") and a model that
-    seam.save writes as STEP with its trims; a JSON model with trimmed faces is refused, as by the CLI."""
+    seam.save writes as STEP with its trims; a JSON model with trimmed faces, or one healed before, is healed as its
+    B-rep too."""
     path = os.path.join(shared_data, "step", "trj3_s1-al-214.stp")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -410,9 +411,22 @@ def test_heal_of_a_trimmed_step_model_is_the_brep_heal_of_the_cli(shared_data, r
     code, cli_saved, err = run_cli("check", str(cli_out), "--json")
     for key in ("seams", "free_edges", "non_manifold_edges"):
         assert saved["summary"][key] == cli_saved["summary"][key], key
+    # A JSON model with trimmed faces (its "brep") is healed as that B-rep, as `seam heal IN.json` heals it: the same
+    # dict (the temporary STEP file of the B-rep is never named); and so is a model healed before.
     json_path = tmp_path / "trj3.json"
     seam.save(m, json_path)  # the trims as plain data (faces open as read included)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(ValueError, match="healed as a B-rep from its STEP/IGES file"):
-            seam.heal(seam.load(str(json_path)))
+        healed_json, info_json = seam.heal(seam.load(str(json_path)))
+        again, info_again = seam.heal(healed)
+    code, expected_json, err = run_cli("heal", str(json_path), "-o", str(tmp_path / "cli.json"), "--json")
+    assert code in (0, 1), err
+    expected_json.pop("output")
+    assert info_json == expected_json
+    assert ".seam-" not in str(info_json)
+    assert info_json["route"] == "brep" and info_json["seams_worse"] == 0
+    assert info_json["seams_to_heal"] == info["seams_to_heal"]
+    assert info_json["seams_healed"] == info["seams_healed"]
+    assert info_again["counts"]["faces"] == [94, 94] and info_again["counts"]["trimmed_faces"] == [76, 76]
+    assert info_again["seams_worse"] == 0
+    assert healed_json.patch_names == m.patch_names

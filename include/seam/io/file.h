@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <system_error>
+#include <utility>
 
 #include "seam/core/result.h"
 #include "seam/model/model.h"
@@ -37,6 +39,26 @@ Status checkOutputFile(const std::filesystem::path& file);
 /// (".seam-<pid>-<n>.tmp"): short on purpose, so that a legal output name of up to 255 bytes still works. For writers
 /// that rename a temporary over their output (the STEP/IGES writer); create it with O_EXCL.
 std::filesystem::path temporaryPathFor(const std::filesystem::path& file);
+
+/// Removes a file when it goes out of scope, unless keep() was called: a temporary output before it is renamed into
+/// place, or a scratch file. Never throws (a file that cannot be removed stays; removeTemporaryFiles sweeps those
+/// temporaryPathFor named).
+class RemoveOnExit {
+ public:
+  explicit RemoveOnExit(std::filesystem::path path) : path_(std::move(path)) {}
+  RemoveOnExit(const RemoveOnExit&) = delete;
+  RemoveOnExit& operator=(const RemoveOnExit&) = delete;
+  ~RemoveOnExit() {
+    std::error_code ec;
+    if (!keep_) std::filesystem::remove(path_, ec);
+  }
+  void keep() { keep_ = true; }
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  bool keep_ = false;
+};
 
 /// Removes every temporary file temporaryPathFor named in this process that still exists (those renamed over their
 /// outputs are gone already): for a process that must end at once (the CLI's --time-limit), so that no temporary is

@@ -35,7 +35,9 @@
 #include "seam/continuity/seam.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
+#include "seam/model/model.h"
 #include "seam/occt/brep_check.h"
+#include "seam/occt/cad_io.h"
 
 namespace seam::occt {
 
@@ -125,6 +127,20 @@ struct BRepHealReport {
 /// worse, the input is written unchanged instead and the report says why). Errors name the file; a model the heal
 /// would make invalid (BRepCheck_Analyzer) where the input was valid is an error and nothing is written.
 Result<BRepHealReport> healBRepFile(const std::filesystem::path& in, const std::filesystem::path& out,
+                                    const BRepHealOptions& options = {});
+
+/// The B-rep heal of a model that holds its B-rep (Model::brep: a JSON model with "brep", a model read from STEP or
+/// IGES, or one healed before): the model written as `format` to a temporary file (writeCadFile: every face, trim,
+/// edge and solid), healed by healBRepFile into another, and read back (readCadFile). Both temporary files are
+/// removed; messages, warnings and notes name `source` instead (and "`source` (healed)"), faces keep the model's
+/// patch names (when every face read back matches its patch in degrees and control-point counts; else F<n> with a
+/// warning) and the seams carry no file entities. The coordinates are taken as millimetres, as seam's JSON of a
+/// STEP/IGES file holds them.
+struct BRepModelHeal {
+  BRepHealReport report;
+  Model model;  ///< the healed model, with its B-rep
+};
+Result<BRepModelHeal> healBRepModel(const Model& model, const std::string& source, CadFormat format = CadFormat::kStep,
                                     const BRepHealOptions& options = {});
 
 }  // namespace seam::occt
