@@ -797,7 +797,7 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   // (kStrictAngleDeg, or the tolerance when smaller) where every sample between closest points is below it and the
   // pcurves drift (it may be too loose: bearing.iges, 0.0257 deg at equal parameters, 0.0025 deg between closest
   // points, edge 105). The numbers shown, and whether they are certified, do not depend on the tolerance.
-  const double strict = std::min(c.opt.tol.angleDeg, kStrictAngleDeg);
+  const double strict = c.opt.tol.strictAngleDeg();
   const bool belowSamples = sample > bound * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
   const bool looseBound = bound > strict && sample <= strict && b.g0Bound > 0.0;
   if (!belowSamples && !looseBound) return;
@@ -1246,7 +1246,7 @@ std::string seamWorseThan(const SeamReport& after, const SeamReport& before, con
   const double gapLimit = std::max(before.g0Max, tol.distance) + kWorseSlackRel * tol.distance;
   // Angles are judged on seam's strict scale whatever the verdict's tolerance: with the CAD default (0.5 deg) a kink
   // of 0.62 deg could otherwise grow to 0.66 and a 0.1-degree seam to 0.5 without counting as worse.
-  const double strict = std::min(tol.angleDeg, kStrictAngleDeg);
+  const double strict = tol.strictAngleDeg();
   if (after.g0Max > gapLimit) return fmt::format("its gap would grow from {:.3g} to {:.3g}", before.g0Max, after.g0Max);
   if (before.g1MaxDeg > creaseDeg) {
     if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > strict)

@@ -65,7 +65,7 @@ bool isFold(const SeamReport& r) {
 /// angle grow by half a degree.
 std::string worseThan(const SeamReport& now, const SeamReport& ref, const Tolerances& tol) {
   if (now.g0Max > ref.g0Max + tol.distance) return fmt::format("gap {:.3g} -> {:.3g}", ref.g0Max, now.g0Max);
-  if (now.g1MaxDeg > ref.g1MaxDeg + std::min(tol.angleDeg, kStrictAngleDeg))
+  if (now.g1MaxDeg > ref.g1MaxDeg + tol.strictAngleDeg())
     return fmt::format("kink angle {:.3g} -> {:.3g} deg", ref.g1MaxDeg, now.g1MaxDeg);
   if (static_cast<int>(now.geometric) < static_cast<int>(ref.geometric))
     return fmt::format("class {} -> {}", toString(ref.geometric), toString(now.geometric));
@@ -834,7 +834,7 @@ Candidate Healer::judge(const Model& m, std::string method, int region,
 std::string Healer::leftAloneBroken(const Model& m, int k, const SeamReport& now, int region) const {
   const Work& w = work_[static_cast<size_t>(k)];
   const std::string what = w.crease ? "design crease" : "seam above the gap limit";
-  if (std::abs(now.g1MaxDeg - w.before.g1MaxDeg) > std::min(tol_.angleDeg, kStrictAngleDeg))
+  if (std::abs(now.g1MaxDeg - w.before.g1MaxDeg) > tol_.strictAngleDeg())
     return fmt::format("{} {}: kink angle {:.6g} -> {:.6g} deg", what, seamName(w.pair), w.before.g1MaxDeg,
                        now.g1MaxDeg);
   if (std::abs(now.g0Max - w.before.g0Max) > tol_.distance)
@@ -1420,7 +1420,7 @@ CreaseGapPass Healer::closeCreaseGaps() const {
           if (q == k) {
             if (!(now->g0Max < current[k].g0Max))
               reason = fmt::format("the gap would not shrink ({:.4g} -> {:.4g})", current[k].g0Max, now->g0Max);
-            else if (std::abs(now->g1MaxDeg - w.before.g1MaxDeg) > std::min(tol_.angleDeg, kStrictAngleDeg))
+            else if (std::abs(now->g1MaxDeg - w.before.g1MaxDeg) > tol_.strictAngleDeg())
               reason = fmt::format("the crease angle would change from {:.6g} to {:.6g} deg", w.before.g1MaxDeg,
                                    now->g1MaxDeg);
             crease = *now;

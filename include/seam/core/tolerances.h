@@ -35,6 +35,11 @@ struct Tolerances {
   double curvatureRel = 0.01;   ///< relative; normal-curvature jumps at or below it (relative) count as G2
   double parametric = 1e-9;     ///< relative; parametric derivative mismatch (C1/C2) relative to the derivative size
 
+  /// seam's strict angle scale, min(angleDeg, kStrictAngleDeg): what "never worse" judges angles by and where a
+  /// certified angle is worth sharpening, whatever the verdict's tolerance (a CAD tolerance of 0.5 degrees must not
+  /// let a repair turn 0.1 degrees into 0.5).
+  [[nodiscard]] double strictAngleDeg() const { return angleDeg < kStrictAngleDeg ? angleDeg : kStrictAngleDeg; }
+
   /// Defaults scaled to a model whose bounding-box diagonal is `diagonal` (a zero or non-finite diagonal -> 1).
   static Tolerances forModelSize(double diagonal) {
     Tolerances t;
