@@ -5,11 +5,20 @@
 //   BM_HealLocal/m           seam heal --method local as a library call: pairing, every seam certified before and after,
 //                            the scheme, the acceptance test, displacements (one thread)
 //   BM_LocalSchemeCheck/m    checkModel of the scheme's output (every seam certified), one thread, for comparison
+//   BM_HealCliProcess/m      the whole `seam heal FILE.json --method local -o OUT.json` process on the same network
+//                            (written once to a temporary JSON file), pinned to one core: reading, the heal, writing
+//                            (issue 37 goal 3: within 1.2x of BM_HealLocal)
 // The network builder is the tests' (tests/network_support.h), so the benchmark runs on exactly the tested inputs.
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
 
 #include "../tests/network_support.h"
 #include "seam/continuity/model_check.h"
+#include "seam/io/json.h"
 #include "seam/repair/heal.h"
 #include "seam/repair/local_scheme.h"
 
@@ -77,6 +86,33 @@ void BM_HealLocal(benchmark::State& state) {
   state.counters["seams_achieved"] = achieved;
 }
 BENCHMARK(BM_HealLocal)->Arg(2)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+#ifdef SEAM_CLI_PATH
+void BM_HealCliProcess(benchmark::State& state) {
+  const seam::Model& model = network(static_cast<int>(state.range(0)));
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  const std::filesystem::path in = dir / fmt::format("seam_heal_cli_bench_{}.json", ::getpid());
+  const std::filesystem::path out = dir / fmt::format("seam_heal_cli_bench_{}_out.json", ::getpid());
+  if (!seam::io::writeModelJson(model, in)) {
+    state.SkipWithError("cannot write the network");
+    return;
+  }
+  // One core, as BM_HealLocal; the table goes to /dev/null (the user's terminal is not what is measured).
+  const std::string command = fmt::format("taskset -c 0 '{}' heal '{}' --method local -o '{}' > /dev/null 2>&1",
+                                          SEAM_CLI_PATH, in.string(), out.string());
+  for (auto _ : state) {
+    const int code = std::system(command.c_str());
+    if (code != 0) {
+      state.SkipWithError(fmt::format("seam heal exited with status {}", code).c_str());
+      break;
+    }
+  }
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
+  state.counters["patches"] = static_cast<double>(model.patches.size());
+}
+BENCHMARK(BM_HealCliProcess)->Arg(2)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+#endif
 
 }  // namespace
 
