@@ -413,6 +413,56 @@ TEST(OcctWrite, FailedRenameReportsItsOwnError) {
   fs::remove_all(dir);
 }
 
+// Issue 39: a write that OpenCASCADE fails or cuts short names the patch, in STEP and IGES: among 12 writable
+// patches, one whose control points are all equal (sewing removes it, or the writer drops it) and, in another model,
+// one 1e300 across (its file cannot be read back; found by bisection over trial writes). Nothing is written and no
+// trial file is left beside the output.
+TEST(OcctWrite, AFailedWriteNamesThePatchThatFails) {
+  const fs::path dir = tempPath("culprit_dir");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  Model good;
+  for (unsigned k = 0; k < 6; ++k) {
+    Model r = randomModel(100 + k);
+    for (Patch& p : r.patches) {
+      p.name += std::to_string(k);
+      good.patches.push_back(std::move(p));
+    }
+  }
+  const std::vector<double> knots{0, 0, 1, 1};
+  Matrix same(4, 3), huge(4, 3);
+  for (int i = 0; i < 4; ++i) {
+    same.row(i) << 1.0, 2.0, 3.0;
+    huge.row(i) << 1e300 * (i % 2), 1e300 * (i / 2), 0.0;
+  }
+  struct Case {
+    const char* name;
+    Matrix points;
+    int at;
+  };
+  for (const Case& c : {Case{"all_equal", same, 3}, Case{"far_away", huge, 9}}) {
+    Model m = good;
+    m.patches.insert(m.patches.begin() + c.at,
+                     {c.name, PatchKind::kBezier, BSplineSurface::create(1, 1, knots, knots, 2, 2, c.points).value()});
+    for (const char* ext : {".step", ".igs"}) {
+      SCOPED_TRACE(std::string(c.name) + ext);
+      const fs::path file = dir / (std::string("out") + ext);
+      const occt::CadFormat format = std::string(ext) == ".step" ? occt::CadFormat::kStep : occt::CadFormat::kIges;
+      const Status st = occt::writeCadFile(m, file, format);
+      ASSERT_FALSE(st.isOk());
+      EXPECT_EQ(st.code(), ErrorCode::kInvalidInput);
+      EXPECT_NE(st.message().find(fmt::format("patch \"{}\"", c.name)), std::string::npos) << st.message();
+      EXPECT_NE(st.message().find(file.string()), std::string::npos) << st.message();
+      for (const Patch& p : good.patches)
+        EXPECT_EQ(st.message().find("\"" + p.name + "\""), std::string::npos) << st.message();
+      size_t entries = 0;
+      for ([[maybe_unused]] const fs::directory_entry& e : fs::directory_iterator(dir)) ++entries;
+      EXPECT_EQ(entries, 0u) << "an output or a trial file was left";
+    }
+  }
+  fs::remove_all(dir);
+}
+
 // The fuselage holds 8 bare bicubic B-spline surfaces (README: no faces or shells); sewn, 14 shared edges and
 // 4 collapsed edges (poles); 12 seams G1 with curvature continuity, 2 creases.
 TEST(OcctRealData, FuselageSeamsMatchTheDataDescriptionAndOpenCascade) {

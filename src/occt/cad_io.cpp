@@ -1047,6 +1047,20 @@ Result<TopoDS_Shape> sewnPatchShape(const Model& model, const fs::path& file, Ca
     BRepBuilderAPI_Sewing sewing(tol);
     for (const TopoDS_Face& f : faces) sewing.Add(f);
     sewing.Perform();
+    // Sewing removes a face without area (every control point within the sewing tolerance of one point or one
+    // curve): name each such patch instead of writing fewer faces than patches.
+    std::string degenerate;
+    int degenerateCount = 0;
+    for (size_t k = 0; k < faces.size() && std::isfinite(tol); ++k)  // (a model 1e300 across: no such measure)
+      if (sewing.IsDegenerated(faces[k]) && degenerateCount++ < 8)
+        degenerate += fmt::format("{}\"{}\"", degenerate.empty() ? "" : ", ", model.patches[k].name);
+    if (degenerateCount > 0)
+      return invalidInput(fmt::format("{}: {} {}{} {} no area at the sewing tolerance {:.3g} (every control point on one "
+                                      "point or one curve): sewing removes {}; nothing written",
+                                      file.string(), degenerateCount == 1 ? "patch" : "patches", degenerate,
+                                      degenerateCount > 8 ? fmt::format(" and {} more", degenerateCount - 8) : "",
+                                      degenerateCount == 1 ? "has" : "have", tol,
+                                      degenerateCount == 1 ? "it" : "them"));
     shape = sewing.SewedShape();
     if (shape.IsNull()) {
       TopoDS_Compound c;
@@ -1084,10 +1098,13 @@ Status writeAtomically(const fs::path& file, const std::function<bool(std::ostre
       OCC_CATCH_SIGNALS
       std::ofstream os(temp, std::ios::binary | std::ios::trunc);
       if (!os) return ioError(file, "cannot create temporary file " + temp.string());
-      bool ok = print(os);
+      const bool printed = print(os);
       os.close();
-      ok = ok && !os.fail();
-      if (!ok) return ioError(file, "OpenCASCADE could not write the file");
+      if (os.fail()) return ioError(file, "error while writing the file");
+      // The writer refused the model (a transfer that did not succeed, a shape its writer does not take): the
+      // model's problem, not the disk's.
+      if (!printed)
+        return invalidInput(fmt::format("{}: OpenCASCADE's writer refused the model; nothing written", file.string()));
     } catch (const Standard_Failure& f) {
       return invalidInput(fmt::format("{}: {} while writing the model; nothing written", file.string(),
                                       isSignal(f) ? fmt::format("OpenCASCADE crashed ({})", f.GetMessageString())
@@ -1120,12 +1137,89 @@ bool printIges(const Handle(IGESData_IGESModel)& model, std::ostream& os) {
 
 }  // namespace
 
+namespace {
+
+Status writePatchesCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options);
+
+/// Most trial writes made to find the patches a failed write cannot hold (failingPatches), and most patches named.
+constexpr size_t kMaxNamedCulprits = 8;
+/// Most trial writes made to find the patches a failed write cannot hold (failingPatches).
+constexpr int kMaxCulpritProbes = 64;
+
+/// The patches of `model` that OpenCASCADE cannot write even alone, found by bisection (a half that writes and reads
+/// back is cleared whole; a failing single patch is a culprit), each trial written to a temporary file next to
+/// `file` and removed. At most kMaxCulpritProbes trials: `complete` says whether every part was decided.
+std::vector<std::string> failingPatches(const Model& model, const fs::path& file, CadFormat format,
+                                        const CadWriteOptions& options, bool& complete) {
+  std::vector<std::string> culprits;
+  int probes = 0;
+  complete = true;
+  std::function<void(size_t, size_t)> search = [&](size_t lo, size_t hi) {
+    if (lo >= hi) return;
+    if (probes >= kMaxCulpritProbes) {
+      complete = false;
+      return;
+    }
+    ++probes;
+    Model part;
+    part.patches.assign(model.patches.begin() + static_cast<std::ptrdiff_t>(lo),
+                        model.patches.begin() + static_cast<std::ptrdiff_t>(hi));
+    const fs::path trial = io::temporaryPathFor(file);
+    const io::RemoveOnExit removeTrial{trial};
+    if (writePatchesCadFile(part, trial, format, options)) return;
+    if (hi - lo == 1) {
+      culprits.push_back(model.patches[lo].name);
+      return;
+    }
+    const size_t mid = lo + (hi - lo) / 2;
+    search(lo, mid);
+    search(mid, hi);
+  };
+  // The whole model failed already: its halves first.
+  const size_t n = model.patches.size();
+  if (n == 1) {
+    culprits.push_back(model.patches[0].name);
+  } else {
+    search(0, n / 2);
+    search(n / 2, n);
+  }
+  return culprits;
+}
+
+}  // namespace
+
 Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options) {
   if (model.patches.empty()) return invalidInput(fmt::format("{}: the model has no patches to write", file.string()));
   // A model with its B-rep topology (a JSON with "brep", a STEP/IGES read by readCadFile) is written as that
   // B-rep: every trim, shared edge, shell and solid (issue 34 §1).
   if (model.brep && !options.sewingTolerance) return writeBRepCadFile(model, file, format).status();
   if (Status st = checkNoTrimsLost(model, file.string()); !st) return st;
+  Status st = writePatchesCadFile(model, file, format, options);
+  // Errors that name their patch already (exportProblem, a face OpenCASCADE cannot make) need no search.
+  if (st || st.code() != ErrorCode::kInvalidInput || st.message().find("patch \"") != std::string::npos) return st;
+  // OpenCASCADE refused the model or dropped part of it without saying which patch: name the patches that fail
+  // alone (issue 39: messages that name the patch), or say that none does.
+  bool complete = true;
+  const std::vector<std::string> culprits = failingPatches(model, file, format, options, complete);
+  std::string names;
+  for (size_t k = 0; k < culprits.size() && k < kMaxNamedCulprits; ++k)
+    names += fmt::format("{}\"{}\"", k == 0 ? "" : ", ", culprits[k]);
+  if (culprits.size() > kMaxNamedCulprits) names += fmt::format(" and {} more", culprits.size() - kMaxNamedCulprits);
+  std::string why;
+  if (!culprits.empty())
+    why = fmt::format("{} {} cannot be written even alone{}", culprits.size() == 1 ? "patch" : "patches", names,
+                      complete ? "" : " (the search stopped early: there may be more)");
+  else if (complete)
+    why = "every patch writes alone: the failure comes from patches together (coinciding or overlapping ones)";
+  else
+    why = "no single patch was found that fails alone (the search stopped early)";
+  return Status(st.code(), fmt::format("{} ({})", st.message(), why));
+}
+
+namespace {
+
+/// writeCadFile of a model without a B-rep: its patches as B-spline faces, sewn.
+Status writePatchesCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options) {
   silenceOcct();
   pinSessionUnitToMillimetres();
   const double tol = options.sewingTolerance.value_or(1e-6 * model.boundingBox().diagonal());
@@ -1170,6 +1264,8 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
       // points equal, coordinates near 1e+-300) without an error.
       [&](const fs::path& temp) { return verifyWritten(temp, file, format, faces); });
 }
+
+}  // namespace
 
 namespace detail {
 
