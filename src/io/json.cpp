@@ -1852,6 +1852,15 @@ std::optional<Model> streamedRoute(const std::filesystem::path& file, std::strin
         if (c != ',') return false;
       }
     };
+    // Every element of the array at pos, converted by `read` (patchAt, curveAt), appended to `out`.
+    auto readArray = [&](auto& out, auto read) {
+      return eachElement([&](const SimdValue& v, size_t index) {
+        auto item = read(v, index);
+        if (!item) return false;
+        out.push_back(std::move(item).value());
+        return true;
+      });
+    };
     skipSpace();
     if (!f.has(pos) || f.at(pos++) != '{') return std::nullopt;
     skipSpace();
@@ -1867,22 +1876,12 @@ std::optional<Model> streamedRoute(const std::filesystem::path& file, std::strin
       skipSpace();
       if (key == "patches" && !seenPatches) {
         seenPatches = true;
-        const bool ok = eachElement([&](const SimdValue& v, size_t index) {
-          Result<Patch> p = reader.patchAt(v, index);
-          if (!p) return false;
-          model.patches.push_back(std::move(p).value());
-          return true;
-        });
-        if (!ok) return std::nullopt;
+        if (!readArray(model.patches, [&](const SimdValue& v, size_t i) { return reader.patchAt(v, i); }))
+          return std::nullopt;
       } else if (key == "curves" && !seenCurves) {
         seenCurves = true;
-        const bool ok = eachElement([&](const SimdValue& v, size_t index) {
-          Result<Curve> c = reader.curveAt(v, index);
-          if (!c) return false;
-          model.curves.push_back(std::move(c).value());
-          return true;
-        });
-        if (!ok) return std::nullopt;
+        if (!readArray(model.curves, [&](const SimdValue& v, size_t i) { return reader.curveAt(v, i); }))
+          return std::nullopt;
       } else if ((key == "brep" && !seenBRep) || (key == "$schema" && !seenSchema)) {
         (key == "brep" ? seenBRep : seenSchema) = true;
         const std::optional<size_t> end = valueEnd(f, pos, 1);
