@@ -144,14 +144,18 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho, const Model* model 
 void addHeal(CLI::App& app, int& exit) {
   using Options = HealCliOptions;
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("heal", "Close the gaps and kinks of every seam of a model (G0, G1 or G2)");
+  CLI::App* cmd = app.add_subcommand(
+      "heal",
+      "Close the gaps and kinks of every seam of a model (G0, G1 or G2). A trimmed model (STEP/IGES, or a JSON with "
+      "its \"brep\") is healed as a B-rep, G0 or G1: every face, trim, edge and solid kept");
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_option("--continuity", o->continuity, "G0, G1 or G2 (default G1; G2 by the network solve: biquintic output)");
   cmd->add_option("--method", o->method,
                   "auto (default: successive, then the local scheme where it falls short), successive or local");
   cmd->add_option("--max-gap", o->maxGap,
-                  "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal)");
+                  "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal; "
+                  "1 mm for a trimmed B-rep)");
   cmd->add_option("--crease-angle,--max-angle", o->maxAngle,
                   "Seams whose angle is above this (degrees, in (0, 180]) are design creases, left as designed "
                   "(default 20; 180 heals every seam)");
