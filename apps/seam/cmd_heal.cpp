@@ -8,8 +8,8 @@
 // moved. Exit 0 when every such seam meets the requested continuity, 1 otherwise (OUT.json is still written and
 // holds everything achieved), 2 bad input.
 // STEP/IGES -> STEP/IGES is healed as a B-rep (occt::healBRepFile: every face, trim, edge and solid kept, faces
-// moved along their pcurves); so is a JSON model with trimmed faces (its "brep": occt::healBRepModel) into JSON or
-// STEP/IGES; STEP/IGES with trimmed faces -> JSON is refused (the JSON would lose the trims).
+// moved along their pcurves); so is any other model with trimmed faces and its B-rep (a JSON with "brep", STEP/IGES
+// -> JSON: occt::healBRepModel), into a JSON that keeps the B-rep or into STEP/IGES.
 #include <fmt/format.h>
 
 #include <cmath>

@@ -57,11 +57,11 @@
 #include <set>
 
 #include "occt/brep_check_internal.h"
-#include "seam/occt/cad_io.h"
 #include "occt/cad_internal.h"
+#include "seam/continuity/model_check.h"
 #include "seam/io/file.h"
 #include "seam/model/brep.h"
-#include "seam/continuity/model_check.h"
+#include "seam/occt/cad_io.h"
 
 namespace seam::occt {
 

@@ -1020,6 +1020,18 @@ std::string exportProblem(const BSplineSurface& s, CadFormat format) {
   return "";
 }
 
+/// Most patches an export error names (the rest are counted).
+constexpr size_t kMaxNamedCulprits = 8;
+
+/// `names` quoted and separated by commas, the first kMaxNamedCulprits of them, then "and N more".
+std::string quotedNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (size_t k = 0; k < names.size() && k < kMaxNamedCulprits; ++k)
+    out += fmt::format("{}\"{}\"", k == 0 ? "" : ", ", names[k]);
+  if (names.size() > kMaxNamedCulprits) out += fmt::format(" and {} more", names.size() - kMaxNamedCulprits);
+  return out;
+}
+
 /// The patches as B-spline faces, sewn with `tol` into a shell (a compound when sewing gives nothing).
 Result<TopoDS_Shape> sewnPatchShape(const Model& model, const fs::path& file, CadFormat format, double tol) {
   std::vector<TopoDS_Face> faces;
@@ -1049,18 +1061,16 @@ Result<TopoDS_Shape> sewnPatchShape(const Model& model, const fs::path& file, Ca
     sewing.Perform();
     // Sewing removes a face without area (every control point within the sewing tolerance of one point or one
     // curve): name each such patch instead of writing fewer faces than patches.
-    std::string degenerate;
-    int degenerateCount = 0;
+    std::vector<std::string> degenerate;
     for (size_t k = 0; k < faces.size() && std::isfinite(tol); ++k)  // (a model 1e300 across: no such measure)
-      if (sewing.IsDegenerated(faces[k]) && degenerateCount++ < 8)
-        degenerate += fmt::format("{}\"{}\"", degenerate.empty() ? "" : ", ", model.patches[k].name);
-    if (degenerateCount > 0)
-      return invalidInput(fmt::format("{}: {} {}{} {} no area at the sewing tolerance {:.3g} (every control point on one "
-                                      "point or one curve): sewing removes {}; nothing written",
-                                      file.string(), degenerateCount == 1 ? "patch" : "patches", degenerate,
-                                      degenerateCount > 8 ? fmt::format(" and {} more", degenerateCount - 8) : "",
-                                      degenerateCount == 1 ? "has" : "have", tol,
-                                      degenerateCount == 1 ? "it" : "them"));
+      if (sewing.IsDegenerated(faces[k])) degenerate.push_back(model.patches[k].name);
+    if (!degenerate.empty()) {
+      const bool one = degenerate.size() == 1;
+      return invalidInput(fmt::format("{}: {} {} {} no area at the sewing tolerance {:.3g} (every control point on "
+                                      "one point or one curve): sewing removes {}; nothing written",
+                                      file.string(), one ? "patch" : "patches", quotedNames(degenerate),
+                                      one ? "has" : "have", tol, one ? "it" : "them"));
+    }
     shape = sewing.SewedShape();
     if (shape.IsNull()) {
       TopoDS_Compound c;
@@ -1135,14 +1145,8 @@ bool printIges(const Handle(IGESData_IGESModel)& model, std::ostream& os) {
   return iw.Print(os);
 }
 
-}  // namespace
-
-namespace {
-
 Status writePatchesCadFile(const Model& model, const fs::path& file, CadFormat format, const CadWriteOptions& options);
 
-/// Most trial writes made to find the patches a failed write cannot hold (failingPatches), and most patches named.
-constexpr size_t kMaxNamedCulprits = 8;
 /// Most trial writes made to find the patches a failed write cannot hold (failingPatches).
 constexpr int kMaxCulpritProbes = 64;
 
@@ -1201,13 +1205,10 @@ Status writeCadFile(const Model& model, const fs::path& file, CadFormat format, 
   // alone (issue 39: messages that name the patch), or say that none does.
   bool complete = true;
   const std::vector<std::string> culprits = failingPatches(model, file, format, options, complete);
-  std::string names;
-  for (size_t k = 0; k < culprits.size() && k < kMaxNamedCulprits; ++k)
-    names += fmt::format("{}\"{}\"", k == 0 ? "" : ", ", culprits[k]);
-  if (culprits.size() > kMaxNamedCulprits) names += fmt::format(" and {} more", culprits.size() - kMaxNamedCulprits);
   std::string why;
   if (!culprits.empty())
-    why = fmt::format("{} {} cannot be written even alone{}", culprits.size() == 1 ? "patch" : "patches", names,
+    why = fmt::format("{} {} cannot be written even alone{}", culprits.size() == 1 ? "patch" : "patches",
+                      quotedNames(culprits),
                       complete ? "" : " (the search stopped early: there may be more)");
   else if (complete)
     why = "every patch writes alone: the failure comes from patches together (coinciding or overlapping ones)";
