@@ -125,6 +125,37 @@ void BM_SurfaceSearch(benchmark::State& state) {
 }
 BENCHMARK(BM_SurfaceSearch)->Unit(benchmark::kMillisecond);
 
+/// A cone apex + u C(v) over a wavy closed-ish cubic C of n control points: its side u = 0 is a pole (every face of
+/// revolution has one), and C's last knot span is a sliver of 1.5e-5 of the others, as trj3_s1-al-214.stp's F6 has
+/// (issue 39 goal 1): the search used to refine along the pole and across the sliver down to its resolution.
+BSplineSurface poleCone(int n) {
+  std::vector<double> kv = uniformKnots(3, n);
+  for (int k = 0; k <= 3; ++k) kv[kv.size() - 1 - k] = kv[kv.size() - 5] + 1.5e-5;
+  Matrix p(4 * n, 3);
+  const double greville[4] = {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0};  // Bezier in u: S is linear in u
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double th = 5.5 * j / n;
+      const double r = 1.0 + 0.1 * std::sin(3.0 * th);
+      p.row(i * n + j) << greville[i] * r * std::cos(th), greville[i] * r * std::sin(th), greville[i] * 0.7;
+    }
+  return BSplineSurface(3, 3, seam::KnotVector({0, 0, 0, 0, 1, 1, 1, 1}), seam::KnotVector(kv), 4, n, p);
+}
+
+void BM_SurfaceSearchPole(benchmark::State& state) {
+  const BSplineSurface s = poleCone(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    auto r = seam::regularity::searchSurfaceDefects(s);
+    if (!r.isOk() || r->criticalPoints.size() != 1 || !r->summary.complete) {
+      state.SkipWithError(("not one pole: " + std::to_string(r->criticalPoints.size()) + " critical, " + std::to_string(r->selfIntersections.size()) + " self, unresolved " + std::to_string(r->summary.unresolved) + ", complete " + std::to_string(r->summary.complete)).c_str());
+      break;
+    }
+    benchmark::DoNotOptimize(r);
+  }
+  state.SetItemsProcessed(state.iterations() * (state.range(0) - 3));
+}
+BENCHMARK(BM_SurfaceSearchPole)->Arg(12)->Arg(100)->Unit(benchmark::kMillisecond);
+
 /// The whole analysis as `seam regularity` runs it (certificates, Theorem 2.7 up to ell = 2, the search) on
 /// curves of n segments (issue 16 goal 5: 200 000 in well under 2 s).
 void BM_AnalyzeCurveScale(benchmark::State& state) {

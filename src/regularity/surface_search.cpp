@@ -22,8 +22,22 @@ struct Piece {
   BernsteinPatch h;  // homogeneous (dim 4); its partials are formed where Newton needs them (rare, and a million
   BernsteinPatch n;  // pieces would hold gigabytes of them); n: the normal numerator (dim 3)
   double nScale = 0.0;
+  /// n with the factors of its vanishing sides divided out (n itself when no side vanishes): n = u^a (1-u)^b v^c
+  /// (1-v)^d m. A side where n is zero all along (a pole: a boundary collapsed to a point, or any edge along which
+  /// S_u x S_v vanishes) makes every point of it critical; the search for the other critical points looks for the
+  /// zeros of m, which are n's off those sides, instead of subdividing along the whole side down to the resolution.
+  BernsteinPatch m;
+  double mScale = 0.0;
+  /// Sides of the piece along which n vanishes: u = 0, u = 1, v = 0, v = 1 (local).
+  bool poleSide[4] = {false, false, false, false};
+  /// Those of them that are one point `apex` (within criticalRelTol x the piece's box), with `spokes`: the numerator
+  /// of S - apex divided by the side's factor, whose Bernstein coefficients bound the directions from the apex.
+  bool strictPole[4] = {false, false, false, false};
+  Vec3 apex[4];
+  BernsteinPatch spokes[4];
   Box3 box;                  // of the control points
   std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of the whole piece
+  int duDeg[2] = {0, 0}, dvDeg[2] = {0, 0};  // their Bernstein degrees (u, v)
 };
 
 struct Part {
@@ -60,6 +74,10 @@ bool conesSeparate(const std::vector<Vec3>& du, const std::vector<Vec3>& dv) {
   return detail::positiveDirection(all);
 }
 
+/// The parameter hull of two small regions is tested for injectivity over at most this many Bezier pieces (two
+/// regions of a pair that far apart are a candidate self-intersection, not a neighbourhood).
+constexpr int kMaxHullPieces = 4;
+
 class SurfaceSearch {
  public:
   SurfaceSearch(const BSplineSurface& s, const SearchOptions& options) : opt_(options) {
@@ -94,8 +112,13 @@ class SurfaceSearch {
       }
       const Matrix& c = p.h.coeffs();
       for (Eigen::Index k = 0; k < c.rows(); ++k) p.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
+      reduceAtPoles(p, options.criticalRelTol);
       for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) p.du.push_back(su.coeffs().row(k).transpose());
       for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) p.dv.push_back(sv.coeffs().row(k).transpose());
+      p.duDeg[0] = su.degreeU();
+      p.duDeg[1] = su.degreeV();
+      p.dvDeg[0] = sv.degreeU();
+      p.dvDeg[1] = sv.degreeV();
     }
     dist_ = options.distance.value_or(detail::defaultDistance(controlBox(s).diagonal()));
     domU_ = {pieces_.front().u.lo, pieces_.back().u.hi};
@@ -116,9 +139,18 @@ class SurfaceSearch {
 
   SurfaceSearchResult run() {
     for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) {
-      if (!(pieces_[i].nScale > 0.0)) {
+      if (!(pieces_[i].nScale > 0.0) || !(pieces_[i].mScale > 0.0)) {
         addCritical(i, 0.5, 0.5);
         continue;
+      }
+      // A vanishing side is reported by its middle (a collapsed boundary once: its points are one point), and the
+      // rest of the piece is searched through m.
+      const Piece& p = pieces_[i];
+      const double mid[4][2] = {{0.0, 0.5}, {1.0, 0.5}, {0.5, 0.0}, {0.5, 1.0}};
+      for (int side = 0; side < 4; ++side) {
+        if (!p.poleSide[side]) continue;
+        poleLines_.push_back(poleLine(p, side));
+        addCritical(i, mid[side][0], mid[side][1], /*pole=*/true);
       }
       critical(i, 0.0, 1.0, 0.0, 1.0);
     }
@@ -167,18 +199,18 @@ class SurfaceSearch {
   void critical(int i, double u0, double u1, double v0, double v1) {
     if (!spend()) return;
     const Piece& p = pieces_[i];
-    const BernsteinPatch sub = p.n.restricted(u0, u1, v0, v1);
+    const BernsteinPatch sub = p.m.restricted(u0, u1, v0, v1);
     thread_local std::vector<Vec3> vs;
     vs.resize(static_cast<size_t>(sub.coeffs().rows()));
     for (Eigen::Index k = 0; k < sub.coeffs().rows(); ++k) vs[k] = sub.coeffs().row(k).transpose();
     if (detail::positiveDirection(vs)) return;
     const double w = std::max(u1 - u0, v1 - v0);
     if (w <= opt_.newtonWidth) {
-      const BernsteinPatch nu = p.n.derivative(1, 0);
-      const BernsteinPatch nv = p.n.derivative(0, 1);
+      const BernsteinPatch nu = p.m.derivative(1, 0);
+      const BernsteinPatch nv = p.m.derivative(0, 1);
       Eigen::Vector2d x(0.5 * (u0 + u1), 0.5 * (v0 + v1));
       for (int it = 0; it < 40; ++it) {
-        const Vec3 f = p.n(x[0], x[1]);
+        const Vec3 f = p.m(x[0], x[1]);
         Eigen::Matrix<double, 3, 2> j;
         j.col(0) = nu(x[0], x[1]);
         j.col(1) = nv(x[0], x[1]);
@@ -190,7 +222,7 @@ class SurfaceSearch {
         if (step.norm() < 1e-15) break;
       }
       if (x[0] >= u0 - w && x[0] <= u1 + w && x[1] >= v0 - w && x[1] <= v1 + w &&
-          p.n(x[0], x[1]).norm() <= opt_.criticalRelTol * p.nScale) {
+          p.m(x[0], x[1]).norm() <= opt_.criticalRelTol * p.mScale) {
         addCritical(i, x[0], x[1]);
         return;
       }
@@ -209,7 +241,7 @@ class SurfaceSearch {
       critical(i, u0, u1, m, v1);
     }
   }
-  void addCritical(int i, double a, double b) {
+  void addCritical(int i, double a, double b, bool pole = false) {
     const Piece& p = pieces_[i];
     const double u = p.u.lo + a * p.u.length();
     const double v = p.v.lo + b * p.v.length();
@@ -217,17 +249,107 @@ class SurfaceSearch {
     for (const SurfaceCriticalPoint& c : result_.criticalPoints) {
       if (std::abs(c.u - u) <= dedupe * p.u.length() && std::abs(c.v - v) <= dedupe * p.v.length()) return;
     }
-    if (static_cast<int>(result_.criticalPoints.size()) >= opt_.maxReported) {
-      result_.summary.truncated = true;
-      return;
-    }
     SurfaceCriticalPoint c;
     c.u = u;
     c.v = v;
     Vec3 su, sv;
     eval(u, v, c.point, su, sv);
     c.normalNorm = su.cross(sv).norm();
+    // The pieces along a collapsed boundary all reach the same point: one pole, reported once.
+    if (pole)
+      for (const size_t k : poleReports_)
+        if ((result_.criticalPoints[k].point - c.point).norm() <= dist_) return;
+    if (static_cast<int>(result_.criticalPoints.size()) >= opt_.maxReported) {
+      result_.summary.truncated = true;
+      return;
+    }
+    if (pole) poleReports_.push_back(result_.criticalPoints.size());
     result_.criticalPoints.push_back(c);
+  }
+  /// Divides out of p.n the factor of every side along which it vanishes (its Bernstein coefficients on that side
+  /// at or below relTol x nScale, so that |n| is that small all along the side), into p.m. In Bernstein form, exactly:
+  /// B^d_j(v) = v (d / j) B^(d-1)_(j-1)(v), so with the row j = 0 zero the coefficients of n / v are c_(i,j) d / j for
+  /// j = 1..d; B^d_j(v) = (1 - v) (d / (d - j)) B^(d-1)_j(v), so with the row j = d zero those of n / (1 - v) are
+  /// c_(i,j) d / (d - j) for j = 0..d-1 (the same in u). See docs/algorithms/dyn-levin-yadshalom.md, "Poles".
+  static void reduceAtPoles(Piece& p, double relTol) {
+    p.m = p.n;
+    const double zero = relTol * p.nScale;
+    if (!(p.nScale > 0.0)) return;
+    for (int side = 0; side < 4; ++side) {
+      if (!vanishesOn(p.m, side, zero)) continue;
+      p.m = dividedBySide(p.m, side);
+      p.poleSide[side] = true;
+    }
+    for (Eigen::Index r = 0; r < p.m.coeffs().rows(); ++r) p.mScale = std::max(p.mScale, p.m.coeffs().row(r).norm());
+    // Sides that are one point (a pole in the strict sense): the directions of S - apex there, for the pair test.
+    const Matrix& h = p.h.coeffs();
+    for (int side = 0; side < 4; ++side) {
+      if (!p.poleSide[side]) continue;
+      const bool alongV = side >= 2;
+      const int d = alongV ? p.h.degreeV() : p.h.degreeU();
+      const int fixed = side % 2 == 1 ? d : 0;
+      const int count = (alongV ? p.h.degreeU() : p.h.degreeV()) + 1;
+      auto at = [&](int k) {
+        const Eigen::Index r = alongV ? k * (p.h.degreeV() + 1) + fixed : fixed * (p.h.degreeV() + 1) + k;
+        return Vec3(Vec3(h(r, 0), h(r, 1), h(r, 2)) / h(r, 3));
+      };
+      const Vec3 apex = at(0);
+      double spread = 0.0;
+      for (int k = 1; k < count; ++k) spread = std::max(spread, (at(k) - apex).norm());
+      if (!(spread <= (p.box.hi - p.box.lo).norm() * relTol)) continue;
+      Matrix g(h.rows(), 3);  // S - apex = G / w with G = H - apex w, zero on the side
+      for (Eigen::Index r = 0; r < h.rows(); ++r) g.row(r) = h.row(r).head<3>() - apex.transpose() * h(r, 3);
+      p.apex[side] = apex;
+      p.spokes[side] = dividedBySide(BernsteinPatch(p.h.degreeU(), p.h.degreeV(), std::move(g)), side);
+      p.strictPole[side] = true;
+    }
+  }
+  /// The Bernstein coefficients of `b` on `side` (0: u = 0, 1: u = 1, 2: v = 0, 3: v = 1) are all at most `zero`.
+  static bool vanishesOn(const BernsteinPatch& b, int side, double zero) {
+    const bool alongV = side >= 2;  // the side is v = const: its row is j = 0 or j = dv
+    const int du = b.degreeU(), dv = b.degreeV();
+    const int d = alongV ? dv : du;
+    if (d == 0) return false;
+    const int fixed = side % 2 == 1 ? d : 0;
+    for (int k = 0; k <= (alongV ? du : dv); ++k)
+      if ((alongV ? b.coeff(k, fixed) : b.coeff(fixed, k)).norm() > zero) return false;
+    return true;
+  }
+  /// b divided by the factor of `side` (u, 1 - u, v or 1 - v), its coefficients on that side taken as zero.
+  static BernsteinPatch dividedBySide(const BernsteinPatch& b, int side) {
+    const bool alongV = side >= 2;
+    const bool atOne = side % 2 == 1;
+    const int du = b.degreeU(), dv = b.degreeV();
+    const int d = alongV ? dv : du;
+    const int ndu = alongV ? du : du - 1, ndv = alongV ? dv - 1 : dv;
+    Matrix c = Matrix::Zero((ndu + 1) * (ndv + 1), b.dim());
+    for (int i = 0; i <= ndu; ++i)
+      for (int j = 0; j <= ndv; ++j) {
+        const int t = alongV ? j : i;      // the index in the reduced direction
+        const int src = atOne ? t : t + 1;  // the coefficient it comes from
+        const double scale = atOne ? static_cast<double>(d) / (d - t) : static_cast<double>(d) / (t + 1);
+        c.row(i * (ndv + 1) + j) = (alongV ? b.coeff(i, src) : b.coeff(src, j)) * scale;
+      }
+    return BernsteinPatch(ndu, ndv, std::move(c));
+  }
+  struct PoleLine {
+    Interval u, v;  // global parameters: one of them a single value
+  };
+  static PoleLine poleLine(const Piece& p, int side) {
+    switch (side) {
+      case 0: return {{p.u.lo, p.u.lo}, p.v};
+      case 1: return {{p.u.hi, p.u.hi}, p.v};
+      case 2: return {p.u, {p.v.lo, p.v.lo}};
+      default: return {p.u, {p.v.hi, p.v.hi}};
+    }
+  }
+  /// (u, v) on a pole line (within the dedupe separation of the Newton solutions).
+  bool onPole(double u, double v) const {
+    const double sepU = 1e3 * opt_.resolution * domU_.length() / nu_;
+    const double sepV = 1e3 * opt_.resolution * domV_.length() / nv_;
+    for (const PoleLine& l : poleLines_)
+      if (u >= l.u.lo - sepU && u <= l.u.hi + sepU && v >= l.v.lo - sepV && v <= l.v.hi + sepV) return true;
+    return false;
   }
   /// The region grown by its size, or by the Newton width of a span, contains a found critical point.
   /// S_u x S_v == 0 on a whole piece of the region (reported as one critical point; not searched further).
@@ -244,6 +366,9 @@ class SurfaceSearch {
     const double wv = std::max(r.v.length(), opt_.newtonWidth * domV_.length() / nv_);
     for (const SurfaceCriticalPoint& c : result_.criticalPoints) {
       if (c.u >= r.u.lo - wu && c.u <= r.u.hi + wu && c.v >= r.v.lo - wv && c.v <= r.v.hi + wv) return true;
+    }
+    for (const PoleLine& l : poleLines_) {  // every point of a pole line is critical
+      if (l.u.lo <= r.u.hi + wu && r.u.lo - wu <= l.u.hi && l.v.lo <= r.v.hi + wv && r.v.lo - wv <= l.v.hi) return true;
     }
     return false;
   }
@@ -386,6 +511,7 @@ class SurfaceSearch {
     if ((x.single() && degenerate(x)) || (y.single() && degenerate(y))) return;
     const bool touch = touching(x, y);
     if (!touch && !x.box.overlaps(y.box, dist_)) return;
+    if (apartFromTheirPole(x, y)) return;
     if (touch) {
       thread_local std::vector<Vec3> du, dv;
       du.clear();
@@ -396,6 +522,7 @@ class SurfaceSearch {
     }
     const bool small = x.single() && y.single() && x.relWidth() <= opt_.newtonWidth &&
                        y.relWidth() <= opt_.newtonWidth;
+    if (small && hullInjective(x, y)) return;
     if (small && newton(x, y)) return;
     if (small && nearCritical(x) && nearCritical(y)) return;  // settled by the reported critical point
     if (small && x.relWidth() <= opt_.resolution && y.relWidth() <= opt_.resolution) {
@@ -409,6 +536,77 @@ class SurfaceSearch {
       pairCheck(x, child(y, 0));
       pairCheck(x, child(y, 1));
     }
+  }
+  /// Two regions that both reach the same pole (a side of their pieces that is one point) and whose directions from
+  /// it are strictly separated (a plane through the apex has one region's spokes on one side and the other's on the
+  /// other: positiveDirection of Cx and -Cy): they meet at the pole and nowhere else. Every region along a pole
+  /// touches every other in space, so without this each pair was refined until both were small: quadratic in the
+  /// pieces along the pole (a 97-span cone ran out of its budget).
+  bool apartFromTheirPole(const Region& x, const Region& y) const {
+    if (!x.single() || !y.single()) return false;
+    const auto reaches = [](const Part& part, int side) {
+      return side == 0 ? part.u0 == 0.0 : side == 1 ? part.u1 == 1.0 : side == 2 ? part.v0 == 0.0 : part.v1 == 1.0;
+    };
+    const Piece& px = pieces_[x.part.piece];
+    const Piece& py = pieces_[y.part.piece];
+    for (int sx = 0; sx < 4; ++sx) {
+      if (!px.strictPole[sx] || !reaches(x.part, sx)) continue;
+      for (int sy = 0; sy < 4; ++sy) {
+        if (!py.strictPole[sy] || !reaches(y.part, sy) || (px.apex[sx] - py.apex[sy]).norm() > dist_) continue;
+        thread_local std::vector<Vec3> all;
+        all.clear();
+        for (int k = 0; k < 2; ++k) {
+          const Part& part = k == 0 ? x.part : y.part;
+          const BernsteinPatch c =
+              (k == 0 ? px.spokes[sx] : py.spokes[sy]).restricted(part.u0, part.u1, part.v0, part.v1);
+          for (Eigen::Index r = 0; r < c.coeffs().rows(); ++r)
+            all.push_back((k == 0 ? 1.0 : -1.0) * c.coeffs().row(r).transpose());
+        }
+        if (detail::positiveDirection(all)) return true;
+      }
+    }
+    return false;
+  }
+  /// Two small regions whose parameter hull (the rectangle spanning both, over at most kMaxHullPieces pieces) is
+  /// injective by the cone test (conesSeparate on the S_u / S_v numerators of every piece restricted to it: the
+  /// argument of Theorem 3.7 holds on any convex domain the cones bound): no point of one meets a point of the other. Two
+  /// regions a few cells apart inside a thin span are within the distance tolerance of each other in space, and
+  /// Newton finds only the trivial solution between them; without this they were searched down to the resolution
+  /// and left unresolved (trj3's F6: a knot span of 1.5e-5 of its neighbours, 114 240 pairs, budget exhausted).
+  bool hullInjective(const Region& x, const Region& y) const {
+    if (!x.single() || !y.single()) return false;
+    const Interval u{std::min(x.u.lo, y.u.lo), std::max(x.u.hi, y.u.hi)};
+    const Interval v{std::min(x.v.lo, y.v.lo), std::max(x.v.hi, y.v.hi)};
+    const int iu0 = std::min(x.part.piece, y.part.piece) / nv_, iu1 = std::max(x.part.piece, y.part.piece) / nv_;
+    const int ivx = x.part.piece % nv_, ivy = y.part.piece % nv_;
+    const int iv0 = std::min(ivx, ivy), iv1 = std::max(ivx, ivy);
+    if ((iu1 - iu0 + 1) * (iv1 - iv0 + 1) > kMaxHullPieces) return false;
+    thread_local std::vector<Vec3> du, dv;
+    du.clear();
+    dv.clear();
+    for (int iu = iu0; iu <= iu1; ++iu)
+      for (int iv = iv0; iv <= iv1; ++iv) {
+        const Piece& p = pieces_[static_cast<size_t>(iu) * nv_ + iv];
+        const auto local = [](const Interval& global, const Interval& piece, double& a, double& b) {
+          a = std::clamp((global.lo - piece.lo) / piece.length(), 0.0, 1.0);
+          b = std::clamp((global.hi - piece.lo) / piece.length(), 0.0, 1.0);
+        };
+        double u0, u1, v0, v1;
+        local(u, p.u, u0, u1);
+        local(v, p.v, v0, v1);
+        if (!(u1 > u0) || !(v1 > v0)) continue;
+        // The piece's S_u / S_v numerators restricted to the hull (no product: they are kept per piece).
+        for (int d = 0; d < 2; ++d) {
+          const std::vector<Vec3>& from = d == 0 ? p.du : p.dv;
+          const int* deg = d == 0 ? p.duDeg : p.dvDeg;
+          Matrix c(static_cast<Eigen::Index>(from.size()), 3);
+          for (size_t k = 0; k < from.size(); ++k) c.row(static_cast<Eigen::Index>(k)) = from[k].transpose();
+          const BernsteinPatch part = BernsteinPatch(deg[0], deg[1], std::move(c)).restricted(u0, u1, v0, v1);
+          std::vector<Vec3>& to = d == 0 ? du : dv;
+          for (Eigen::Index k = 0; k < part.coeffs().rows(); ++k) to.push_back(part.coeffs().row(k).transpose());
+        }
+      }
+    return !du.empty() && conesSeparate(du, dv);
   }
   bool newton(const Region& x, const Region& y) {
     Eigen::Vector4d q(0.5 * (x.u.lo + x.u.hi), 0.5 * (x.v.lo + x.v.hi), 0.5 * (y.u.lo + y.u.hi),
@@ -449,6 +647,7 @@ class SurfaceSearch {
     const double du = std::abs(q[0] - q[2]);
     const double dv = std::abs(q[1] - q[3]);
     if (du <= sepU && dv <= sepV) return false;  // the trivial solution
+    if (onPole(q[0], q[1]) && onPole(q[2], q[3])) return false;  // two points of a pole (a critical point)
     if (closedU_ && dv <= sepV && domU_.length() - du <= sepU) return false;  // the seam of a closed surface
     if (closedV_ && du <= sepU && domV_.length() - dv <= sepV) return false;
     if ((q[0] > q[2]) || (q[0] == q[2] && q[1] > q[3])) {
@@ -487,6 +686,8 @@ class SurfaceSearch {
   bool closedU_ = false;
   bool closedV_ = false;
   SurfaceSearchResult result_;
+  std::vector<PoleLine> poleLines_;
+  std::vector<size_t> poleReports_;  // indices of the critical points that report a pole
 };
 
 }  // namespace
