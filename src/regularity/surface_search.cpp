@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "search_internal.h"
 #include "seam/core/bernstein.h"
@@ -22,22 +23,27 @@ struct Piece {
   BernsteinPatch h;  // homogeneous (dim 4); its partials are formed where Newton needs them (rare, and a million
   BernsteinPatch n;  // pieces would hold gigabytes of them); n: the normal numerator (dim 3)
   double nScale = 0.0;
-  /// n with the factors of its vanishing sides divided out (n itself when no side vanishes): n = u^a (1-u)^b v^c
-  /// (1-v)^d m. A side where n is zero all along (a pole: a boundary collapsed to a point, or any edge along which
-  /// S_u x S_v vanishes) makes every point of it critical; the search for the other critical points looks for the
-  /// zeros of m, which are n's off those sides, instead of subdividing along the whole side down to the resolution.
-  BernsteinPatch m;
-  double mScale = 0.0;
-  /// Sides of the piece along which n vanishes: u = 0, u = 1, v = 0, v = 1 (local).
-  bool poleSide[4] = {false, false, false, false};
-  /// Those of them that are one point `apex` (within criticalRelTol x the piece's box), with `spokes`: the numerator
-  /// of S - apex divided by the side's factor, whose Bernstein coefficients bound the directions from the apex.
-  bool strictPole[4] = {false, false, false, false};
-  Vec3 apex[4];
-  BernsteinPatch spokes[4];
+  /// Index into SurfaceSearch::poles_ when a side of the piece is a pole (S_u x S_v zero all along it), else -1:
+  /// pieces without one (nearly all) carry nothing more.
+  int pole = -1;
   Box3 box;                  // of the control points
   std::vector<Vec3> du, dv;  // coefficients of the S_u / S_v numerators of the whole piece
   int duDeg[2] = {0, 0}, dvDeg[2] = {0, 0};  // their Bernstein degrees (u, v)
+};
+
+/// A piece with sides along which n = S_u x S_v vanishes (a pole: a boundary collapsed to a point, or any edge along
+/// which S_u x S_v is zero all along). Every point of such a side is critical; the search for the other critical
+/// points looks for the zeros of m, n with the factors of those sides divided out (n = u^a (1-u)^b v^c (1-v)^d m),
+/// which are n's off them, instead of subdividing along the whole side down to the resolution.
+struct PoleSides {
+  bool side[4] = {false, false, false, false};  ///< u = 0, u = 1, v = 0, v = 1 (local)
+  BernsteinPatch m;
+  double mScale = 0.0;
+  /// Sides that are one point `apex` (within criticalRelTol x the piece's box), with `spokes`: the numerator of
+  /// S - apex divided by the side's factor, whose Bernstein coefficients bound the directions from the apex.
+  bool strict[4] = {false, false, false, false};
+  Vec3 apex[4];
+  BernsteinPatch spokes[4];
 };
 
 struct Part {
@@ -112,7 +118,10 @@ class SurfaceSearch {
       }
       const Matrix& c = p.h.coeffs();
       for (Eigen::Index k = 0; k < c.rows(); ++k) p.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
-      reduceAtPoles(p, options.criticalRelTol);
+      if (std::optional<PoleSides> ps = poleSidesOf(p, options.criticalRelTol)) {
+        p.pole = static_cast<int>(poles_.size());
+        poles_.push_back(std::move(*ps));
+      }
       for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) p.du.push_back(su.coeffs().row(k).transpose());
       for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) p.dv.push_back(sv.coeffs().row(k).transpose());
       p.duDeg[0] = su.degreeU();
@@ -139,18 +148,20 @@ class SurfaceSearch {
 
   SurfaceSearchResult run() {
     for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) {
-      if (!(pieces_[i].nScale > 0.0) || !(pieces_[i].mScale > 0.0)) {
+      const Piece& p = pieces_[i];
+      if (!(p.nScale > 0.0) || !(scaleOfQuotient(p) > 0.0)) {
         addCritical(i, 0.5, 0.5);
         continue;
       }
       // A vanishing side is reported by its middle (a collapsed boundary once: its points are one point), and the
       // rest of the piece is searched through m.
-      const Piece& p = pieces_[i];
-      const double mid[4][2] = {{0.0, 0.5}, {1.0, 0.5}, {0.5, 0.0}, {0.5, 1.0}};
-      for (int side = 0; side < 4; ++side) {
-        if (!p.poleSide[side]) continue;
-        poleLines_.push_back(poleLine(p, side));
-        addCritical(i, mid[side][0], mid[side][1], /*pole=*/true);
+      if (p.pole >= 0) {
+        const double mid[4][2] = {{0.0, 0.5}, {1.0, 0.5}, {0.5, 0.0}, {0.5, 1.0}};
+        for (int side = 0; side < 4; ++side) {
+          if (!poles_[p.pole].side[side]) continue;
+          poleLines_.push_back(poleLine(p, side));
+          addCritical(i, mid[side][0], mid[side][1], /*pole=*/true);
+        }
       }
       critical(i, 0.0, 1.0, 0.0, 1.0);
     }
@@ -199,18 +210,19 @@ class SurfaceSearch {
   void critical(int i, double u0, double u1, double v0, double v1) {
     if (!spend()) return;
     const Piece& p = pieces_[i];
-    const BernsteinPatch sub = p.m.restricted(u0, u1, v0, v1);
+    const BernsteinPatch& q = quotient(p);
+    const BernsteinPatch sub = q.restricted(u0, u1, v0, v1);
     thread_local std::vector<Vec3> vs;
     vs.resize(static_cast<size_t>(sub.coeffs().rows()));
     for (Eigen::Index k = 0; k < sub.coeffs().rows(); ++k) vs[k] = sub.coeffs().row(k).transpose();
     if (detail::positiveDirection(vs)) return;
     const double w = std::max(u1 - u0, v1 - v0);
     if (w <= opt_.newtonWidth) {
-      const BernsteinPatch nu = p.m.derivative(1, 0);
-      const BernsteinPatch nv = p.m.derivative(0, 1);
+      const BernsteinPatch nu = q.derivative(1, 0);
+      const BernsteinPatch nv = q.derivative(0, 1);
       Eigen::Vector2d x(0.5 * (u0 + u1), 0.5 * (v0 + v1));
       for (int it = 0; it < 40; ++it) {
-        const Vec3 f = p.m(x[0], x[1]);
+        const Vec3 f = q(x[0], x[1]);
         Eigen::Matrix<double, 3, 2> j;
         j.col(0) = nu(x[0], x[1]);
         j.col(1) = nv(x[0], x[1]);
@@ -222,7 +234,7 @@ class SurfaceSearch {
         if (step.norm() < 1e-15) break;
       }
       if (x[0] >= u0 - w && x[0] <= u1 + w && x[1] >= v0 - w && x[1] <= v1 + w &&
-          p.m(x[0], x[1]).norm() <= opt_.criticalRelTol * p.mScale) {
+          q(x[0], x[1]).norm() <= opt_.criticalRelTol * scaleOfQuotient(p)) {
         addCritical(i, x[0], x[1]);
         return;
       }
@@ -266,25 +278,32 @@ class SurfaceSearch {
     if (pole) poleReports_.push_back(result_.criticalPoints.size());
     result_.criticalPoints.push_back(c);
   }
-  /// Divides out of p.n the factor of every side along which it vanishes (its Bernstein coefficients on that side
-  /// at or below relTol x nScale, so that |n| is that small all along the side), into p.m. In Bernstein form, exactly:
-  /// B^d_j(v) = v (d / j) B^(d-1)_(j-1)(v), so with the row j = 0 zero the coefficients of n / v are c_(i,j) d / j for
-  /// j = 1..d; B^d_j(v) = (1 - v) (d / (d - j)) B^(d-1)_j(v), so with the row j = d zero those of n / (1 - v) are
-  /// c_(i,j) d / (d - j) for j = 0..d-1 (the same in u). See docs/algorithms/dyn-levin-yadshalom.md, "Poles".
-  static void reduceAtPoles(Piece& p, double relTol) {
-    p.m = p.n;
+  /// n of a piece with the factors of its vanishing sides divided out (n itself when none vanishes), and its scale.
+  const BernsteinPatch& quotient(const Piece& p) const { return p.pole >= 0 ? poles_[p.pole].m : p.n; }
+  double scaleOfQuotient(const Piece& p) const { return p.pole >= 0 ? poles_[p.pole].mScale : p.nScale; }
+  /// The sides of p along which n vanishes (its Bernstein coefficients on that side at or below relTol x nScale, so
+  /// that |n| is that small all along the side), n divided by their factors, and the strict poles among them; nothing
+  /// when no side vanishes. In Bernstein form, exactly: B^d_j(v) = v (d / j) B^(d-1)_(j-1)(v), so with the row
+  /// j = 0 zero the coefficients of n / v are c_(i,j) d / j for j = 1..d; B^d_j(v) = (1 - v) (d / (d - j))
+  /// B^(d-1)_j(v), so with the row j = d zero those of n / (1 - v) are c_(i,j) d / (d - j) for j = 0..d-1 (the same
+  /// in u). See docs/algorithms/dyn-levin-yadshalom.md, "Poles and thin spans".
+  static std::optional<PoleSides> poleSidesOf(const Piece& p, double relTol) {
+    if (!(p.nScale > 0.0)) return std::nullopt;
     const double zero = relTol * p.nScale;
-    if (!(p.nScale > 0.0)) return;
+    PoleSides ps;
+    ps.m = p.n;
+    bool any = false;
     for (int side = 0; side < 4; ++side) {
-      if (!vanishesOn(p.m, side, zero)) continue;
-      p.m = dividedBySide(p.m, side);
-      p.poleSide[side] = true;
+      if (!vanishesOn(ps.m, side, zero)) continue;
+      ps.m = dividedBySide(ps.m, side);
+      ps.side[side] = any = true;
     }
-    for (Eigen::Index r = 0; r < p.m.coeffs().rows(); ++r) p.mScale = std::max(p.mScale, p.m.coeffs().row(r).norm());
+    if (!any) return std::nullopt;
+    for (Eigen::Index r = 0; r < ps.m.coeffs().rows(); ++r) ps.mScale = std::max(ps.mScale, ps.m.coeffs().row(r).norm());
     // Sides that are one point (a pole in the strict sense): the directions of S - apex there, for the pair test.
     const Matrix& h = p.h.coeffs();
     for (int side = 0; side < 4; ++side) {
-      if (!p.poleSide[side]) continue;
+      if (!ps.side[side]) continue;
       const bool alongV = side >= 2;
       const int d = alongV ? p.h.degreeV() : p.h.degreeU();
       const int fixed = side % 2 == 1 ? d : 0;
@@ -299,10 +318,11 @@ class SurfaceSearch {
       if (!(spread <= (p.box.hi - p.box.lo).norm() * relTol)) continue;
       Matrix g(h.rows(), 3);  // S - apex = G / w with G = H - apex w, zero on the side
       for (Eigen::Index r = 0; r < h.rows(); ++r) g.row(r) = h.row(r).head<3>() - apex.transpose() * h(r, 3);
-      p.apex[side] = apex;
-      p.spokes[side] = dividedBySide(BernsteinPatch(p.h.degreeU(), p.h.degreeV(), std::move(g)), side);
-      p.strictPole[side] = true;
+      ps.apex[side] = apex;
+      ps.spokes[side] = dividedBySide(BernsteinPatch(p.h.degreeU(), p.h.degreeV(), std::move(g)), side);
+      ps.strict[side] = true;
     }
+    return ps;
   }
   /// The Bernstein coefficients of `b` on `side` (0: u = 0, 1: u = 1, 2: v = 0, 3: v = 1) are all at most `zero`.
   static bool vanishesOn(const BernsteinPatch& b, int side, double zero) {
@@ -547,12 +567,14 @@ class SurfaceSearch {
     const auto reaches = [](const Part& part, int side) {
       return side == 0 ? part.u0 == 0.0 : side == 1 ? part.u1 == 1.0 : side == 2 ? part.v0 == 0.0 : part.v1 == 1.0;
     };
-    const Piece& px = pieces_[x.part.piece];
-    const Piece& py = pieces_[y.part.piece];
+    const int ix = pieces_[x.part.piece].pole, iy = pieces_[y.part.piece].pole;
+    if (ix < 0 || iy < 0) return false;
+    const PoleSides& px = poles_[ix];
+    const PoleSides& py = poles_[iy];
     for (int sx = 0; sx < 4; ++sx) {
-      if (!px.strictPole[sx] || !reaches(x.part, sx)) continue;
+      if (!px.strict[sx] || !reaches(x.part, sx)) continue;
       for (int sy = 0; sy < 4; ++sy) {
-        if (!py.strictPole[sy] || !reaches(y.part, sy) || (px.apex[sx] - py.apex[sy]).norm() > dist_) continue;
+        if (!py.strict[sy] || !reaches(y.part, sy) || (px.apex[sx] - py.apex[sy]).norm() > dist_) continue;
         thread_local std::vector<Vec3> all;
         all.clear();
         for (int k = 0; k < 2; ++k) {
@@ -681,6 +703,7 @@ class SurfaceSearch {
   int nu_ = 0;
   int nv_ = 0;
   std::vector<Piece> pieces_;
+  std::vector<PoleSides> poles_;  // of the pieces with a pole side (Piece::pole)
   double dist_ = 0.0;
   Interval domU_, domV_;
   bool closedU_ = false;
