@@ -268,7 +268,7 @@ TEST(HostileCadTimeLimit, AReadPastTheLimitStopsWithExitTwoAndWritesNothing) {
 
 // Issue 39 §1: --time-limit bounds the whole command, not only reading: `regularity` of linkrods (reading 0.6 s; the
 // defect search on its two degree 6 x 8 faces with nearly singular points inside runs to its work budget, about
-// 20 s; trj3 took 57 s until pole sides were divided out of the search, and 0.55 s since; the limit is 10 s because
+// 31 s; trj3 took 57 s until pole sides were divided out of the search, and 0.55 s since; the limit is 10 s because
 // reading linkrods takes 3.6 s under the sanitizers on a busy machine, and the test requires that reading is not what
 // the limit stops) and the B-rep `heal` of trj3 at the strict angle (about 9 s; at the CAD default angle of
 // 0.5 deg it has fewer kinks to heal and finishes in under 4 s, so the strict angle keeps it well past its limit of
