@@ -293,25 +293,12 @@ BSplineSurface poleSurface(std::mt19937_64& rng, int side, int pu, int pv, doubl
     for (int j = 0; j < nc; ++j) pts.row(i * nc + j) = apex.transpose() + g * q.row(j);
   }
   // The pole on `side`: reverse u (side 1), or swap u and v (sides 2, 3).
-  auto flipU = [&](Matrix m, int rows, int cols) {
-    Matrix o(rows * cols, 3);
-    for (int i = 0; i < rows; ++i)
-      for (int j = 0; j < cols; ++j) o.row(i * cols + j) = m.row((rows - 1 - i) * cols + j);
-    return o;
-  };
-  auto transpose = [&](const Matrix& m, int rows, int cols) {
-    Matrix o(rows * cols, 3);
-    for (int i = 0; i < rows; ++i)
-      for (int j = 0; j < cols; ++j) o.row(j * rows + i) = m.row(i * cols + j);
-    return o;
-  };
-  std::vector<double> kuR(ku.rbegin(), ku.rend());
-  for (double& x : kuR) x = 1.0 - x;
+  const BSplineSurface s = *BSplineSurface::create(pu, pv, ku, kv, nu, nc, pts);
   switch (side) {
-    case 0: return *BSplineSurface::create(pu, pv, ku, kv, nu, nc, pts);
-    case 1: return *BSplineSurface::create(pu, pv, kuR, kv, nu, nc, flipU(pts, nu, nc));
-    case 2: return *BSplineSurface::create(pv, pu, kv, ku, nc, nu, transpose(pts, nu, nc));
-    default: return *BSplineSurface::create(pv, pu, kv, kuR, nc, nu, transpose(flipU(pts, nu, nc), nu, nc));
+    case 0: return s;
+    case 1: return s.reversedU();
+    case 2: return s.swappedUV();
+    default: return s.reversedU().swappedUV();
   }
 }
 

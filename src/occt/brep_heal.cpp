@@ -1055,12 +1055,12 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
     // A face moved for it, but the seam did not reach the class: say so rather than "healed".
     if (!reached && hs.action == "healed")
       hs.action = fmt::format("moved, {} not reached", toString(want));
-    else if (!reached && (hs.action == "crease: gap closed" || hs.action == "trims projected again: gap closed")) {
-      // Say "narrowed" only where the gap did narrow: a move can leave it a little wider within the never-worse slack.
-      const bool narrowed = hs.after && hs.after->g0Max < hs.before.g0Max;
-      const std::string head = hs.action.substr(0, hs.action.find(": gap closed"));
-      hs.action = head + (narrowed ? ": gap narrowed, not closed" : ": gap not narrowed");
-    }
+    // "Narrowed" only where the gap did narrow: a move can leave it a little wider within the never-worse slack.
+    const bool narrowed = hs.after && hs.after->g0Max < hs.before.g0Max;
+    if (!reached && hs.action == "crease: gap closed")
+      hs.action = narrowed ? "crease: gap narrowed, not closed" : "crease: gap not narrowed";
+    else if (!reached && hs.action == "trims projected again: gap closed")
+      hs.action = narrowed ? "trims projected again: gap narrowed, not closed" : "trims projected again: gap not narrowed";
     report.achieved = report.achieved && reached;
   }
   for (const auto& [fi, d] : displacement) {

@@ -304,17 +304,13 @@ class SurfaceSearch {
     const Matrix& h = p.h.coeffs();
     for (int side = 0; side < 4; ++side) {
       if (!ps.side[side]) continue;
-      const bool alongV = side >= 2;
-      const int d = alongV ? p.h.degreeV() : p.h.degreeU();
-      const int fixed = side % 2 == 1 ? d : 0;
-      const int count = (alongV ? p.h.degreeU() : p.h.degreeV()) + 1;
-      auto at = [&](int k) {
-        const Eigen::Index r = alongV ? k * (p.h.degreeV() + 1) + fixed : fixed * (p.h.degreeV() + 1) + k;
-        return Vec3(Vec3(h(r, 0), h(r, 1), h(r, 2)) / h(r, 3));
+      auto at = [&](int k) {  // the k-th control point on the side
+        const auto c = sideCoeff(p.h, side, k);
+        return Vec3(Vec3(c(0), c(1), c(2)) / c(3));
       };
       const Vec3 apex = at(0);
       double spread = 0.0;
-      for (int k = 1; k < count; ++k) spread = std::max(spread, (at(k) - apex).norm());
+      for (int k = 1; k < sideCount(p.h, side); ++k) spread = std::max(spread, (at(k) - apex).norm());
       if (!(spread <= (p.box.hi - p.box.lo).norm() * relTol)) continue;
       Matrix g(h.rows(), 3);  // S - apex = G / w with G = H - apex w, zero on the side
       for (Eigen::Index r = 0; r < h.rows(); ++r) g.row(r) = h.row(r).head<3>() - apex.transpose() * h(r, 3);
@@ -324,15 +320,18 @@ class SurfaceSearch {
     }
     return ps;
   }
-  /// The Bernstein coefficients of `b` on `side` (0: u = 0, 1: u = 1, 2: v = 0, 3: v = 1) are all at most `zero`.
+  /// The number of Bernstein coefficients of `b` on `side` (0: u = 0, 1: u = 1, 2: v = 0, 3: v = 1), and the k-th.
+  static int sideCount(const BernsteinPatch& b, int side) { return (side >= 2 ? b.degreeU() : b.degreeV()) + 1; }
+  static Eigen::RowVectorXd sideCoeff(const BernsteinPatch& b, int side, int k) {
+    const int across = side >= 2 ? b.degreeV() : b.degreeU();  // the side is v = const: row j = 0 or j = dv
+    const int fixed = side % 2 == 1 ? across : 0;
+    return side >= 2 ? b.coeff(k, fixed) : b.coeff(fixed, k);
+  }
+  /// The Bernstein coefficients of `b` on `side` are all at most `zero` (and b has a degree across it to divide).
   static bool vanishesOn(const BernsteinPatch& b, int side, double zero) {
-    const bool alongV = side >= 2;  // the side is v = const: its row is j = 0 or j = dv
-    const int du = b.degreeU(), dv = b.degreeV();
-    const int d = alongV ? dv : du;
-    if (d == 0) return false;
-    const int fixed = side % 2 == 1 ? d : 0;
-    for (int k = 0; k <= (alongV ? du : dv); ++k)
-      if ((alongV ? b.coeff(k, fixed) : b.coeff(fixed, k)).norm() > zero) return false;
+    if ((side >= 2 ? b.degreeV() : b.degreeU()) == 0) return false;
+    for (int k = 0; k < sideCount(b, side); ++k)
+      if (sideCoeff(b, side, k).norm() > zero) return false;
     return true;
   }
   /// b divided by the factor of `side` (u, 1 - u, v or 1 - v), its coefficients on that side taken as zero.
@@ -363,10 +362,13 @@ class SurfaceSearch {
       default: return {p.u, {p.v.hi, p.v.hi}};
     }
   }
-  /// (u, v) on a pole line (within the dedupe separation of the Newton solutions).
+  /// Parameter distances (u, v) below which two Newton solutions are one point.
+  [[nodiscard]] std::pair<double, double> separation() const {
+    return {1e3 * opt_.resolution * domU_.length() / nu_, 1e3 * opt_.resolution * domV_.length() / nv_};
+  }
+  /// (u, v) on a pole line (within the separation of the Newton solutions).
   bool onPole(double u, double v) const {
-    const double sepU = 1e3 * opt_.resolution * domU_.length() / nu_;
-    const double sepV = 1e3 * opt_.resolution * domV_.length() / nv_;
+    const auto [sepU, sepV] = separation();
     for (const PoleLine& l : poleLines_)
       if (u >= l.u.lo - sepU && u <= l.u.hi + sepU && v >= l.v.lo - sepV && v <= l.v.hi + sepV) return true;
     return false;
@@ -664,8 +666,7 @@ class SurfaceSearch {
         q[2] < y.u.lo - wu || q[2] > y.u.hi + wu || q[3] < y.v.lo - wv || q[3] > y.v.hi + wv) {
       return false;
     }
-    const double sepU = 1e3 * opt_.resolution * domU_.length() / nu_;
-    const double sepV = 1e3 * opt_.resolution * domV_.length() / nv_;
+    const auto [sepU, sepV] = separation();
     const double du = std::abs(q[0] - q[2]);
     const double dv = std::abs(q[1] - q[3]);
     if (du <= sepU && dv <= sepV) return false;  // the trivial solution
