@@ -329,12 +329,19 @@ cli::FileCheckOptions checkOptions(std::optional<double> tolDistance, std::optio
                                    std::optional<double> tolCurvature, std::optional<double> creaseAngle,
                                    const std::optional<std::string>& require, const std::string& sort,
                                    std::optional<size_t> top, const std::string& only, bool patches,
-                                   const std::optional<std::string>& units, const std::optional<std::string>& preset) {
+                                   const std::optional<std::string>& units, const std::optional<std::string>& preset,
+                                   const std::optional<std::string>& displayUnits) {
   cli::FileCheckOptions o;
   o.tol.distance = positive("tol_distance", tolDistance);
   o.tol.angleDeg = positive("tol_angle", tolAngle);
   o.tol.curvatureRel = positive("tol_curvature", tolCurvature);
   applyUnitsAndPreset(o.tol, units, preset);
+  if (displayUnits) {  // as --display-units (issue 38 §1)
+    o.tol.display = *displayUnits == "inch" ? std::optional(LengthUnit::kInch) : parseLengthUnit(*displayUnits);
+    if (!o.tol.display)
+      throw py::value_error(fmt::format("display_units: \"{}\" is not a length unit (use mm, cm, m, in, ft, or inch)",
+                                        *displayUnits));
+  }
   o.require = parseRequire(require);
   if (creaseAngle) {
     if (!validCreaseAngle(*creaseAngle))
@@ -386,6 +393,12 @@ py::object checkLoaded(const PyModel& m, const cli::FileCheckOptions& o) {
       if (o.tol.units) {
         units.length = o.tol.units;
         units.source = UnitSource::kOption;
+        units.display = o.tol.units;  // a loaded model's numbers in the stated unit are shown in it
+        units.displaySource = UnitSource::kOption;
+      }
+      if (o.tol.display) {
+        units.display = o.tol.display;
+        units.displaySource = UnitSource::kDisplayOption;
       }
       r = cli::checkModel(m.model, m.source, o, units);
     } catch (const std::bad_alloc&) {
@@ -409,6 +422,7 @@ RepairUnits repairTolerances(const PyModel& m, const std::optional<std::string>&
   applyUnitsAndPreset(overrides, units, preset);
   RepairUnits r;
   r.units = m.units;  // a STEP/IGES model's millimetres, as the CLI's heal of the same file
+  r.units.display.reset();  // the repairs report in the model's unit (the B-rep heal's JSON names its own)
   if (overrides.units) {
     r.units.length = overrides.units;
     r.units.source = UnitSource::kOption;
@@ -968,31 +982,34 @@ PYBIND11_MODULE(_seam, mod) {
 
   auto checkDoc =
       "Continuity of every seam, corner and free edge: the dict of `seam check FILE --json` with the same options "
-      "(a STEP/IGES path is checked as a B-rep unless patches=True). Raises ValueError/OSError on bad input.";
+      "(a STEP/IGES path is checked as a B-rep unless patches=True; display_units= as --display-units: every "
+      "length in that unit, a STEP/IGES file's own by default). Raises ValueError/OSError on bad input.";
   mod.def("check",
           [](const std::filesystem::path& path, std::optional<double> tolDistance, std::optional<double> tolAngle,
              std::optional<double> tolCurvature, std::optional<double> creaseAngle,
              const std::optional<std::string>& require, const std::string& sort, std::optional<size_t> top,
              const std::string& only, bool patches, const std::optional<std::string>& units,
-             const std::optional<std::string>& preset) {
+             const std::optional<std::string>& preset, const std::optional<std::string>& displayUnits) {
             return checkPath(path, checkOptions(tolDistance, tolAngle, tolCurvature, creaseAngle, require, sort, top,
-                                                only, patches, units, preset));
+                                                only, patches, units, preset, displayUnits));
           },
           py::arg("path"), py::kw_only(), py::arg("tol_distance") = py::none(), py::arg("tol_angle") = py::none(),
           py::arg("tol_curvature") = py::none(), py::arg("crease_angle") = py::none(), py::arg("require") = py::none(),
           py::arg("sort") = "file", py::arg("top") = py::none(), py::arg("only") = "all", py::arg("patches") = false,
-          py::arg("units") = py::none(), py::arg("preset") = py::none(), checkDoc);
+          py::arg("units") = py::none(), py::arg("preset") = py::none(), py::arg("display_units") = py::none(),
+          checkDoc);
   mod.def("check",
           [](const PyModel& m, std::optional<double> tolDistance, std::optional<double> tolAngle,
              std::optional<double> tolCurvature, std::optional<double> creaseAngle,
              const std::optional<std::string>& require, const std::string& sort, std::optional<size_t> top,
              const std::string& only, const std::optional<std::string>& units,
-             const std::optional<std::string>& preset) {
+             const std::optional<std::string>& preset, const std::optional<std::string>& displayUnits) {
             return checkLoaded(m, checkOptions(tolDistance, tolAngle, tolCurvature, creaseAngle, require, sort, top,
-                                               only, false, units, preset));
+                                               only, false, units, preset, displayUnits));
           },
           py::arg("model"), py::kw_only(), py::arg("tol_distance") = py::none(), py::arg("tol_angle") = py::none(),
           py::arg("tol_curvature") = py::none(), py::arg("crease_angle") = py::none(), py::arg("require") = py::none(),
           py::arg("sort") = "file", py::arg("top") = py::none(), py::arg("only") = "all",
-          py::arg("units") = py::none(), py::arg("preset") = py::none(), checkDoc);
+          py::arg("units") = py::none(), py::arg("preset") = py::none(), py::arg("display_units") = py::none(),
+          checkDoc);
 }

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -503,9 +505,95 @@ TEST_F(CliVerdicts, UnitsInTheTextAndBadUnits) {
   EXPECT_NE(plain.out.find("(default for unit-less models: 1e-6 x bounding-box diagonal)"), std::string::npos);
   const CliRun bad = runSeam("check \"" + hinges_ + "\" --units furlong", true);
   EXPECT_EQ(bad.exitCode, 2);
-  EXPECT_NE(bad.out.find("\"furlong\" is not a length unit (use mm, cm, m, in, ft)"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("\"furlong\" is not a length unit (use mm, cm, m, in, ft, or inch)"), std::string::npos) << bad.out;
   EXPECT_EQ(runSeam("info \"" + hinges_ + "\" --units ft --json").exitCode, 0);
   EXPECT_EQ(nlohmann::json::parse(runSeam("info \"" + hinges_ + "\" --units ft --json").out)["units"]["length"], "ft");
+}
+
+/// Every number of `got` equals the one of `want` at the same place, within a relative 1e-9 (plus `absFloor` for
+/// round-off values near zero); strings and booleans equal; keys in `skip` (at any depth) are not compared.
+void expectSameNumbers(const nlohmann::json& got, const nlohmann::json& want, const std::string& where,
+                       double absFloor, const std::vector<std::string>& skip) {
+  if (want.is_number() && got.is_number()) {
+    const double a = got.get<double>(), b = want.get<double>();
+    EXPECT_LE(std::abs(a - b), 1e-9 * std::max(std::abs(a), std::abs(b)) + absFloor) << where;
+  } else if (want.is_object() && got.is_object()) {
+    EXPECT_EQ(got.size(), want.size()) << where;
+    for (const auto& [key, value] : want.items()) {
+      if (std::find(skip.begin(), skip.end(), key) != skip.end()) continue;
+      ASSERT_TRUE(got.contains(key)) << where << "." << key;
+      expectSameNumbers(got[key], value, where + "." + key, absFloor, skip);
+    }
+  } else if (want.is_array() && got.is_array()) {
+    ASSERT_EQ(got.size(), want.size()) << where;
+    for (size_t k = 0; k < want.size(); ++k)
+      expectSameNumbers(got[k], want[k], where + "[" + std::to_string(k) + "]", absFloor, skip);
+  } else {
+    EXPECT_EQ(got, want) << where;
+  }
+}
+
+// Issue 38 §1: --display-units converts every length of the output and changes no verdict. Expected from another
+// route: the same model with every control point divided by 10 (test::scaledModel), declared in centimetres. Both
+// must give the same JSON number for number, so a length the conversion forgets (or a curvature converted the
+// wrong way) fails. --tol-distance is read in the shown unit: 0.002 cm closes the hinge's 0.01 mm gap in both.
+TEST_F(CliVerdicts, DisplayUnitsConvertEveryLengthAsTheScaledModelHasThem) {
+  // The hinges (gaps, kinks, creases) and a curved closed network (curvature jumps, corners with curvature spreads).
+  const Model hinges = test::hingeModel({10.0, 45.0, 90.0, 150.0, 0.0, 0.0, 3.0}, {0.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0});
+  const Result<Model> sphere = io::readModelJson(std::string(SEAM_EXAMPLES_DIR) + "/models/network_sphere24.json");
+  ASSERT_TRUE(sphere.isOk()) << sphere.status().message();
+  const std::string sphereMm = (dir_ / "sphere_mm.json").string();
+  ASSERT_TRUE(io::writeModelJson(*sphere, sphereMm).isOk());
+  for (const auto& [model, file] : {std::pair{&hinges, hinges_}, std::pair{&*sphere, sphereMm}}) {
+    const std::string cm = (dir_ / "scaled_cm.json").string();
+    ASSERT_TRUE(io::writeModelJson(test::scaledModel(*model, 0.1), cm).isOk());
+    for (const std::string& options : {std::string(), std::string(" --tol-distance 0.002"), std::string(" --preset nx")}) {
+      const CliRun shown = runSeam("check \"" + file + "\" --json --units mm --display-units cm" + options);
+      const CliRun scaled = runSeam("check \"" + cm + "\" --json --units cm" + options);
+      ASSERT_EQ(shown.exitCode, 0) << shown.out;
+      ASSERT_EQ(scaled.exitCode, 0) << scaled.out;
+      const nlohmann::json a = nlohmann::json::parse(shown.out), b = nlohmann::json::parse(scaled.out);
+      EXPECT_EQ(a["units"]["length"], "cm");
+      EXPECT_EQ(a["units"]["source"], "--display-units");
+      // The sphere's seams are alike by symmetry: which one is the worst kink is decided by round-off.
+      const std::vector<std::string> skip = model == &*sphere ? std::vector<std::string>{"file", "source", "worst_kink"}
+                                                              : std::vector<std::string>{"file", "source"};
+      expectSameNumbers(a, b, file + options, 1e-12, skip);
+      EXPECT_EQ(a["summary"]["verdicts"], b["summary"]["verdicts"]) << options;
+      if (model == &*sphere) {
+        EXPECT_GT(b["summary"]["g2_max"].get<double>(), 1e-6);  // curvature jumps to convert
+      }
+    }
+  }
+  // The gap of 0.01 mm = 0.001 cm: a gap at the default 0.0001 cm, closed at --tol-distance 0.002 (cm).
+  auto gaps = [&](const std::string& options) {
+    return nlohmann::json::parse(
+        runSeam("check \"" + hinges_ + "\" --json --units mm --display-units cm" + options).out)["summary"]["verdicts"]["gap"];
+  };
+  EXPECT_EQ(gaps(""), 1);
+  EXPECT_EQ(gaps(" --tol-distance 0.002"), 0);
+  // The text: the unit named with its source, the headers in it.
+  const CliRun text = runSeam("check \"" + hinges_ + "\" --units mm --display-units inch");
+  EXPECT_NE(text.out.find("length unit: in (--display-units)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("G0 gap (in)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("G2 jump % (abs, 1/in)"), std::string::npos) << text.out;
+  // info: the bounding box in the shown unit.
+  const nlohmann::json mm = nlohmann::json::parse(runSeam("info \"" + hinges_ + "\" --json --units mm").out);
+  const nlohmann::json ft = nlohmann::json::parse(runSeam("info \"" + hinges_ + "\" --json --units mm --display-units ft").out);
+  EXPECT_EQ(ft["units"]["length"], "ft");
+  EXPECT_NEAR(ft["summary"]["diagonal"].get<double>(), mm["summary"]["diagonal"].get<double>() / 304.8,
+              1e-12 * mm["summary"]["diagonal"].get<double>());
+  // A unit-less model has nothing to convert from: exit 2, the file named; a unit that is not one: exit 2.
+  for (const std::string& command : {std::string("check"), std::string("info"),
+                                     "report -o \"" + (dir_ / "x.html").string() + "\""}) {
+    const CliRun bad = runSeam(command + " \"" + hinges_ + "\" --display-units cm", true);
+    EXPECT_EQ(bad.exitCode, 2) << command;
+    EXPECT_NE(bad.out.find(hinges_ + ": --display-units needs a model with a length unit"), std::string::npos)
+        << command << bad.out;
+  }
+  const CliRun furlong = runSeam("check \"" + hinges_ + "\" --units mm --display-units furlong", true);
+  EXPECT_EQ(furlong.exitCode, 2);
+  EXPECT_NE(furlong.out.find("\"furlong\" is not a length unit"), std::string::npos) << furlong.out;
 }
 
 // Issue 17 §2: heal, join and fill take --units / --preset / --tol-* with check's meaning, and name the unit and the
@@ -623,13 +711,59 @@ TEST_F(CliVerdicts, StepFileHasMillimetresAndTheAbsoluteDefault) {
   const CliRun unitless = runSeam("check \"" + hinges_ + "\"");
   EXPECT_NE(unitless.out.find("G2 jump % (abs)"), std::string::npos) << unitless.out;
   EXPECT_NE(runSeam("check \"" + hinges_ + "\" --units in").out.find("G2 jump % (abs, 1/in)"), std::string::npos);
+  // --units m: the file's numbers are metres whatever its header says; they are shown in metres, so the worst
+  // kink's point has the file's own numbers, and the default tolerance is 0.001 mm = 1e-6 m.
   const nlohmann::json m = nlohmann::json::parse(runSeam("check \"" + step + "\" --json --units m").out);
   EXPECT_EQ(m["units"]["source"], "--units");
-  EXPECT_EQ(m["units"]["length"], "mm");
+  EXPECT_EQ(m["units"]["length"], "m");
+  EXPECT_NEAR(m["tolerances"]["distance"].get<double>(), 1e-6, 1e-18);
   const nlohmann::json& p = j["summary"]["worst_kink"]["point"];
   const nlohmann::json& q = m["summary"]["worst_kink"]["point"];
   for (int k = 0; k < 3; ++k)
-    EXPECT_NEAR(q[k].get<double>(), 1000.0 * p[k].get<double>(), 1e-6 * (1.0 + 1000.0 * std::abs(p[k].get<double>())));
+    EXPECT_NEAR(q[k].get<double>(), p[k].get<double>(), 1e-9 * (1.0 + std::abs(p[k].get<double>())));
+}
+
+// Issue 38 §1 on the B-rep route: the hinges' STEP (MM) shown in inches. Every length is the millimetre value over
+// 25.4 (the inch's definition), every absolute curvature jump times 25.4, no verdict changes; the report's page
+// names the unit. The fuselage's header says FOOT: by default it is shown in feet.
+TEST_F(CliVerdicts, StepFileIsShownInItsOwnUnitOrInTheDisplayUnit) {
+  const std::string step = (dir_ / "hinges.step").string();
+  ASSERT_EQ(runSeam("convert \"" + hinges_ + "\" \"" + step + "\"").exitCode, 0);
+  const nlohmann::json mm = nlohmann::json::parse(runSeam("check \"" + step + "\" --json").out);
+  const CliRun r = runSeam("check \"" + step + "\" --json --display-units in");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  const nlohmann::json in = nlohmann::json::parse(r.out);
+  EXPECT_EQ(in["units"]["length"], "in");
+  EXPECT_EQ(in["units"]["source"], "--display-units");
+  EXPECT_NEAR(in["tolerances"]["distance"].get<double>(), 0.001 / 25.4, 1e-18);
+  ASSERT_EQ(in["seams"].size(), mm["seams"].size());
+  ASSERT_FALSE(mm["seams"].empty());
+  for (size_t k = 0; k < mm["seams"].size(); ++k) {
+    const nlohmann::json &a = in["seams"][k], &b = mm["seams"][k];
+    EXPECT_EQ(a["verdict"], b["verdict"]) << k;
+    for (const char* key : {"g0_max", "g0_sampled", "end_mismatch"})
+      EXPECT_NEAR(a[key].get<double>() * 25.4, b[key].get<double>(), 1e-9 * b[key].get<double>() + 1e-15) << key;
+    for (const char* key : {"g2_max", "g2_sampled"})
+      EXPECT_NEAR(a[key].get<double>(), b[key].get<double>() * 25.4, 1e-9 * a[key].get<double>() + 1e-15) << key;
+    EXPECT_EQ(a["g1_max_deg"], b["g1_max_deg"]) << k;
+  }
+  const nlohmann::json &p = mm["summary"]["worst_kink"]["point"], &q = in["summary"]["worst_kink"]["point"];
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(q[k].get<double>() * 25.4, p[k].get<double>(), 1e-9 * (1.0 + std::abs(p[k].get<double>())));
+  const CliRun text = runSeam("check \"" + step + "\" --display-units in");
+  EXPECT_NE(text.out.find("length unit: in (--display-units; the file header says "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("G0 gap (in)"), std::string::npos) << text.out;
+  const std::string page = (dir_ / "hinges.html").string();
+  ASSERT_EQ(runSeam("report \"" + step + "\" -o \"" + page + "\" --display-units in").exitCode, 0);
+  std::ifstream html(page);
+  const std::string body((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(body.find("in (--display-units"), std::string::npos);
+  const std::string fuselage = std::string(SEAM_SHARED_DATA_DIR) + "/step/bug28366_fuselage.stp";
+  const nlohmann::json ft = nlohmann::json::parse(runSeam("check \"" + fuselage + "\" --json").out);
+  EXPECT_EQ(ft["units"]["length"], "ft");
+  EXPECT_EQ(ft["units"]["source"], "file header");
+  EXPECT_EQ(ft["units"]["file_unit"], "FOOT");
+  EXPECT_NEAR(ft["tolerances"]["distance"].get<double>(), 0.001 / 304.8, 1e-18);
 }
 
 // Issue 38 goal 2: a CAD file is judged at the CAD G1 angle. Hinges of exactly 0.2 and 3 degrees (by construction):

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "hinge_models.h"
 #include "network_support.h"
 #include "seam/continuity/model_check.h"
 #include "seam/io/json.h"
@@ -327,16 +328,6 @@ double valenceThreeTwistMisprediction(const Model& m, const nt::Network& net) {
 // The first of the thesis' intertwining systems at a vertex where three patches meet, in closed form: the three
 // edges' curvatures fix the vertex's second fundamental form (no restriction on them), which fixes the twists. The
 // input breaks it (its twists come from Coons blending), the output meets it.
-/// `m` with every control point multiplied by `s` (knots and weights as they are).
-Model scaledModel(const Model& m, double s) {
-  Model out = m;
-  for (Patch& p : out.patches) {
-    const BSplineSurface& f = p.surface;
-    p.surface = BSplineSurface(f.degreeU(), f.degreeV(), f.knotsU(), f.knotsV(), f.numU(), f.numV(), f.points() * s,
-                               f.weights());
-  }
-  return out;
-}
 
 // Issue 36 goal 4: the solve does not depend on the model's scale. The blending coefficients are dimensionless and
 // the control points are lengths; with a fixed weight between them, network_fan5.json scaled by 1e-3 stopped at a
@@ -347,7 +338,7 @@ TEST(G2Network, TheSolveIsTheSameAtEveryScale) {
   ASSERT_TRUE(model) << model.status().message();
   std::vector<Matrix> unit;
   for (const double s : {1.0, 1e-3, 1e4}) {
-    auto res = g2NetworkScheme(scaledModel(*model, s));
+    auto res = g2NetworkScheme(test::scaledModel(*model, s));
     ASSERT_TRUE(static_cast<bool>(res)) << "scale " << s << ": " << res.status().message();
     const CertifiedCounts c = certify(res->model);
     EXPECT_EQ(c.seams, 25) << "scale " << s;

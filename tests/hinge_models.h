@@ -39,4 +39,15 @@ inline Model hingeModel(const std::vector<double>& anglesDeg, const std::vector<
   return m;
 }
 
+/// `m` with every control point multiplied by `s` (knots and weights as they are): the same model in another unit.
+inline Model scaledModel(const Model& m, double s) {
+  Model out = m;
+  for (Patch& p : out.patches) {
+    const BSplineSurface& f = p.surface;
+    p.surface = BSplineSurface(f.degreeU(), f.degreeV(), f.knotsU(), f.knotsV(), f.numU(), f.numV(), f.points() * s,
+                               f.weights());
+  }
+  return out;
+}
+
 }  // namespace seam::test

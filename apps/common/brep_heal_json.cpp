@@ -6,9 +6,9 @@ namespace seam::cli {
 
 namespace {
 
-OrderedJson seamJson(const SeamReport& r, double creaseDeg) {
+OrderedJson seamJson(const SeamReport& r, double creaseDeg, double scale) {
   OrderedJson j;
-  j["gap"] = r.g0Max;
+  j["gap"] = r.g0Max * scale;  // in units.length
   j["angle_deg"] = r.g1MaxDeg;
   j["class"] = std::string(toString(r.geometric));
   j["state"] = brepSeamState(r, creaseDeg);
@@ -24,13 +24,20 @@ std::string brepSeamState(const SeamReport& r, double creaseDeg) {
 
 OrderedJson brepHealJson(const occt::BRepHealReport& r, const std::string& input,
                          const std::optional<std::string>& output) {
+  // Lengths without a unit in their key are in the shown unit (units.length: the file's own, or --display-units,
+  // issue 38 §1); the keys ending in _mm stay in millimetres.
+  const double scale = r.units.displayScale();
   OrderedJson j;
   j["input"] = input;
   if (output) j["output"] = *output;
   j["route"] = "brep";
   j["requested"] = std::string(toString(r.requested));
   j["unit"] = r.unit;
-  j["tolerances"] = {{"distance_mm", r.tolerances.distance}, {"angle_deg", r.tolerances.angleDeg}};
+  j["units"] = unitsJson(r.units.shown());
+  j["tolerances"] = {{"distance", r.tolerances.distance * scale},
+                     {"distance_mm", r.tolerances.distance},
+                     {"angle_deg", r.tolerances.angleDeg}};
+  j["max_gap"] = r.maxGap * scale;
   j["max_gap_mm"] = r.maxGap;
   j["crease_angle_deg"] = r.creaseAngleDeg;
   OrderedJson seams = OrderedJson::array();
@@ -44,8 +51,8 @@ OrderedJson brepHealJson(const occt::BRepHealReport& r, const std::string& input
     x["action"] = s.action;
     x["moved"] = s.moved;
     x["moved_mm"] = s.moved.empty() ? OrderedJson() : OrderedJson(s.movedBy);
-    x["before"] = seamJson(s.before, r.creaseAngleDeg);
-    x["after"] = s.after ? seamJson(*s.after, r.creaseAngleDeg) : OrderedJson();
+    x["before"] = seamJson(s.before, r.creaseAngleDeg, scale);
+    x["after"] = s.after ? seamJson(*s.after, r.creaseAngleDeg, scale) : OrderedJson();
     x["worse"] = s.worse;
     seams.push_back(std::move(x));
   }

@@ -42,7 +42,7 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
   report::ReportData d;
   d.warnings = r->import.warnings;
   d.tolerances = r->tolerances;
-  setReportUnits(d, r->units, {r->tolerances, r->distanceSource, r->angleSource, tol.preset});
+  setReportUnits(d, r->units.shown(), {r->tolerances, r->distanceSource, r->angleSource, tol.preset});
   d.extraHeader = "OpenCASCADE";
   d.facts.emplace_back("faces", fmt::format("{}{}", r->import.faces.size(), r->sewn ? " (sewn)" : ""));
   d.facts.emplace_back("non-manifold edges", std::to_string(r->nonManifoldEdges.size()));
@@ -77,6 +77,9 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
                                   std::max(report::kDefaultViewVertexBudget - faceMeshVertices,
                                            report::kDefaultViewVertexBudget / 2));
   for (const occt::BRepFaceMesh& m : r->faceMeshes) d.meshes.push_back({m.face, m.points, m.normals, m.triangles});
+  // Lengths in the shown unit (issue 38 §1: the file's own, or --display-units).
+  const double scale = r->units.displayScale();
+  if (scale != 1.0) report::scaleLengths(d, scale);
   if (trimmed > 0) {
     // Faces OpenCASCADE's mesher skips (e.g. an open trim) come from seam's grid fallback (src/occt/face_mesh.cpp).
     const auto fallback = std::count_if(r->faceMeshes.begin(), r->faceMeshes.end(),
@@ -85,7 +88,7 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
         "3-D view",
         fmt::format("{} of {} trimmed faces shaded from OpenCASCADE's triangulation (deflection {}){}",
                     r->faceMeshes.size() - static_cast<size_t>(fallback), trimmed,
-                    withUnit(formatNumber(r->meshDeflection), r->units),
+                    withUnit(formatNumber(r->meshDeflection * scale), r->units.shown()),
                     fallback > 0 ? fmt::format("; {} more, which OpenCASCADE could not mesh{}, from seam's grid "
                                                "over their trims",
                                                fallback,

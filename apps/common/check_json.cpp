@@ -598,6 +598,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
       bo.tolerances = o.tol;
       Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, bo);
       if (!r) return r.status();
+      occt::toShownUnits(*r);  // as `seam check`: the file's own unit, or --display-units
       std::vector<const SeamReport*> reports;
       for (const occt::BRepSeam& s : r->seams) {
         reports.push_back(&s.report);
@@ -614,11 +615,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
 #endif
   }
   Model model;
-  ModelUnits units;
-  if (o.tol.units) {
-    units.length = o.tol.units;
-    units.source = UnitSource::kOption;
-  }
+  ModelUnits units = declaredModelUnits(o.tol);
 #ifdef SEAM_HAVE_OCCT
   if (isCad(file)) {
     occt::CadReadOptions ro;
@@ -648,9 +645,14 @@ Result<FileCheck> checkModel(const Model& model, const std::string& name, const 
                              const ModelUnits& units) {
   FileCheck out;
   if (model.patches.empty()) {  // as `seam check`: only curves, or "patches": []
-    out.json = withInputFile(name, noPatchesJson(name, units));
+    out.json = withInputFile(name, noPatchesJson(name, units.shown()));
     return out;
   }
+  if (units.displaySource == UnitSource::kDisplayOption && !units.length)
+    return Status(ErrorCode::kInvalidInput,
+                  fmt::format("{}: --display-units needs a model with a length unit; this one is unit-less (give its "
+                              "unit with --units)",
+                              name));
   ModelCheckOptions mo;
   const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model.boundingBox().diagonal());
   mo.tolerances = resolved.tolerances;
@@ -658,9 +660,12 @@ Result<FileCheck> checkModel(const Model& model, const std::string& name, const 
   mo.findOverlaps = true;  // as `seam check`: the same JSON from the CLI, batch and Python
   Result<ModelCheckReport> r = seam::checkModel(model, mo);
   if (!r) return r.status().withContext(name);
+  // Every length in the shown unit (issue 38 §1), as `seam check` prints it.
+  const double scale = units.displayScale();
+  if (scale != 1.0) scaleLengths(*r, scale);
   out.belowRequired = o.require && r->summary.belowRequired > 0;
   out.json = withInputFile(name, modelCheckJson(model, *r, selectSeams(reportsOf(*r), o.selection), o.require,
-                                               r->pairingTolerance, o.selection.creaseAngleDeg, units,
+                                               r->pairingTolerance, o.selection.creaseAngleDeg, units.shown(),
                                                resolved.distanceSource, {}, resolved.angleSource));
   return out;
 }

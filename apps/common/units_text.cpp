@@ -22,6 +22,9 @@ std::string unitText(const ModelUnits& units) {
   std::string unit;
   if (!units.length) {
     unit = "length unit: none (unit-less model; --units gives one)";
+  } else if (units.source == UnitSource::kDisplayOption) {
+    unit = fmt::format("length unit: {} (--display-units{})", units.name(),
+                       units.fileUnit.empty() ? "" : fmt::format("; the file header says {}", units.fileUnit));
   } else if (units.source == UnitSource::kOption) {
     unit = fmt::format("length unit: {} (--units{})", units.name(),
                        units.fileUnit.empty() ? "" : fmt::format("; the file header says {}", units.fileUnit));

@@ -199,8 +199,9 @@ bool isCadFile(const std::filesystem::path& file) {
 
 void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
   cmd.add_option("--tol-distance", overrides.distance,
-                 "G0 tolerance, in the model's length unit (mm for STEP/IGES); default 0.001 mm for models with a "
-                 "length unit (STEP/IGES, or --units), 1e-6 x bounding-box diagonal for unit-less ones");
+                 "G0 tolerance, in the unit lengths are shown in (the file's own for STEP/IGES, --units for "
+                 "JSON/.bpt, or --display-units); default 0.001 mm for models with a length unit, 1e-6 x "
+                 "bounding-box diagonal for unit-less ones");
   cmd.add_option("--tol-angle", overrides.angleDeg,
                  fmt::format("G1 tolerance in degrees; default {} deg for models with a length unit (STEP/IGES, or "
                              "--units), {} deg for unit-less ones",
@@ -223,15 +224,43 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
 void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides) {
   cmd.add_option_function<std::string>(
          "--units",
-         [&overrides](const std::string& name) { overrides.units = parseLengthUnit(name); },
-         "Length unit of the model's numbers: mm, cm, m, in or ft. JSON/.bpt: gives the unit-less model this unit "
-         "(presets and the default tolerance become absolute). STEP/IGES: the file's coordinates are in this unit "
-         "whatever its header says (the model is rescaled to mm)")
+         [&overrides](const std::string& name) { overrides.units = parseDisplayUnit(name); },
+         "Length unit of the model's numbers: mm, cm, m, in (or inch) or ft. JSON/.bpt: declares the unit of the "
+         "unit-less model (presets and the default tolerance become absolute). STEP/IGES: only for a file whose "
+         "header is wrong: its coordinates are taken in this unit whatever the header says. To show lengths in "
+         "another unit, use --display-units")
       ->check([](const std::string& name) -> std::string {
-        if (parseLengthUnit(name)) return "";
-        return fmt::format("\"{}\" is not a length unit (use {})", name, unitNames());
+        if (parseDisplayUnit(name)) return "";
+        return fmt::format("\"{}\" is not a length unit (use {}, or inch)", name, unitNames());
       })
       ->type_name("UNIT");
+}
+
+void addDisplayUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides) {
+  cmd.add_option_function<std::string>(
+         "--display-units",
+         [&overrides](const std::string& name) { overrides.display = parseDisplayUnit(name); },
+         "Unit of every length in the output (tables, JSON, report): mm, cm, m, in (or inch) or ft; default the "
+         "model's own (a STEP/IGES file's header unit). The model is not changed; --tol-distance and --max-gap are "
+         "read in this unit")
+      ->check([](const std::string& name) -> std::string {
+        if (parseDisplayUnit(name)) return "";
+        return fmt::format("\"{}\" is not a length unit (use {}, or inch)", name, unitNames());
+      })
+      ->type_name("UNIT");
+}
+
+std::optional<LengthUnit> parseDisplayUnit(const std::string& name) {
+  if (name == "inch") return LengthUnit::kInch;
+  return parseLengthUnit(name);
+}
+
+bool displayUnitsApply(const std::string& file, const ModelUnits& units) {
+  if (units.displaySource != UnitSource::kDisplayOption || units.length) return true;
+  printError(fmt::format("{}: --display-units needs a model with a length unit; this one is unit-less (give its "
+                         "unit with --units)",
+                         file));
+  return false;
 }
 
 std::string unitNames() {
@@ -290,13 +319,7 @@ namespace {
 
 std::optional<Model> loadModelUnguarded(const std::filesystem::path& file, const ToleranceOverrides& overrides,
                                         ModelUnits* units, std::vector<std::string>* warnings) {
-  if (units != nullptr) {
-    *units = {};
-    if (overrides.units) {
-      units->length = overrides.units;
-      units->source = UnitSource::kOption;
-    }
-  }
+  if (units != nullptr) *units = declaredModelUnits(overrides);
   if (isCadFile(file)) {
     // A directory, a FIFO or a device is refused here with the same words as for .json/.bpt.
     if (!checkInputPath(file)) return std::nullopt;

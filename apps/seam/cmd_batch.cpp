@@ -330,6 +330,7 @@ int runBatch(const BatchOptions& o) {
   addNumber("--tol-curvature", o.tol.curvatureRel);
   if (!o.tol.preset.empty()) extra.insert(extra.end(), {"--preset", o.tol.preset});  // its distance, in mm
   if (o.tol.units) extra.insert(extra.end(), {"--units", lengthUnitInfo(*o.tol.units).name});
+  if (o.tol.display) extra.insert(extra.end(), {"--display-units", lengthUnitInfo(*o.tol.display).name});
   if (!o.require.empty()) extra.insert(extra.end(), {"--require", o.require});
   if (o.patches) extra.emplace_back("--patches");
   const size_t jobs =
@@ -456,6 +457,7 @@ void addBatch(CLI::App& app, int& exit) {
   cmd->add_option("--timeout", o->timeoutSec, "Seconds one file may take before its check is stopped (default 600)");
   cmd->add_option("--require", o->require, "A file with a seam below this class (G0, G1 or G2) is a problem");
   addToleranceOptions(*cmd, o->tol);
+  addDisplayUnitsOption(*cmd, o->tol);
   cmd->add_flag("--patches", o->patches, "STEP/IGES: check the faces as patches instead of the B-rep edges");
   cmd->footer("Exit codes (as seam check): 0 every file read and, with --require, every seam meets it; 1 some seam is below "
               "--require (a failed seam counts as below); 2 bad usage or some file unreadable, invalid, crashed or timed "

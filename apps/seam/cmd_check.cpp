@@ -361,7 +361,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   bo.tolerances = o.tol;
   if (o.threads) bo.threads = *o.threads;
   bo.progress = brepProgressPrinter(o.file);
-  const Result<occt::BRepCheckReport> r = [&] {
+  Result<occt::BRepCheckReport> r = [&] {
     const CadTimeLimit limit(o.file, "reading and checking");
     return model != nullptr ? occt::checkBRepModel(*model, o.file, bo) : occt::checkBRepFile(o.file, bo);
   }();
@@ -369,6 +369,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     printError(r.status().message());
     return kExitBadInput;
   }
+  occt::toShownUnits(*r);  // lengths in the file's own unit, or --display-units (issue 38 §1)
   for (const std::string& w : r->import.warnings) std::cerr << "seam: warning: " << w << "\n";
   int below = 0;
   for (const occt::BRepSeam& s : r->seams)
@@ -467,14 +468,14 @@ int runCheck(const CheckOptions& o) {
   ModelUnits units;
   std::vector<std::string> warnings;  // a STEP/IGES file read as patches: the reader's (also on stderr)
   const std::optional<Model> model = loadModel(o.file, o.tol, &units, &warnings);
-  if (!model) return kExitBadInput;
+  if (!model || !displayUnitsApply(o.file, units)) return kExitBadInput;
 #ifdef SEAM_HAVE_OCCT
   // A JSON model with its trims (docs/format.md "brep"): checked as a B-rep, like the STEP/IGES it came from.
   if (model->brep && !o.patches && o.seam.empty()) return runBRepCheck(o, require, *sel, &*model);
 #endif
   if (model->patches.empty()) {  // only curves, or "patches": []: as `report` and `heal` (issue 15)
     const std::string note = fmt::format("{}: the model has no patches: nothing to check", o.file);
-    OrderedJson none = noPatchesJson(o.file, units);
+    OrderedJson none = noPatchesJson(o.file, units.shown());
     none["warnings"] = warnings;
     if (o.json)
       printJson(withInputFile(o.file, std::move(none)));
@@ -537,6 +538,15 @@ int runCheck(const CheckOptions& o) {
     report = std::move(r).value();
     pairing = report.pairingTolerance;
   }
+  // Every length in the shown unit (issue 38 §1: --display-units; the model's unit without it).
+  const double scale = units.displayScale();
+  ResolvedTolerances shownTol = resolved;
+  if (scale != 1.0) {
+    scaleLengths(report, scale);
+    shownTol.tolerances.distance *= scale;
+    if (pairing) *pairing *= scale;
+  }
+  units = units.shown();
 
   if (o.json) {
     // Streamed record by record (the DOM of a 10 000-patch check took ~300 MB and 3 s); the same bytes as
@@ -544,7 +554,7 @@ int runCheck(const CheckOptions& o) {
     writeModelCheckJson(std::cout, o.file, *model, report, selectSeams(reportsOf(report), *sel), require, pairing,
                         sel->creaseAngleDeg, units, resolved.distanceSource, warnings, resolved.angleSource);
   } else {
-    std::string out = fmt::format("{}: {}\n", o.file, unitLine(units, resolved, sel->creaseAngleDeg, pairing));
+    std::string out = fmt::format("{}: {}\n", o.file, unitLine(units, shownTol, sel->creaseAngleDeg, pairing));
     out += seamTable(*model, report, *sel, units);
     if (o.seam.empty()) out += cornerTable(*model, report) + edgeLists(*model, report);
     out += summaryLine(*model, report, require, sel->creaseAngleDeg, units);
@@ -562,6 +572,7 @@ void addCheck(CLI::App& app, int& exit) {
       ->expected(2)
       ->type_name("A:EDGE B:EDGE");
   addToleranceOptions(*cmd, options->tol);
+  addDisplayUnitsOption(*cmd, options->tol);
   cmd->add_option("--crease-angle", options->creaseAngle,
                   "Seams whose angle is at or above this (degrees, in (0, 180]) are design creases, listed apart from "
                   "the gaps and kinks (default 20)");

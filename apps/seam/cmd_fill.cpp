@@ -128,6 +128,7 @@ void runFill(const FillCliOptions& o, int& exit) {
   }
   ModelUnits units;
   const std::optional<Model> model = loadModel(o.file, o.tol, &units);
+  units.display.reset();  // lengths in the model's unit (--display-units: check, report, info, batch, heal)
   if (!model) {
     exit = kExitBadInput;
     return;

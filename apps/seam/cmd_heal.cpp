@@ -87,46 +87,52 @@ int healBRep(const HealCliOptions& o, const HealOptions& ho, const Model* model 
   if (o.json) {
     printJson(brepHealJson(r, o.file, o.out));
   } else {
+    // Lengths in the shown unit (issue 38 §1: the file's own, or --display-units); the report's are mm.
+    const double scale = r.units.displayScale();
+    const ModelUnits shown = r.units.shown();
+    const std::string unit = shown.length ? shown.name() : "mm";
+    const auto len = [scale](double x) { return formatNumber(x * scale); };
     std::vector<std::vector<std::string>> rows;
     for (const occt::BRepHealSeam& s : r.seams) {
       if (s.action == "already G1" || s.action == "already G0" || s.action == "crease kept") continue;
       rows.push_back({std::to_string(s.edge), s.a + (s.entityA.empty() ? "" : " " + s.entityA),
                       s.b + (s.entityB.empty() ? "" : " " + s.entityB),
-                      s.moved.empty() ? "-" : fmt::format("{} {}", s.moved, formatNumber(s.movedBy)),
-                      formatNumber(s.before.g0Max), formatNumber(s.before.g1MaxDeg),
-                      brepSeamState(s.before, r.creaseAngleDeg), s.after ? formatNumber(s.after->g0Max) : "?",
+                      s.moved.empty() ? "-" : fmt::format("{} {}", s.moved, len(s.movedBy)),
+                      len(s.before.g0Max), formatNumber(s.before.g1MaxDeg),
+                      brepSeamState(s.before, r.creaseAngleDeg), s.after ? len(s.after->g0Max) : "?",
                       s.after ? formatNumber(s.after->g1MaxDeg) : "?",
                       s.after ? brepSeamState(*s.after, r.creaseAngleDeg) : "?", s.action, s.worse ? "WORSE" : ""});
     }
-    std::string text = fmt::format("seam heal {} (B-rep kept; {} requested, gaps up to {} mm, creases above {} deg "
-                                   "keep their angle; tolerances {} mm, {} deg)\n",
-                                   o.file, toString(r.requested), formatNumber(r.maxGap),
-                                   formatNumber(r.creaseAngleDeg), formatNumber(r.tolerances.distance),
-                                   formatNumber(r.tolerances.angleDeg));
+    std::string text = fmt::format("seam heal {} (B-rep kept; {} requested, gaps up to {} {}, creases above {} deg "
+                                   "keep their angle; tolerances {} {}, {} deg)\n{}\n",
+                                   o.file, toString(r.requested), len(r.maxGap), unit,
+                                   formatNumber(r.creaseAngleDeg), len(r.tolerances.distance), unit,
+                                   formatNumber(r.tolerances.angleDeg), unitText(shown));
     text += rows.empty() ? std::string("no seam needs healing\n")
-                         : formatTable({"edge", "face A", "face B", "moved (mm)", "gap before (mm)",
-                                        "angle before (deg)", "before", "gap after (mm)", "angle after (deg)", "after",
+                         : formatTable({"edge", "face A", "face B", fmt::format("moved ({})", unit),
+                                        fmt::format("gap before ({})", unit), "angle before (deg)", "before",
+                                        fmt::format("gap after ({})", unit), "angle after (deg)", "after",
                                         "action", ""},
                                        rows,
                                        {true, false, false, false, true, true, false, true, true, false, false, false});
     std::string changed;
     double largest = 0.0;
     for (const occt::BRepFaceMove& m : r.faceMoves) {
-      changed += fmt::format("{}{} {} mm (control points {} mm)", changed.empty() ? "" : ", ", m.face,
-                             formatNumber(m.sampled), formatNumber(m.bound));
+      changed += fmt::format("{}{} {} {} (control points {} {})", changed.empty() ? "" : ", ", m.face,
+                             len(m.sampled), unit, len(m.bound), unit);
       largest = std::max(largest, m.sampled);
     }
     text += fmt::format("\nfaces changed: {}\n", changed.empty() ? "none" : changed);
     if (!r.faceMoves.empty())
-      text += fmt::format("largest surface displacement: {} mm, measured inside the trims on a {} x {} grid (bound: {} "
-                          "mm, the largest control-point move)\n",
-                          formatNumber(largest), occt::kHealFoldGrid, occt::kHealFoldGrid,
-                          formatNumber(r.maxSurfaceDisplacement));
+      text += fmt::format("largest surface displacement: {} {}, measured inside the trims on a {} x {} grid (bound: {} "
+                          "{}, the largest control-point move)\n",
+                          len(largest), unit, occt::kHealFoldGrid, occt::kHealFoldGrid,
+                          len(r.maxSurfaceDisplacement), unit);
     text += fmt::format("kept: faces {} -> {}, trimmed faces {} -> {}, edges {} -> {}, solids {} -> {}; area {} -> "
-                        "{} mm²; OpenCASCADE's BRepCheck valid {} -> {}\n",
+                        "{} {}²; OpenCASCADE's BRepCheck valid {} -> {}\n",
                         r.before.faces, r.after.faces, r.before.trimmedFaces, r.after.trimmedFaces, r.before.edges,
-                        r.after.edges, r.before.solids, r.after.solids, formatNumber(r.before.area),
-                        formatNumber(r.after.area), r.before.valid ? "yes" : "no", r.after.valid ? "yes" : "no");
+                        r.after.edges, r.before.solids, r.after.solids, formatNumber(r.before.area * scale * scale),
+                        formatNumber(r.after.area * scale * scale), unit, r.before.valid ? "yes" : "no", r.after.valid ? "yes" : "no");
     text += fmt::format("seams to heal: {}; reaching {}: {}; worse than before: {}\n", r.seamsToHeal,
                         toString(r.requested), r.seamsHealed, r.seamsWorse);
     for (const std::string& n : r.notes) text += "note: " + n + "\n";
@@ -154,8 +160,8 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("--method", o->method,
                   "auto (default: successive, then the local scheme where it falls short), successive or local");
   cmd->add_option("--max-gap", o->maxGap,
-                  "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal; "
-                  "1 mm for a trimmed B-rep)");
+                  "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal); for a "
+                  "trimmed B-rep in the shown unit (the file's own, or --display-units; default 1 mm)");
   cmd->add_option("--crease-angle,--max-angle", o->maxAngle,
                   "Seams whose angle is above this (degrees, in (0, 180]) are design creases, left as designed "
                   "(default 20; 180 heals every seam)");
@@ -163,6 +169,7 @@ void addHeal(CLI::App& app, int& exit) {
                   "G2: weight of the fairness term of the network solve (default 10; 0: least control-point change "
                   "only, faster, but curvature may grow sharply)");
   addToleranceOptions(*cmd, o->tol);
+  addDisplayUnitsOption(*cmd, o->tol);
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");
   cmd->callback([o, &exit]() {
     exit = kExitBadInput;
@@ -203,6 +210,12 @@ void addHeal(CLI::App& app, int& exit) {
                                     o->file, model->trimmedFaces));
 #endif
     }
+    // The heal of an untrimmed patch model reports in the model's own unit.
+    if (o->tol.display && units.shownUnit() != units.length)
+      return printError(fmt::format("{}: --display-units applies to the heal of a trimmed B-rep; an untrimmed patch "
+                                    "model is healed and reported in its own unit ({})",
+                                    o->file, units.length ? units.name() : "none"));
+    units.display.reset();
     // The classification tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
     const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());
     ho.tolerances = resolved.tolerances;

@@ -35,15 +35,16 @@ bool isBezierCurve(const BSplineCurve& c) {
   return true;
 }
 
-OrderedJson boxJson(const BoundingBox& box) {
+/// A box's corners times `scale` (the shown unit, issue 38 §1).
+OrderedJson boxJson(const BoundingBox& box, double scale) {
   if (box.empty()) return OrderedJson{{"min", nullptr}, {"max", nullptr}};
-  return OrderedJson{{"min", {box.min.x(), box.min.y(), box.min.z()}},
-                     {"max", {box.max.x(), box.max.y(), box.max.z()}}};
+  const Vec3 lo = box.min * scale, hi = box.max * scale;
+  return OrderedJson{{"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}};
 }
 
-std::string boxCell(const BoundingBox& box, bool max) {
+std::string boxCell(const BoundingBox& box, bool max, double scale) {
   if (box.empty()) return "-";
-  const Vec3& p = max ? box.max : box.min;
+  const Vec3 p = (max ? box.max : box.min) * scale;
   return formatVector(p.data(), 3);
 }
 
@@ -52,6 +53,7 @@ std::string intervalText(const Interval& i) {
 }
 
 OrderedJson infoJson(const std::string& file, const Model& model, const ModelUnits& units) {
+  const double scale = units.displayScale();
   OrderedJson patches = OrderedJson::array();
   for (const Patch& p : model.patches) {
     const BSplineSurface& s = p.surface;
@@ -66,7 +68,7 @@ OrderedJson infoJson(const std::string& file, const Model& model, const ModelUni
                          nonEmptySpans(s.knotsV(), s.degreeV(), s.numV())}},
                        {"rational", s.isRational()},
                        {"domain", {{"u", {du.lo, du.hi}}, {"v", {dv.lo, dv.hi}}}},
-                       {"bbox", boxJson(controlBox(s))}});
+                       {"bbox", boxJson(controlBox(s), scale)}});
   }
   OrderedJson curves = OrderedJson::array();
   for (const Curve& c : model.curves) {
@@ -79,18 +81,19 @@ OrderedJson infoJson(const std::string& file, const Model& model, const ModelUni
                       {"spans", nonEmptySpans(c.curve.knots(), c.curve.degree(), c.curve.numPoints())},
                       {"rational", c.curve.isRational()},
                       {"domain", {d.lo, d.hi}},
-                      {"bbox", boxJson(controlBox(c.curve))}});
+                      {"bbox", boxJson(controlBox(c.curve), scale)}});
   }
   const BoundingBox box = model.boundingBox();
   OrderedJson summary = {{"patches", model.patches.size()},
                          {"curves", model.curves.size()},
-                         {"bbox", boxJson(box)},
-                         {"diagonal", box.diagonal()}};
+                         {"bbox", boxJson(box, scale)},
+                         {"diagonal", box.diagonal() * scale}};
   return OrderedJson{
-      {"file", file}, {"units", unitsJson(units)}, {"patches", patches}, {"curves", curves}, {"summary", summary}};
+      {"file", file}, {"units", unitsJson(units.shown())}, {"patches", patches}, {"curves", curves}, {"summary", summary}};
 }
 
 std::string infoTable(const std::string& file, const Model& model, const ModelUnits& units) {
+  const double scale = units.displayScale();
   std::vector<std::vector<std::string>> rows;
   for (const Patch& p : model.patches) {
     const BSplineSurface& s = p.surface;
@@ -100,8 +103,8 @@ std::string infoTable(const std::string& file, const Model& model, const ModelUn
                     fmt::format("{}x{}", nonEmptySpans(s.knotsU(), s.degreeU(), s.numU()),
                                 nonEmptySpans(s.knotsV(), s.degreeV(), s.numV())),
                     s.isRational() ? "yes" : "no",
-                    intervalText(s.domainU()) + " x " + intervalText(s.domainV()), boxCell(box, false),
-                    boxCell(box, true)});
+                    intervalText(s.domainU()) + " x " + intervalText(s.domainV()), boxCell(box, false, scale),
+                    boxCell(box, true, scale)});
   }
   for (const Curve& c : model.curves) {
     const BSplineCurve& k = c.curve;
@@ -109,13 +112,13 @@ std::string infoTable(const std::string& file, const Model& model, const ModelUn
     rows.push_back(
         {"curve", c.name, isBezierCurve(k) ? "bezier" : "bspline", std::to_string(k.degree()),
          std::to_string(k.numPoints()), std::to_string(nonEmptySpans(k.knots(), k.degree(), k.numPoints())),
-         k.isRational() ? "yes" : "no", intervalText(k.domain()), boxCell(box, false), boxCell(box, true)});
+         k.isRational() ? "yes" : "no", intervalText(k.domain()), boxCell(box, false, scale), boxCell(box, true, scale)});
   }
   const BoundingBox box = model.boundingBox();
   std::string out = fmt::format("{}: {} patch{}, {} curve{}\n", file, model.patches.size(),
                                 model.patches.size() == 1 ? "" : "es", model.curves.size(),
                                 model.curves.size() == 1 ? "" : "s");
-  out += unitText(units) + "\n";
+  out += unitText(units.shown()) + "\n";
   if (!rows.empty()) {
     out += "\n" + formatTable({"kind", "name", "type", "degree", "points", "spans", "rational", "domain",
                                "bbox min", "bbox max"},
@@ -123,8 +126,8 @@ std::string infoTable(const std::string& file, const Model& model, const ModelUn
   }
   out += "\nbounding box: " +
          (box.empty() ? std::string("empty")
-                      : boxCell(box, false) + " to " + boxCell(box, true) + ", diagonal " +
-                            withUnit(formatNumber(box.diagonal()), units)) +
+                      : boxCell(box, false, scale) + " to " + boxCell(box, true, scale) + ", diagonal " +
+                            withUnit(formatNumber(box.diagonal() * scale), units.shown())) +
          "\n";
   return out;
 }
@@ -133,17 +136,18 @@ void addInfo(CLI::App& app, int& exit) {
   struct Options {
     std::string file;
     bool json = false;
-    ToleranceOverrides units;  // only its --units
+    ToleranceOverrides units;  // only its --units and --display-units
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("info", "Describe the patches and curves of a model file");
   cmd->add_option("FILE", options->file, modelFileHelp())->required();
   cmd->add_flag("--json", options->json, "Print JSON instead of a table");
   addUnitsOption(*cmd, options->units);
+  addDisplayUnitsOption(*cmd, options->units);
   cmd->callback([options, &exit]() {
     ModelUnits units;
     const std::optional<Model> model = loadModel(options->file, options->units, &units);
-    if (!model) {
+    if (!model || !displayUnitsApply(options->file, units)) {
       exit = kExitBadInput;
       return;
     }

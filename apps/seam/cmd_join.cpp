@@ -116,6 +116,7 @@ void addJoin(CLI::App& app, int& exit) {
     if (!checkOutputPath(o->file, o->out)) return;
     ModelUnits units;
     const std::optional<Model> model = loadModel(o->file, o->tol, &units);
+    units.display.reset();  // lengths in the model's unit (--display-units: check, report, info, batch, heal)
     if (!model) return;
     // The classification tolerances as `seam check` resolves them: absolute (0.001 mm) for a model with a length unit.
     const ResolvedTolerances resolved = resolveTolerances(o->tol, units, model->boundingBox().diagonal());

@@ -117,7 +117,7 @@ int runReport(const ReportOptions& o) {
   ModelUnits units;
   std::vector<std::string> warnings;
   const std::optional<Model> model = loadModel(o.file, o.tol, &units, &warnings);
-  if (!model) return kExitBadInput;
+  if (!model || !displayUnitsApply(o.file, units)) return kExitBadInput;
   if (model->patches.empty()) {
     fmt::print("{}: the model has no patches: nothing to check (no report written)\n", o.file);
     return kExitOk;
@@ -133,13 +133,17 @@ int runReport(const ReportOptions& o) {
   mo.seam.keepSamples = true;
   mo.findOverlaps = true;
   if (model->patches.size() > kProgressPatches) std::cerr << fmt::format("seam: checking {} patches...\n", model->patches.size());
-  const Result<ModelCheckReport> report = checkModel(*model, mo);
+  Result<ModelCheckReport> report = checkModel(*model, mo);
   if (!report) {
     printError(fmt::format("{}: {}", o.file, report.status().message()));
     return kExitBadInput;
   }
+  // Lengths in the shown unit (issue 38 §1, --display-units): the measures first, then the drawn geometry.
+  const double scale = units.displayScale();
+  if (scale != 1.0) scaleLengths(*report, scale);
   report::ReportData d = report::reportData(*model, *report, ro.samplesPerEdge);
-  setReportUnits(d, units, resolved);
+  if (scale != 1.0) report::scaleGeometry(d, scale);
+  setReportUnits(d, units.shown(), resolved);
   d.warnings = warnings;
   if (!writeOutputFile(o.out, report::htmlReport(d, ro))) return kExitBadInput;
   fmt::print("wrote {} ({} seams, worst {})\n", o.out, report->seams.size(), toString(report->summary.worstGeometric));
@@ -152,6 +156,7 @@ void addReport(CLI::App& app, int& exit) {
   cmd->add_option("FILE", o->file, modelFileHelp())->required();
   cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
   addToleranceOptions(*cmd, o->tol);
+  addDisplayUnitsOption(*cmd, o->tol);
   cmd->add_option("--max-plots", o->maxPlots, "Seams plotted, worst first (default 400)")->check(CLI::Range(0, 1000000));
   cmd->add_option("--max-labels", o->maxLabels,
                   "Value labels (\"#12 kink 0.618°\") on the worst gaps and kinks in the 3-D view and the drawing "

@@ -680,4 +680,10 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
   return report;
 }
 
+void scaleLengths(CornerReport& r, double scale) {
+  r.point *= scale;
+  r.cornerGap *= scale;
+  if (r.curvatureSpread) *r.curvatureSpread /= scale;  // 1/length
+}
+
 }  // namespace seam

@@ -1495,4 +1495,22 @@ Result<EdgePairing> pairEdgesWithin(const Model& model, const Tolerances& tol, d
   return pairEdges(model, mco);
 }
 
+void scaleLengths(ModelCheckReport& r, double scale) {
+  r.tolerances.distance *= scale;
+  r.pairingTolerance *= scale;
+  for (ModelSeam& s : r.seams) {
+    s.pair.distance *= scale;
+    if (s.report) scaleLengths(*s.report, scale);
+  }
+  for (ModelCorner& c : r.corners) scaleLengths(c.report, scale);
+  for (DegenerateEdge& d : r.degenerateEdges) d.point *= scale;
+  for (CoincidentEdges& c : r.coincidentEdges) c.point *= scale;
+  for (FaceOverlap& o : r.overlaps) {
+    o.maxDistance *= scale;
+    o.point *= scale;
+  }
+  r.summary.g0Max *= scale;
+  r.summary.g2Max /= scale;  // 1/length
+}
+
 }  // namespace seam

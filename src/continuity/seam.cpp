@@ -692,4 +692,18 @@ Result<SeamReport> analyzeSeamScaled(const Patch& pa, Edge ea, const Patch& pb, 
 
 }  // namespace detail
 
+void scaleLengths(SeamReport& r, double scale) {
+  r.g0Max *= scale;
+  r.g0Sampled *= scale;
+  r.endMismatch *= scale;
+  r.g2Max /= scale;  // 1/length
+  r.g2Sampled /= scale;
+  r.g2ResidualMax *= scale;  // a second derivative over squared parameters: a length
+  for (WorstLocation* w : {&r.g0Worst, &r.g1Worst, &r.g2Worst}) w->point *= scale;
+  for (SeamSample& x : r.samples) {
+    x.g0 *= scale;
+    x.g2 /= scale;
+  }
+}
+
 }  // namespace seam

@@ -1292,4 +1292,26 @@ Result<BRepCheckReport> checkBRepModel(const Model& model, const fs::path& file,
   return detail::checkBRepShape(*shape, file, detail::FaceLabels{}, units, {}, options);
 }
 
+void scaleLengths(BRepCheckReport& r, double scale) {
+  r.tolerances.distance *= scale;
+  for (BRepSeam& s : r.seams) {
+    scaleLengths(s.report, scale);
+    for (Vec3& p : s.curve) p *= scale;
+  }
+  for (BRepFreeEdge& f : r.freeEdges) {
+    f.midpoint *= scale;
+    for (Vec3& p : f.curve) p *= scale;
+  }
+  for (BRepNonManifoldEdge& e : r.nonManifoldEdges) e.midpoint *= scale;
+  for (BRepFaceMesh& m : r.faceMeshes)
+    for (Vec3& p : m.points) p *= scale;
+  r.meshDeflection *= scale;
+}
+
+void toShownUnits(BRepCheckReport& r) {
+  const double scale = r.units.displayScale();
+  if (scale != 1.0) scaleLengths(r, scale);
+  r.units = r.units.shown();
+}
+
 }  // namespace seam::occt

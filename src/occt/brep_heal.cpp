@@ -680,6 +680,7 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
   const Result<BRepCheckReport> before = *checkedBefore;
   const Tolerances tol = before->tolerances;
   report.tolerances = tol;
+  report.units = before->units;
   report.warnings = before->import.warnings;
   report.freeEdges = static_cast<int>(before->freeEdges.size());
   std::map<std::string, std::string> entityOf;
@@ -1321,7 +1322,11 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     if (!read) return read.status();
     const TopoDS_Shape shape = *read;
     report.unit = detail::cadUnitName(units.units.millimetresPerFileUnit, *outFormat);
-    report.maxGap = options.maxGap.value_or(kDefaultBRepMaxGapMm);  // the model is in millimetres
+    // The model is in millimetres; --max-gap is in the shown unit (the file's own, or --display-units).
+    const std::optional<LengthUnit> shown =
+        options.tolerances.display ? options.tolerances.display : lengthUnitOfFileName(units.units.fileUnit);
+    report.maxGap = options.maxGap ? *options.maxGap * (shown ? lengthUnitInfo(*shown).millimetres : 1.0)
+                                   : kDefaultBRepMaxGapMm;
     detail::ShapeCounts countsAfter;
     std::set<int> reprojected;
     {

@@ -748,6 +748,18 @@ ModelUnits cadModelUnits(const CadImport& import, const ToleranceOverrides& over
   // The user's unit (--units, or CadReadOptions::statedUnitMm when it rescaled the file) rather than the header's.
   u.source = overrides.units || import.units.statedScale != 1.0 ? UnitSource::kOption : UnitSource::kFileHeader;
   u.declaredResolution = import.units.declaredResolutionMm;
+  // Shown in the file's own unit (issue 38 §1) unless --display-units says otherwise; a unit outside kLengthUnits
+  // (a micron, a mile) or none: millimetres.
+  if (overrides.display) {
+    u.display = overrides.display;
+    u.displaySource = UnitSource::kDisplayOption;
+  } else if (overrides.units) {
+    u.display = overrides.units;
+    u.displaySource = UnitSource::kOption;
+  } else if (const std::optional<LengthUnit> own = lengthUnitOfFileName(import.units.fileUnit)) {
+    u.display = own;
+    u.displaySource = UnitSource::kFileHeader;
+  }
   return u;
 }
 

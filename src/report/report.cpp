@@ -787,4 +787,29 @@ Result<std::string> objMesh(const Model& model, const MeshOptions& options) {
   return out;
 }
 
+void scaleGeometry(ReportData& d, double scale) {
+  for (ReportSeam& s : d.seams)
+    for (Vec3& p : s.curve) p *= scale;
+  for (std::vector<std::vector<Vec3>>* curves : {&d.outline, &d.freeEdgeCurves})
+    for (std::vector<Vec3>& c : *curves)
+      for (Vec3& p : c) p *= scale;
+  for (ReportMesh& m : d.meshes)
+    for (Vec3& p : m.points) p *= scale;
+}
+
+void scaleLengths(ReportData& d, double scale) {
+  scaleGeometry(d, scale);
+  d.tolerances.distance *= scale;
+  for (ReportSeam& s : d.seams)
+    if (s.report) scaleLengths(*s.report, scale);
+  std::vector<CornerReport> owned;
+  owned.reserve(d.corners.size());
+  for (const CornerReport* c : d.corners) {
+    owned.push_back(*c);
+    scaleLengths(owned.back(), scale);
+  }
+  d.ownedCorners = std::move(owned);
+  for (size_t k = 0; k < d.corners.size(); ++k) d.corners[k] = &d.ownedCorners[k];
+}
+
 }  // namespace seam::report

@@ -126,6 +126,29 @@ def test_check_units_preset_cad_match_cli(shared_data, run_cli):
     assert expected["tolerances"]["distance_source"] == "preset"
 
 
+@pytest.mark.skipif(not seam.has_occt, reason="built without OpenCASCADE")
+def test_check_display_units_match_cli(shared_data, examples, run_cli):
+    """display_units= is --display-units (issue 38 §1): the fuselage (FOOT) shown in feet by default, in mm on
+    request, the same dict as the CLI's; every gap in mm is the gap in feet times 304.8."""
+    path = os.path.join(shared_data, "step", "bug28366_fuselage.stp")
+    feet = seam.check(path)
+    assert feet["units"]["length"] == "ft" and feet["units"]["source"] == "file header"
+    code, expected, err = run_cli("check", path, "--json", "--display-units", "mm")
+    assert code in (0, 1), err
+    mm = seam.check(path, display_units="mm")
+    assert mm == expected
+    assert mm["units"]["length"] == "mm" and mm["units"]["source"] == "--display-units"
+    for a, b in zip(feet["seams"], mm["seams"]):
+        assert b["g0_max"] == pytest.approx(a["g0_max"] * 304.8, rel=1e-9, abs=1e-12)
+        assert b["verdict"] == a["verdict"]
+    with pytest.raises(ValueError, match="display_units"):
+        seam.check(path, display_units="furlong")
+    unitless = os.path.join(examples, "models", "two_patches.json")
+    with pytest.raises(ValueError, match="--display-units needs a model with a length unit"):
+        seam.check(unitless, display_units="cm")
+    assert seam.check(unitless, units="mm", display_units="cm")["units"]["length"] == "cm"
+
+
 def test_check_bad_units_preset_raise(examples, run_cli):
     path = os.path.join(examples, "models", "two_patches.json")
     with pytest.raises(ValueError, match=r'units: "furlong" is not a length unit \(use mm, cm, m, in, ft\)'):

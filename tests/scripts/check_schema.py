@@ -38,8 +38,11 @@ def check(schema, binary, model, extra=()):
     if out["summary"]["seams"] < len(out["seams"]):
         problems.append("summary counts fewer seams than listed")
     units = out.get("units") or {}
-    if expected in ("step", "iges") and (units.get("length") != "mm" or units.get("source") != "file header"):
-        problems.append(f"STEP/IGES units {units!r}: not mm from the file header")
+    # Issue 38 §1: a STEP/IGES file is shown in the unit its header names (FOOT: ft, IN/INCH: in, MM: mm).
+    header_unit = {"MM": "mm", "MILLIMETRE": "mm", "CM": "cm", "M": "m", "METRE": "m", "IN": "in", "INCH": "in",
+                   "FT": "ft", "FOOT": "ft"}.get((units.get("file_unit") or "").upper(), "mm")
+    if expected in ("step", "iges") and (units.get("length") != header_unit or units.get("source") != "file header"):
+        problems.append(f"STEP/IGES units {units!r}: not the header's unit ({header_unit}) from the file header")
     if expected in ("json", "bpt") and not extra and units.get("length") is not None:
         problems.append(f"a JSON/.bpt model without --units has units {units!r}")
     return problems

@@ -141,6 +141,10 @@ Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<con
 Result<CornerReport> analyzeCorner(std::span<const Patch> patches, std::span<const PatchCorner> corners,
                                    const CornerOptions& options = {});
 
+/// Converts the lengths of `report` (the point, the corner gap; the curvature spread as 1/length) to another unit,
+/// as scaleLengths(SeamReport&) does.
+void scaleLengths(CornerReport& report, double scale);
+
 /// The links between the edges of `corners` found by geometry: two edges through the vertex are one seam when the
 /// point at a quarter of each (measured from the vertex) lies within `tolerance` of the other edge curve.
 std::vector<CornerLink> findCornerLinks(std::span<const Patch> patches, std::span<const PatchCorner> corners,

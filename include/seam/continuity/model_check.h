@@ -154,6 +154,10 @@ struct ModelCheckReport {
 /// weights near 1e308 overflow in evaluation).
 Result<ModelCheckReport> checkModel(const Model& model, const ModelCheckOptions& options = {});
 
+/// Converts every length of `report` to another unit (issue 38 §1): the distance tolerance, the pairing tolerance,
+/// each seam and corner (scaleLengths), points and distances; the absolute curvature jump is divided by `scale`.
+void scaleLengths(ModelCheckReport& report, double scale);
+
 /// The pairing step alone (spatial index + overlap test), for tests and benchmarks. `tolerances` as in
 /// ModelCheckOptions (empty: from the model size). Also returns the collapsed edges.
 struct EdgePairing {

@@ -134,6 +134,10 @@ Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb,
 Result<SeamReport> analyzeSeam(const Patch& a, Edge ea, const Patch& b, Edge eb, const SeamOptions& options,
                                std::optional<Interval> aRange);
 
+/// Converts every length of `report` to another unit (issue 38 §1, display units): lengths (gaps, points) are
+/// multiplied by `scale`, absolute curvatures (1/length) divided by it; angles, ratios and parameters are unchanged.
+void scaleLengths(SeamReport& report, double scale);
+
 /// One face's side of a seam along a curve in its parameter plane (an edge of a trimmed face): the face's surface,
 /// the edge's parameter curve c(t) = (u(t), v(t)) (a 2-D B-spline, polynomial or rational: a rational one is composed
 /// homogeneously, w^(p+q) S(u/w, v/w), which makes the side rational), the

@@ -135,6 +135,9 @@ struct ToleranceOverrides {
   /// The unit of the model's numbers as the user states it (--units): a JSON/.bpt model gets this unit; a STEP/IGES
   /// file's coordinates are taken in it whatever its header says (and rescaled to mm). nullopt: as the file says.
   std::optional<LengthUnit> units;
+  /// The unit the output shows lengths in (--display-units, issue 38 §1); nullopt: the model's, or a STEP/IGES
+  /// file's own unit. `distance` is given in the shown unit (ModelUnits::shownUnit).
+  std::optional<LengthUnit> display;
 
   [[nodiscard]] Tolerances appliedTo(Tolerances t) const {
     if (distance) t.distance = *distance;
@@ -145,6 +148,20 @@ struct ToleranceOverrides {
   }
 };
 
+/// The units of a JSON/.bpt model under `o`: unit-less, or --units' unit; shown in --display-units' unit when given.
+inline ModelUnits declaredModelUnits(const ToleranceOverrides& o) {
+  ModelUnits u;
+  if (o.units) {
+    u.length = o.units;
+    u.source = UnitSource::kOption;
+  }
+  if (o.display) {
+    u.display = o.display;
+    u.displaySource = UnitSource::kDisplayOption;
+  }
+  return u;
+}
+
 /// Classification tolerances with the origin of their distance.
 struct ResolvedTolerances {
   Tolerances tolerances;
@@ -153,7 +170,8 @@ struct ResolvedTolerances {
   std::string preset;  ///< the preset's name when a value comes from it
 };
 
-/// The tolerances of a model with `units` and bounding-box diagonal `diagonal`: the overrides, and for the distance
+/// The tolerances of a model with `units` and bounding-box diagonal `diagonal`, in model units: the overrides (the
+/// distance converted from the shown unit, ModelUnits::displayScale), and for the distance
 /// without one: kDefaultAbsoluteDistanceMm in model units when the model has a length unit, else 1e-6 x diagonal;
 /// for the angle without one: kDefaultCadAngleDeg when the model has a length unit, else Tolerances::angleDeg.
 inline ResolvedTolerances resolveTolerances(const ToleranceOverrides& o, const ModelUnits& units, double diagonal) {
@@ -168,6 +186,7 @@ inline ResolvedTolerances resolveTolerances(const ToleranceOverrides& o, const M
   }
   if (o.distance) {
     r.distanceSource = DistanceSource::kOption;
+    r.tolerances.distance = *o.distance / units.displayScale();  // given in the shown unit
   } else if (o.presetDistanceMm) {
     r.distanceSource = DistanceSource::kPreset;
     r.tolerances.distance = units.fromMillimetres(*o.presetDistanceMm).value_or(*o.presetDistanceMm);

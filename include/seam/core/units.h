@@ -40,11 +40,26 @@ enum class UnitSource {
   kNone,        ///< unit-less: a JSON or .bpt model without --units
   kFileHeader,  ///< the STEP/IGES file's header (OpenCASCADE converted the coordinates to millimetres)
   kOption,      ///< the user's --units
+  kDisplayOption,  ///< the user's --display-units (the unit an output shows lengths in, issue 38 §1)
 };
 
-/// The length unit of a model's numbers. A STEP/IGES model is always in millimetres (OpenCASCADE converts on read;
-/// with --units the coordinates are rescaled from the stated unit), so `length` is mm there and `fileUnit` names
-/// the unit of the file's header. A JSON/.bpt model has no unit unless --units gives one.
+/// The unit of kLengthUnits a STEP/IGES header names ("MM", "MILLIMETRE", "CM", "M", "METRE", "IN", "INCH", "FT",
+/// "FOOT", any case), or nullopt for another (a micron, a mile: such a file is shown in millimetres).
+inline std::optional<LengthUnit> lengthUnitOfFileName(std::string_view name) {
+  std::string upper(name);
+  for (char& c : upper) c = static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+  if (upper == "MM" || upper == "MILLIMETRE" || upper == "MILLIMETER") return LengthUnit::kMillimetre;
+  if (upper == "CM" || upper == "CENTIMETRE" || upper == "CENTIMETER") return LengthUnit::kCentimetre;
+  if (upper == "M" || upper == "METRE" || upper == "METER") return LengthUnit::kMetre;
+  if (upper == "IN" || upper == "INCH") return LengthUnit::kInch;
+  if (upper == "FT" || upper == "FOOT") return LengthUnit::kFoot;
+  return std::nullopt;
+}
+
+/// The length unit of a model's numbers, and the unit its lengths are shown in (issue 38 §1). A STEP/IGES model is
+/// always in millimetres (OpenCASCADE converts on read), so `length` is mm there, `fileUnit` names the unit of the
+/// file's header, and `display` is that unit (the user sees the file's own numbers). A JSON/.bpt model has no unit
+/// unless --units gives one; --display-units sets `display` for any model with a unit.
 struct ModelUnits {
   std::optional<LengthUnit> length;  ///< the unit of the model's numbers; nullopt: unit-less
   std::string fileUnit;              ///< the length unit as the STEP/IGES file names it ("MM", "INCH", ...); "" else
@@ -52,6 +67,10 @@ struct ModelUnits {
   /// The precision the file declares (STEP: UNCERTAINTY_MEASURE_WITH_UNIT; IGES: global parameter 19, minimum
   /// user-intended resolution), in model units; nullopt when the file declares none.
   std::optional<double> declaredResolution;
+  /// The unit every length of an output is shown in (tables, JSON, reports); nullopt: `length`. Where it comes
+  /// from: `displaySource` (kFileHeader: a STEP/IGES file's own unit; kDisplayOption: --display-units).
+  std::optional<LengthUnit> display;
+  UnitSource displaySource = UnitSource::kNone;
 
   /// "mm", "in", ...; "" for a unit-less model.
   [[nodiscard]] std::string name() const { return length ? lengthUnitInfo(*length).name : ""; }
@@ -60,13 +79,33 @@ struct ModelUnits {
     if (!length) return std::nullopt;
     return millimetres / lengthUnitInfo(*length).millimetres;
   }
+  /// The unit lengths are shown in: `display`, else `length` (nullopt: unit-less).
+  [[nodiscard]] std::optional<LengthUnit> shownUnit() const { return display ? display : length; }
+  /// The factor from a length in model units to the same length in the shown unit (1 without a display unit).
+  [[nodiscard]] double displayScale() const {
+    if (!length || !display) return 1.0;
+    return lengthUnitInfo(*length).millimetres / lengthUnitInfo(*display).millimetres;
+  }
+  /// The units of an output whose lengths were converted by displayScale(): `length` is the shown unit, and where
+  /// it comes from is the display's source when the display differs from the model's unit.
+  [[nodiscard]] ModelUnits shown() const {
+    ModelUnits u = *this;
+    if (display && length && (*display != *length || displaySource == UnitSource::kDisplayOption)) {
+      u.length = display;
+      u.source = displaySource;
+      if (declaredResolution) u.declaredResolution = *declaredResolution * displayScale();
+    }
+    u.display.reset();
+    return u;
+  }
 };
 
-/// "file header", "--units" or "none (unit-less model)": the words of `seam check --json`'s units.source.
+/// "file header", "--units", "--display-units" or "none (unit-less model)": the words of `seam check --json`'s units.source.
 inline const char* toString(UnitSource s) {
   switch (s) {
     case UnitSource::kFileHeader: return "file header";
     case UnitSource::kOption: return "--units";
+    case UnitSource::kDisplayOption: return "--display-units";
     case UnitSource::kNone: break;
   }
   return "none (unit-less model)";

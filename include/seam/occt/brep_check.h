@@ -138,4 +138,12 @@ struct BRepCheckReport {
 /// a warning).
 Result<BRepCheckReport> checkBRepFile(const std::filesystem::path& file, const BRepCheckOptions& options = {});
 
+/// Converts every length of `report` to another unit (issue 38 §1, display units): the distance tolerance, each
+/// seam's measures (scaleLengths(SeamReport&)), the drawn curves and meshes, midpoints; curvatures as 1/length.
+/// `units` is left as it is: the caller shows the converted report with ModelUnits::shown().
+void scaleLengths(BRepCheckReport& report, double scale);
+/// `report` in the unit its lengths are shown in (report.units.displayScale(): the file's own unit, or
+/// --display-units): scaleLengths, and report.units becomes report.units.shown(). A second call changes nothing.
+void toShownUnits(BRepCheckReport& report);
+
 }  // namespace seam::occt

@@ -57,7 +57,8 @@ struct BRepHealOptions {
   /// Classification tolerances (as `seam check` resolves them: 0.001 mm by default, or a preset).
   ToleranceOverrides tolerances;
   GeometricClass continuity = GeometricClass::kG1;  ///< G0 or G1
-  /// Largest gap closed, mm (default kDefaultBRepMaxGapMm).
+  /// Largest gap closed, in the shown unit (the file's own, or tolerances.display: --display-units, issue 38 §1);
+  /// default kDefaultBRepMaxGapMm millimetres.
   std::optional<double> maxGap;
   /// Seams whose angle is above this (degrees) are design creases: their gap is closed, their angle kept.
   double creaseAngleDeg = 20.0;
@@ -104,6 +105,9 @@ struct BRepHealReport {
   double creaseAngleDeg = 20.0;
   GeometricClass requested = GeometricClass::kG1;
   std::string unit;                ///< the file's unit as written ("MM", "INCH", ...)
+  /// The model's unit (mm: every length of this report) and the unit its lengths are shown in (ModelUnits::display:
+  /// the file's own, or --display-units), as `seam check` of the input has them.
+  ModelUnits units;
   std::vector<BRepHealSeam> seams;
   std::vector<std::string> facesChanged;
   std::vector<std::string> facesReverted;  ///< moved, then put back (each with a note saying why)

@@ -73,13 +73,23 @@ struct ReportData {
   /// The free (naked) edges' curves: drawn in kNakedEdgeColour over the outline, in the 3-D view and the 2-D
   /// drawing, with a legend entry (issue 38 §9).
   std::vector<std::vector<Vec3>> freeEdgeCurves;
-  std::vector<const CornerReport*> corners;     ///< not owned
+  std::vector<const CornerReport*> corners;     ///< not owned (unless they point into ownedCorners)
+  /// The corners converted by scaleLengths (which points `corners` here); empty otherwise.
+  std::vector<CornerReport> ownedCorners;
   std::vector<std::string> cornerPatchNames;    ///< per corner: the names of its patches, space separated
   std::vector<ReportMesh> meshes;               ///< shaded surfaces of the 3-D view (may be empty)
   /// The reader's warnings (entities lost, roots not transferred, faces skipped): a section of their own at the top
   /// of the page and a summary row; none: neither.
   std::vector<std::string> warnings;
 };
+
+/// Converts every length of `data` to another unit (issue 38 §1, display units): the distance tolerance, each
+/// seam's measures, the curves, outlines, meshes and corners (copied into ownedCorners); curvatures as 1/length.
+/// lengthUnit and unitNote are the caller's to set; the facts' text is not converted.
+void scaleLengths(ReportData& data, double scale);
+/// Converts the geometry of `data` only (seam curves, outlines, free edges' curves, meshes): for data made by
+/// reportData from a ModelCheckReport already converted by scaleLengths(ModelCheckReport&).
+void scaleGeometry(ReportData& data, double scale);
 
 /// True when this build inlines the 3-D view (three.js) into reports; false: the 2-D drawing only.
 bool hasViewer3d();
