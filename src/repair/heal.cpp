@@ -417,8 +417,79 @@ class Healer {
   std::vector<std::shared_ptr<Model>> localModels_;  // the local scheme's results (candidates point into them)
   /// Self-intersections found in each input patch (-1: not searched yet; foldOf searches on demand).
   mutable std::vector<int> inputSelfIntersections_;
+  /// The joins of the successive runs by their exact inputs (joinKey): the strict run repeats the relaxed run's
+  /// steps until the first verdict that differs, and each of those joins (a sparse least-squares solve) is the same
+  /// computation (sunglasses_lens.igs at --tol-angle 0.01: 110 solves, every one twice).
+  mutable std::map<std::string, Result<detail::LsJoinOutcome>> joinMemo_;
+  Result<detail::LsJoinOutcome> memoJoin(const BSplineSurface& s, const std::vector<detail::EdgeConstraint>& cons,
+                                         const detail::LsJoinOptions& lo) const;
   std::vector<std::string> prepareNotes_;  // seams that could not be analysed
 };
+
+namespace {
+
+/// The bytes of every input of a join (the surface, the constraints with their targets, the options): equal keys,
+/// the same join. Doubles are taken bit for bit (a -0.0 and a 0.0 differ: a miss, never a wrong hit).
+std::string joinKey(const BSplineSurface& s, const std::vector<detail::EdgeConstraint>& cons,
+                    const detail::LsJoinOptions& lo) {
+  std::string key;
+  const auto put = [&key](const auto& x) { key.append(reinterpret_cast<const char*>(&x), sizeof x); };
+  const auto putDoubles = [&key, &put](const double* p, Eigen::Index n) {
+    put(n);
+    key.append(reinterpret_cast<const char*>(p), static_cast<size_t>(n) * sizeof(double));
+  };
+  const auto putMatrix = [&](const Matrix& m) {
+    put(m.rows());
+    putDoubles(m.data(), m.size());
+  };
+  put(s.degreeU());
+  put(s.degreeV());
+  put(s.numU());
+  put(s.numV());
+  putDoubles(s.knotsU().values().data(), static_cast<Eigen::Index>(s.knotsU().values().size()));
+  putDoubles(s.knotsV().values().data(), static_cast<Eigen::Index>(s.knotsV().values().size()));
+  putMatrix(s.points());
+  putDoubles(s.weights().data(), s.weights().size());
+  put(cons.size());
+  for (const detail::EdgeConstraint& c : cons) {
+    put(c.edge);
+    put(c.kappaZeroAtStart);
+    put(c.kappaZeroAtEnd);
+    put(c.target.rational);
+    put(c.target.dimH);
+    put(c.target.breaks.size());
+    for (const auto& [u, k] : c.target.breaks) {
+      put(u);
+      put(k);
+    }
+    put(c.target.pieces.size());
+    for (const detail::TargetPiece& p : c.target.pieces) {
+      put(p.u.lo);
+      put(p.u.hi);
+      putMatrix(p.point.coeffs());
+      putMatrix(p.cross1.coeffs());
+      putMatrix(p.cross2.coeffs());
+    }
+  }
+  put(lo.continuity);
+  put(lo.scale);
+  put(lo.lockedEdges.size());
+  for (Edge e : lo.lockedEdges) put(e);
+  put(lo.lockedRows);
+  put(lo.elevate);
+  return key;
+}
+
+}  // namespace
+
+Result<detail::LsJoinOutcome> Healer::memoJoin(const BSplineSurface& s, const std::vector<detail::EdgeConstraint>& cons,
+                                               const detail::LsJoinOptions& lo) const {
+  std::string key = joinKey(s, cons, lo);
+  if (const auto it = joinMemo_.find(key); it != joinMemo_.end()) return it->second;
+  Result<detail::LsJoinOutcome> out = detail::leastSquaresJoin(s, cons, lo);
+  joinMemo_.emplace(std::move(key), out);
+  return out;
+}
 
 std::string Healer::foldOf(int i, const BSplineSurface& cand) const {
   const Patch& in = in_.patches[static_cast<size_t>(i)];
@@ -693,7 +764,7 @@ SuccessiveRun Healer::successive(bool strict) const {
         lo.lockedEdges = v.locked;
         lo.lockedRows = v.rows;
         lo.elevate = elevate;
-        auto t = detail::leastSquaresJoin(S.surface, cons, lo);
+        auto t = memoJoin(S.surface, cons, lo);
         if (!t) {
           if (error.empty()) error = t.status().message();
           break;

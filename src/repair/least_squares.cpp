@@ -192,29 +192,25 @@ std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double
   return x;
 }
 
-}  // namespace
+/// Tall sparse systems (the joins of many seams at once, as the patch route's heal of a whole model makes them): the
+/// sparse routes, which give the dense route's solution (same rank decision, same objective) in milliseconds instead
+/// of seconds (docs/performance.md, "Heal of sunglasses_lens.igs"). Empty when the system is small, not tall, not
+/// sparse enough, or both sparse routes fail: the caller takes the dense route.
+std::optional<Eigen::VectorXd> sparseRoutes(const Eigen::SparseMatrix<double>& S, const Eigen::VectorXd& d,
+                                            const Eigen::VectorXd& x0, const Eigen::VectorXd& weight,
+                                            double* residual) {
+  const Eigen::Index m = S.rows(), n = S.cols();
+  if (!(m >= n && n > kSmallSystem && S.nonZeros() * kSparseRouteDensity <= m * n)) return std::nullopt;
+  std::optional<Eigen::VectorXd> x = fullColumnRankSolution(S, d);
+  if (!x) x = sparseQRSolution(S, d, x0, weight);
+  if (x && residual) *residual = (S * *x - d).cwiseAbs().maxCoeff();
+  return x;
+}
 
-Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
-                                        const Eigen::VectorXd& weight, double* residual) {
+/// The dense route of constrainedLeastSquares (C with rows and columns).
+Eigen::VectorXd denseLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
+                                  const Eigen::VectorXd& weight, double* residual) {
   const Eigen::Index n = C.cols();
-  if (C.rows() == 0 || n == 0) {  // nothing to meet, or nothing free (every point locked): x0 and what it misses
-    if (residual) *residual = C.rows() == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
-    return x0;
-  }
-  // Tall sparse systems (the joins of many seams at once, as the patch route's heal of a whole model makes them):
-  // the sparse routes, which give the dense route's solution (same rank decision, same objective) in milliseconds
-  // instead of seconds (docs/performance.md, "Heal of sunglasses_lens.igs").
-  if (C.rows() >= n && n > kSmallSystem) {
-    const Eigen::SparseMatrix<double> S = C.sparseView();
-    if (S.nonZeros() * kSparseRouteDensity <= C.rows() * n) {
-      std::optional<Eigen::VectorXd> x = fullColumnRankSolution(S, d);
-      if (!x) x = sparseQRSolution(S, d, x0, weight);
-      if (x) {
-        if (residual) *residual = (C * *x - d).cwiseAbs().maxCoeff();
-        return *x;
-      }
-    }
-  }
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
   qr.setThreshold(kIdentityRelTol);
   const Eigen::Index rank = qr.rank();
@@ -226,6 +222,24 @@ Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::V
   }
   if (residual) *residual = (C * x - d).cwiseAbs().maxCoeff();
   return x;
+}
+
+/// Nothing to meet, or nothing free (every point locked): x0 and what it misses.
+bool trivialSystem(Eigen::Index rows, Eigen::Index cols, const Eigen::VectorXd& d, double* residual) {
+  if (rows > 0 && cols > 0) return false;
+  if (residual) *residual = rows == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
+  return true;
+}
+
+}  // namespace
+
+Eigen::VectorXd constrainedLeastSquares(const Eigen::MatrixXd& C, const Eigen::VectorXd& d, const Eigen::VectorXd& x0,
+                                        const Eigen::VectorXd& weight, double* residual) {
+  if (trivialSystem(C.rows(), C.cols(), d, residual)) return x0;
+  if (C.rows() >= C.cols() && C.cols() > kSmallSystem) {
+    if (std::optional<Eigen::VectorXd> x = sparseRoutes(C.sparseView(), d, x0, weight, residual)) return *x;
+  }
+  return denseLeastSquares(C, d, x0, weight, residual);
 }
 
 namespace {
@@ -408,19 +422,35 @@ Result<std::vector<std::vector<double>>> acrossWeights(const BSplineSurface& fra
 }
 
 // Dense linear constraint system: rows of coefficients over the unknowns, and right-hand sides.
+/// One equation's coefficients as (unknown, value) in the order they were added; an unknown may come more than once
+/// (its values are summed in that order, as `row[j] += v` on a dense row would). A row touches a few control points
+/// and scalars out of thousands of unknowns: a dense row per equation was most of a large heal's memory traffic.
+using SparseRow = std::vector<std::pair<int, double>>;
+
 struct System {
   int n = 0;  // unknowns
-  std::vector<Eigen::VectorXd> rows;
+  std::vector<Eigen::Triplet<double>> entries;  // the rows, each scaled by its largest coefficient
   std::vector<double> rhs;
-  void add(Eigen::VectorXd row, double r) {
-    const double s = row.size() > 0 ? row.cwiseAbs().maxCoeff() : 0.0;  // no unknowns: every point locked
+  /// Adds the equation row . x = r, scaled so that its largest coefficient is 1 (a row without a non-zero
+  /// coefficient, e.g. every point locked, is kept as a zero row with its right-hand side).
+  void add(SparseRow row, double r) {
+    std::stable_sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    size_t kept = 0;
+    for (size_t i = 0; i < row.size();) {
+      double v = 0.0;
+      const int j = row[i].first;
+      for (; i < row.size() && row[i].first == j; ++i) v += row[i].second;
+      if (v != 0.0) row[kept++] = {j, v};  // an exact zero is no entry (as Eigen's sparseView of a dense row)
+    }
+    row.resize(kept);
+    double s = 0.0;
+    for (const auto& [j, v] : row) s = std::max(s, std::abs(v));
+    const int i = static_cast<int>(rhs.size());
     if (!(s > 0.0)) {
-      row.setZero();
-      rows.push_back(std::move(row));
       rhs.push_back(r);
       return;
     }
-    rows.push_back(row / s);
+    for (const auto& [j, v] : row) entries.emplace_back(i, j, v / s);
     rhs.push_back(r / s);
   }
 };
@@ -430,21 +460,28 @@ struct Solution {
   double residual = 0.0;
 };
 
+/// The system assembled sparse: the sparse routes where they apply, else the dense matrix for the dense route (the
+/// same matrix either way, so the same solution as assembling it dense).
 Solution solveConstrained(const System& sys, const Eigen::VectorXd& x0, const Eigen::VectorXd& weight) {
-  const auto m = static_cast<Eigen::Index>(sys.rows.size());
+  const auto m = static_cast<Eigen::Index>(sys.rhs.size());
   const Eigen::Index n = sys.n;
   Solution sol;
   if (m == 0) {
     sol.x = x0;
     return sol;
   }
-  Eigen::MatrixXd C(m, n);
-  Eigen::VectorXd d(m);
-  for (Eigen::Index r = 0; r < m; ++r) {
-    C.row(r) = sys.rows[static_cast<size_t>(r)].transpose();
-    d[r] = sys.rhs[static_cast<size_t>(r)];
+  const Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(sys.rhs.data(), m);
+  if (trivialSystem(m, n, d, &sol.residual)) {
+    sol.x = x0;
+    return sol;
   }
-  sol.x = constrainedLeastSquares(C, d, x0, weight, &sol.residual);
+  Eigen::SparseMatrix<double> S(m, n);
+  S.setFromTriplets(sys.entries.begin(), sys.entries.end());
+  if (std::optional<Eigen::VectorXd> x = sparseRoutes(S, d, x0, weight, &sol.residual)) {
+    sol.x = std::move(*x);
+    return sol;
+  }
+  sol.x = denseLeastSquares(Eigen::MatrixXd(S), d, x0, weight, &sol.residual);
   return sol;
 }
 
@@ -894,7 +931,7 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
           }
           for (int r = 0; r <= D; ++r)
             for (int cc = 0; cc < dimH; ++cc) {
-              Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+              SparseRow row;
               double rhs = known.coeffs()(r, cc);
               for (size_t ai = 0; ai < static_cast<size_t>(Ek.cols()); ++ai) {
                 const double ea = Ek(r, static_cast<Eigen::Index>(ai));
@@ -904,11 +941,11 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
                   if (wj == 0.0) continue;
                   const int g = gridIndex(s, edge, static_cast<int>(ai), j);
                   const int sl = slot[static_cast<size_t>(g)];
-                  if (sl >= 0 && cc < perPt) row[sl * perPt + cc] += ea * wj;
+                  if (sl >= 0 && cc < perPt) row.emplace_back(sl * perPt + cc, ea * wj);
                   else rhs -= ea * wj * mv.H(g, cc);
                 }
               }
-              for (const auto& [col, coeffs] : scalarCols) row[col] += coeffs(r, cc);
+              for (const auto& [col, coeffs] : scalarCols) row.emplace_back(col, coeffs(r, cc));
               sys.add(std::move(row), rhs);
             }
         }
@@ -916,16 +953,8 @@ Result<LsJoinOutcome> leastSquaresJoin(const BSplineSurface& s0, const std::vect
       if (kLo <= 1 && kHi >= 1) {
         // kappa = 0 at the ends where asked (Bernstein end coefficients).
         const ScalarBlock& kb = sb[c][2];
-        if (constraints[c].kappaZeroAtStart && kb.degree >= 0) {
-          Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
-          row[kb.offset] = 1.0;
-          sys.add(std::move(row), 0.0);
-        }
-        if (constraints[c].kappaZeroAtEnd && kb.degree >= 0) {
-          Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
-          row[kb.offset + kb.degree] = 1.0;
-          sys.add(std::move(row), 0.0);
-        }
+        if (constraints[c].kappaZeroAtStart && kb.degree >= 0) sys.add({{kb.offset, 1.0}}, 0.0);
+        if (constraints[c].kappaZeroAtEnd && kb.degree >= 0) sys.add({{kb.offset + kb.degree, 1.0}}, 0.0);
       }
     }
     // Objective: displacement of the points, nothing on the scalars. Free weights: homogeneous displacement, weight
