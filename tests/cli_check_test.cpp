@@ -766,6 +766,36 @@ TEST_F(CliVerdicts, StepFileIsShownInItsOwnUnitOrInTheDisplayUnit) {
   EXPECT_NEAR(ft["tolerances"]["distance"].get<double>(), 0.001 / 304.8, 1e-18);
 }
 
+// Issue 38 §1: converted and healed files keep the input's unit. sunglasses_lens.igs is in inches: written as STEP and
+// as IGES (convert) and healed into IGES, each file names inches in its header (read back by OpenCASCADE's
+// FileUnits / the IGES global section), and its seams measure what the input's do. OpenCASCADE 7.6 had written
+// every one of them in millimetres (the STEP controller's statics did not exist before the writer was made when the
+// input was IGES, and neither writer took the unit from its static).
+TEST_F(CliVerdicts, ConvertedAndHealedFilesKeepTheInputsUnit) {
+  const std::string in = std::string(SEAM_SHARED_DATA_DIR) + "/iges/sunglasses_lens.igs";
+  const nlohmann::json before = nlohmann::json::parse(runSeam("check \"" + in + "\" --json").out);
+  ASSERT_EQ(before["units"]["length"], "in");
+  const std::string step = (dir_ / "lens.step").string(), iges = (dir_ / "lens.igs").string(),
+                    healed = (dir_ / "lens_healed.igs").string();
+  ASSERT_EQ(runSeam("convert \"" + in + "\" \"" + step + "\"").exitCode, 0);
+  ASSERT_EQ(runSeam("convert \"" + in + "\" \"" + iges + "\"").exitCode, 0);
+  const CliRun heal = runSeam("heal \"" + in + "\" -o \"" + healed + "\"");
+  ASSERT_LE(heal.exitCode, 1) << heal.out;
+  EXPECT_NE(heal.out.find("(unit IN)"), std::string::npos) << heal.out;
+  for (const std::string& file : {step, iges, healed}) {
+    const nlohmann::json after = nlohmann::json::parse(runSeam("check \"" + file + "\" --json").out);
+    EXPECT_EQ(after["units"]["length"], "in") << file;
+    EXPECT_EQ(after["units"]["source"], "file header") << file;
+    const std::string header = after["units"]["file_unit"].get<std::string>();
+    EXPECT_TRUE(header == "INCH" || header == "IN") << file << ": " << header;
+    ASSERT_EQ(after["seams"].size(), before["seams"].size()) << file;
+    for (size_t k = 0; k < before["seams"].size(); ++k) {
+      const double a = after["seams"][k]["g1_max_deg"].get<double>(), b = before["seams"][k]["g1_max_deg"].get<double>();
+      EXPECT_NEAR(a, b, 1e-6 * b + 1e-9) << file << " seam " << k;
+    }
+  }
+}
+
 // Issue 38 goal 2: a CAD file is judged at the CAD G1 angle. Hinges of exactly 0.2 and 3 degrees (by construction):
 // as a unit-less JSON model both are kinks (0.01 deg); written as STEP (a length unit) the 0.2-degree one is G1 at
 // the default 0.5 deg and a kink again with --tol-angle 0.01; the 3-degree one is a kink either way. The text says

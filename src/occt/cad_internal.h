@@ -172,6 +172,9 @@ inline constexpr double kKeptAreaRelTolIges = 1e-4;
 /// The STEP/IGES unit name of a length unit given in millimetres (1 -> "MM", 25.4 -> "INCH", 304.8 -> "FT",
 /// 1000 -> "M", 10 -> "CM"); "MM" for anything else.
 std::string cadUnitName(double millimetresPerUnit, CadFormat format);
+/// The length of the unit a STEP/IGES unit name names, in millimetres (cadUnitName's names, "IN", "FOOT"); 1 for
+/// another.
+double cadUnitMillimetres(const std::string& name);
 
 /// A seam patch as an OpenCASCADE B-spline surface (knots, control points and weights unchanged).
 Handle(Geom_BSplineSurface) toOcctSurface(const BSplineSurface& s);

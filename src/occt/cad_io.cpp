@@ -21,6 +21,7 @@
 #include <GProp_GProps.hxx>
 #include <IGESCAFControl_Reader.hxx>
 #include <IGESCAFControl_Writer.hxx>
+#include <STEPCAFControl_Controller.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPCAFControl_Writer.hxx>
 #include <TDF_LabelSequence.hxx>
@@ -30,6 +31,7 @@
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
+#include <IGESData_BasicEditor.hxx>
 #include <IGESData_GlobalSection.hxx>
 #include <STEPConstruct_UnitContext.hxx>
 #include <StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx.hxx>
@@ -1298,6 +1300,11 @@ std::string cadUnitName(double millimetresPerUnit, CadFormat format) {
   return "MM";
 }
 
+double cadUnitMillimetres(const std::string& name) {
+  const std::optional<LengthUnit> u = lengthUnitOfFileName(name);
+  return u ? lengthUnitInfo(*u).millimetres : 1.0;
+}
+
 ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps) {
   ShapeCounts c;
   TopTools_IndexedMapOfShape faces, wires, edges, shells, solids;
@@ -1375,10 +1382,16 @@ Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::pat
         file,
         [&](std::ostream& os) {
           if (format == CadFormat::kStep) {
-            // Before the writer: it takes the unit and schema when it is made.
+            // Before the writer: it takes the unit and schema when it is made. The controller first: its statics
+            // do not exist before a STEP reader or writer was made (an IGES file converted to STEP), and setting them
+            // before that did nothing (the file came out in mm).
+            STEPCAFControl_Controller::Init();
             Interface_Static::SetCVal("write.step.schema", "AP214IS");
             Interface_Static::SetCVal("write.step.unit", unitName.c_str());
             STEPCAFControl_Writer w;
+            // OpenCASCADE 7.6 writes the model's own write unit (1: mm), not write.step.unit: without this an inch
+            // file was healed or converted into millimetres (issue 38 §1: written files keep the input's unit).
+            w.ChangeWriter().Model()->SetWriteLengthUnit(cadUnitMillimetres(unitName));
             w.SetColorMode(true);
             w.SetNameMode(true);
             w.SetLayerMode(true);
@@ -1389,6 +1402,11 @@ Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::pat
           Interface_Static::SetCVal("write.iges.unit", unitName.c_str());
           Interface_Static::SetIVal("write.iges.brep.mode", igesBRepMode);
           IGESCAFControl_Writer w;
+          {  // likewise, the global section's unit (flag and name) and the coordinates' scale
+            IGESData_BasicEditor editor(w.Model(), IGESSelect_WorkLibrary::DefineProtocol());
+            editor.SetUnitName(unitName.c_str());
+            editor.ApplyUnit(true);
+          }
           w.SetColorMode(true);
           w.SetNameMode(true);
           w.SetLayerMode(true);
