@@ -337,7 +337,7 @@ cli::FileCheckOptions checkOptions(std::optional<double> tolDistance, std::optio
   o.tol.curvatureRel = positive("tol_curvature", tolCurvature);
   applyUnitsAndPreset(o.tol, units, preset);
   if (displayUnits) {  // as --display-units (issue 38 §1)
-    o.tol.display = *displayUnits == "inch" ? std::optional(LengthUnit::kInch) : parseLengthUnit(*displayUnits);
+    o.tol.display = parseLengthUnit(*displayUnits);
     if (!o.tol.display)
       throw py::value_error(fmt::format("display_units: \"{}\" is not a length unit (use mm, cm, m, in, ft, or inch)",
                                         *displayUnits));

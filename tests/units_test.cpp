@@ -16,6 +16,7 @@ TEST(LengthUnits, NamesParseAndConvertToMillimetres) {
   EXPECT_FALSE(parseLengthUnit("furlong"));
   EXPECT_FALSE(parseLengthUnit("MM"));  // exactly the names --units documents
   EXPECT_FALSE(parseLengthUnit(""));
+  EXPECT_EQ(parseLengthUnit("inch"), LengthUnit::kInch);  // the spelling CAD users type (issue 38 §1)
   EXPECT_EQ(lengthUnitInfo(LengthUnit::kInch).millimetres, 25.4);
   EXPECT_DOUBLE_EQ(lengthUnitInfo(LengthUnit::kFoot).millimetres, 12 * 25.4);  // 304.8 up to one rounding
   EXPECT_EQ(lengthUnitInfo(LengthUnit::kMetre).millimetres, 1000.0);

@@ -641,6 +641,14 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
 
 }  // namespace
 
+Status displayUnitsStatus(const std::string& name, const ModelUnits& units) {
+  if (units.displaySource != UnitSource::kDisplayOption || units.length) return Status::ok();
+  return Status(ErrorCode::kInvalidInput,
+                fmt::format("{}: --display-units needs a model with a length unit; this one is unit-less (give its "
+                            "unit with --units)",
+                            name));
+}
+
 Result<FileCheck> checkModel(const Model& model, const std::string& name, const FileCheckOptions& o,
                              const ModelUnits& units) {
   FileCheck out;
@@ -648,11 +656,7 @@ Result<FileCheck> checkModel(const Model& model, const std::string& name, const 
     out.json = withInputFile(name, noPatchesJson(name, units.shown()));
     return out;
   }
-  if (units.displaySource == UnitSource::kDisplayOption && !units.length)
-    return Status(ErrorCode::kInvalidInput,
-                  fmt::format("{}: --display-units needs a model with a length unit; this one is unit-less (give its "
-                              "unit with --units)",
-                              name));
+  if (Status st = displayUnitsStatus(name, units); !st) return st;
   ModelCheckOptions mo;
   const ResolvedTolerances resolved = resolveTolerances(o.tol, units, model.boundingBox().diagonal());
   mo.tolerances = resolved.tolerances;

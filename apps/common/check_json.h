@@ -95,6 +95,9 @@ struct FileCheck {
 /// code 2). Out of memory while reading is reported as an error too.
 Result<FileCheck> checkFile(const std::filesystem::path& file, const FileCheckOptions& options = {});
 
+/// An error naming `name` when --display-units was given for a unit-less model (nothing to convert from), else ok.
+Status displayUnitsStatus(const std::string& name, const ModelUnits& units);
+
 /// A loaded model checked whole, as checkFile does after reading it; `name` (the file or the model's name) prefixes
 /// the error message of a failed check.
 /// `units`: the model's length unit (a JSON/.bpt model gets options.tol.units; unit-less without it).

@@ -17,6 +17,7 @@
 #include <iostream>
 #include <new>
 
+#include "check_json.h"
 #include "command_registry.h"
 #include "json_text.h"
 #include "seam/core/tolerance_presets.h"
@@ -221,46 +222,42 @@ void addToleranceOptions(CLI::App& cmd, ToleranceOverrides& overrides) {
   addUnitsOption(cmd, overrides);
 }
 
-void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides) {
+namespace {
+
+/// A length-unit option (--units, --display-units) that sets `target`; an unknown name is a usage error.
+void addLengthUnitOption(CLI::App& cmd, const std::string& name, std::optional<LengthUnit>& target,
+                         const std::string& help) {
   cmd.add_option_function<std::string>(
-         "--units",
-         [&overrides](const std::string& name) { overrides.units = parseDisplayUnit(name); },
-         "Length unit of the model's numbers: mm, cm, m, in (or inch) or ft. JSON/.bpt: declares the unit of the "
-         "unit-less model (presets and the default tolerance become absolute). STEP/IGES: only for a file whose "
-         "header is wrong: its coordinates are taken in this unit whatever the header says. To show lengths in "
-         "another unit, use --display-units")
-      ->check([](const std::string& name) -> std::string {
-        if (parseDisplayUnit(name)) return "";
-        return fmt::format("\"{}\" is not a length unit (use {}, or inch)", name, unitNames());
+         name, [&target](const std::string& unit) { target = parseLengthUnit(unit); }, help)
+      ->check([](const std::string& unit) -> std::string {
+        if (parseLengthUnit(unit)) return "";
+        return fmt::format("\"{}\" is not a length unit (use {}, or inch)", unit, unitNames());
       })
       ->type_name("UNIT");
+}
+
+}  // namespace
+
+void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides) {
+  addLengthUnitOption(
+      cmd, "--units", overrides.units,
+      "Length unit of the model's numbers: mm, cm, m, in (or inch) or ft. JSON/.bpt: declares the unit of the "
+      "unit-less model (presets and the default tolerance become absolute). STEP/IGES: only for a file whose header "
+      "is wrong: its coordinates are taken in this unit whatever the header says. To show lengths in another unit, "
+      "use --display-units");
 }
 
 void addDisplayUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides) {
-  cmd.add_option_function<std::string>(
-         "--display-units",
-         [&overrides](const std::string& name) { overrides.display = parseDisplayUnit(name); },
-         "Unit of every length in the output (tables, JSON, report): mm, cm, m, in (or inch) or ft; default the "
-         "model's own (a STEP/IGES file's header unit). The model is not changed; --tol-distance and --max-gap are "
-         "read in this unit")
-      ->check([](const std::string& name) -> std::string {
-        if (parseDisplayUnit(name)) return "";
-        return fmt::format("\"{}\" is not a length unit (use {}, or inch)", name, unitNames());
-      })
-      ->type_name("UNIT");
-}
-
-std::optional<LengthUnit> parseDisplayUnit(const std::string& name) {
-  if (name == "inch") return LengthUnit::kInch;
-  return parseLengthUnit(name);
+  addLengthUnitOption(cmd, "--display-units", overrides.display,
+                      "Unit of every length in the output (tables, JSON, report): mm, cm, m, in (or inch) or ft; "
+                      "default the model's own (a STEP/IGES file's header unit). The model is not changed; "
+                      "--tol-distance and --max-gap are read in this unit");
 }
 
 bool displayUnitsApply(const std::string& file, const ModelUnits& units) {
-  if (units.displaySource != UnitSource::kDisplayOption || units.length) return true;
-  printError(fmt::format("{}: --display-units needs a model with a length unit; this one is unit-less (give its "
-                         "unit with --units)",
-                         file));
-  return false;
+  const Status st = displayUnitsStatus(file, units);
+  if (!st) printError(st.message());
+  return st.isOk();
 }
 
 std::string unitNames() {

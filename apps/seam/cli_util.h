@@ -109,8 +109,6 @@ void addUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides);
 /// `--display-units UNIT` (issue 38 §1): the unit every length of the output is shown in (overrides.display).
 /// Added by the commands that convert their output: check, report, batch, info, and heal of a B-rep.
 void addDisplayUnitsOption(CLI::App& cmd, ToleranceOverrides& overrides);
-/// The unit named by --display-units: a name of kLengthUnits, or "inch".
-std::optional<LengthUnit> parseDisplayUnit(const std::string& name);
 /// False (with an error naming `file`) when --display-units was given for a unit-less model: nothing to convert
 /// from. The caller exits with kExitBadInput.
 bool displayUnitsApply(const std::string& file, const ModelUnits& units);

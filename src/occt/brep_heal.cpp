@@ -1323,8 +1323,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     const TopoDS_Shape shape = *read;
     report.unit = detail::cadUnitName(units.units.millimetresPerFileUnit, *outFormat);
     // The model is in millimetres; --max-gap is in the shown unit (the file's own, or --display-units).
-    const std::optional<LengthUnit> shown =
-        options.tolerances.display ? options.tolerances.display : lengthUnitOfFileName(units.units.fileUnit);
+    const std::optional<LengthUnit> shown = detail::shownCadUnit(options.tolerances, units.units.fileUnit).first;
     report.maxGap = options.maxGap ? *options.maxGap * (shown ? lengthUnitInfo(*shown).millimetres : 1.0)
                                    : kDefaultBRepMaxGapMm;
     detail::ShapeCounts countsAfter;

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "seam/occt/cad_io.h"
@@ -172,9 +173,11 @@ inline constexpr double kKeptAreaRelTolIges = 1e-4;
 /// The STEP/IGES unit name of a length unit given in millimetres (1 -> "MM", 25.4 -> "INCH", 304.8 -> "FT",
 /// 1000 -> "M", 10 -> "CM"); "MM" for anything else.
 std::string cadUnitName(double millimetresPerUnit, CadFormat format);
-/// The length of the unit a STEP/IGES unit name names, in millimetres (cadUnitName's names, "IN", "FOOT"); 1 for
-/// another.
-double cadUnitMillimetres(const std::string& name);
+/// The unit a STEP/IGES file's lengths are shown in (issue 38 §1) and where it comes from: --display-units, else the
+/// unit --units states, else the header's own (`fileUnit`); nullopt (millimetres, the model's) for a header unit
+/// outside kLengthUnits (a micron, a mile) or none.
+std::pair<std::optional<LengthUnit>, UnitSource> shownCadUnit(const ToleranceOverrides& overrides,
+                                                              const std::string& fileUnit);
 
 /// A seam patch as an OpenCASCADE B-spline surface (knots, control points and weights unchanged).
 Handle(Geom_BSplineSurface) toOcctSurface(const BSplineSurface& s);

@@ -110,6 +110,7 @@
 #include <fstream>
 #include <functional>
 #include <optional>
+#include <tuple>
 #include <iterator>
 #include <memory>
 #include <mutex>
@@ -750,20 +751,21 @@ ModelUnits cadModelUnits(const CadImport& import, const ToleranceOverrides& over
   // The user's unit (--units, or CadReadOptions::statedUnitMm when it rescaled the file) rather than the header's.
   u.source = overrides.units || import.units.statedScale != 1.0 ? UnitSource::kOption : UnitSource::kFileHeader;
   u.declaredResolution = import.units.declaredResolutionMm;
-  // Shown in the file's own unit (issue 38 §1) unless --display-units says otherwise; a unit outside kLengthUnits
-  // (a micron, a mile) or none: millimetres.
-  if (overrides.display) {
-    u.display = overrides.display;
-    u.displaySource = UnitSource::kDisplayOption;
-  } else if (overrides.units) {
-    u.display = overrides.units;
-    u.displaySource = UnitSource::kOption;
-  } else if (const std::optional<LengthUnit> own = lengthUnitOfFileName(import.units.fileUnit)) {
-    u.display = own;
-    u.displaySource = UnitSource::kFileHeader;
-  }
+  std::tie(u.display, u.displaySource) = detail::shownCadUnit(overrides, import.units.fileUnit);
   return u;
 }
+
+namespace detail {
+
+std::pair<std::optional<LengthUnit>, UnitSource> shownCadUnit(const ToleranceOverrides& overrides,
+                                                              const std::string& fileUnit) {
+  if (overrides.display) return {overrides.display, UnitSource::kDisplayOption};
+  if (overrides.units) return {overrides.units, UnitSource::kOption};
+  const std::optional<LengthUnit> own = lengthUnitOfFileName(fileUnit);
+  return {own, own ? UnitSource::kFileHeader : UnitSource::kNone};
+}
+
+}  // namespace detail
 
 Result<CadImport> readCadFile(const fs::path& file, const CadReadOptions& options) {
   const std::optional<CadFormat> format = cadFormatOf(file);
@@ -1300,11 +1302,6 @@ std::string cadUnitName(double millimetresPerUnit, CadFormat format) {
   return "MM";
 }
 
-double cadUnitMillimetres(const std::string& name) {
-  const std::optional<LengthUnit> u = lengthUnitOfFileName(name);
-  return u ? lengthUnitInfo(*u).millimetres : 1.0;
-}
-
 ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps) {
   ShapeCounts c;
   TopTools_IndexedMapOfShape faces, wires, edges, shells, solids;
@@ -1389,9 +1386,6 @@ Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::pat
             Interface_Static::SetCVal("write.step.schema", "AP214IS");
             Interface_Static::SetCVal("write.step.unit", unitName.c_str());
             STEPCAFControl_Writer w;
-            // OpenCASCADE 7.6 writes the model's own write unit (1: mm), not write.step.unit: without this an inch
-            // file was healed or converted into millimetres (issue 38 §1: written files keep the input's unit).
-            w.ChangeWriter().Model()->SetWriteLengthUnit(cadUnitMillimetres(unitName));
             w.SetColorMode(true);
             w.SetNameMode(true);
             w.SetLayerMode(true);

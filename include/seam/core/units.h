@@ -28,8 +28,9 @@ inline const LengthUnitInfo& lengthUnitInfo(LengthUnit unit) {
   return kLengthUnits[0];
 }
 
-/// The unit named `name` ("mm", "cm", "m", "in", "ft"; exactly, lower case), or nullopt.
+/// The unit named `name` ("mm", "cm", "m", "in", "ft", and "inch" for "in"; exactly, lower case), or nullopt.
 inline std::optional<LengthUnit> parseLengthUnit(std::string_view name) {
+  if (name == "inch") return LengthUnit::kInch;
   for (const LengthUnitInfo& u : kLengthUnits)
     if (name == u.name) return u.unit;
   return std::nullopt;
