@@ -786,6 +786,34 @@ TEST(G2Network, RefusesRationalPatchesAndBadIndices) {
   r = g2NetworkScheme(net.model, bad);
   ASSERT_FALSE(static_cast<bool>(r));
   EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+  // The solve makes seams G1 or G2, nothing else.
+  for (GeometricClass c : {GeometricClass::kNone, GeometricClass::kG0}) {
+    G2NetworkOptions o;
+    o.continuity = c;
+    r = g2NetworkScheme(net.model, o);
+    ASSERT_FALSE(static_cast<bool>(r));
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
+  }
+}
+
+// The G1 network solve (issue 36 goal 1) on an open fan whose rim midpoints are straight boundary vertices with
+// unequal tangent lengths: every seam certified G1, none claimed G1-only for curvature reasons (no G2 rows at all),
+// the free edges where they were.
+TEST(G2Network, TheG1SolveMakesAnOpenFanWithoutASymmetricFanG1) {
+  nt::NetworkOptions no;
+  no.c1MeshEdges = false;
+  const nt::Network net = nt::buildNetwork(nt::fanMesh(5), nt::heightFieldShape(), no);
+  G2NetworkOptions o;
+  o.continuity = GeometricClass::kG1;
+  auto r = g2NetworkScheme(net.model, o);
+  ASSERT_TRUE(static_cast<bool>(r)) << r.status().message();
+  EXPECT_EQ(r->report.g1OnlySeams, 0);
+  EXPECT_GT(r->report.minLambda, 0.0);
+  const CertifiedCounts c = certify(r->model);
+  EXPECT_EQ(c.seams, net.numSeams());
+  EXPECT_EQ(c.certified, c.seams);
+  EXPECT_EQ(c.g1 + c.g2, c.seams);
+  EXPECT_LE(freeEdgeMove(net, r->model), kFreeEdgeTolRel * net.size);
 }
 
 }  // namespace

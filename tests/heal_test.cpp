@@ -13,6 +13,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -34,6 +36,7 @@
 #include "seam/repair/join.h"
 #include "seam_test_support.h"
 #include "hinge_models.h"
+#include "network_support.h"
 #include "test_helpers.h"
 
 namespace seam {
@@ -1215,5 +1218,104 @@ TEST(HealCli, G2OnAFanOfFiveReportsCurvatureJumpsAndTheCheckAgrees) {
         << bad << ": " << text;
   std::filesystem::remove_all(dir);
 }
+
+// Issue 36 goal 1: open networks whose boundary vertices no symmetric fan fits (straight free edges of unequal
+// tangent lengths: the rim midpoints of fans and grids whose mesh edges are not C1) and patches with knots off the
+// middle are refused by the local scheme; heal G1 takes them with the network solve's G1 identities instead. Every
+// seam G1 by the network checker's own sampling (finite differences, closest points), the free edges where they
+// were, no fold by the sign of S_u x S_v on an 81 x 81 grid of every patch, and never fewer G1 seams than the G2
+// heal of the same model reaches.
+struct OpenNetworkCase {
+  std::string name;
+  std::function<seam::testing::Network()> build;
+};
+void PrintTo(const OpenNetworkCase& c, std::ostream* os) { *os << c.name; }
+
+class HealG1Network : public ::testing::TestWithParam<OpenNetworkCase> {};
+
+/// Samples of an 81 x 81 grid where S_u x S_v points against its direction at the patch's centre.
+int jacobianSignFlips(const BSplineSurface& s) {
+  const Interval du = s.domainU(), dv = s.domainV();
+  auto normalAt = [&](double u, double v) {
+    const auto d = s.derivatives(u, v, 1);
+    return Vec3(Vec3(d[1][0].head<3>()).cross(Vec3(d[0][1].head<3>())));
+  };
+  const Vec3 centre = normalAt(0.5 * (du.lo + du.hi), 0.5 * (dv.lo + dv.hi));
+  int flips = 0;
+  for (int i = 0; i <= 80; ++i)
+    for (int j = 0; j <= 80; ++j)
+      if (normalAt(du.lo + du.length() * i / 80.0, dv.lo + dv.length() * j / 80.0).dot(centre) <= 0.0) ++flips;
+  return flips;
+}
+
+TEST_P(HealG1Network, EverySeamBecomesG1WithTheFreeEdgesKeptAndNoFold) {
+  namespace nt = seam::testing;
+  const nt::Network net = GetParam().build();
+  HealOptions o = healOpts();
+  o.continuity = GeometricClass::kG1;
+  auto r = healModel(net.model, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  const HealReport& rep = r->report;
+  EXPECT_TRUE(rep.achieved);
+  ASSERT_EQ(rep.regions.size(), 1u);
+  EXPECT_EQ(rep.regions[0].method, "local");
+  EXPECT_NE(rep.regions[0].note.find("the G1 network solve took the region"), std::string::npos) << rep.regions[0].note;
+  EXPECT_EQ(static_cast<int>(rep.seams.size()), net.numSeams());
+
+  // Independent: the network checker's sampling.
+  const nt::NetworkCheck check = nt::checkAllSharedEdges(r->model, 60);
+  EXPECT_EQ(check.sharedEdges, net.numSeams());
+  EXPECT_LT(check.worstAngleDeg, 0.05);
+  EXPECT_EQ(check.folds, 0);
+  EXPECT_LT(check.worstGap, 1e-9 * net.size);
+  // The free edges stay where they were; no patch folds.
+  double freeMove = 0.0;
+  for (const auto& e : net.edges)
+    if (e.free()) {
+      const auto [patch, edge] = e.sides[0];
+      freeMove = std::max(freeMove, nt::edgeDistance(net.model.patches[static_cast<size_t>(patch)].surface, edge,
+                                                     r->model.patches[static_cast<size_t>(patch)].surface, edge));
+    }
+  EXPECT_LT(freeMove, 1e-12 * net.size);
+  for (const Patch& p : r->model.patches) EXPECT_EQ(jacobianSignFlips(p.surface), 0) << p.name;
+
+  // G1 reaches at least what the G2 heal reaches in G1 terms.
+  HealOptions o2 = healOpts();
+  o2.continuity = GeometricClass::kG2;
+  auto r2 = healModel(net.model, o2);
+  ASSERT_TRUE(r2.isOk()) << r2.status().message();
+  int g1ByG2 = 0;
+  for (const HealSeam& s : r2->report.seams) g1ByG2 += s.after && atLeastG1(s.after->geometric);
+  EXPECT_GE(rep.regions[0].seamsAchieved, g1ByG2);
+  std::cout << GetParam().name << ": " << rep.regions[0].seamsAchieved << " of " << net.numSeams()
+            << " seams G1 (the G2 heal: " << g1ByG2 << "), sampled worst angle " << check.worstAngleDeg
+            << " deg, displacement " << rep.maxSurfaceDisplacementRel << " of the patch size\n";
+}
+
+seam::testing::Network openNetwork(const seam::testing::PolyMesh& mesh, bool biquartic = false) {
+  namespace nt = seam::testing;
+  nt::NetworkOptions o;
+  o.c1MeshEdges = false;  // independent halves of the mesh edges: straight free edges of unequal tangent lengths
+  if (biquartic) o.form = nt::PatchForm::kBiquarticBSpline;
+  return nt::buildNetwork(mesh, nt::heightFieldShape(), o);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    OpenNetworks, HealG1Network,
+    ::testing::Values(
+        OpenNetworkCase{"FanOf3", [] { return openNetwork(seam::testing::fanMesh(3)); }},
+        OpenNetworkCase{"FanOf5", [] { return openNetwork(seam::testing::fanMesh(5)); }},
+        OpenNetworkCase{"FanOf8Biquartic", [] { return openNetwork(seam::testing::fanMesh(8), true); }},
+        OpenNetworkCase{"JitteredGrid3", [] { return openNetwork(seam::testing::jittered(seam::testing::gridMesh(3, 3), 0.2)); }},
+        // A knot off the middle (1/3) in one patch of an otherwise symmetric fan: the local scheme does not take it.
+        OpenNetworkCase{"FanOf4WithAKnotAtOneThird",
+                        [] {
+                          seam::testing::Network n = seam::testing::buildNetwork(seam::testing::fanMesh(4),
+                                                                                 seam::testing::heightFieldShape());
+                          n.model.patches[1].surface = n.model.patches[1].surface.withKnotInsertedU(1.0 / 3.0);
+                          n.model.patches[1].kind = PatchKind::kBSpline;
+                          return n;
+                        }}),
+    [](const ::testing::TestParamInfo<OpenNetworkCase>& p) { return p.param.name; });
 
 }  // namespace

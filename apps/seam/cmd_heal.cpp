@@ -166,8 +166,8 @@ void addHeal(CLI::App& app, int& exit) {
                   "Seams whose angle is above this (degrees, in (0, 180]) are design creases, left as designed "
                   "(default 20; 180 heals every seam)");
   cmd->add_option("--fairness", o->fairness,
-                  "G2: weight of the fairness term of the network solve (default 10; 0: least control-point change "
-                  "only, faster, but curvature may grow sharply)");
+                  "G2, and G1 where the local scheme does not apply: weight of the fairness term of the network "
+                  "solve (default 10; 0: least control-point change only, faster, but curvature may grow sharply)");
   addToleranceOptions(*cmd, o->tol);
   addDisplayUnitsOption(*cmd, o->tol);
   cmd->add_flag("--json", o->json, "Print JSON instead of a table");

@@ -327,6 +327,10 @@ void reportVertices(const Model& before, const Model& after, const std::vector<i
 Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& opt) {
   if (!(opt.fairness >= 0.0) || !std::isfinite(opt.fairness))
     return invalidInput(fmt::format("the fairness weight must be finite and >= 0 (got {})", opt.fairness));
+  if (opt.continuity != GeometricClass::kG1 && opt.continuity != GeometricClass::kG2)
+    return invalidInput(fmt::format("the network solve makes seams G1 or G2 (asked: {})", toString(opt.continuity)));
+  const bool g2 = opt.continuity == GeometricClass::kG2;
+  const std::string solveName = g2 ? "G2 network" : "G1 network";
   auto setup = networkSetup(model, opt.patches, opt.tolerances, opt.maxGap);
   if (!setup) return setup.status();
   const std::vector<int>& chosen = setup->chosen;
@@ -440,7 +444,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         }
   std::set<int> straightMismatch;
   for (const auto& [vr, g] : vertexGroups) {
-    if (g.freeEnds.size() != 2) continue;
+    if (!g2 || g.freeEnds.size() != 2) continue;  // G1 only: no curvature condition at any vertex
     std::array<Vec3, 2> d1, d2, nrm;
     for (int k = 0; k < 2; ++k) {
       const auto& [ri, ee] = g.freeEnds[static_cast<size_t>(k)];
@@ -573,7 +577,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     }
 
   // ---- Gauss-Newton. Rows per seam: G0 (3 per boundary point), G1 (3 per G1 parameter), G2 (1 per G2 parameter).
-  const int eqPerSeam = spans * (3 * kColloc1 + kColloc2);
+  const int eqPerSeam = spans * (3 * kColloc1 + (g2 ? kColloc2 : 0));
   const int m = eqPerSeam * static_cast<int>(seams.size()) + 3 * grid * static_cast<int>(smooth.size());
   double residual = 0.0;
   auto assemble = [&](std::vector<Eigen::Triplet<double>>* trip, VecX& r) {
@@ -615,6 +619,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         // normal n = N / |N|, N = B_s x B_t (the unit normal, not N: N . D also vanishes where the patch degenerates,
         // N = 0, which would attract the iteration to singular patches). Zero at kColloc2 parameters makes the
         // polynomial N . D (degree <= 16 per span) vanish identically.
+        if (!g2) continue;  // the G1 network solve: no G2 rows
         const auto t2 = collocation<kColloc2>(shape, sp);
         if (s.g1Only) {
           row += kColloc2;  // zero rows: the seam is G1 only
@@ -774,7 +779,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
       }
       kkt.factorize(K);
       if (kkt.info() != Eigen::Success)
-        return Status(ErrorCode::kNoSolution, "the G2 network system (with fairness) could not be factorised");
+        return Status(ErrorCode::kNoSolution, "the " + solveName + " system (with fairness) could not be factorised");
       VecX rhs = VecX::Zero(nv + m);
       rhs.tail(m) = -r;
       VecX sol = kkt.solve(rhs);
@@ -795,7 +800,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         patternInner = inner;
       }
       ldlt.factorize(A);
-      if (ldlt.info() != Eigen::Success) return Status(ErrorCode::kNoSolution, "the G2 network system could not be factorised");
+      if (ldlt.info() != Eigen::Success) return Status(ErrorCode::kNoSolution, "the " + solveName + " system could not be factorised");
       // The least (weighted) change that zeroes the linearised residual: step = -W^-1 J^T (J W^-1 J^T)^-1 r.
       VecX y = ldlt.solve(r);
       y += ldlt.solve(r - A * y);  // one step of iterative refinement
@@ -837,12 +842,12 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   rep.minLambda = minLambda;
   if (residual > opt.acceptRel * diag)
     return Status(ErrorCode::kNoSolution,
-                  fmt::format("the G2 network solve stopped after {} iterations with a residual of {:.3g} x the model "
+                  fmt::format("the {} solve stopped after {} iterations with a residual of {:.3g} x the model "
                               "size (wanted {:.1g})",
-                              it, rep.residualRel, opt.acceptRel));
+                              solveName, it, rep.residualRel, opt.acceptRel));
   if (!(minLambda > 0.0))
     return Status(ErrorCode::kNoSolution,
-                  fmt::format("the G2 network solution folds a seam (lambda down to {:.3g})", minLambda));
+                  fmt::format("the {} solution folds a seam (lambda down to {:.3g})", solveName, minLambda));
 
   for (int ri = 0; ri < np; ++ri) {
     const int mi = chosen[static_cast<size_t>(ri)];
@@ -869,7 +874,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     if (!g.boundary && g.corners > 1) val.insert(g.corners);
   rep.valences.assign(val.begin(), val.end());
   reportVertices(model, res.model, chosen, seams, vertexOf, vertexGroups, rep);
-  if (raisedAny) rep.notes.push_back("degree raised to 5 x 5 (exact) for the G2 solve");
+  if (raisedAny) rep.notes.push_back("degree raised to 5 x 5 (exact) for the " + solveName + " solve");
   if (refined) {
     std::string ks;
     for (size_t b = 1; b + 1 < shape.breaks.size(); ++b)

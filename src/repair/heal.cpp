@@ -1095,6 +1095,7 @@ Result<HealResult> Healer::finish() {
     }
     Result<LocalSchemeResult> l = Status(ErrorCode::kUnsupported, "");
     std::vector<std::pair<int, BSplineSurface>> inputForms;  // the scheme's exact forms of its input patches
+    bool networkG1 = false;                                   // the G1 network solve took the region
     if (g2) {
       G2NetworkOptions go;
       go.patches = regionPatches_[static_cast<size_t>(g)];
@@ -1125,6 +1126,32 @@ Result<HealResult> Healer::finish() {
       lo.keepEdges = keepEdges;
       lo.pairing = &pairing_;  // the same tolerances, gap limit and diagonal: not paired a second time
       l = detail::localG1Scheme(model, lo, &inputForms);
+      if (!l && l.status().code() != ErrorCode::kInvalidInput) {
+        // Issue 36 goal 1: where the local scheme has no solution or does not apply (a boundary vertex whose
+        // straight free edges have unequal tangent lengths: no symmetric fan; interior knots off the middle), the
+        // network solve with the G1 identities only (free blending functions per span) takes the region.
+        G2NetworkOptions go;
+        go.patches = lo.patches;
+        go.maxGap = maxGap_;
+        go.tolerances = tol_;
+        go.keepEdges = keepEdges;
+        go.fairness = opt_.g2Fairness;
+        go.continuity = GeometricClass::kG1;
+        auto n = g2NetworkScheme(model, go);
+        const std::string localWhy = l.status().message();
+        if (n) {
+          LocalSchemeResult lr;
+          lr.model = std::move(n->model);
+          lr.report.valences = n->report.valences;
+          lr.report.notes = std::move(n->report.notes);
+          lr.report.notes.insert(lr.report.notes.begin(),
+                                 "the local scheme does not apply (" + localWhy + "); the G1 network solve took the region");
+          l = std::move(lr);
+          networkG1 = true;
+        } else {
+          l = Status(l.status().code(), localWhy + "; G1 network solve: " + n.status().message());
+        }
+      }
     }
     if (!l) {
       localNote[static_cast<size_t>(g)] =
@@ -1148,7 +1175,7 @@ Result<HealResult> Healer::finish() {
       c.acceptable = false;
       c.note = fmt::format("{} of {} seams reach G1", c.achieved, regionSeams_[static_cast<size_t>(g)].size());
     }
-    if (g2)
+    if (g2 || networkG1)
       for (const std::string& n : l->report.notes) regionG2Notes[static_cast<size_t>(g)].push_back(n);
     if (c.acceptable) {
       for (const auto& a : c.after)

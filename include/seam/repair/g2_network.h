@@ -67,6 +67,11 @@ struct G2NetworkOptions {
   /// 1e-4 of the model size (a KKT system per step instead of the m x m normal equations; the last, small steps are
   /// plain least change): ~1-2x the time of fairness 0. docs/algorithms/thesis-abstract.md, "Fairness".
   double fairness = kDefaultG2Fairness;
+  /// kG2 (default): the G1 and G2 identities. kG1: the G1 identities only (tangent-plane continuity of every seam,
+  /// with lambda and kappa free per span): the network solve as a G1 scheme where the local scheme has no solution
+  /// (issue 36 goal 1: a boundary vertex whose free edges are straight with unequal tangent lengths, which no
+  /// symmetric fan fits; interior knots other than the middle). Any other value is invalid input.
+  GeometricClass continuity = GeometricClass::kG2;
 };
 
 /// One interior vertex of the network (all its corners among the chosen patches, the seams around it closed) with

@@ -23,7 +23,10 @@
 //    and the better of the two that makes nothing worse is kept.
 //  * local: the local G1 scheme (repair/local_scheme.h) on the region's patches, G1 requests only. Its result is
 //    accepted only when every seam of the region is certified, meets G1 and is nowhere worse than in the input, and
-//    the region's free edges stay where they were; otherwise the region is left as it was.
+//    the region's free edges stay where they were; otherwise the region is left as it was. Where the local scheme
+//    does not apply or has no solution (a straight boundary vertex with unequal tangent lengths, knots off the
+//    middle, ...), the network solve with the G1 identities only (g2_network.h, continuity kG1) takes the region on
+//    the same terms (the region's method stays "local"; its note says which solve ran).
 //  * auto (default): successive, and for G1 requests also the local scheme on the input (on every region the
 //    successive joins did not leave as it was); whichever is kept has, in order: no seam worse, more seams achieved,
 //    then the smaller largest surface displacement relative to the patch's size (HealPatch::maxSurfaceDisplacementRel;
