@@ -8,6 +8,9 @@
 //   BM_HealCliProcess/m      the whole `seam heal FILE.json --method local -o OUT.json` process on the same network
 //                            (written once to a temporary JSON file), pinned to one core: reading, the heal, writing
 //                            (issue 37 goal 3: within 1.2x of BM_HealLocal)
+//   BM_G2NetworkFan/k        g2NetworkScheme on the fan of 5 triangles (15 bicubic patches on a height field, the
+//                            tests' network): k = 0 Bezier, k = 1 with 1-2 uneven interior knots per direction of
+//                            every patch (insertUnevenKnots; issue 36 goal 4: no more than the Bezier network's cost)
 // The network builder is the tests' (tests/network_support.h), so the benchmark runs on exactly the tested inputs.
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -19,6 +22,7 @@
 #include "../tests/network_support.h"
 #include "seam/continuity/model_check.h"
 #include "seam/io/json.h"
+#include "seam/repair/g2_network.h"
 #include "seam/repair/heal.h"
 #include "seam/repair/local_scheme.h"
 
@@ -86,6 +90,24 @@ void BM_HealLocal(benchmark::State& state) {
   state.counters["seams_achieved"] = achieved;
 }
 BENCHMARK(BM_HealLocal)->Arg(2)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_G2NetworkFan(benchmark::State& state) {
+  nt::Network net = nt::buildNetwork(nt::fanMesh(5), nt::heightFieldShape());
+  if (state.range(0) == 1) nt::insertUnevenKnots(net.model, 20261130);
+  int points = 0;
+  for (auto _ : state) {
+    auto r = seam::g2NetworkScheme(net.model);
+    if (!r) {
+      state.SkipWithError(r.status().message().c_str());
+      return;
+    }
+    state.counters["steps"] = r->report.iterations;
+    points = 0;
+    for (const seam::Patch& p : r->model.patches) points += p.surface.numU() * p.surface.numV();
+  }
+  state.counters["points"] = points;
+}
+BENCHMARK(BM_G2NetworkFan)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 #ifdef SEAM_CLI_PATH
 void BM_HealCliProcess(benchmark::State& state) {

@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -766,6 +767,24 @@ struct NetworkCheck {
   std::vector<SharedEdge> edges;
   std::vector<EdgeCheck> checks;  ///< per shared edge
 };
+
+/// Uneven interior knots (issue 36 goal 4): 1 or 2 knots inserted exactly at random parameters in (0.15, 0.85) into
+/// each direction of every patch (fixed seed), so that no two patches share their knots; the geometry is unchanged.
+inline void insertUnevenKnots(Model& model, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> at(0.15, 0.85);
+  for (Patch& p : model.patches) {
+    for (int dir = 0; dir < 2; ++dir) {
+      const int n = 1 + static_cast<int>(rng() % 2);
+      for (int k = 0; k < n; ++k) {
+        const Interval d = dir == 0 ? p.surface.domainU() : p.surface.domainV();
+        const double t = d.lo + at(rng) * d.length();
+        p.surface = dir == 0 ? p.surface.withKnotInsertedU(t) : p.surface.withKnotInsertedV(t);
+      }
+    }
+    p.kind = PatchKind::kBSpline;
+  }
+}
 
 /// findSharedEdges + checkSharedEdge on every shared edge.
 inline NetworkCheck checkAllSharedEdges(const Model& model, int samples = 100, double tol = -1.0) {

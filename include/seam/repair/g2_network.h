@@ -3,21 +3,21 @@
 // networks"): every interior seam of a G0 (or G1) network of polynomial quad patches becomes G2, while free edges
 // stay where they are.
 //
-// Every chosen patch is written exactly as a biquintic B-spline with the region's common interior knots in both
-// directions: the union of all chosen patches' interior knots (normalised to [0, 1], mirrored t -> 1 - t so that
-// reversed neighbours share their rows), each of multiplicity 3 (C2: the patch stays curvature continuous inside),
-// 4 where an input patch is only C1 there or 5 where one is only C0 (a double or triple knot of a cubic: the thesis'
-// Theorems 9-10); the middle 1/2 when no patch has an interior knot. Every patch keeps the smoothness it had at each
-// knot (linear rows: the jumps of its derivatives across the knot stay zero). Along
+// Every chosen patch is written exactly as a biquintic B-spline with its own interior knots, each of multiplicity 3
+// (C2: the patch stays curvature continuous inside), 4 where the input is only C1 there or 5 where it is only C0 (a
+// double or triple knot of a cubic: the thesis' Theorems 9-10); the middle 1/2 in a direction without interior knots.
+// No patch takes another's knots, so uneven knots cost what a Bezier network costs (issue 36 goal 4). Along
 // every seam, with the common edge parameter t and each side's cross-boundary parameter pointing into its patch,
-// the two sides B (the pair's first patch) and C must satisfy, span by span of the edge,
+// the two sides B (the pair's first patch) and C must satisfy, span by span of the edge (the merged breakpoints of
+// both sides),
 //     C_s  = -lambda B_s + kappa B_t                                                   (G1, lambda > 0)
 //     C_ss = lambda^2 B_ss - 2 lambda kappa B_st + kappa^2 B_tt + mu B_s + nu B_t      (G2)
 // (the chain rule of C(s, t) = B(u(s, t), v(s, t)), u_s = -lambda, v_s = kappa, u_ss = mu, v_ss = nu: the thesis'
 // blending functions alpha, beta, gamma, delta, eta after division by beta). lambda is linear and kappa, mu, nu are
 // quadratic per span; every identity is a polynomial of degree <= 7 per span, so it holds exactly when it holds at
 // 8 distinct parameters of the span. The control points of all chosen patches and the blending coefficients are
-// the unknowns of one system: the identities (and G0: equal boundary rows) at those parameters, solved by
+// the unknowns of one system: the identities (and G0: equal boundary rows, one set of unknowns where both rows have
+// the same knots, linear equations where they do not) at those parameters, solved by
 // Gauss-Newton steps of least change of the control points, with a fairness term (G2NetworkOptions::fairness; a
 // constrained least-squares step per iteration, sparse). At a vertex of valence 3 this solves the thesis' three "intertwining" systems (curvature points, then the
 // F and G points) together, and at a 4-valent vertex it meets Johansson's Theorem 2 compatibility, because both are
