@@ -1563,6 +1563,15 @@ CreaseGapPass Healer::closeCreaseGaps() const {
   return pass;
 }
 
+/// Two reports of one seam cover the same stretch of both edges (their overlaps agree to the knot tolerance).
+bool sameOverlap(const SeamReport& x, const SeamReport& y) {
+  auto same = [](const Interval& a, const Interval& b) {
+    const double scale = std::max({1.0, std::abs(a.lo), std::abs(a.hi)});
+    return std::abs(a.lo - b.lo) <= kKnotRelTol * scale && std::abs(a.hi - b.hi) <= kKnotRelTol * scale;
+  };
+  return same(x.overlapA, y.overlapA) && same(x.overlapB, y.overlapB);
+}
+
 void Healer::mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const {
   HealReport& rep = res.report;
   const auto key = [](const std::string& a, Edge ea, const std::string& b, Edge eb) {
@@ -1584,8 +1593,17 @@ void Healer::mergeCreasePass(HealResult& res, const CreaseGapPass& pass) const {
     if (it != workOf.end()) {
       const Work& w = work_[static_cast<size_t>(it->second)];
       hs.before = w.before;
-      if (pass.changed)  // against the input, not the crease pass's model
+      if (pass.changed) {  // against the input, not the crease pass's model
         hs.edgeMoved = seamEdgeMovement(in_, res.model, w.pair);
+        // The heal proper paired the crease pass's model again; where a moved edge changed how much of the two
+        // edges overlap, its "after" measured another stretch of the seam than "before" (a gap that includes an end
+        // the input's pairing left out as an overhang). Measure the output with the input's pairing instead.
+        if (hs.after && !sameOverlap(*hs.after, w.before))
+          if (auto now = analyse(res.model, w.pair)) {
+            hs.after = std::move(*now);
+            hs.achieved = meets(hs.after->geometric, opt_.continuity);
+          }
+      }
       if (const auto o = outcomeOf.find(it->second); o != outcomeOf.end()) {
         hs.action = o->second->action;
         if (!o->second->mover.empty()) hs.moved = o->second->mover;
