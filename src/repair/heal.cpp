@@ -290,6 +290,9 @@ HealPatch displacementOf(const Patch& before, const Patch& after, double thresho
 /// One way of healing, judged region by region.
 struct Candidate {
   std::string method;  // "successive", "local", "none"
+  /// What produced a "local" candidate, for the notes: "local scheme", or "G1 network solve" where the local scheme
+  /// did not apply.
+  std::string solver = "local scheme";
   const Model* model = nullptr;
   bool acceptable = false;
   int achieved = 0, moved = 0;
@@ -1144,8 +1147,8 @@ Result<HealResult> Healer::finish() {
           lr.model = std::move(n->model);
           lr.report.valences = n->report.valences;
           lr.report.notes = std::move(n->report.notes);
-          lr.report.notes.insert(lr.report.notes.begin(),
-                                 "the local scheme does not apply (" + localWhy + "); the G1 network solve took the region");
+          lr.report.notes.insert(lr.report.notes.begin(), "the local scheme does not apply (" + localWhy +
+                                                              "); the G1 network solve ran in its place");
           l = std::move(lr);
           networkG1 = true;
         } else {
@@ -1168,6 +1171,7 @@ Result<HealResult> Healer::finish() {
       for (const auto& [i, f] : inputForms) formOf[static_cast<size_t>(i)] = &f;
     }
     Candidate c = judge(*keep, "local", g, formOf.empty() ? nullptr : &formOf);
+    if (networkG1) c.solver = "G1 network solve";
     std::string why;
     // G1: all or nothing. G2: a partial result that makes nothing worse is kept (seams ending where a straight free
     // boundary has a curvature jump cannot be G2 with the free edges kept; the solve's notes say where).
@@ -1235,7 +1239,7 @@ Result<HealResult> Healer::finish() {
     }
     auto consider = [&](Candidate c, const SuccessiveRun* from) {
       if (!c.acceptable && !c.note.empty()) regionNotes[static_cast<size_t>(g)].push_back(
-          (c.method == "local" ? "local scheme rejected: " : c.method + " joins rejected: ") + c.note);
+          (c.method == "local" ? c.solver + " rejected: " : c.method + " joins rejected: ") + c.note);
       if (from && !stepsFrom[static_cast<size_t>(g)]) stepsFrom[static_cast<size_t>(g)] = from;
       if (better(c, b)) {
         b = std::move(c);
