@@ -1332,6 +1332,26 @@ seam::testing::Network openNetwork(const seam::testing::PolyMesh& mesh, bool biq
   return nt::buildNetwork(mesh, nt::heightFieldShape(), o);
 }
 
+// The G1 network solve is global per region, and its cost grows faster than the region: above kMaxG1NetworkPatches
+// heal does not try it (a large model is not held up for minutes) and the region's note says so. An open 8 x 8 grid
+// split into quads (256 patches) whose rim vertices no symmetric fan fits: with method local nothing runs and the
+// region stays as it was, at once.
+TEST(HealG1NetworkLimit, ARegionAboveTheLimitIsNotGivenToTheNetworkSolveAndSaysSo) {
+  const seam::testing::Network net = openNetwork(seam::testing::gridMesh(8, 8));
+  ASSERT_GT(static_cast<int>(net.model.patches.size()), kMaxG1NetworkPatches);
+  HealOptions o = healOpts();
+  o.continuity = GeometricClass::kG1;
+  o.method = HealMethod::kLocal;
+  auto r = healModel(net.model, o);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  ASSERT_EQ(r->report.regions.size(), 1u);
+  EXPECT_EQ(r->report.regions[0].method, "none");
+  EXPECT_NE(r->report.regions[0].note.find("the G1 network solve is not tried on a region of more than"),
+            std::string::npos)
+      << r->report.regions[0].note;
+  EXPECT_TRUE(r->report.patchesChanged.empty());
+}
+
 INSTANTIATE_TEST_SUITE_P(
     OpenNetworks, HealG1Network,
     ::testing::Values(

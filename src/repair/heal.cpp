@@ -1098,7 +1098,7 @@ Result<HealResult> Healer::finish() {
     }
     Result<LocalSchemeResult> l = Status(ErrorCode::kUnsupported, "");
     std::vector<std::pair<int, BSplineSurface>> inputForms;  // the scheme's exact forms of its input patches
-    bool networkG1 = false;                                   // the G1 network solve took the region
+    bool networkG1 = false;                                   // the G1 network solve ran in the local scheme's place
     if (g2) {
       G2NetworkOptions go;
       go.patches = regionPatches_[static_cast<size_t>(g)];
@@ -1129,7 +1129,12 @@ Result<HealResult> Healer::finish() {
       lo.keepEdges = keepEdges;
       lo.pairing = &pairing_;  // the same tolerances, gap limit and diagonal: not paired a second time
       l = detail::localG1Scheme(model, lo, &inputForms);
-      if (!l && l.status().code() != ErrorCode::kInvalidInput) {
+      const bool small = static_cast<int>(lo.patches.size()) <= kMaxG1NetworkPatches;
+      if (!l && l.status().code() != ErrorCode::kInvalidInput && !small)
+        l = Status(l.status().code(),
+                   fmt::format("{}; the G1 network solve is not tried on a region of more than {} patches ({})",
+                               l.status().message(), kMaxG1NetworkPatches, lo.patches.size()));
+      if (!l && l.status().code() != ErrorCode::kInvalidInput && small) {
         // Issue 36 goal 1: where the local scheme has no solution or does not apply (a boundary vertex whose
         // straight free edges have unequal tangent lengths: no symmetric fan; interior knots off the middle), the
         // network solve with the G1 identities only (free blending functions per span) takes the region.

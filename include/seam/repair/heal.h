@@ -67,6 +67,12 @@ inline constexpr double kFoldAngleDeg = 90.0;
 /// problems (translation losses, perturbed control points) are a few degrees.
 inline constexpr double kDefaultMaxHealAngleDeg = kDefaultCreaseAngleDeg;
 
+/// Largest region (in patches) that heal G1 gives to the G1 network solve where the local scheme does not apply. The
+/// solve is global per region and its sparse factorisation grows faster than the region (measured 2026-11-30, open
+/// grids, whole CLI: 144 patches 8.3 s, 324 patches 50 s and 611 MB); above this a region keeps the successive joins'
+/// result and its note says why, so that a large model is not held up for minutes.
+inline constexpr int kMaxG1NetworkPatches = 200;
+
 struct HealOptions {
   GeometricClass continuity = GeometricClass::kG1;  ///< G0, G1 or G2 (G2: the network solve, method auto or local)
   HealMethod method = HealMethod::kAuto;            ///< local needs a G1 request
