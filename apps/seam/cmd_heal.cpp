@@ -158,7 +158,10 @@ void addHeal(CLI::App& app, int& exit) {
   cmd->add_option("-o,--output", o->out, "Output model file (written atomically)")->required();
   cmd->add_option("--continuity", o->continuity, "G0, G1 or G2 (default G1; G2 by the network solve: biquintic output)");
   cmd->add_option("--method", o->method,
-                  "auto (default: successive, then the local scheme where it falls short), successive or local");
+                  fmt::format("auto (default: successive, then the local scheme where it falls short), successive "
+                              "or local; where the local scheme does not apply, the G1 network solve (regions of up "
+                              "to {} patches)",
+                              kMaxG1NetworkPatches));
   cmd->add_option("--max-gap", o->maxGap,
                   "Largest gap to close, in the model's length unit (default 1% of the bounding-box diagonal); for a "
                   "trimmed B-rep in the shown unit (the file's own, or --display-units; default 1 mm)");
