@@ -1265,18 +1265,14 @@ void PrintTo(const OpenNetworkCase& c, std::ostream* os) { *os << c.name; }
 
 class HealG1Network : public ::testing::TestWithParam<OpenNetworkCase> {};
 
-/// Samples of an 81 x 81 grid where S_u x S_v points against its direction at the patch's centre.
+/// Samples of an 81 x 81 grid where S_u x S_v (finite differences, seam::testing::normalAt) points against its
+/// direction at the patch's centre.
 int jacobianSignFlips(const BSplineSurface& s) {
-  const Interval du = s.domainU(), dv = s.domainV();
-  auto normalAt = [&](double u, double v) {
-    const auto d = s.derivatives(u, v, 1);
-    return Vec3(Vec3(d[1][0].head<3>()).cross(Vec3(d[0][1].head<3>())));
-  };
-  const Vec3 centre = normalAt(0.5 * (du.lo + du.hi), 0.5 * (dv.lo + dv.hi));
+  const Vec3 centre = seam::testing::normalAt(s, 0.5, 0.5);
   int flips = 0;
   for (int i = 0; i <= 80; ++i)
     for (int j = 0; j <= 80; ++j)
-      if (normalAt(du.lo + du.length() * i / 80.0, dv.lo + dv.length() * j / 80.0).dot(centre) <= 0.0) ++flips;
+      if (!(seam::testing::normalAt(s, i / 80.0, j / 80.0).dot(centre) > 0.0)) ++flips;
   return flips;
 }
 

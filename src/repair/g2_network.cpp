@@ -12,9 +12,9 @@
 // kappa^2 B_tt) = 0 at kColloc2 parameters (n the unit normal; N . (...) has degree <= 16). The tangential part of
 // the G2 identity is taken by mu B_s + nu B_t with any mu, nu, so it is not an equation.
 // Solve: Gauss-Newton steps of least weighted change (step = -W^-1 J^T (J W^-1 J^T)^-1 r, rows scaled to unit
-// norm, taken from the sparse KKT system, with the fairness term in the first steps), with backtracking. Near the solution the n tangent-plane rows at a vertex
-// of valence n express a condition of codimension n - 2 (coplanarity), so the last digits converge linearly; the
-// iteration stops at options.residualRel or when four steps (eight while not yet acceptable) gain less than a factor 2.
+// norm, taken from the sparse KKT system, with the fairness term in the first steps), with backtracking. Near the
+// solution the n tangent-plane rows at a vertex of valence n express a condition of codimension n - 2 (coplanarity),
+// so the last digits converge linearly; the iteration stops at options.residualRel or when four steps (eight while not yet acceptable) gain less than a factor 2.
 #include "seam/repair/g2_network.h"
 
 #include <fmt/format.h>
@@ -211,8 +211,6 @@ struct NetSeam {
   /// The two boundary rows have the same knots (mirrored when reversed): they are one set of unknowns (G0 by
   /// construction). Otherwise G0 is a set of equations: the two boundary curves agree on every span.
   bool sharedRow = false;
-  /// Collocation parameters per span for G0 (unshared rows), G1 and G2.
-  int n0 = kColloc0, n1 = kColloc1, n2 = kColloc2;
   [[nodiscard]] int spans() const { return static_cast<int>(breaks.size()) - 1; }
   bool g1Only = false;  // G2 is impossible at one of its ends with the free edges kept (straight free boundary)
 };
@@ -236,8 +234,9 @@ double powi(double x, int k) {
 }
 
 /// Collocation parameters inside span sp of [0, 1] (Chebyshev points of the span).
-std::vector<double> collocation(const std::vector<double>& breaks, int sp, int K) {
-  std::vector<double> t(static_cast<size_t>(K));
+template <int K>
+std::array<double, K> collocation(const std::vector<double>& breaks, int sp) {
+  std::array<double, K> t{};
   const double a = breaks[static_cast<size_t>(sp)], b = breaks[static_cast<size_t>(sp) + 1];
   for (int k = 0; k < K; ++k) {
     const double tau = 0.5 - 0.5 * std::cos(std::numbers::pi * (k + 0.5) / K);
@@ -550,10 +549,10 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   // Initial blending functions: per seam and span, lambda and kappa by least squares on the G1 identity.
   for (const NetSeam& s : seams)
     for (int sp = 0; sp < s.spans(); ++sp) {
-      const auto ts = collocation(s.breaks, sp, s.n1);
-      Matrix a1(3 * s.n1, kBlendPerSpan);
-      VecX b1(3 * s.n1);
-      for (int c = 0; c < s.n1; ++c) {
+      const auto ts = collocation<kColloc1>(s.breaks, sp);
+      Matrix a1(3 * kColloc1, kBlendPerSpan);
+      VecX b1(3 * kColloc1);
+      for (int c = 0; c < kColloc1; ++c) {
         const double t = ts[static_cast<size_t>(c)], tau = localTau(s, sp, t);
         const auto [jb, jc] = sides(s, t);
         for (int d = 0; d < 3; ++d) {
@@ -571,7 +570,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
   // (3 per G1 parameter), G2 (1 per G2 parameter).
   int m = 0;
   for (const NetSeam& s : seams)
-    m += s.spans() * ((s.sharedRow ? 0 : 3 * s.n0) + 3 * s.n1 + (g2 ? s.n2 : 0));
+    m += s.spans() * ((s.sharedRow ? 0 : 3 * kColloc0) + 3 * kColloc1 + (g2 ? kColloc2 : 0));
   double residual = 0.0;
   auto assemble = [&](std::vector<Eigen::Triplet<double>>* trip, VecX& r) {
     r.setZero(m);
@@ -587,7 +586,7 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         const int bo = s.blend + sp * kBlendPerSpan;
         // G0 where the rows are not shared: C - B = 0 (both quintic on the span: exact at kColloc0 parameters).
         if (!s.sharedRow)
-          for (double t : collocation(s.breaks, sp, s.n0)) {
+          for (double t : collocation<kColloc0>(s.breaks, sp)) {
             const auto [jb, jc] = sides(s, t);
             const Vec3 r0 = jc.value[5] - jb.value[5];
             for (int d = 0; d < 3; ++d) r[row + d] = r0[d];
@@ -602,8 +601,8 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
             row += 3;
           }
         // G1: C_s + lambda B_s - kappa B_t = 0 (vector).
-        const auto t1 = collocation(s.breaks, sp, s.n1);
-        for (int c = 0; c < s.n1; ++c, row += 3) {
+        const auto t1 = collocation<kColloc1>(s.breaks, sp);
+        for (int c = 0; c < kColloc1; ++c, row += 3) {
           const double t = t1[static_cast<size_t>(c)], tau = localTau(s, sp, t);
           const auto [jb, jc] = sides(s, t);
           const double l = evalPoly(s, sp, offL, kDegLambda, tau), kk = evalPoly(s, sp, offK, kDegKappa, tau);
@@ -629,12 +628,12 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         // N = 0, which would attract the iteration to singular patches). Zero at kColloc2 parameters makes the
         // polynomial N . D (degree <= 16 per span) vanish identically.
         if (!g2) continue;  // the G1 network solve: no G2 rows
-        const auto t2 = collocation(s.breaks, sp, s.n2);
+        const auto t2 = collocation<kColloc2>(s.breaks, sp);
         if (s.g1Only) {
-          row += s.n2;  // zero rows: the seam is G1 only
+          row += kColloc2;  // zero rows: the seam is G1 only
           continue;
         }
-        for (int c = 0; c < s.n2; ++c, ++row) {
+        for (int c = 0; c < kColloc2; ++c, ++row) {
           const double t = t2[static_cast<size_t>(c)], tau = localTau(s, sp, t);
           const auto [jb, jc] = sides(s, t);
           const double l = evalPoly(s, sp, offL, kDegLambda, tau), kk = evalPoly(s, sp, offK, kDegKappa, tau);

@@ -1099,28 +1099,35 @@ Result<HealResult> Healer::finish() {
     Result<LocalSchemeResult> l = Status(ErrorCode::kUnsupported, "");
     std::vector<std::pair<int, BSplineSurface>> inputForms;  // the scheme's exact forms of its input patches
     bool networkG1 = false;                                   // the G1 network solve ran in the local scheme's place
-    if (g2) {
+    // The network solve on the region (G2, or G1 where the local scheme does not apply), its result in the local
+    // scheme's form.
+    auto network = [&](GeometricClass continuity) -> Result<LocalSchemeResult> {
       G2NetworkOptions go;
       go.patches = regionPatches_[static_cast<size_t>(g)];
       go.maxGap = maxGap_;
       go.tolerances = tol_;
       go.keepEdges = keepEdges;
       go.fairness = opt_.g2Fairness;
+      go.continuity = continuity;
       auto n = g2NetworkScheme(model, go);
-      if (!n) {
+      if (!n) return n.status();
+      LocalSchemeResult lr;
+      lr.model = std::move(n->model);
+      lr.report.valences = std::move(n->report.valences);
+      lr.report.notes = std::move(n->report.notes);
+      return lr;
+    };
+    if (g2) {
+      l = network(GeometricClass::kG2);
+      if (!l) {
         // Refused input (kUnsupported, kInvalidInput) is "not applicable"; a solve that ran and found nothing (no
         // convergence, a fold) says so (issue 38 goal 6).
         localNote[static_cast<size_t>(g)] =
-            (n.status().code() == ErrorCode::kNoSolution ? "G2 network solve found no solution: "
+            (l.status().code() == ErrorCode::kNoSolution ? "G2 network solve found no solution: "
                                                          : "G2 network solve not applicable: ") +
-            n.status().message();
+            l.status().message();
         continue;
       }
-      LocalSchemeResult lr;
-      lr.model = std::move(n->model);
-      lr.report.valences = n->report.valences;
-      lr.report.notes = n->report.notes;
-      l = std::move(lr);
     } else {
       LocalSchemeOptions lo;
       lo.patches = regionPatches_[static_cast<size_t>(g)];
@@ -1129,32 +1136,19 @@ Result<HealResult> Healer::finish() {
       lo.keepEdges = keepEdges;
       lo.pairing = &pairing_;  // the same tolerances, gap limit and diagonal: not paired a second time
       l = detail::localG1Scheme(model, lo, &inputForms);
-      const bool small = static_cast<int>(lo.patches.size()) <= kMaxG1NetworkPatches;
-      if (!l && l.status().code() != ErrorCode::kInvalidInput && !small)
-        l = Status(l.status().code(),
-                   fmt::format("{}; the G1 network solve is not tried on a region of more than {} patches ({})",
-                               l.status().message(), kMaxG1NetworkPatches, lo.patches.size()));
-      if (!l && l.status().code() != ErrorCode::kInvalidInput && small) {
-        // Issue 36 goal 1: where the local scheme has no solution or does not apply (a boundary vertex whose
-        // straight free edges have unequal tangent lengths: no symmetric fan; interior knots off the middle), the
-        // network solve with the G1 identities only (free blending functions per span) takes the region.
-        G2NetworkOptions go;
-        go.patches = lo.patches;
-        go.maxGap = maxGap_;
-        go.tolerances = tol_;
-        go.keepEdges = keepEdges;
-        go.fairness = opt_.g2Fairness;
-        go.continuity = GeometricClass::kG1;
-        auto n = g2NetworkScheme(model, go);
+      // Issue 36 goal 1: where the local scheme has no solution or does not apply (a boundary vertex whose straight
+      // free edges have unequal tangent lengths: no symmetric fan; interior knots off the middle), the network solve
+      // with the G1 identities only (free blending functions per span) takes the region, up to its size limit.
+      if (!l && l.status().code() != ErrorCode::kInvalidInput) {
         const std::string localWhy = l.status().message();
-        if (n) {
-          LocalSchemeResult lr;
-          lr.model = std::move(n->model);
-          lr.report.valences = n->report.valences;
-          lr.report.notes = std::move(n->report.notes);
-          lr.report.notes.insert(lr.report.notes.begin(), "the local scheme does not apply (" + localWhy +
+        if (static_cast<int>(lo.patches.size()) > kMaxG1NetworkPatches) {
+          l = Status(l.status().code(),
+                     fmt::format("{}; the G1 network solve is not tried on a region of more than {} patches ({})",
+                                 localWhy, kMaxG1NetworkPatches, lo.patches.size()));
+        } else if (auto n = network(GeometricClass::kG1)) {
+          n->report.notes.insert(n->report.notes.begin(), "the local scheme does not apply (" + localWhy +
                                                               "); the G1 network solve ran in its place");
-          l = std::move(lr);
+          l = std::move(n);
           networkG1 = true;
         } else {
           l = Status(l.status().code(), localWhy + "; G1 network solve: " + n.status().message());
