@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
 #include <BRepLib.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeWedge.hxx>
@@ -34,6 +36,7 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <set>
 #include <regex>
 #include <sstream>
 #include <iterator>
@@ -43,6 +46,7 @@
 #include <system_error>
 #include <vector>
 
+#include "occt/cad_internal.h"
 #include "seam/continuity/model_check.h"
 #include "seam/io/file.h"
 #include "seam/occt/brep_check.h"
@@ -573,6 +577,36 @@ TEST(OcctRealData, EveryFileReadsWithOneExactPatchPerFace) {
     for (const std::string& w : r->warnings) approxWarnings += w.find("approximated") != std::string::npos ? 1 : 0;
     EXPECT_EQ(approxWarnings, approximated);
   }
+}
+
+// The counts' area is integrated face by face on threads (issue 34's heal and every written file's verification):
+// it must be OpenCASCADE's area of the whole shape, whatever the number of threads, and a count made after an
+// in-place change takes the known faces' areas and integrates the changed ones again.
+TEST(OcctCounts, FaceByFaceAreaOnThreadsIsTheShapesAreaAndReusesOnlyTheUnchangedFaces) {
+  const Result<TopoDS_Shape> shape =
+      occt::detail::readShape(kData / "step/trj3_s1-al-214.stp", occt::CadFormat::kStep, nullptr);
+  ASSERT_TRUE(shape.isOk()) << shape.status().message();
+  GProp_GProps props;  // the independent route: BRepGProp over the whole shape at once
+  BRepGProp::SurfaceProperties(*shape, props);
+  const occt::detail::ShapeCounts one = occt::detail::countShape(*shape, occt::detail::AreaOptions{0.0, 1});
+  const occt::detail::ShapeCounts two = occt::detail::countShape(*shape, occt::detail::AreaOptions{0.0, 2});
+  ASSERT_EQ(one.faceAreas.size(), static_cast<size_t>(one.faces));
+  EXPECT_EQ(one.faces, 94);
+  EXPECT_NEAR(one.area, props.Mass(), 1e-12 * props.Mass());
+  EXPECT_EQ(one.area, two.area);  // the same sum in the same order
+  EXPECT_EQ(one.faceAreas, two.faceAreas);
+  // Reuse: a known count whose first face's area is marked wrong (0) is taken as it is for that face unless the
+  // face is named as changed.
+  occt::detail::ShapeCounts known = one;
+  known.faceAreas[0] = 0.0;
+  const std::set<int> none, first = {1};
+  const occt::detail::ShapeCounts reused =
+      occt::detail::countShape(*shape, occt::detail::AreaOptions{0.0, 2, &known, &none});
+  const occt::detail::ShapeCounts again =
+      occt::detail::countShape(*shape, occt::detail::AreaOptions{0.0, 2, &known, &first});
+  EXPECT_NEAR(reused.area, props.Mass() - one.faceAreas[0], 1e-12 * props.Mass());
+  EXPECT_GT(one.faceAreas[0], 0.0);
+  EXPECT_EQ(again.area, one.area);
 }
 
 TEST(OcctBRep, PatchPointIsTheSurfaceValueBitForBit) {

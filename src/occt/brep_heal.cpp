@@ -52,9 +52,13 @@
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <numbers>
 #include <set>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "occt/brep_check_internal.h"
 #include "occt/cad_internal.h"
@@ -522,6 +526,28 @@ std::vector<gp_Pnt2d> gridInside(const TopoDS_Face& face) {
   return out;
 }
 
+/// gridInside of the faces `which` (indices into `faceMap`), on `threads` threads (0: all hardware threads): each
+/// face's classifier is its own and reads the face only; a failure is raised here in the order of `which`.
+std::vector<std::vector<gp_Pnt2d>> gridsInside(const TopTools_IndexedMapOfShape& faceMap, const std::vector<int>& which,
+                                               int threads) {
+  std::vector<std::vector<gp_Pnt2d>> out(which.size());
+  std::vector<std::exception_ptr> failed(which.size());
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(size_t{0}, which.size(), [&](size_t k) {
+      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
+      try {
+        out[k] = gridInside(TopoDS::Face(faceMap(which[k])));
+      } catch (...) {
+        failed[k] = std::current_exception();
+      }
+    });
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  return out;
+}
+
 FaceChange compareFace(const std::vector<gp_Pnt2d>& grid, const Handle(Geom_BSplineSurface)& now,
                        const Handle(Geom_BSplineSurface)& before) {
   FaceChange c;
@@ -946,10 +972,15 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       after = recheck(*mid, movedEdges);
       if (!after) return after.status();
       std::map<int, std::string> bad;
+      {
+        std::vector<int> needGrid;
+        for (const auto& [fi, sv] : saved)
+          if (!grids.count(fi)) needGrid.push_back(fi);
+        std::vector<std::vector<gp_Pnt2d>> made = gridsInside(faceMap, needGrid, options.threads);
+        for (size_t k = 0; k < needGrid.size(); ++k) grids[needGrid[k]] = std::move(made[k]);
+      }
       for (const auto& [fi, sv] : saved) {
-        const TopoDS_Face face = TopoDS::Face(faceMap(fi));
-        auto& grid = grids[fi];
-        if (grid.empty()) grid = gridInside(face);
+        const auto& grid = grids.at(fi);
         const Editable& e = *editable[static_cast<size_t>(fi)];
         const FaceChange change = compareFace(grid, e.surface, sv.copy);
         moved[fi] = change.maxMove * std::abs(e.toModel.ScaleFactor());
@@ -1103,6 +1134,18 @@ struct WorseSeam {
   std::string why;
 };
 
+/// The faces a heal changed (by index): those moved and those of the edges whose pcurves were projected again.
+std::set<int> changedFaces(const BRepHealReport& report, const std::set<int>& reprojected) {
+  std::set<int> changed;
+  for (const std::string& f : report.facesChanged) changed.insert(std::stoi(f.substr(1)));
+  for (const BRepHealSeam& h : report.seams)
+    if (reprojected.count(h.edge)) {
+      changed.insert(std::stoi(h.a.substr(1)));
+      changed.insert(std::stoi(h.b.substr(1)));
+    }
+  return changed;
+}
+
 /// Boxes around what a heal changed: the faces moved and the faces of the edges whose pcurves were projected again,
 /// with every face that shares a vertex with them (a moved vertex moves the ends of their edges too), each enlarged
 /// by the distance tolerance. A seam of the written file whose edge's middle lies in none of them was not changed.
@@ -1112,13 +1155,7 @@ std::vector<Bnd_Box> changedRegion(const TopoDS_Shape& shape, const BRepHealRepo
   TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
   TopTools_IndexedDataMapOfShapeListOfShape vertexFaces;
   TopExp::MapShapesAndAncestors(shape, TopAbs_VERTEX, TopAbs_FACE, vertexFaces);
-  std::set<int> changed;
-  for (const std::string& f : report.facesChanged) changed.insert(std::stoi(f.substr(1)));
-  for (const BRepHealSeam& h : report.seams)
-    if (reprojected.count(h.edge)) {
-      changed.insert(std::stoi(h.a.substr(1)));
-      changed.insert(std::stoi(h.b.substr(1)));
-    }
+  const std::set<int> changed = changedFaces(report, reprojected);
   std::set<int> near = changed;
   for (const int fi : changed)
     for (TopExp_Explorer ex(faceMap(fi), TopAbs_VERTEX); ex.More(); ex.Next())
@@ -1264,8 +1301,10 @@ BRepCounts countsOf(const TopoDS_Shape& shape, const detail::ShapeCounts& c) {
 }
 
 /// Writes the input `in` unchanged to `file` in `format` (through the document, as the heal writes).
+/// `counts` are the input's (the same file read the same way), `threads` as in detail::AreaOptions.
 Status writeUnchanged(const fs::path& in, CadFormat inFormat, const fs::path& file, CadFormat format,
-                      const std::string& unit, detail::WrittenBack& back) {
+                      const std::string& unit, const detail::ShapeCounts& counts, int threads,
+                      detail::WrittenBack& back) {
   std::vector<std::string> warnings, notes;
   detail::FileUnits units;
   const Handle(TDocStd_Document) doc = detail::newCadDocument();
@@ -1275,7 +1314,7 @@ Status writeUnchanged(const fs::path& in, CadFormat inFormat, const fs::path& fi
   detail::OcctSignalGuard guard;
   try {
     OCC_CATCH_SIGNALS
-    return detail::writeCadDocument(doc, file, format, unit, detail::countShape(*read), &notes, 0.0, 0.0, &back);
+    return detail::writeCadDocument(doc, file, format, unit, counts, &notes, 0.0, 0.0, &back, threads);
   } catch (const Standard_Failure& f) {
     return invalidInput(fmt::format("{}: OpenCASCADE failed writing it unchanged: {}", in.string(),
                                     f.GetMessageString()));
@@ -1308,6 +1347,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
   std::optional<std::vector<BRepSeam>> unhealed;  // the seams of the input written unchanged, read back
   std::optional<BRepCheckReport> checkedBefore;   // the input's check, the same for every attempt
   std::optional<BRepCounts> countsBefore;          // its counts, too
+  std::optional<detail::ShapeCounts> shapeCounts;  // and OpenCASCADE's counts of it, with its faces' areas
   std::vector<std::string> roundTripNotes;         // seams the plain round trip makes worse
   for (int attempt = 0;; ++attempt) {  // each attempt ends in a return or excludes something more
     BRepHealReport report;
@@ -1332,13 +1372,18 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
       detail::OcctSignalGuard guard;
       try {
         OCC_CATCH_SIGNALS
-        if (!countsBefore) countsBefore = countsOf(shape, detail::countShape(shape));  // the same every attempt
+        if (!countsBefore) {  // the same every attempt
+          shapeCounts = detail::countShape(shape, detail::AreaOptions{0.0, options.threads});
+          countsBefore = countsOf(shape, *shapeCounts);
+        }
         report.before = *countsBefore;
         if (Status st = healShape(shape, in, labels, units, readWarnings, options, excluded, report, reprojected,
                                   checkedBefore);
             !st)
           return st;
-        countsAfter = detail::countShape(shape);
+        // Only the faces moved and those whose pcurves were projected again can have another area.
+        const std::set<int> changed = changedFaces(report, reprojected);
+        countsAfter = detail::countShape(shape, detail::AreaOptions{0.0, options.threads, &*shapeCounts, &changed});
         report.after = countsOf(shape, countsAfter);
       } catch (const Standard_Failure& f) {
         return invalidInput(fmt::format("{}: OpenCASCADE {} during the heal: {}", in.string(),
@@ -1359,7 +1404,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
     io::RemoveOnExit removeTemporary{temp};
     detail::WrittenBack back;
     if (Status st = detail::writeCadDocument(doc, temp, *outFormat, report.unit, countsAfter, &report.notes,
-                                             kHealWrittenAreaRelTol, 0.0, &back);
+                                             kHealWrittenAreaRelTol, 0.0, &back, options.threads);
         !st) {
       std::string message = st.message();  // it names the temporary file: name the output instead
       for (size_t at = message.find(temp.string()); at != std::string::npos; at = message.find(temp.string()))
@@ -1375,7 +1420,10 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
       const fs::path plain = io::temporaryPathFor(out);
       io::RemoveOnExit removePlain{plain};
       detail::WrittenBack plainBack;
-      if (Status st = writeUnchanged(in, *inFormat, plain, *outFormat, report.unit, plainBack); !st) return st;
+      if (Status st = writeUnchanged(in, *inFormat, plain, *outFormat, report.unit, *shapeCounts, options.threads,
+                                     plainBack);
+          !st)
+        return st;
       Result<std::vector<BRepSeam>> plainSeams = seamsReadBack(plain, plainBack, options, region);
       if (!plainSeams) return unchangedAfterReadBack(in, out, plainSeams.status().message(), std::move(report));
       unhealed = std::move(*plainSeams);

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -122,12 +123,26 @@ TopoDS_Shape documentShape(const Handle(TDocStd_Document)& document);
 /// Counts of a shape, all by OpenCASCADE: what a conversion or a repair must keep (issue 34 §1).
 struct ShapeCounts {
   int faces = 0, trimmedFaces = 0, wires = 0, edges = 0, freeEdges = 0, shells = 0, solids = 0;
-  double area = 0.0;  ///< BRepGProp::SurfaceProperties, in the shape's unit squared
+  double area = 0.0;  ///< BRepGProp::SurfaceProperties of each face, summed in face order, in the unit squared
+  std::vector<double> faceAreas;  ///< by face, in TopExp::MapShapes order (index 0 = the first face)
 };
-/// `areaRelEps` > 0: the area by BRepGProp's adaptive integration to that relative error (the default Gauss
-/// rule is off by up to 1e-3 on faces whose pcurves have hundreds of poles on rational patches: linkrods.step
-/// from JSON).
-ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps = 0.0);
+/// How countShape integrates the area.
+struct AreaOptions {
+  /// > 0: BRepGProp's adaptive integration to that relative error (the default Gauss rule is off by up to 1e-3
+  /// on faces whose pcurves have hundreds of poles on rational patches: linkrods.step from JSON).
+  double relEps = 0.0;
+  /// Threads over the faces (0: all hardware threads). The sum is taken in face order, so the area does not
+  /// depend on the number of threads.
+  int threads = 0;
+  /// The counts of the same shape before an in-place change (the same faces in the same order): their faces'
+  /// areas are taken as they are, except those of `changed` (1-based face indices), which are integrated again.
+  const ShapeCounts* known = nullptr;
+  const std::set<int>* changed = nullptr;
+};
+ShapeCounts countShape(const TopoDS_Shape& shape, const AreaOptions& area);
+inline ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps = 0.0) {
+  return countShape(shape, AreaOptions{areaRelEps});
+}
 /// Copies the counts into a report that has the same members (CadConvertReport, BRepWriteReport).
 template <typename Report>
 void setCounts(Report& report, const ShapeCounts& c) {
@@ -156,11 +171,11 @@ struct WrittenBack {
 /// kKeptAreaRelTolIges): else nothing is written and the error says what OpenCASCADE lost. IGES: B-rep mode
 /// (solids) first, else the faces mode, with a line in `notes` saying that the solids are written as their
 /// faces. `areaRelTol` > 0 replaces the area tolerance (when it is larger); `areaRelEps` as in countShape,
-/// for the area read back; `back`, when given, receives what was read back.
+/// for the area read back; `back`, when given, receives what was read back; `threads` as in AreaOptions.
 Status writeCadDocument(const Handle(TDocStd_Document) & document, const std::filesystem::path& file,
                         CadFormat format, const std::string& unitName, const ShapeCounts& expected,
                         std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0,
-                        double areaRelEps = 0.0, WrittenBack* back = nullptr);
+                        double areaRelEps = 0.0, WrittenBack* back = nullptr, int threads = 0);
 
 /// A written STEP B-rep's area may differ from what was written by this much (relative): surfaces written with 17
 /// significant digits come back bit for bit, the trims are rebuilt from the 3-D curves by the reader (occ22470.igs ->

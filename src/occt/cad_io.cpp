@@ -15,6 +15,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <unistd.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepGProp.hxx>
@@ -105,6 +107,7 @@
 #include <cfenv>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <csignal>
 #include <fstream>
@@ -1302,7 +1305,7 @@ std::string cadUnitName(double millimetresPerUnit, CadFormat format) {
   return "MM";
 }
 
-ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps) {
+ShapeCounts countShape(const TopoDS_Shape& shape, const AreaOptions& area) {
   ShapeCounts c;
   TopTools_IndexedMapOfShape faces, wires, edges, shells, solids;
   TopExp::MapShapes(shape, TopAbs_FACE, faces);
@@ -1330,12 +1333,35 @@ ShapeCounts countShape(const TopoDS_Shape& shape, double areaRelEps) {
     if (around.Extent() == 1 && !BRep_Tool::Degenerated(e) && !BRep_Tool::IsClosed(e, TopoDS::Face(around.First())))
       ++c.freeEdges;
   }
-  GProp_GProps props;
-  if (areaRelEps > 0.0)
-    BRepGProp::SurfaceProperties(shape, props, areaRelEps);
-  else
-    BRepGProp::SurfaceProperties(shape, props);
-  c.area = props.Mass();
+  // The faces one by one (the sum over the shape's faces that BRepGProp::SurfaceProperties of the shape makes),
+  // on several threads: each face is read only (its surface and pcurves), each task catches its own signals, and
+  // the first failure in face order is raised here, as the serial loop would raise it.
+  c.faceAreas.assign(static_cast<size_t>(c.faces), 0.0);
+  std::vector<std::exception_ptr> failed(static_cast<size_t>(c.faces));
+  auto faceArea = [&](int i) {
+    const size_t k = static_cast<size_t>(i - 1);
+    if (area.known != nullptr && area.known->faceAreas.size() == c.faceAreas.size() &&
+        (area.changed == nullptr || !area.changed->count(i))) {
+      c.faceAreas[k] = area.known->faceAreas[k];
+      return;
+    }
+    OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
+    try {
+      GProp_GProps props;
+      if (area.relEps > 0.0)
+        BRepGProp::SurfaceProperties(faces(i), props, area.relEps);
+      else
+        BRepGProp::SurfaceProperties(faces(i), props);
+      c.faceAreas[k] = props.Mass();
+    } catch (...) {
+      failed[k] = std::current_exception();
+    }
+  };
+  tbb::task_arena arena(area.threads > 0 ? area.threads : tbb::task_arena::automatic);
+  arena.execute([&] { tbb::parallel_for(1, c.faces + 1, faceArea); });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  for (const double a : c.faceAreas) c.area += a;
   return c;
 }
 
@@ -1364,7 +1390,7 @@ std::string countsLost(const ShapeCounts& expected, const ShapeCounts& got, doub
 Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::path& file, CadFormat format,
                         const std::string& unitName, const ShapeCounts& expected,
                         std::vector<std::string>* notes, double areaRelTol, double areaRelEps,
-                        WrittenBack* writtenBack) {
+                        WrittenBack* writtenBack, int threads) {
   silenceOcct();
   pinSessionUnitToMillimetres();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
@@ -1419,7 +1445,7 @@ Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::pat
             return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
                                             file.string(), back.status().message()));
           const std::string lost = countsLost(
-              want, countShape(*back, areaRelEps),
+              want, countShape(*back, AreaOptions{areaRelEps, threads}),
               std::max(areaRelTol, format == CadFormat::kStep ? kKeptAreaRelTol : kKeptAreaRelTolIges));
           if (!lost.empty())
             return invalidInput(fmt::format("{}: not written: OpenCASCADE's {} writer would lose part of the model "
