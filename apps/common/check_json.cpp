@@ -520,6 +520,16 @@ void brepCheckFields(Out& o, const occt::BRepCheckReport& r, const std::vector<s
     x.field("faces", e.faces);
     x.field("midpoint", e.midpoint);
   });
+  if (r.overlapsSearched)  // faces lying on each other inside their trims, as for a patch model
+    o.objects("overlaps", r.overlaps.size(), [&](auto& x, size_t k) {
+      const FaceOverlap& v = r.overlaps[k];
+      x.field("a", fmt::format("F{}", v.a + 1));
+      x.field("b", fmt::format("F{}", v.b + 1));
+      x.field("fraction", v.fraction);
+      x.field("max_distance", v.maxDistance);
+      x.field("point", v.point);
+      x.field("solids", std::vector<int>{r.overlapSolids[k].first, r.overlapSolids[k].second});
+    });
   double g0Max = 0.0, g1MaxDeg = 0.0, g2Max = 0.0;
   for (const SeamReport* x : reports) {
     g0Max = std::max(g0Max, x->g0Max);
@@ -541,6 +551,9 @@ void brepCheckFields(Out& o, const occt::BRepCheckReport& r, const std::vector<s
                       {"degenerate_edges", r.degenerateEdges},
                       {"loose_edges", r.looseEdges},
                       {"unanalysed_edges", r.unanalysedEdges},
+                      {"overlaps", r.overlapsSearched ? OrderedJson(r.overlaps.size()) : OrderedJson(nullptr)},
+                      {"overlap_faces_skipped",
+                       r.overlapsSearched ? OrderedJson(r.overlapFacesSkipped) : OrderedJson(nullptr)},
                       {"agree_with_occt_g1", r.occtAgreement}};
   summary["require"] = require ? OrderedJson(std::string(toString(*require))) : OrderedJson(nullptr);
   summary["below_required"] = below;
@@ -596,6 +609,7 @@ Result<FileCheck> checkFileUnguarded(const std::filesystem::path& file, const Fi
       const double crease = o.selection.creaseAngleDeg;
       occt::BRepCheckOptions bo;
       bo.tolerances = o.tol;
+      bo.findOverlaps = true;  // as `seam check`: the same JSON from the CLI, batch and Python
       Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, bo);
       if (!r) return r.status();
       occt::toShownUnits(*r);  // as `seam check`: the file's own unit, or --display-units

@@ -360,6 +360,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   occt::BRepCheckOptions bo;
   bo.tolerances = o.tol;
   if (o.threads) bo.threads = *o.threads;
+  bo.findOverlaps = true;  // as for a patch model (faces lying on each other, inside their trims)
   bo.progress = brepProgressPrinter(o.file);
   Result<occt::BRepCheckReport> r = [&] {
     const CadTimeLimit limit(o.file, "reading and checking");
@@ -426,14 +427,37 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
     fmt::print("\nnon-manifold edges ({}):", r->nonManifoldEdges.size());
     for (size_t k = 0; k < r->nonManifoldEdges.size(); ++k)
       fmt::print("{} edge {}", k ? "," : "", r->nonManifoldEdges[k].edge);
+    fmt::print("\n");
+    if (!r->overlaps.empty()) {  // faces lying on each other: listed only when there are some
+      fmt::print("\noverlapping faces ({} pair{}: the faces lie on each other within the distance tolerance, inside "
+                 "both faces' trims; share of the samples of one on the other, the largest distance among them, and "
+                 "one such point)\n",
+                 r->overlaps.size(), r->overlaps.size() == 1 ? "" : "s");
+      for (size_t k = 0; k < r->overlaps.size(); ++k) {
+        const FaceOverlap& v = r->overlaps[k];
+        const auto [sa, sb] = r->overlapSolids[k];
+        fmt::print("  {} / {}: {} %, within {} at {}{}\n", face(fmt::format("F{}", v.a + 1)),
+                   face(fmt::format("F{}", v.b + 1)), num(100.0 * v.fraction), num(v.maxDistance),
+                   formatVector(v.point.data(), 3),
+                   sa > 0 && sb > 0 && sa != sb ? fmt::format(" (solids {} and {} in contact)", sa, sb) : "");
+      }
+    }
+    if (r->overlapFacesSkipped > 0)
+      fmt::print("\noverlapping faces: {} face{} not searched (the trims enclose an area the samples cannot read: a "
+                 "face of zero area or a sliver)\n",
+                 r->overlapFacesSkipped, r->overlapFacesSkipped == 1 ? "" : "s");
     double maxGap = 0.0;
     for (const occt::BRepSeam& s : r->seams) maxGap = std::max(maxGap, s.report.g0Max);
-    fmt::print("\n\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}, max gap {}; {} free "
-               "edges, {} non-manifold, {} degenerate, {} loose (bound no face); OpenCASCADE agrees on G1-or-not for "
-               "{} of {}\n",
+    fmt::print("\nsummary: {} seams (G2 {}, G1 {}, G0 {}, none {}; {} certified), worst {}, max gap {}; {} free "
+               "edges, {} non-manifold, {} degenerate, {} loose (bound no face){}; OpenCASCADE agrees on G1-or-not "
+               "for {} of {}\n",
                r->seams.size(), r->geometric[3], r->geometric[2], r->geometric[1], r->geometric[0], r->certifiedSeams,
                toString(r->worstGeometric), withUnit(formatNumber(maxGap), r->units), r->freeEdges.size(), r->nonManifoldEdges.size(), r->degenerateEdges,
-               r->looseEdges, r->occtAgreement, r->seams.size());
+               r->looseEdges,
+               r->overlaps.empty() ? std::string()
+                                   : fmt::format(", {} overlapping face pair{}", r->overlaps.size(),
+                                                 r->overlaps.size() == 1 ? "" : "s"),
+               r->occtAgreement, r->seams.size());
     fmt::print("{}{}", verdictLine(verdicts, sel.creaseAngleDeg),
                worstLines(reports, sel.creaseAngleDeg, r->units, [&](size_t k) {
                  const occt::BRepSeam& s = r->seams[k];

@@ -1195,6 +1195,24 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
       }
     }
     if (options.progress) options.progress(nFaces, nEdges, nEdges);
+    if (options.findOverlaps && !onlyEdges) {  // faces lying on each other, inside their trims (issue 38 §11)
+      OverlapOptions oo = options.overlap;
+      oo.threads = options.threads;
+      detail::BRepOverlapSearch found = detail::findBRepOverlaps(faceMap, out.tolerances.distance, oo);
+      out.overlaps = std::move(found.overlaps);
+      out.overlapFacesSkipped = found.skippedFaces;
+      out.overlapsSearched = true;
+      TopTools_IndexedMapOfShape solids;
+      TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+      TopTools_IndexedDataMapOfShapeListOfShape faceSolids;
+      TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, faceSolids);
+      auto solidOf = [&](int face) {
+        const TopoDS_Shape& f = faceMap(face + 1);
+        if (!faceSolids.Contains(f) || faceSolids.FindFromKey(f).IsEmpty()) return 0;
+        return solids.FindIndex(faceSolids.FindFromKey(f).First());
+      };
+      for (const FaceOverlap& o : out.overlaps) out.overlapSolids.emplace_back(solidOf(o.a), solidOf(o.b));
+    }
     if (options.meshFaces) {
       // The view's meshes: kFaceMeshDeflectionRel x the diagonal, doubled (after removing the triangulation) while
       // the meshes exceed the vertex budget, at most kFaceMeshCoarsenings times.
@@ -1303,6 +1321,10 @@ void scaleLengths(BRepCheckReport& r, double scale) {
     for (Vec3& p : f.curve) p *= scale;
   }
   for (BRepNonManifoldEdge& e : r.nonManifoldEdges) e.midpoint *= scale;
+  for (FaceOverlap& o : r.overlaps) {
+    o.maxDistance *= scale;
+    o.point *= scale;
+  }
   for (BRepFaceMesh& m : r.faceMeshes)
     for (Vec3& p : m.points) p *= scale;
   r.meshDeflection *= scale;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Shape.hxx>
 
@@ -25,6 +26,16 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& shape, const std::fil
                                        FaceLabels labels, const FileUnits& units,
                                        const std::vector<std::string>& readWarnings,
                                        const BRepCheckOptions& options, const EdgeFilter& onlyEdges = {});
+
+/// The pairs of `faces` (TopExp::MapShapes order; FaceOverlap::a and ::b are 0-based indices into it) that lie on
+/// each other within `tol`, inside both faces' trims (src/occt/brep_overlap.cpp; docs/check-output.md, "Overlapping
+/// faces"), sorted by (a, b); `skippedFaces` faces had samples on another face but trims the samples do not read
+/// right (a face of zero area, a sliver) and were left out.
+struct BRepOverlapSearch {
+  std::vector<FaceOverlap> overlaps;
+  int skippedFaces = 0;
+};
+BRepOverlapSearch findBRepOverlaps(const TopTools_IndexedMapOfShape& faces, double tol, const OverlapOptions& options);
 
 /// A seam is worse after a change (a heal, a write and read back) when its gap (angle) grows by more than this
 /// fraction of the tolerance beyond max(before, tolerance): a tenth of a tolerance is below what the tolerance says

@@ -20,8 +20,10 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "seam/continuity/overlap.h"
 #include "seam/continuity/seam.h"
 #include "seam/core/result.h"
 #include "seam/core/tolerances.h"
@@ -83,6 +85,12 @@ struct BRepCheckOptions {
   double meshBudgetMinSeconds = 5.0;  ///< see meshBudgetFactor
   /// The deflection is doubled (up to kFaceMeshCoarsenings times) while the meshes have more vertices; 0: no limit.
   int meshVertexBudget = 0;
+  /// Search for faces that lie on each other within the distance tolerance, inside both faces' trims
+  /// (BRepCheckReport::overlaps; docs/check-output.md, "Overlapping faces"). Off by default, as for patch models
+  /// (ModelCheckOptions::findOverlaps): `seam check`, `seam report` and the Python module turn it on; the heal's own
+  /// checks leave it off. `overlap.threads` is replaced by `threads`.
+  bool findOverlaps = false;
+  OverlapOptions overlap;
 };
 
 /// Edges between two progress calls.
@@ -131,6 +139,17 @@ struct BRepCheckReport {
   double meshDeflection = 0.0;           ///< the linear deflection they were made with (model units; 0: none)
   /// > 0 when OpenCASCADE's mesher was stopped at its budget (BRepCheckOptions::meshBudgetFactor): that budget (s).
   double meshStoppedAfterSeconds = 0.0;
+  /// BRepCheckOptions::findOverlaps: the face pairs that lie on each other; `a` and `b` are 0-based indices of the
+  /// faces in TopExp::MapShapes order (face "F<a + 1>", as the seams name them), `fraction` is the larger share of
+  /// one face's samples inside its trims that lie on the other face inside its trims.
+  std::vector<FaceOverlap> overlaps;
+  /// The solids each overlapping pair's faces belong to (1-based, in TopExp::MapShapes order; 0: the face is in no
+  /// solid), one pair per overlap: faces of two solids of an assembly lying on each other are the solids' contact.
+  std::vector<std::pair<int, int>> overlapSolids;
+  bool overlapsSearched = false;  ///< findOverlaps was asked for (overlaps is complete but for the faces below)
+  /// Faces with samples on another face whose trims the samples do not read right (a face of zero area, a sliver:
+  /// the area of its inside samples and its own area differ by more than 4 times): left out of the search.
+  int overlapFacesSkipped = 0;
 };
 
 /// Reads and checks a STEP/IGES file. Errors as readCadFile; a crash inside OpenCASCADE during the check (a signal,
