@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "occt/brep_check_internal.h"
+#include "seam/occt/brep_check.h"
 #include "real_cad_files.h"
 
 namespace seam {
@@ -198,6 +199,22 @@ TEST(BRepOverlaps, RealFilesWitnessPointsLieInsideBothFacesByOpenCascade) {
       EXPECT_GT(std::abs(props.Mass()), 1e-9);  // no face of zero area
     }
   }
+  // The check names the solids of each pair's faces, through the sewing that trj3 needs (the sewn shape has none):
+  // trj3 has 5 solids (OpenCASCADE's count of the file as read), and its assembly's parts touch.
+  occt::BRepCheckOptions co;
+  co.findOverlaps = true;
+  const Result<occt::BRepCheckReport> checked = occt::checkBRepFile(kData / "step/trj3_s1-al-214.stp", co);
+  ASSERT_TRUE(checked.isOk()) << checked.status().message();
+  ASSERT_TRUE(checked->sewn);
+  ASSERT_EQ(checked->overlapSolids.size(), checked->overlaps.size());
+  EXPECT_EQ(checked->overlaps.size(), found.overlaps.size());
+  int contacts = 0;
+  for (const auto& [sa, sb] : checked->overlapSolids) {
+    EXPECT_LE(sa, 5);
+    EXPECT_LE(sb, 5);
+    contacts += sa > 0 && sb > 0 && sa != sb ? 1 : 0;
+  }
+  EXPECT_GE(contacts, 4);
   for (const char* rel : {"step/linkrods.step", "iges/bearing.iges"}) {
     SCOPED_TRACE(rel);
     const std::filesystem::path file = kData / rel;

@@ -27,6 +27,8 @@
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_DataMapOfShapeInteger.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
@@ -940,6 +942,16 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
     const double diag = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
     TopTools_IndexedMapOfShape faceMap;
     TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
+    // The solid of each face of the input (1-based, TopExp::MapShapes order; for the overlap search's pairs),
+    // carried over to the sewn faces below: the sewn shape has no solids.
+    TopTools_DataMapOfShapeInteger solidOfFace;
+    {
+      TopTools_IndexedMapOfShape solids;
+      TopExp::MapShapes(input, TopAbs_SOLID, solids);
+      for (int k = 1; k <= solids.Extent(); ++k)
+        for (TopExp_Explorer ex(solids(k), TopAbs_FACE); ex.More(); ex.Next())
+          if (!solidOfFace.IsBound(ex.Current())) solidOfFace.Bind(ex.Current(), k);
+    }
     if (options.sewFreeEdges && faceMap.Extent() > 1 && countFreeEdges(shape) > 0) {
       BRepBuilderAPI_Sewing sewing(options.sewingRelTol * diag);
       sewing.Add(shape);
@@ -961,6 +973,14 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
           }
         }
         labels = std::move(sewn);
+        TopTools_DataMapOfShapeInteger sewnSolid;
+        for (TopTools_DataMapIteratorOfDataMapOfShapeInteger it(solidOfFace); it.More(); it.Next()) {
+          const TopoDS_Shape& original = it.Key();
+          const TopoDS_Shape now =
+              sewing.IsModifiedSubShape(original) ? sewing.ModifiedSubShape(original) : original;
+          if (!sewnSolid.IsBound(now)) sewnSolid.Bind(now, it.Value());
+        }
+        solidOfFace.Exchange(sewnSolid);
       }
       faceMap.Clear();
       TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
@@ -1202,14 +1222,9 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
       out.overlaps = std::move(found.overlaps);
       out.overlapFacesSkipped = found.skippedFaces;
       out.overlapsSearched = true;
-      TopTools_IndexedMapOfShape solids;
-      TopExp::MapShapes(shape, TopAbs_SOLID, solids);
-      TopTools_IndexedDataMapOfShapeListOfShape faceSolids;
-      TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, faceSolids);
       auto solidOf = [&](int face) {
         const TopoDS_Shape& f = faceMap(face + 1);
-        if (!faceSolids.Contains(f) || faceSolids.FindFromKey(f).IsEmpty()) return 0;
-        return solids.FindIndex(faceSolids.FindFromKey(f).First());
+        return solidOfFace.IsBound(f) ? solidOfFace.Find(f) : 0;
       };
       for (const FaceOverlap& o : out.overlaps) out.overlapSolids.emplace_back(solidOf(o.a), solidOf(o.b));
     }
