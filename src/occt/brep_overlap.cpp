@@ -147,149 +147,188 @@ struct Hits {
   std::vector<double> distances;
 };
 
+/// The search over one shape's faces: the grids, the classifiers (made on first use), the candidate pairs and what
+/// each face's samples found on its partners. Every failure inside OpenCASCADE (a face it cannot evaluate or
+/// classify) leaves that face or that pair out: the search reports what it finds; the seams' check reports the
+/// faces' problems.
+class Search {
+ public:
+  Search(const TopTools_IndexedMapOfShape& faces, double tol, const OverlapOptions& options)
+      : faces_(faces),
+        tol_(tol),
+        options_(options),
+        n_(faces.Extent()),
+        grids_(static_cast<size_t>(n_)),
+        classifiers_(static_cast<size_t>(n_)),
+        partners_(static_cast<size_t>(n_)),
+        hits_(static_cast<size_t>(n_)),
+        inside_(static_cast<size_t>(n_), 0),
+        skipped_(static_cast<size_t>(n_), 0),
+        arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {}
+
+  BRepOverlapSearch run() {
+    const int n = std::max(1, kOverlapGridFactor * options_.samplesPerDirection);
+    arena_.execute([&] {
+      tbb::parallel_for(0, n_, [&](int k) {
+        OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
+        try {
+          grids_[static_cast<size_t>(k)] = faceGrid(face(k), n, tol_);
+        } catch (const Standard_Failure&) {
+          grids_[static_cast<size_t>(k)] = FaceGrid{};
+        }
+      });
+    });
+    // Candidates: pairs whose boxes, each enlarged by the tolerance, meet (each face lists the other).
+    for (int a = 0; a < n_; ++a)
+      for (int b = a + 1; b < n_; ++b) {
+        const FaceGrid &ga = grid(a), &gb = grid(b);
+        if (!ga.usable || !gb.usable || ga.box.IsOut(gb.box)) continue;
+        partners_[static_cast<size_t>(a)].push_back(b);
+        partners_[static_cast<size_t>(b)].push_back(a);
+      }
+    arena_.execute([&] { tbb::parallel_for(0, n_, [&](int a) { searchFrom(a); }); });
+    return pairs();
+  }
+
+ private:
+  [[nodiscard]] TopoDS_Face face(int k) const { return TopoDS::Face(faces_(k + 1)); }
+  [[nodiscard]] const FaceGrid& grid(int k) const { return grids_[static_cast<size_t>(k)]; }
+
+  /// The classifier of face k, made once on the first thread that needs it (its Perform is const: read by all).
+  const BRepTopAdaptor_FClass2d& classifier(int k) {
+    LazyClassifier& c = classifiers_[static_cast<size_t>(k)];
+    std::call_once(c.once, [&] {
+      c.classifier = std::make_unique<BRepTopAdaptor_FClass2d>(face(k), Precision::PConfusion());
+    });
+    return *c.classifier;
+  }
+
+  /// Face a's samples on each of its partners (hits_[a]); for a face with a hit, how many of its samples lie inside
+  /// its trims (inside_[a]) and whether they stand for its area (skipped_[a] when not: kOverlapAreaAgreement). Most
+  /// faces have no hit, and their own samples are never classified.
+  void searchFrom(int a) {
+    const FaceGrid& ga = grid(a);
+    const std::vector<int>& mine = partners_[static_cast<size_t>(a)];
+    std::vector<Hits>& out = hits_[static_cast<size_t>(a)];
+    out.resize(mine.size());
+    std::vector<signed char> in(ga.xyz.size(), -1);  // a's own classification of its samples, when asked
+    auto insideA = [&](int s) {
+      if (in[static_cast<size_t>(s)] < 0)
+        in[static_cast<size_t>(s)] = classifier(a).Perform(ga.uv[static_cast<size_t>(s)]) == TopAbs_IN ? 1 : 0;
+      return in[static_cast<size_t>(s)] == 1;
+    };
+    bool any = false;
+    for (size_t m = 0; m < mine.size(); ++m) {
+      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
+      try {
+        out[m] = samplesOn(ga, mine[m], insideA);
+        any = any || !out[m].samples.empty();
+      } catch (const Standard_Failure&) {
+        out[m] = Hits{};
+      }
+    }
+    if (!any) return;
+    OCC_CATCH_SIGNALS
+    try {
+      int count = 0;
+      for (int s = 0; s < static_cast<int>(ga.xyz.size()); ++s) count += insideA(s) ? 1 : 0;
+      inside_[static_cast<size_t>(a)] = count;
+      GProp_GProps props;
+      BRepGProp::SurfaceProperties(face(a), props);
+      const double area = std::abs(props.Mass()), sampled = sampledArea(face(a), ga, in);
+      if (!(sampled <= kOverlapAreaAgreement * area && area <= kOverlapAreaAgreement * sampled))
+        skipped_[static_cast<size_t>(a)] = 1;
+    } catch (const Standard_Failure&) {
+      inside_[static_cast<size_t>(a)] = 0;
+      skipped_[static_cast<size_t>(a)] = 1;
+    }
+  }
+
+  /// The samples of `ga` (inside its own trims, by `insideA`) that lie on face b inside its trims.
+  template <typename InsideA>
+  Hits samplesOn(const FaceGrid& ga, int b, InsideA& insideA) {
+    const FaceGrid& gb = grid(b);
+    std::optional<BRepAdaptor_Surface> surfaceB;  // this task's own (an adaptor caches its evaluations)
+    // The foot of a point within the tolerance of B's surface lies in a grid cell, within about a cell of its nearest
+    // grid point (half a diagonal where the cell is flat): a point farther than that is off B's surface.
+    const double reach = tol_ + gb.cell;
+    Hits out;
+    for (int s = 0; s < static_cast<int>(ga.xyz.size()); ++s) {
+      const gp_Pnt& p = ga.xyz[static_cast<size_t>(s)];
+      if (gb.box.IsOut(p)) continue;
+      size_t nearest = 0;
+      double best = p.SquareDistance(gb.xyz[0]);
+      for (size_t q = 1; q < gb.xyz.size(); ++q)
+        if (const double d = p.SquareDistance(gb.xyz[q]); d < best) {
+          best = d;
+          nearest = q;
+        }
+      if (std::sqrt(best) > reach) continue;
+      if (!surfaceB) surfaceB.emplace(face(b), /*restriction=*/false);
+      const gp_Pnt2d foot = footNear(*surfaceB, p, gb.uv[nearest].X(), gb.uv[nearest].Y());
+      const double d = p.Distance(surfaceB->Value(foot.X(), foot.Y()));  // the foot found is the witness
+      if (!(d <= tol_)) continue;
+      if (classifier(b).Perform(foot) != TopAbs_IN) continue;
+      if (!insideA(s)) continue;
+      out.samples.push_back(s);
+      out.distances.push_back(d);
+    }
+    return out;
+  }
+
+  /// Each unordered pair: the larger share of the two directions; none with a face whose trims were not read right.
+  BRepOverlapSearch pairs() const {
+    BRepOverlapSearch result;
+    result.skippedFaces = static_cast<int>(std::count(skipped_.begin(), skipped_.end(), 1));
+    auto share = [&](const Hits& h, int f) {
+      const int all = inside_[static_cast<size_t>(f)];
+      return all > 0 ? static_cast<double>(h.samples.size()) / all : 0.0;
+    };
+    for (int a = 0; a < n_; ++a) {
+      if (skipped_[static_cast<size_t>(a)]) continue;
+      const std::vector<int>& mine = partners_[static_cast<size_t>(a)];
+      for (size_t m = 0; m < mine.size(); ++m) {
+        const int b = mine[m];
+        if (b < a || skipped_[static_cast<size_t>(b)]) continue;
+        const std::vector<int>& theirs = partners_[static_cast<size_t>(b)];
+        const size_t back = static_cast<size_t>(std::find(theirs.begin(), theirs.end(), a) - theirs.begin());
+        const Hits& ab = hits_[static_cast<size_t>(a)][m];
+        const Hits& ba = hits_[static_cast<size_t>(b)][back];
+        const double sa = share(ab, a), sb = share(ba, b);
+        const bool fromA = sa >= sb;
+        const double fraction = fromA ? sa : sb;
+        if (!(fraction >= options_.minFraction)) continue;
+        const Hits& h = fromA ? ab : ba;
+        const gp_Pnt& first = grid(fromA ? a : b).xyz[static_cast<size_t>(h.samples.front())];
+        FaceOverlap o;
+        o.a = a;
+        o.b = b;
+        o.fraction = fraction;
+        o.maxDistance = *std::max_element(h.distances.begin(), h.distances.end());
+        o.point = Vec3(first.X(), first.Y(), first.Z());
+        result.overlaps.push_back(o);
+      }
+    }
+    return result;
+  }
+
+  const TopTools_IndexedMapOfShape& faces_;
+  const double tol_;
+  const OverlapOptions options_;
+  const int n_;
+  std::vector<FaceGrid> grids_;
+  std::vector<LazyClassifier> classifiers_;
+  std::vector<std::vector<int>> partners_;  ///< each face's candidates (boxes within the tolerance)
+  std::vector<std::vector<Hits>> hits_;     ///< hits_[a][m]: a's samples on its m-th partner
+  std::vector<int> inside_;                 ///< a's samples inside its trims (faces with a hit only)
+  std::vector<char> skipped_;               ///< a's trims not read right by its samples
+  tbb::task_arena arena_;
+};
+
 }  // namespace
 
 BRepOverlapSearch findBRepOverlaps(const TopTools_IndexedMapOfShape& faces, double tol, const OverlapOptions& options) {
-  const int nFaces = faces.Extent();
-  const int n = std::max(1, kOverlapGridFactor * options.samplesPerDirection);
-  std::vector<FaceGrid> grids(static_cast<size_t>(nFaces));
-  std::vector<LazyClassifier> classifiers(static_cast<size_t>(nFaces));
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  // Every failure inside OpenCASCADE (a face it cannot evaluate or classify) leaves that face or that sample out:
-  // the search looks for overlaps and reports what it finds; the seams' check reports the faces' problems.
-  arena.execute([&] {
-    tbb::parallel_for(0, nFaces, [&](int k) {
-      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
-      try {
-        grids[static_cast<size_t>(k)] = faceGrid(TopoDS::Face(faces(k + 1)), n, tol);
-      } catch (const Standard_Failure&) {
-        grids[static_cast<size_t>(k)] = FaceGrid{};
-      }
-    });
-  });
-  auto classifier = [&](int k) -> const BRepTopAdaptor_FClass2d& {
-    LazyClassifier& c = classifiers[static_cast<size_t>(k)];
-    std::call_once(c.once, [&] {
-      c.classifier = std::make_unique<BRepTopAdaptor_FClass2d>(TopoDS::Face(faces(k + 1)), Precision::PConfusion());
-    });
-    return *c.classifier;
-  };
-  // Candidates: ordered pairs (a, b) whose boxes, each enlarged by the tolerance, meet.
-  std::vector<std::vector<int>> partners(static_cast<size_t>(nFaces));
-  for (int a = 0; a < nFaces; ++a)
-    for (int b = a + 1; b < nFaces; ++b) {
-      const FaceGrid &ga = grids[static_cast<size_t>(a)], &gb = grids[static_cast<size_t>(b)];
-      if (!ga.usable || !gb.usable || ga.box.IsOut(gb.box)) continue;
-      partners[static_cast<size_t>(a)].push_back(b);
-      partners[static_cast<size_t>(b)].push_back(a);
-    }
-  // hits[a][m]: face a's samples on its m-th partner; inside[a]: how many of a's samples lie inside its trims
-  // (classified only for a face with a hit: most faces have none); skipped[a]: a face whose trims the samples do not
-  // read right (kOverlapAreaAgreement), checked for the faces with a hit only.
-  std::vector<std::vector<Hits>> hits(static_cast<size_t>(nFaces));
-  std::vector<int> inside(static_cast<size_t>(nFaces), 0);
-  std::vector<char> skipped(static_cast<size_t>(nFaces), 0);
-  arena.execute([&] {
-    tbb::parallel_for(0, nFaces, [&](int a) {
-      const FaceGrid& ga = grids[static_cast<size_t>(a)];
-      const std::vector<int>& mine = partners[static_cast<size_t>(a)];
-      std::vector<Hits>& out = hits[static_cast<size_t>(a)];
-      out.resize(mine.size());
-      std::vector<signed char> inA(ga.xyz.size(), -1);  // a's own classification of its samples, when asked
-      auto insideA = [&](int s) {
-        if (inA[static_cast<size_t>(s)] < 0)
-          inA[static_cast<size_t>(s)] = classifier(a).Perform(ga.uv[static_cast<size_t>(s)]) == TopAbs_IN ? 1 : 0;
-        return inA[static_cast<size_t>(s)] == 1;
-      };
-      bool any = false;
-      for (size_t m = 0; m < mine.size(); ++m) {
-        const int b = mine[m];
-        const FaceGrid& gb = grids[static_cast<size_t>(b)];
-        OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
-        try {
-          const TopoDS_Face fb = TopoDS::Face(faces(b + 1));
-          std::optional<BRepAdaptor_Surface> surfaceB;  // this task's own (an adaptor caches its evaluations)
-          // The foot of a point within `tol` of B's surface lies in a grid cell, within about a cell of its nearest
-          // grid point (half a diagonal where the cell is flat): a point farther than that is off B's surface.
-          const double reach = tol + gb.cell;
-          for (int s = 0; s < static_cast<int>(ga.xyz.size()); ++s) {
-            const gp_Pnt& p = ga.xyz[static_cast<size_t>(s)];
-            if (gb.box.IsOut(p)) continue;
-            size_t nearest = 0;
-            double best = p.SquareDistance(gb.xyz[0]);
-            for (size_t q = 1; q < gb.xyz.size(); ++q)
-              if (const double d = p.SquareDistance(gb.xyz[q]); d < best) {
-                best = d;
-                nearest = q;
-              }
-            if (std::sqrt(best) > reach) continue;
-            if (!surfaceB) surfaceB.emplace(fb, /*restriction=*/false);
-            const gp_Pnt2d foot = footNear(*surfaceB, p, gb.uv[nearest].X(), gb.uv[nearest].Y());
-            const double d = p.Distance(surfaceB->Value(foot.X(), foot.Y()));  // the foot found is the witness
-            if (!(d <= tol)) continue;
-            if (classifier(b).Perform(foot) != TopAbs_IN) continue;
-            if (!insideA(s)) continue;
-            out[m].samples.push_back(s);
-            out[m].distances.push_back(d);
-            any = true;
-          }
-        } catch (const Standard_Failure&) {
-          out[m] = Hits{};
-        }
-      }
-      if (!any) return;
-      OCC_CATCH_SIGNALS
-      try {
-        int count = 0;
-        for (int s = 0; s < static_cast<int>(ga.xyz.size()); ++s) count += insideA(s) ? 1 : 0;
-        inside[static_cast<size_t>(a)] = count;
-        const TopoDS_Face fa = TopoDS::Face(faces(a + 1));
-        GProp_GProps props;
-        BRepGProp::SurfaceProperties(fa, props);
-        const double area = std::abs(props.Mass()), sampled = sampledArea(fa, ga, inA);
-        if (!(sampled <= kOverlapAreaAgreement * area && area <= kOverlapAreaAgreement * sampled))
-          skipped[static_cast<size_t>(a)] = 1;
-      } catch (const Standard_Failure&) {
-        inside[static_cast<size_t>(a)] = 0;
-        skipped[static_cast<size_t>(a)] = 1;
-      }
-    });
-  });
-  // Each unordered pair: the larger share of the two directions; none with a face whose trims were not read right.
-  BRepOverlapSearch result;
-  result.skippedFaces = static_cast<int>(std::count(skipped.begin(), skipped.end(), 1));
-  std::vector<FaceOverlap>& out = result.overlaps;
-  for (int a = 0; a < nFaces; ++a) {
-    if (skipped[static_cast<size_t>(a)]) continue;
-    const std::vector<int>& mine = partners[static_cast<size_t>(a)];
-    for (size_t m = 0; m < mine.size(); ++m) {
-      const int b = mine[m];
-      if (b < a || skipped[static_cast<size_t>(b)]) continue;
-      const std::vector<int>& theirs = partners[static_cast<size_t>(b)];
-      const size_t back = static_cast<size_t>(std::find(theirs.begin(), theirs.end(), a) - theirs.begin());
-      const Hits& ab = hits[static_cast<size_t>(a)][m];
-      const Hits& ba = hits[static_cast<size_t>(b)][back];
-      auto share = [&](const Hits& h, int face) {
-        const int all = inside[static_cast<size_t>(face)];
-        return all > 0 ? static_cast<double>(h.samples.size()) / all : 0.0;
-      };
-      const double sa = share(ab, a), sb = share(ba, b);
-      const bool fromA = sa >= sb;
-      const double fraction = fromA ? sa : sb;
-      if (!(fraction >= options.minFraction)) continue;
-      const Hits& h = fromA ? ab : ba;
-      const FaceGrid& g = grids[static_cast<size_t>(fromA ? a : b)];
-      FaceOverlap o;
-      o.a = a;
-      o.b = b;
-      o.fraction = fraction;
-      o.maxDistance = *std::max_element(h.distances.begin(), h.distances.end());
-      const gp_Pnt& first = g.xyz[static_cast<size_t>(h.samples.front())];
-      o.point = Vec3(first.X(), first.Y(), first.Z());
-      out.push_back(o);
-    }
-  }
-  return result;
+  return Search(faces, tol, options).run();
 }
 
 }  // namespace seam::occt::detail
