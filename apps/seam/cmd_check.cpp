@@ -276,7 +276,8 @@ std::string edgeLists(const Model& m, const ModelCheckReport& r) {
                        formatVector(d.point.data(), 3));
   if (!r.overlapsSearched && (m.trimmedFaces > 0 || m.brep))
     out += "\noverlapping faces: not searched (the trimmed faces are analysed as the patches of their parameter "
-           "boxes, and faces trimmed from one surface would overlap as patches)\n";
+           "boxes, and faces trimmed from one surface would overlap as patches; without --patches the B-rep check "
+           "searches them inside their trims)\n";
   if (!r.overlaps.empty()) {  // faces lying on each other: listed only when there are some
     out += fmt::format("\noverlapping faces ({} pair{}: the patches lie on each other within the distance tolerance; "
                        "share of the samples of one on the other, the largest distance among them, and one such "
