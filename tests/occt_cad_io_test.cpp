@@ -39,6 +39,7 @@
 #include <set>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 #include <iterator>
 #include <map>
 #include <memory>
@@ -607,6 +608,33 @@ TEST(OcctCounts, FaceByFaceAreaOnThreadsIsTheShapesAreaAndReusesOnlyTheUnchanged
   EXPECT_NEAR(reused.area, props.Mass() - one.faceAreas[0], 1e-12 * props.Mass());
   EXPECT_GT(one.faceAreas[0], 0.0);
   EXPECT_EQ(again.area, one.area);
+}
+
+// The threads helper of the B-rep code (face areas, fold grids): every task runs, and the failure raised is the
+// first in index order whatever thread met it, as the serial loop would raise it; an OpenCASCADE failure keeps its
+// type.
+TEST(OcctThreads, EveryTaskRunsAndTheFirstFailureInIndexOrderIsRaised) {
+  for (const int threads : {1, 2, 0}) {
+    SCOPED_TRACE(threads);
+    std::vector<int> ran(200, 0);
+    occt::detail::forEachOnThreads(200, threads, [&](int k) { ran[static_cast<size_t>(k)] += 1; });
+    EXPECT_EQ(std::count(ran.begin(), ran.end(), 1), 200);
+    std::vector<int> ranAgain(200, 0);
+    try {
+      occt::detail::forEachOnThreads(200, threads, [&](int k) {
+        ranAgain[static_cast<size_t>(k)] = 1;
+        if (k == 150) throw std::runtime_error("task 150");
+        if (k == 37) throw Standard_Failure("task 37");
+      });
+      ADD_FAILURE() << "no failure raised";
+    } catch (const Standard_Failure& f) {
+      EXPECT_STREQ(f.GetMessageString(), "task 37");
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "raised " << e.what() << " instead of task 37's failure";
+    }
+    EXPECT_EQ(std::count(ranAgain.begin(), ranAgain.end(), 1), 200);  // a failure stops no other task
+  }
+  occt::detail::forEachOnThreads(0, 2, [](int) { ADD_FAILURE() << "a task of an empty range"; });
 }
 
 TEST(OcctBRep, PatchPointIsTheSurfaceValueBitForBit) {

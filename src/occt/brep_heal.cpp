@@ -531,20 +531,9 @@ std::vector<gp_Pnt2d> gridInside(const TopoDS_Face& face) {
 std::vector<std::vector<gp_Pnt2d>> gridsInside(const TopTools_IndexedMapOfShape& faceMap, const std::vector<int>& which,
                                                int threads) {
   std::vector<std::vector<gp_Pnt2d>> out(which.size());
-  std::vector<std::exception_ptr> failed(which.size());
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(size_t{0}, which.size(), [&](size_t k) {
-      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
-      try {
-        out[k] = gridInside(TopoDS::Face(faceMap(which[k])));
-      } catch (...) {
-        failed[k] = std::current_exception();
-      }
-    });
+  detail::forEachOnThreads(static_cast<int>(which.size()), threads, [&](int k) {
+    out[static_cast<size_t>(k)] = gridInside(TopoDS::Face(faceMap(which[static_cast<size_t>(k)])));
   });
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
   return out;
 }
 

@@ -16,6 +16,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -204,5 +205,11 @@ void applyFaceLabels(CadImport& import, const std::vector<TopoDS_Face>& faces, c
 /// stays aligned with the patches, and CadFace::patch is "F<n>" with n the face's 1-based position).
 Result<CadImport> convertFaces(const std::filesystem::path& file, const std::vector<TopoDS_Face>& faces,
                                const CadReadOptions& options);
+
+/// Runs task(k) for every k in [0, n) on `threads` threads (0: all hardware threads), each task under its own
+/// OCC_CATCH_SIGNALS handler. A failure of a task (an exception, or a signal inside OpenCASCADE turned into one) is
+/// kept, and once every task has ended the first in index order is raised here: what the serial loop would raise.
+/// Each task may write only its own index's results and must read shared OpenCASCADE objects only.
+void forEachOnThreads(int n, int threads, const std::function<void(int)>& task);
 
 }  // namespace seam::occt::detail

@@ -1289,6 +1289,23 @@ Status writePatchesCadFile(const Model& model, const fs::path& file, CadFormat f
 
 namespace detail {
 
+void forEachOnThreads(int n, int threads, const std::function<void(int)>& task) {
+  std::vector<std::exception_ptr> failed(static_cast<size_t>(std::max(n, 0)));
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(0, n, [&](int k) {
+      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
+      try {
+        task(k);
+      } catch (...) {
+        failed[static_cast<size_t>(k)] = std::current_exception();
+      }
+    });
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+}
+
 std::string cadUnitName(double millimetresPerUnit, CadFormat format) {
   struct Known {
     double mm;
@@ -1337,30 +1354,20 @@ ShapeCounts countShape(const TopoDS_Shape& shape, const AreaOptions& area) {
   // on several threads: each face is read only (its surface and pcurves), each task catches its own signals, and
   // the first failure in face order is raised here, as the serial loop would raise it.
   c.faceAreas.assign(static_cast<size_t>(c.faces), 0.0);
-  std::vector<std::exception_ptr> failed(static_cast<size_t>(c.faces));
-  auto faceArea = [&](int i) {
-    const size_t k = static_cast<size_t>(i - 1);
+  forEachOnThreads(c.faces, area.threads, [&](int k) {
+    const size_t at = static_cast<size_t>(k);
     if (area.known != nullptr && area.known->faceAreas.size() == c.faceAreas.size() &&
-        (area.changed == nullptr || !area.changed->count(i))) {
-      c.faceAreas[k] = area.known->faceAreas[k];
+        (area.changed == nullptr || !area.changed->count(k + 1))) {
+      c.faceAreas[at] = area.known->faceAreas[at];
       return;
     }
-    OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
-    try {
-      GProp_GProps props;
-      if (area.relEps > 0.0)
-        BRepGProp::SurfaceProperties(faces(i), props, area.relEps);
-      else
-        BRepGProp::SurfaceProperties(faces(i), props);
-      c.faceAreas[k] = props.Mass();
-    } catch (...) {
-      failed[k] = std::current_exception();
-    }
-  };
-  tbb::task_arena arena(area.threads > 0 ? area.threads : tbb::task_arena::automatic);
-  arena.execute([&] { tbb::parallel_for(1, c.faces + 1, faceArea); });
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
+    GProp_GProps props;
+    if (area.relEps > 0.0)
+      BRepGProp::SurfaceProperties(faces(k + 1), props, area.relEps);
+    else
+      BRepGProp::SurfaceProperties(faces(k + 1), props);
+    c.faceAreas[at] = props.Mass();
+  });
   for (const double a : c.faceAreas) c.area += a;
   return c;
 }
