@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "seam/io/file.h"
 #include "seam/regularity/regularity.h"
 
 namespace {
@@ -155,6 +156,30 @@ void BM_SurfaceSearchPole(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * (state.range(0) - 3));
 }
 BENCHMARK(BM_SurfaceSearchPole)->Arg(12)->Arg(100)->Unit(benchmark::kMillisecond);
+
+/// A real face with a near-fold: linkrods.step's F27 (../shared/data/step, a rational B-spline of degrees (6, 8) and
+/// 65 spans in v), whose S_u x S_v vanishes at points of a curve and nearly vanishes along it. The search cannot
+/// settle the curve at its resolution and spends its whole work budget there (300 000 region visits): this
+/// measures the cost of one visit on a face that cannot be certified (issue 39 goal 1; `seam regularity` on
+/// linkrods took 68 s, 53 of them on F26 and F27).
+void BM_SurfaceSearchNearFold(benchmark::State& state) {
+  const seam::Result<seam::Model> model =
+      seam::io::readModel(std::string(SEAM_SOURCE_DIR) + "/tests/data/regularity/near_fold_linkrods_F27.json");
+  if (!model.isOk() || model->patches.size() != 1) {
+    state.SkipWithError("tests/data/regularity/near_fold_linkrods_F27.json does not read as one patch");
+    return;
+  }
+  for (auto _ : state) {
+    auto r = seam::regularity::searchSurfaceDefects(model->patches[0].surface);
+    if (!r.isOk() || r->criticalPoints.empty()) {
+      state.SkipWithError("no critical point found on the near-fold face");
+      break;
+    }
+    benchmark::DoNotOptimize(r);
+    state.counters["visits"] = static_cast<double>(r->summary.work);
+  }
+}
+BENCHMARK(BM_SurfaceSearchNearFold)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 /// The whole analysis as `seam regularity` runs it (certificates, Theorem 2.7 up to ell = 2, the search) on
 /// curves of n segments (issue 16 goal 5: 200 000 in well under 2 s).

@@ -11,6 +11,7 @@
 
 #include "regularity/search_internal.h"
 #include "seam/core/tolerances.h"
+#include "seam/io/file.h"
 #include "seam/model/model.h"
 #include "seam/regularity/defect_search.h"
 #include "seam/regularity/regularity.h"
@@ -381,6 +382,42 @@ TEST(RegularitySearchPoles, ACoverOfTheConeThatFoldsBackOverItselfIsStillFound) 
     EXPECT_TRUE(atApex) << "h " << h;
     for (const SurfaceSelfIntersection& x : r->selfIntersections)  // each a true double point, away from the apex
       EXPECT_LE((s.evaluate(x.u1, x.v1) - s.evaluate(x.u2, x.v2)).norm(), r->summary.distance) << "h " << h;
+  }
+}
+
+// A real face with a near-fold (linkrods.step's F27 in tests/data/regularity: rational, degrees (6, 8), 65 spans
+// in v): S_u x S_v vanishes at points of a curve and nearly vanishes along it, so the search can settle neither
+// the curve nor the pairs across it. Every critical point it reports must be a zero of S_u x S_v by the B-spline's
+// own derivatives (de Boor, not the Bernstein quotient Newton runs on), within ten times the search's critical
+// tolerance (1e-9, of another scale) of the face's largest |S_u| |S_v|, and its point must be S there; and the
+// search must say that it is incomplete. The budget is small here (the critical points come first; the whole budget takes seconds).
+TEST(RegularitySearchNearFold, ARealFacesCriticalPointsAreZerosOfItsNormalAndTheSearchSaysItIsIncomplete) {
+  const Result<Model> model =
+      io::readModel(std::filesystem::path(SEAM_TEST_DATA_DIR) / "regularity" / "near_fold_linkrods_F27.json");
+  ASSERT_TRUE(model.isOk()) << model.status().message();
+  ASSERT_EQ(model->patches.size(), 1u);
+  const BSplineSurface& s = model->patches[0].surface;
+  double scale = 0.0;  // the largest |S_u| |S_v| on a 41 x 41 grid: what |S_u x S_v| is measured against
+  const auto& ku = s.knotsU().values();
+  const auto& kv = s.knotsV().values();
+  for (int a = 0; a <= 40; ++a)
+    for (int b = 0; b <= 40; ++b) {
+      const auto d = s.derivatives(ku.front() + (ku.back() - ku.front()) * a / 40.0,
+                                   kv.front() + (kv.back() - kv.front()) * b / 40.0, 1);
+      scale = std::max(scale, d[1][0].norm() * d[0][1].norm());
+    }
+  SearchOptions options;
+  options.maxWork = 20'000;
+  const Result<SurfaceSearchResult> r = searchSurfaceDefects(s, options);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_FALSE(r->summary.complete);
+  EXPECT_GT(r->summary.unresolved, 0);
+  ASSERT_GE(r->criticalPoints.size(), 2u);
+  for (const SurfaceCriticalPoint& c : r->criticalPoints) {
+    const auto d = s.derivatives(c.u, c.v, 1);
+    const Vec3 su = d[1][0].head<3>(), sv = d[0][1].head<3>();
+    EXPECT_LE(su.cross(sv).norm(), 1e-8 * scale) << "at (" << c.u << ", " << c.v << ")";
+    EXPECT_LE((c.point - Vec3(d[0][0].head<3>())).norm(), 1e-12 * std::sqrt(scale)) << "at (" << c.u << ", " << c.v << ")";
   }
 }
 

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 
+#include "core/bernstein_internal.h"
 #include "search_internal.h"
 #include "seam/core/bernstein.h"
 #include "seam/model/model.h"
@@ -44,6 +46,11 @@ struct PoleSides {
   bool strict[4] = {false, false, false, false};
   Vec3 apex[4];
   BernsteinPatch spokes[4];
+};
+
+/// The partial derivatives of a piece's quotient (PoleSides::m, or n), for the Newton refinement of critical points.
+struct NewtonPartials {
+  BernsteinPatch u, v;
 };
 
 struct Part {
@@ -163,7 +170,7 @@ class SurfaceSearch {
           addCritical(i, mid[side][0], mid[side][1], /*pole=*/true);
         }
       }
-      critical(i, 0.0, 1.0, 0.0, 1.0);
+      critical(i, 0.0, 1.0, 0.0, 1.0, quotient(p));
     }
     Region top;
     top.u = domU_;
@@ -186,16 +193,57 @@ class SurfaceSearch {
     return iu * nv_ + iv;
   }
   void eval(double u, double v, Vec3& point, Vec3& su, Vec3& sv) const {
-    const Piece& p = pieces_[pieceAt(u, v)];
+    const Piece& p = pieces_[static_cast<size_t>(pieceAt(u, v))];
     const double a = (u - p.u.lo) / p.u.length();
     const double b = (v - p.v.lo) / p.v.length();
-    const VecX h = p.h(a, b);
-    const VecX hu = p.h.derivative(1, 0)(a, b) / p.u.length();
-    const VecX hv = p.h.derivative(0, 1)(a, b) / p.v.length();
+    Eigen::Vector4d h, hu, hv;
+    homogeneousJet(p.h, a, b, h, hu, hv);
+    hu /= p.u.length();
+    hv /= p.v.length();
     const Vec3 x = h.head<3>();
     point = x / h[3];
     su = (Vec3(hu.head<3>()) * h[3] - x * hu[3]) / (h[3] * h[3]);
     sv = (Vec3(hv.head<3>()) * h[3] - x * hv[3]) / (h[3] * h[3]);
+  }
+  /// h(a, b) and its two partial derivatives, by one tensor de Casteljau: each row (fixed i) is reduced in v to its
+  /// last two points, which give the row's value and v-derivative; the values are reduced in u to their last two
+  /// points (the value and the u-derivative), the v-derivatives all the way. No allocation after the first call on
+  /// a thread (Newton calls this about a million times on a near-singular face).
+  static void homogeneousJet(const BernsteinPatch& h, double a, double b, Eigen::Vector4d& value,
+                             Eigen::Vector4d& du, Eigen::Vector4d& dv) {
+    const int m = h.degreeU(), n = h.degreeV();
+    const Matrix& c = h.coeffs();
+    thread_local std::vector<Eigen::Vector4d> row, vals, ders;
+    vals.resize(static_cast<size_t>(m + 1));
+    ders.resize(static_cast<size_t>(m + 1));
+    row.resize(static_cast<size_t>(n + 1));
+    for (int i = 0; i <= m; ++i) {
+      for (int j = 0; j <= n; ++j) row[static_cast<size_t>(j)] = c.row(i * (n + 1) + j).transpose();
+      for (int level = n; level > 1; --level)
+        for (int j = 0; j < level; ++j)
+          row[static_cast<size_t>(j)] = (1.0 - b) * row[static_cast<size_t>(j)] + b * row[static_cast<size_t>(j + 1)];
+      if (n == 0) {
+        vals[static_cast<size_t>(i)] = row[0];
+        ders[static_cast<size_t>(i)].setZero();
+      } else {
+        vals[static_cast<size_t>(i)] = (1.0 - b) * row[0] + b * row[1];
+        ders[static_cast<size_t>(i)] = n * (row[1] - row[0]);
+      }
+    }
+    for (int level = m; level > 0; --level)
+      for (int i = 0; i < level; ++i)
+        ders[static_cast<size_t>(i)] = (1.0 - a) * ders[static_cast<size_t>(i)] + a * ders[static_cast<size_t>(i + 1)];
+    for (int level = m; level > 1; --level)
+      for (int i = 0; i < level; ++i)
+        vals[static_cast<size_t>(i)] = (1.0 - a) * vals[static_cast<size_t>(i)] + a * vals[static_cast<size_t>(i + 1)];
+    dv = ders[0];
+    if (m == 0) {
+      value = vals[0];
+      du.setZero();
+    } else {
+      value = (1.0 - a) * vals[0] + a * vals[1];
+      du = m * (vals[1] - vals[0]);
+    }
   }
 
   bool spend() {
@@ -207,51 +255,94 @@ class SurfaceSearch {
   }
 
   // ---- critical points ----
-  void critical(int i, double u0, double u1, double v0, double v1) {
+  /// The critical points of piece i in its local box [u0, u1] x [v0, v1], on which its quotient is `sub`: the box
+  /// is settled when the coefficients of `sub` lie in an open half-space (no zero), or by Newton; else it is halved
+  /// along its longer side, each half's coefficients from one de Casteljau triangle at 1/2 of `sub` (not a new
+  /// restriction of the whole piece: a quarter of the work at degrees (11, 15)).
+  void critical(int i, double u0, double u1, double v0, double v1, const BernsteinPatch& sub) {
     if (!spend()) return;
-    const Piece& p = pieces_[i];
-    const BernsteinPatch& q = quotient(p);
-    const BernsteinPatch sub = q.restricted(u0, u1, v0, v1);
     thread_local std::vector<Vec3> vs;
     vs.resize(static_cast<size_t>(sub.coeffs().rows()));
     for (Eigen::Index k = 0; k < sub.coeffs().rows(); ++k) vs[k] = sub.coeffs().row(k).transpose();
     if (detail::positiveDirection(vs)) return;
     const double w = std::max(u1 - u0, v1 - v0);
-    if (w <= opt_.newtonWidth) {
-      const BernsteinPatch nu = q.derivative(1, 0);
-      const BernsteinPatch nv = q.derivative(0, 1);
-      Eigen::Vector2d x(0.5 * (u0 + u1), 0.5 * (v0 + v1));
-      for (int it = 0; it < 40; ++it) {
-        const Vec3 f = q(x[0], x[1]);
-        Eigen::Matrix<double, 3, 2> j;
-        j.col(0) = nu(x[0], x[1]);
-        j.col(1) = nv(x[0], x[1]);
-        const Eigen::Matrix2d g = j.transpose() * j;
-        if (!(std::abs(g.determinant()) > 1e-300)) break;
-        const Eigen::Vector2d step = -g.ldlt().solve(j.transpose() * f);
-        if (!step.allFinite()) break;
-        x = (x + step).cwiseMax(0.0).cwiseMin(1.0);
-        if (step.norm() < 1e-15) break;
-      }
-      if (x[0] >= u0 - w && x[0] <= u1 + w && x[1] >= v0 - w && x[1] <= v1 + w &&
-          q(x[0], x[1]).norm() <= opt_.criticalRelTol * scaleOfQuotient(p)) {
-        addCritical(i, x[0], x[1]);
-        return;
-      }
-    }
+    if (w <= opt_.newtonWidth && criticalNewton(i, u0, u1, v0, v1)) return;
     if (w <= opt_.resolution) {
       ++result_.summary.unresolved;
       return;
     }
-    if (u1 - u0 >= v1 - v0) {
+    const bool alongU = u1 - u0 >= v1 - v0;
+    BernsteinPatch first, second;
+    halves(sub, alongU, first, second);
+    if (alongU) {
       const double m = 0.5 * (u0 + u1);
-      critical(i, u0, m, v0, v1);
-      critical(i, m, u1, v0, v1);
+      critical(i, u0, m, v0, v1, first);
+      critical(i, m, u1, v0, v1, second);
     } else {
       const double m = 0.5 * (v0 + v1);
-      critical(i, u0, u1, v0, m);
-      critical(i, u0, u1, m, v1);
+      critical(i, u0, u1, v0, m, first);
+      critical(i, u0, u1, m, v1, second);
     }
+  }
+  /// The halves of p at u = 1/2 (alongU) or v = 1/2, reparametrised to [0, 1]^2.
+  static void halves(const BernsteinPatch& p, bool alongU, BernsteinPatch& first, BernsteinPatch& second) {
+    const int du = p.degreeU(), dv = p.degreeV();
+    const Eigen::Index dim = p.dim();
+    Matrix a(p.coeffs().rows(), dim), b(p.coeffs().rows(), dim);
+    if (alongU) {
+      // The rows of p (row-major, index i (dv + 1) + j) as a curve in u whose coefficients are whole v-rows.
+      seam::detail::splitHalves(p.coeffs().data(), du, (dv + 1) * dim, a.data(), b.data());
+    } else {
+      const Eigen::Index block = (dv + 1) * dim;
+      for (int i = 0; i <= du; ++i)
+        seam::detail::splitHalves(p.coeffs().data() + i * block, dv, dim, a.data() + i * block, b.data() + i * block);
+    }
+    first = BernsteinPatch(du, dv, std::move(a));
+    second = BernsteinPatch(du, dv, std::move(b));
+  }
+  /// Gauss-Newton on the quotient of piece i from the middle of the local box [u0, u1] x [v0, v1]; a zero found
+  /// within one box width of it is reported (addCritical) and settles the box: the last iterate near the box at
+  /// the critical tolerance (the steps after it take the point to round-off; reported zeros are few). The iteration
+  /// stops once it has left that neighbourhood: a zero it goes on to find there is another box's (near a curve of
+  /// small |q| it ran to a known zero far away, and 40 iterations were spent there in every box of the curve:
+  /// linkrods' F26, 36 s of its 45 s).
+  bool criticalNewton(int i, double u0, double u1, double v0, double v1) {
+    const Piece& p = pieces_[i];
+    const BernsteinPatch& q = quotient(p);
+    const NewtonPartials& d = partials(i);
+    const double w = std::max(u1 - u0, v1 - v0);
+    const double zero = opt_.criticalRelTol * scaleOfQuotient(p);
+    const auto near = [&](const Eigen::Vector2d& x) {
+      return x[0] >= u0 - w && x[0] <= u1 + w && x[1] >= v0 - w && x[1] <= v1 + w;
+    };
+    Eigen::Vector2d x(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    std::optional<Eigen::Vector2d> found;  // the last iterate at the tolerance and near the box
+    for (int it = 0; it < 40; ++it) {
+      const Vec3 f = q(x[0], x[1]);
+      if (f.norm() <= zero && near(x)) found = x;
+      Eigen::Matrix<double, 3, 2> j;
+      j.col(0) = d.u(x[0], x[1]);
+      j.col(1) = d.v(x[0], x[1]);
+      const Eigen::Matrix2d g = j.transpose() * j;
+      if (!(std::abs(g.determinant()) > 1e-300)) break;
+      const Eigen::Vector2d step = -g.ldlt().solve(j.transpose() * f);
+      if (!step.allFinite()) break;
+      x = (x + step).cwiseMax(0.0).cwiseMin(1.0);
+      if (step.norm() < 1e-15 || !near(x)) break;
+    }
+    if (near(x) && q(x[0], x[1]).norm() <= zero) found = x;
+    if (!found) return false;
+    addCritical(i, (*found)[0], (*found)[1]);
+    return true;
+  }
+  /// The partial derivatives of piece i's quotient, made the first time Newton needs them on that piece.
+  const NewtonPartials& partials(int i) {
+    std::unique_ptr<NewtonPartials>& d = partials_[i];
+    if (!d) {
+      const BernsteinPatch& q = quotient(pieces_[static_cast<size_t>(i)]);
+      d = std::make_unique<NewtonPartials>(NewtonPartials{q.derivative(1, 0), q.derivative(0, 1)});
+    }
+    return *d;
   }
   void addCritical(int i, double a, double b, bool pole = false) {
     const Piece& p = pieces_[i];
@@ -415,9 +506,21 @@ class SurfaceSearch {
     const BernsteinPatch h = p.h.restricted(part.u0, part.u1, part.v0, part.v1);
     const Matrix& c = h.coeffs();
     for (Eigen::Index k = 0; k < c.rows(); ++k) r.box.add(Vec3(c(k, 0), c(k, 1), c(k, 2)) / c(k, 3));
-    const auto [su, sv] = partialNumerators(h, p.rational);
-    for (Eigen::Index k = 0; k < su.coeffs().rows(); ++k) r.du.push_back(su.coeffs().row(k).transpose());
-    for (Eigen::Index k = 0; k < sv.coeffs().rows(); ++k) r.dv.push_back(sv.coeffs().row(k).transpose());
+    // The numerators of the part are those of the piece restricted to it, times the chain rule's factor (the
+    // numerator of the restricted h, without forming its products again).
+    appendRestricted(p.du, p.duDeg, part, part.u1 - part.u0, r.du);
+    appendRestricted(p.dv, p.dvDeg, part, part.v1 - part.v0, r.dv);
+  }
+  /// Appends the coefficients of the patch `from` (Bernstein degrees deg) restricted to the local box of `part`,
+  /// times `factor`, to `to`.
+  static void appendRestricted(const std::vector<Vec3>& from, const int deg[2], const Part& part, double factor,
+                               std::vector<Vec3>& to) {
+    Matrix c(static_cast<Eigen::Index>(from.size()), 3);
+    for (size_t k = 0; k < from.size(); ++k) c.row(static_cast<Eigen::Index>(k)) = from[k].transpose();
+    const BernsteinPatch restricted =
+        BernsteinPatch(deg[0], deg[1], std::move(c)).restricted(part.u0, part.u1, part.v0, part.v1);
+    for (Eigen::Index k = 0; k < restricted.coeffs().rows(); ++k)
+      to.push_back(factor * restricted.coeffs().row(k).transpose());
   }
   /// Appends the S_u / S_v numerator coefficients of a region, piece by piece in row-major order, to du / dv.
   void gather(const Region& r, std::vector<Vec3>& du, std::vector<Vec3>& dv) const {
@@ -620,15 +723,9 @@ class SurfaceSearch {
         local(v, p.v, v0, v1);
         if (!(u1 > u0) || !(v1 > v0)) continue;
         // The piece's S_u / S_v numerators restricted to the hull (no product: they are kept per piece).
-        for (int d = 0; d < 2; ++d) {
-          const std::vector<Vec3>& from = d == 0 ? p.du : p.dv;
-          const int* deg = d == 0 ? p.duDeg : p.dvDeg;
-          Matrix c(static_cast<Eigen::Index>(from.size()), 3);
-          for (size_t k = 0; k < from.size(); ++k) c.row(static_cast<Eigen::Index>(k)) = from[k].transpose();
-          const BernsteinPatch part = BernsteinPatch(deg[0], deg[1], std::move(c)).restricted(u0, u1, v0, v1);
-          std::vector<Vec3>& to = d == 0 ? du : dv;
-          for (Eigen::Index k = 0; k < part.coeffs().rows(); ++k) to.push_back(part.coeffs().row(k).transpose());
-        }
+        const Part hull{0, u0, u1, v0, v1};
+        appendRestricted(p.du, p.duDeg, hull, 1.0, du);
+        appendRestricted(p.dv, p.dvDeg, hull, 1.0, dv);
       }
     return !du.empty() && conesSeparate(du, dv);
   }
@@ -712,6 +809,9 @@ class SurfaceSearch {
   SurfaceSearchResult result_;
   std::vector<PoleLine> poleLines_;
   std::vector<size_t> poleReports_;  // indices of the critical points that report a pole
+  // Partials of the quotients, of the pieces the critical-point Newton ran on (few: a million pieces would hold
+  // gigabytes of them).
+  std::unordered_map<int, std::unique_ptr<NewtonPartials>> partials_;
 };
 
 }  // namespace
