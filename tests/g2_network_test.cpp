@@ -359,6 +359,47 @@ TEST(G2Network, TheSolveIsTheSameAtEveryScale) {
   }
 }
 
+// A fairness step whose factorisation would cost more than maxFairFactorOperations is not taken: the solve is then
+// the plain least-change solve, which fairness 0 computes by another setting: the two must agree bit for bit, and
+// the note must say why. Under the limit (the default: network_fan5 costs about 3e8) the fairness term is used.
+TEST(G2Network, AFairnessStepAboveItsCostLimitIsThePlainLeastChangeSolveAndIsNamed) {
+  Result<Model> model = io::readModelJson(std::string(SEAM_EXAMPLES_DIR) + "/models/network_fan5.json");
+  ASSERT_TRUE(model) << model.status().message();
+  const auto noted = [](const G2NetworkResult& r) {
+    return std::any_of(r.report.notes.begin(), r.report.notes.end(),
+                       [](const std::string& n) { return n.find("fairness term not used") != std::string::npos; });
+  };
+  G2NetworkOptions capped;
+  capped.maxFairFactorOperations = 1e6;
+  G2NetworkOptions plain;
+  plain.fairness = 0.0;
+  const auto withCap = g2NetworkScheme(*model, capped);
+  const auto withoutFairness = g2NetworkScheme(*model, plain);
+  const auto byDefault = g2NetworkScheme(*model);
+  ASSERT_TRUE(static_cast<bool>(withCap)) << withCap.status().message();
+  ASSERT_TRUE(static_cast<bool>(withoutFairness)) << withoutFairness.status().message();
+  ASSERT_TRUE(static_cast<bool>(byDefault)) << byDefault.status().message();
+  EXPECT_TRUE(noted(*withCap));
+  EXPECT_FALSE(noted(*byDefault));
+  EXPECT_FALSE(noted(*withoutFairness));
+  ASSERT_EQ(withCap->model.patches.size(), withoutFairness->model.patches.size());
+  bool sameAsPlain = true, sameAsDefault = true;
+  for (size_t k = 0; k < withCap->model.patches.size(); ++k) {
+    const Matrix& a = withCap->model.patches[k].surface.points();
+    const Matrix& b = withoutFairness->model.patches[k].surface.points();
+    const Matrix& c = byDefault->model.patches[k].surface.points();
+    sameAsPlain = sameAsPlain && a.rows() == b.rows() && (a.array() == b.array()).all();
+    sameAsDefault = sameAsDefault && a.rows() == c.rows() && (a.array() == c.array()).all();
+  }
+  EXPECT_TRUE(sameAsPlain);
+  EXPECT_FALSE(sameAsDefault);  // the fairness term changes the default solve: the cap did something
+  const CertifiedCounts c = certify(withCap->model);
+  EXPECT_EQ(c.g2, c.seams);
+  G2NetworkOptions bad;
+  bad.maxFairFactorOperations = std::nan("");
+  EXPECT_FALSE(static_cast<bool>(g2NetworkScheme(*model, bad)));
+}
+
 TEST(G2Network, AtValenceThreeTheEdgesFixTheCurvatureAndTheTwists) {
   for (const nt::Network& net : {nt::buildNetwork(nt::fanMesh(3), nt::heightFieldShape()),
                                  nt::buildNetwork(nt::cubeMesh(), nt::sphereShape())}) {

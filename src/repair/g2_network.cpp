@@ -72,6 +72,18 @@ constexpr size_t kStagnationSteps = 4;
 /// Step halvings of the backtracking line search before the iteration stops.
 constexpr int kMaxHalvings = 12;
 
+/// Eigen's sparse LDL^T, with the size of its factor after the symbolic analysis (the column counts it keeps).
+class SizedLDLT : public Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> {
+ public:
+  /// Multiply-adds of a numeric factorisation of the analysed pattern (0 before analyzePattern).
+  [[nodiscard]] double factorOperations() const {
+    double ops = 0.0;
+    for (Eigen::Index j = 0; j < m_nonZerosPerCol.size(); ++j)
+      ops += static_cast<double>(m_nonZerosPerCol[j]) * static_cast<double>(m_nonZerosPerCol[j]);
+    return ops;
+  }
+};
+
 Status unsupported(std::string m) { return {ErrorCode::kUnsupported, std::move(m)}; }
 
 /// The form of a patch in one direction: a clamped quintic knot vector with the patch's own interior knots (issue 36
@@ -299,6 +311,9 @@ void reportVertices(const Model& before, const Model& after, const std::vector<i
 Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& opt) {
   if (!(opt.fairness >= 0.0) || !std::isfinite(opt.fairness))
     return invalidInput(fmt::format("the fairness weight must be finite and >= 0 (got {})", opt.fairness));
+  if (!(opt.maxFairFactorOperations >= 0.0))
+    return invalidInput(fmt::format("the fairness term's factorisation limit must be >= 0 (got {})",
+                                    opt.maxFairFactorOperations));
   if (opt.continuity != GeometricClass::kG1 && opt.continuity != GeometricClass::kG2)
     return invalidInput(fmt::format("the network solve makes seams G1 or G2 (asked: {})", toString(opt.continuity)));
   const bool g2 = opt.continuity == GeometricClass::kG2;
@@ -721,8 +736,9 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     fairK.setFromTriplets(kt.begin(), kt.end());
     fairK *= opt.fairness;
   }
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kkt;
+  SizedLDLT kkt;
   std::vector<int> kktOuter, kktInner;
+  bool fairTooDear = false;  // the fairness term's factorisation is above maxFairFactorOperations: not used
   for (;; ++it) {
     std::vector<Eigen::Triplet<double>> trip;
     assemble(&trip, r);
@@ -748,34 +764,51 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
     r = rowScale.asDiagonal() * r;
     const double r2 = r.squaredNorm();
     VecX step;
-    const bool fairPhase = opt.fairness > 0.0 && residual > kFairPhaseRel * diag;
+    bool fairPhase = opt.fairness > 0.0 && !fairTooDear && residual > kFairPhaseRel * diag;
     // The step of least weighted change (with the fairness term while fairPhase): the KKT system
     // [W + f K, J^T; J, -gamma I] (delta, y) = (0, -r), one sparse LDL^T. The fairness-free steps are the same
     // least-change step as -W^-1 J^T (J W^-1 J^T)^-1 r, but the KKT matrix keeps J's sparsity where J W^-1 J^T couples
     // every row of a seam with every other (measured 2026-11-30: a fan of 5 with uneven knots 10.5 -> 3.7 s, the
     // Bezier fan 1.4 -> 0.9 s, final residuals alike).
     {
-      std::vector<Eigen::Triplet<double>> t;
-      t.reserve(static_cast<size_t>(fairK.nonZeros() + 2 * J.nonZeros() + nv + m));
-      for (int k = 0; fairPhase && k < fairK.outerSize(); ++k)
-        for (Eigen::SparseMatrix<double>::InnerIterator itr(fairK, k); itr; ++itr)
-          t.emplace_back(itr.row(), itr.col(), itr.value());
-      for (int i = 0; i < nv; ++i) t.emplace_back(i, i, 1.0 / winv[i]);
-      for (int k = 0; k < J.outerSize(); ++k)
-        for (Eigen::SparseMatrix<double>::InnerIterator itr(J, k); itr; ++itr) {
-          t.emplace_back(nv + itr.row(), itr.col(), itr.value());
-          t.emplace_back(itr.col(), nv + itr.row(), itr.value());
-        }
-      for (int i = 0; i < m; ++i) t.emplace_back(nv + i, nv + i, -kRegularisationRel);
-      Eigen::SparseMatrix<double> K(nv + m, nv + m);
-      K.setFromTriplets(t.begin(), t.end());
-      K.makeCompressed();
-      const std::vector<int> outer(K.outerIndexPtr(), K.outerIndexPtr() + K.outerSize() + 1);
-      const std::vector<int> inner(K.innerIndexPtr(), K.innerIndexPtr() + K.nonZeros());
-      if (outer != kktOuter || inner != kktInner) {
+      const auto kktMatrix = [&](bool withFairness) {
+        std::vector<Eigen::Triplet<double>> t;
+        t.reserve(static_cast<size_t>(fairK.nonZeros() + 2 * J.nonZeros() + nv + m));
+        for (int k = 0; withFairness && k < fairK.outerSize(); ++k)
+          for (Eigen::SparseMatrix<double>::InnerIterator itr(fairK, k); itr; ++itr)
+            t.emplace_back(itr.row(), itr.col(), itr.value());
+        for (int i = 0; i < nv; ++i) t.emplace_back(i, i, 1.0 / winv[i]);
+        for (int k = 0; k < J.outerSize(); ++k)
+          for (Eigen::SparseMatrix<double>::InnerIterator itr(J, k); itr; ++itr) {
+            t.emplace_back(nv + itr.row(), itr.col(), itr.value());
+            t.emplace_back(itr.col(), nv + itr.row(), itr.value());
+          }
+        for (int i = 0; i < m; ++i) t.emplace_back(nv + i, nv + i, -kRegularisationRel);
+        Eigen::SparseMatrix<double> out(nv + m, nv + m);
+        out.setFromTriplets(t.begin(), t.end());
+        out.makeCompressed();
+        return out;
+      };
+      Eigen::SparseMatrix<double> K = kktMatrix(fairPhase);
+      const auto analyseIfNew = [&] {
+        const std::vector<int> outer(K.outerIndexPtr(), K.outerIndexPtr() + K.outerSize() + 1);
+        const std::vector<int> inner(K.innerIndexPtr(), K.innerIndexPtr() + K.nonZeros());
+        if (outer == kktOuter && inner == kktInner) return;
         kkt.analyzePattern(K);
         kktOuter = outer;
         kktInner = inner;
+      };
+      analyseIfNew();
+      if (fairPhase && kkt.factorOperations() > opt.maxFairFactorOperations) {
+        // The fairness term would fill the factor in (maxFairFactorOperations): plain least-change steps instead.
+        rep.notes.push_back(fmt::format(
+            "fairness term not used: with it one step's factorisation takes about {:.2g} multiply-adds (limit {:.2g}; "
+            "{} unknowns, {} equations); the steps are of least control-point change",
+            kkt.factorOperations(), opt.maxFairFactorOperations, nv, m));
+        fairTooDear = true;
+        fairPhase = false;
+        K = kktMatrix(false);
+        analyseIfNew();
       }
       kkt.factorize(K);
       if (kkt.info() != Eigen::Success)

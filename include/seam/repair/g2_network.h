@@ -36,6 +36,8 @@
 
 namespace seam {
 
+/// Default of G2NetworkOptions::maxFairFactorOperations.
+inline constexpr double kDefaultMaxFairFactorOperations = 4e9;
 /// Default weight of the fairness term of the G2 network solve (G2NetworkOptions::fairness).
 inline constexpr double kDefaultG2Fairness = 10.0;
 
@@ -67,6 +69,15 @@ struct G2NetworkOptions {
   /// 1e-4 of the model size (a KKT system per step instead of the m x m normal equations; the last, small steps are
   /// plain least change): ~1-2x the time of fairness 0. docs/algorithms/thesis-abstract.md, "Fairness".
   double fairness = kDefaultG2Fairness;
+  /// Largest cost, in multiply-adds, of one factorisation of a step with the fairness term (the sum over the
+  /// factor's columns of their squared nonzero counts, known from the symbolic analysis before it is paid). The term
+  /// couples every control point of a patch with its neighbours, so on large patches the equations' Schur complement
+  /// fills in: sunglasses_lens.igs (9 biquintic patches of 42 x 42 points, 4 095 equations) took 17 s per step with
+  /// it against 0.01 s without, its G1 heal 53-61 s instead of 3 s. Above the limit the solve takes plain
+  /// least-change steps (as fairness 0, the rows facing patches outside the solve kept stiff) and says so in a note.
+  /// The default, 4e9, is a few seconds per step on a 2-vCPU VM; the 24-patch sphere's G2 solve (2.2e9) stays
+  /// under it.
+  double maxFairFactorOperations = kDefaultMaxFairFactorOperations;
   /// kG2 (default): the G1 and G2 identities. kG1: the G1 identities only (tangent-plane continuity of every seam,
   /// with lambda and kappa free per span): the network solve as a G1 scheme where the local scheme has no solution
   /// (issue 36 goal 1: a boundary vertex whose free edges are straight with unequal tangent lengths, which no
@@ -116,7 +127,7 @@ struct G2NetworkResult {
 };
 
 /// Runs the solve. Errors (nothing is changed): kInvalidInput (no patches, non-3-D patches, bad indices),
-/// kInvalidInput also for a negative or non-finite fairness weight; kUnsupported (rational patches, a degree above
+/// kInvalidInput also for a negative or non-finite fairness weight or a negative or NaN maxFairFactorOperations; kUnsupported (rational patches, a degree above
 /// 5, T-junctions, an edge shared by three patches, a collapsed edge among the chosen patches), kNoSolution (the iteration did not reach
 /// the residual, or a seam would fold: lambda <= 0 somewhere).
 Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptions& options = {});
