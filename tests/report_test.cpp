@@ -35,6 +35,27 @@ size_t count(const std::string& text, const std::string& what) {
 
 Model teapot() { return io::readModel(std::string(SEAM_SHARED_DATA_DIR) + "/bezier/teapot.bpt").value(); }
 
+// The "overlapping faces" fact, shared by the patch-model and the B-rep report (issue 38 §11): "none", one pair in
+// the singular, the first 20 of more listed and the rest counted, each spelled by the callers' own formatting.
+TEST(HtmlReport, OverlapsFactListsTwentyPairsAndCountsTheRest) {
+  const auto name = [](int i) { return fmt::format("P{}", i); };
+  const auto number = [](double x) { return fmt::format("{:g}", x); };
+  const auto distance = [](double x) { return fmt::format("{:g} mm", x); };
+  EXPECT_EQ(report::overlapsFact({}, name, number, distance), "none");
+  FaceOverlap one;
+  one.a = 3;
+  one.b = 7;
+  one.fraction = 0.25;
+  one.maxDistance = 0.5;
+  EXPECT_EQ(report::overlapsFact({one}, name, number, distance), "1 pair: P3 / P7 (25 %, within 0.5 mm)");
+  std::vector<FaceOverlap> many(25, one);
+  for (int k = 0; k < 25; ++k) many[static_cast<size_t>(k)].a = k;
+  const std::string text = report::overlapsFact(many, name, number, distance);
+  EXPECT_EQ(text.rfind("25 pairs: P0 / P7 (25 %, within 0.5 mm), P1 / P7", 0), 0u) << text;
+  EXPECT_NE(text.find(", P19 / P7 (25 %, within 0.5 mm) and 5 more"), std::string::npos) << text;
+  EXPECT_EQ(text.find("P20 /"), std::string::npos) << text;
+}
+
 TEST(HtmlReport, OneRowPerSeamAPlotPerSampledSeamAndNothingExternal) {
   const Model m = teapot();
   ModelCheckOptions o;

@@ -50,17 +50,12 @@ Result<BRepReportPage> brepReportPage(const std::filesystem::path& file, const T
   d.facts.emplace_back("agrees with OpenCASCADE (G1 or not)",
                        fmt::format("{} of {}", r->occtAgreement, r->seams.size()));
   {  // faces lying on each other inside their trims (issue 38 §11), as `seam check` lists them
-    constexpr size_t kListed = 20;  // as for a patch model
     const double scale = r->units.displayScale();
-    std::string text = r->overlaps.empty() ? "none" : fmt::format("{} pairs:", r->overlaps.size());
-    for (size_t k = 0; k < std::min(r->overlaps.size(), kListed); ++k) {
-      const FaceOverlap& o = r->overlaps[k];
-      text += fmt::format("{} F{} / F{} ({} %, within {})", k ? "," : "", o.a + 1, o.b + 1,
-                          formatNumber(100.0 * o.fraction),
-                          withUnit(formatNumber(o.maxDistance * scale), r->units.shown()));
-    }
-    if (r->overlaps.size() > kListed) text += fmt::format(" and {} more", r->overlaps.size() - kListed);
-    d.facts.emplace_back("overlapping faces", text);
+    d.facts.emplace_back(
+        "overlapping faces",
+        report::overlapsFact(
+            r->overlaps, [](int f) { return fmt::format("F{}", f + 1); }, [](double x) { return formatNumber(x); },
+            [&](double x) { return withUnit(formatNumber(x * scale), r->units.shown()); }));
   }
   for (const occt::BRepSeam& s : r->seams) {
     report::ReportSeam rs;

@@ -350,6 +350,21 @@ std::string viewData(const ReportData& data, const std::vector<const SeamReport*
 
 }  // namespace
 
+std::string overlapsFact(const std::vector<FaceOverlap>& overlaps, const std::function<std::string(int)>& name,
+                         const std::function<std::string(double)>& number,
+                         const std::function<std::string(double)>& distance) {
+  std::string text = overlaps.empty()       ? "none"
+                     : overlaps.size() == 1 ? std::string("1 pair:")
+                                            : fmt::format("{} pairs:", overlaps.size());
+  for (size_t k = 0; k < std::min(overlaps.size(), kOverlapsListed); ++k) {
+    const FaceOverlap& o = overlaps[k];
+    text += fmt::format("{} {} / {} ({} %, within {})", k ? "," : "", name(o.a), name(o.b), number(100.0 * o.fraction),
+                        distance(o.maxDistance));
+  }
+  if (overlaps.size() > kOverlapsListed) text += fmt::format(" and {} more", overlaps.size() - kOverlapsListed);
+  return text;
+}
+
 ReportData reportData(const Model& model, const ModelCheckReport& report, int samplesPerEdge) {
   ReportData d;
   d.tolerances = report.tolerances;
@@ -358,17 +373,8 @@ ReportData reportData(const Model& model, const ModelCheckReport& report, int sa
   d.facts.emplace_back("patches", std::to_string(model.patches.size()));
   d.facts.emplace_back("corners", fmt::format("{} ({} 4-valent, {} degenerate)", S.corners, S.fourValentCorners,
                                               S.degenerateCorners));
-  if (report.overlapsSearched) {  // faces lying on each other (issue 38 §11), as `seam check` lists them
-    constexpr size_t kListed = 20;
-    std::string text = report.overlaps.empty() ? "none" : fmt::format("{} pairs:", report.overlaps.size());
-    for (size_t k = 0; k < std::min(report.overlaps.size(), kListed); ++k) {
-      const FaceOverlap& o = report.overlaps[k];
-      text += fmt::format("{} {} / {} ({} %, within {})", k ? "," : "", name(o.a), name(o.b), num(100.0 * o.fraction),
-                          num(o.maxDistance));
-    }
-    if (report.overlaps.size() > kListed) text += fmt::format(" and {} more", report.overlaps.size() - kListed);
-    d.facts.emplace_back("overlapping faces", text);
-  }
+  if (report.overlapsSearched)  // faces lying on each other (issue 38 §11), as `seam check` lists them
+    d.facts.emplace_back("overlapping faces", overlapsFact(report.overlaps, name, num, num));
   for (const Patch& p : model.patches)
     for (Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
       const BSplineCurve c = p.surface.boundaryCurve(e);

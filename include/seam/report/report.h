@@ -1,6 +1,7 @@
 #pragma once
 // Visual reports of a whole-model check: a self-contained HTML file (no external resources, opens offline) and a
 // triangle mesh (Wavefront OBJ with per-vertex normals) for any mesh viewer.
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -104,6 +105,15 @@ std::vector<ReportMesh> reportMeshes(const Model& model, const std::vector<bool>
                                      int vertexBudget = kDefaultViewVertexBudget);
 
 /// ReportData for a patch-model check (with the meshes of every patch).
+/// The "overlapping faces" fact of a report (issue 38 §11), as `seam check` lists the pairs: "none", or "n pairs:"
+/// ("1 pair:")
+/// and the first kOverlapsListed of them as "A / B (p %, within d)", then "and m more". `name` spells a face or
+/// patch by its index, `number` a percentage, `distance` a distance with its unit where it has one.
+std::string overlapsFact(const std::vector<FaceOverlap>& overlaps, const std::function<std::string(int)>& name,
+                         const std::function<std::string(double)>& number,
+                         const std::function<std::string(double)>& distance);
+inline constexpr size_t kOverlapsListed = 20;
+
 ReportData reportData(const Model& model, const ModelCheckReport& report, int samplesPerEdge = 24);
 
 /// The HTML page. Sections: summary, the model drawn in an axonometric view with every seam coloured by its class
