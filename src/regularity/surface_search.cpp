@@ -22,8 +22,8 @@ using detail::Box3;
 struct Piece {
   Interval u, v;
   bool rational = false;
-  BernsteinPatch h;  // homogeneous (dim 4); its partials are formed where Newton needs them (rare, and a million
-  BernsteinPatch n;  // pieces would hold gigabytes of them); n: the normal numerator (dim 3)
+  BernsteinPatch h;  // homogeneous (dim 4); eval takes its partials in one pass (homogeneousJet)
+  BernsteinPatch n;  // the normal numerator (dim 3)
   double nScale = 0.0;
   /// Index into SurfaceSearch::poles_ when a side of the piece is a pole (S_u x S_v zero all along it), else -1:
   /// pieces without one (nearly all) carry nothing more.
@@ -337,12 +337,12 @@ class SurfaceSearch {
   }
   /// The partial derivatives of piece i's quotient, made the first time Newton needs them on that piece.
   const NewtonPartials& partials(int i) {
-    std::unique_ptr<NewtonPartials>& d = partials_[i];
-    if (!d) {
+    const auto [at, made] = partials_.try_emplace(i);
+    if (made) {
       const BernsteinPatch& q = quotient(pieces_[static_cast<size_t>(i)]);
-      d = std::make_unique<NewtonPartials>(NewtonPartials{q.derivative(1, 0), q.derivative(0, 1)});
+      at->second = NewtonPartials{q.derivative(1, 0), q.derivative(0, 1)};
     }
-    return *d;
+    return at->second;  // unordered_map: the reference stays valid as other pieces are added
   }
   void addCritical(int i, double a, double b, bool pole = false) {
     const Piece& p = pieces_[i];
@@ -811,7 +811,7 @@ class SurfaceSearch {
   std::vector<size_t> poleReports_;  // indices of the critical points that report a pole
   // Partials of the quotients, of the pieces the critical-point Newton ran on (few: a million pieces would hold
   // gigabytes of them).
-  std::unordered_map<int, std::unique_ptr<NewtonPartials>> partials_;
+  std::unordered_map<int, NewtonPartials> partials_;
 };
 
 }  // namespace
