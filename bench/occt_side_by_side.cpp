@@ -7,6 +7,10 @@
 //   model check  100 x 100 bicubic Bezier patches cut from one C2 surface, some seams perturbed:
 //     seam `checkModel` (pairing, every seam certified G0/G1/G2, corners; one thread) vs OpenCASCADE's
 //     `LocalAnalysis_SurfaceContinuity` (order G2) at 21 points per seam with the adjacency given for free.
+//   network check  the closed 6 000-patch network of the local scheme's benchmarks (the frequency-10 geodesic
+//     icosahedron split into quads on the unit sphere, tests/network_support.h): 12 000 seams, every one G0 with a
+//     kink, and no two patches share control rows (issue 37 goal 1). The same two loops as for the grid model;
+//     OpenCASCADE's side gets the network's adjacency (which side of which patch, which way round) for free.
 //
 // Before timing, both sides are evaluated at the same parameters and must agree (points and derivatives to 1e-11
 // relative), and the model check's verdicts are compared (perturbed seams found by both). The benchmarks of each pair
@@ -24,6 +28,7 @@
 #include <TColStd_Array2OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <gp_Pnt.hxx>
+#include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
 
 #include <cmath>
@@ -37,6 +42,7 @@
 #include "seam/continuity/model_check.h"
 #include "seam/spline/bspline_surface.h"
 
+#include "../tests/network_support.h"
 #include "bench_models.h"
 
 namespace {
@@ -256,34 +262,43 @@ struct OcctCheckCounts {
   int seams = 0, g1 = 0, g2 = 0;
 };
 
-// OpenCASCADE's seam loop: 21 points per seam (ends included), LocalAnalysis_SurfaceContinuity of order G2 with
-// the seam's tolerances, worst verdict per seam.
+// OpenCASCADE's verdict of one seam, added to c: LocalAnalysis_SurfaceContinuity of order G2 with the seam's
+// tolerances at kOcctSamplesPerSeam points (ends included), the worst verdict; uv(t, pa, pb) gives both surfaces'
+// parameters at the normalised edge parameter t.
+template <class Uv>
+void occtSeam(const Handle(Geom_BSplineSurface)& a, const Handle(Geom_BSplineSurface)& b, const Uv& uv,
+              double distanceTol, double angleRad, OcctCheckCounts& c) {
+  bool g1 = true, g2 = true;
+  for (int k = 0; k < kOcctSamplesPerSeam; ++k) {
+    gp_Pnt2d pa, pb;
+    uv(static_cast<double>(k) / (kOcctSamplesPerSeam - 1), pa, pb);
+    LocalAnalysis_SurfaceContinuity lsc(a, pa.X(), pa.Y(), b, pb.X(), pb.Y(), GeomAbs_G2, 0.001, distanceTol, 0.001,
+                                        0.001, angleRad, 0.01);
+    if (!lsc.IsDone() || !lsc.IsG1()) g1 = false;
+    if (!lsc.IsDone() || !lsc.IsG2()) g2 = false;
+  }
+  ++c.seams;
+  c.g1 += g1 ? 1 : 0;
+  c.g2 += g2 ? 1 : 0;
+}
+
+// OpenCASCADE's seam loop over the grid model.
 OcctCheckCounts occtCheck(const GridModel& gm, double distanceTol, double angleRad) {
   OcctCheckCounts c;
   for (size_t s = 0; s < gm.seams.size(); ++s) {
-    const int a = gm.seams[s][0], b = gm.seams[s][1];
+    const size_t a = static_cast<size_t>(gm.seams[s][0]), b = static_cast<size_t>(gm.seams[s][1]);
     const bool alongU = gm.alongU[s];
-    const seam::Interval& ua = gm.u[static_cast<size_t>(a)];
-    const seam::Interval& va = gm.v[static_cast<size_t>(a)];
-    const seam::Interval& ub = gm.u[static_cast<size_t>(b)];
-    const seam::Interval& vb = gm.v[static_cast<size_t>(b)];
-    bool g1 = true, g2 = true;
-    for (int k = 0; k < kOcctSamplesPerSeam; ++k) {
-      const double t = static_cast<double>(k) / (kOcctSamplesPerSeam - 1);
-      double u1, v1, u2, v2;
+    auto uv = [&](double t, gp_Pnt2d& pa, gp_Pnt2d& pb) {
+      const seam::Interval &ua = gm.u[a], &va = gm.v[a], &ub = gm.u[b], &vb = gm.v[b];
       if (alongU) {  // a's U1 edge against b's U0 edge, both running along v
-        u1 = ua.hi, v1 = va.lo + t * va.length(), u2 = ub.lo, v2 = vb.lo + t * vb.length();
+        pa.SetCoord(ua.hi, va.lo + t * va.length());
+        pb.SetCoord(ub.lo, vb.lo + t * vb.length());
       } else {
-        v1 = va.hi, u1 = ua.lo + t * ua.length(), v2 = vb.lo, u2 = ub.lo + t * ub.length();
+        pa.SetCoord(ua.lo + t * ua.length(), va.hi);
+        pb.SetCoord(ub.lo + t * ub.length(), vb.lo);
       }
-      LocalAnalysis_SurfaceContinuity lsc(gm.occt[static_cast<size_t>(a)], u1, v1, gm.occt[static_cast<size_t>(b)],
-                                          u2, v2, GeomAbs_G2, 0.001, distanceTol, 0.001, 0.001, angleRad, 0.01);
-      if (!lsc.IsDone() || !lsc.IsG1()) g1 = false;
-      if (!lsc.IsDone() || !lsc.IsG2()) g2 = false;
-    }
-    ++c.seams;
-    c.g1 += g1 ? 1 : 0;
-    c.g2 += g2 ? 1 : 0;
+    };
+    occtSeam(gm.occt[a], gm.occt[b], uv, distanceTol, angleRad, c);
   }
   return c;
 }
@@ -292,38 +307,46 @@ seam::Tolerances modelTolerances() {
   return seam::Tolerances::forModelSize(gridModel().model.boundingBox().diagonal());
 }
 
-void verifyModelCheck() {
-  const GridModel& gm = gridModel();
+// seam's check of `model` once (one thread) against OpenCASCADE's counts `c`: no timing when the two sides see
+// different seams, or (sameG1) a different number of seams G1 or better.
+void verifyAgainstOcct(const char* what, const Model& model, const OcctCheckCounts& c, bool sameG1) {
   seam::ModelCheckOptions o;
   o.threads = 1;
-  const auto r = seam::checkModel(gm.model, o);
+  const auto r = seam::checkModel(model, o);
   if (!r) {
-    std::fprintf(stderr, "seam's check failed: %s\n", r.status().message().c_str());
+    std::fprintf(stderr, "seam's check of the %s failed: %s\n", what, r.status().message().c_str());
     std::exit(1);
   }
-  const seam::Tolerances tol = modelTolerances();
-  const OcctCheckCounts c = occtCheck(gm, tol.distance, tol.angleDeg * M_PI / 180.0);
   const int seamG1 = r->summary.geometric[2] + r->summary.geometric[3];
-  std::printf("verified: model of %zu patches; seam: %zu seams, %d G1 or better (%d G2; %d certified); OpenCASCADE at "
+  std::printf("verified: %s of %zu patches; seam: %zu seams, %d G1 or better (%d G2; %d certified); OpenCASCADE at "
               "%d points per seam: %d seams, %d G1 (%d G2)\n",
-              gm.model.patches.size(), r->seams.size(), seamG1, r->summary.geometric[3], r->summary.certifiedSeams,
-              kOcctSamplesPerSeam,
-              c.seams, c.g1, c.g2);
-  if (static_cast<int>(r->seams.size()) != c.seams) {
-    std::fprintf(stderr, "the two sides see different seams: no timing\n");
+              what, model.patches.size(), r->seams.size(), seamG1, r->summary.geometric[3],
+              r->summary.certifiedSeams, kOcctSamplesPerSeam, c.seams, c.g1, c.g2);
+  if (static_cast<int>(r->seams.size()) != c.seams || (sameG1 && seamG1 != c.g1)) {
+    std::fprintf(stderr, "the two sides see different seams or classes: no timing\n");
     std::exit(1);
   }
 }
 
-void BM_ModelCheck_seam(benchmark::State& state) {
-  const GridModel& gm = gridModel();
+void verifyModelCheck() {
+  const seam::Tolerances tol = modelTolerances();
+  verifyAgainstOcct("model", gridModel().model, occtCheck(gridModel(), tol.distance, tol.angleDeg * M_PI / 180.0),
+                    false);
+}
+
+// seam's whole check of `model` on one thread (pairing, every seam certified, corners).
+void runSeamCheck(benchmark::State& state, const Model& model, size_t seams) {
   seam::ModelCheckOptions o;
   o.threads = 1;
   for (auto _ : state) {
-    auto r = seam::checkModel(gm.model, o);
+    auto r = seam::checkModel(model, o);
     benchmark::DoNotOptimize(r);
   }
-  state.counters["seams"] = static_cast<double>(gm.seams.size());
+  state.counters["seams"] = static_cast<double>(seams);
+}
+
+void BM_ModelCheck_seam(benchmark::State& state) {
+  runSeamCheck(state, gridModel().model, gridModel().seams.size());
 }
 
 void BM_ModelCheck_occt(benchmark::State& state) {
@@ -334,6 +357,88 @@ void BM_ModelCheck_occt(benchmark::State& state) {
     benchmark::DoNotOptimize(c);
   }
   state.counters["seams"] = static_cast<double>(gm.seams.size());
+}
+
+// ---- network check (issue 37 goal 1) ----------------------------------------------------------------------------
+
+constexpr int kNetworkFrequency = 10;  // 60 m^2 = 6 000 patches
+
+struct NetworkSeam {
+  int a = 0, b = 0;
+  seam::Edge ea = seam::Edge::U0, eb = seam::Edge::U0;
+  bool reversed = false;  // b's edge runs the other way
+};
+struct NetworkModel {
+  Model model;
+  std::vector<Handle(Geom_BSplineSurface)> occt;
+  std::vector<NetworkSeam> seams;
+};
+
+const NetworkModel& networkModel() {
+  static NetworkModel nm = [] {
+    namespace nt = seam::testing;
+    NetworkModel out;
+    nt::Network net = nt::buildNetwork(nt::geodesicIcosahedronMesh(kNetworkFrequency), nt::sphereShape());
+    for (const auto& p : net.model.patches) out.occt.push_back(toOcct(p.surface));
+    for (const nt::NetworkEdge& e : net.edges) {
+      if (e.sides.size() != 2) continue;
+      NetworkSeam ns{e.sides[0].first, e.sides[1].first, e.sides[0].second, e.sides[1].second, false};
+      const auto& sa = net.model.patches[static_cast<size_t>(ns.a)].surface;
+      const auto& sb = net.model.patches[static_cast<size_t>(ns.b)].surface;
+      ns.reversed = (nt::edgePoint(sa, ns.ea, 0.0) - nt::edgePoint(sb, ns.eb, 0.0)).norm() >
+                    (nt::edgePoint(sa, ns.ea, 0.0) - nt::edgePoint(sb, ns.eb, 1.0)).norm();
+      out.seams.push_back(ns);
+    }
+    out.model = std::move(net.model);
+    return out;
+  }();
+  return nm;
+}
+
+// (u, v) of the point of edge e at normalised edge parameter t of a patch with OpenCASCADE surface s.
+gp_Pnt2d edgeUV(const Handle(Geom_BSplineSurface)& s, seam::Edge e, double t) {
+  double u0, u1, v0, v1;
+  s->Bounds(u0, u1, v0, v1);
+  const seam::Vec2 ab = seam::testing::edgeParameters(e, t);
+  return {u0 + ab.x() * (u1 - u0), v0 + ab.y() * (v1 - v0)};
+}
+
+OcctCheckCounts occtNetworkCheck(const NetworkModel& nm, double distanceTol, double angleRad) {
+  OcctCheckCounts c;
+  for (const NetworkSeam& ns : nm.seams) {
+    const auto& sa = nm.occt[static_cast<size_t>(ns.a)];
+    const auto& sb = nm.occt[static_cast<size_t>(ns.b)];
+    auto uv = [&](double t, gp_Pnt2d& pa, gp_Pnt2d& pb) {
+      pa = edgeUV(sa, ns.ea, t);
+      pb = edgeUV(sb, ns.eb, ns.reversed ? 1.0 - t : t);
+    };
+    occtSeam(sa, sb, uv, distanceTol, angleRad, c);
+  }
+  return c;
+}
+
+seam::Tolerances networkTolerances() {
+  return seam::Tolerances::forModelSize(networkModel().model.boundingBox().diagonal());
+}
+
+void verifyNetworkCheck() {
+  const seam::Tolerances tol = networkTolerances();
+  verifyAgainstOcct("network", networkModel().model,
+                    occtNetworkCheck(networkModel(), tol.distance, tol.angleDeg * M_PI / 180.0), true);
+}
+
+void BM_NetworkCheck_seam(benchmark::State& state) {
+  runSeamCheck(state, networkModel().model, networkModel().seams.size());
+}
+
+void BM_NetworkCheck_occt(benchmark::State& state) {
+  const NetworkModel& nm = networkModel();
+  const seam::Tolerances tol = networkTolerances();
+  for (auto _ : state) {
+    auto c = occtNetworkCheck(nm, tol.distance, tol.angleDeg * M_PI / 180.0);
+    benchmark::DoNotOptimize(c);
+  }
+  state.counters["seams"] = static_cast<double>(nm.seams.size());
 }
 
 // ---- registration (interleaved: each seam benchmark followed by its OpenCASCADE twin) and the ratio table -------
@@ -372,6 +477,7 @@ int main(int argc, char** argv) {
   verifyEvaluation(false);
   verifyEvaluation(true);
   verifyModelCheck();
+  verifyNetworkCheck();
   for (int rational = 0; rational <= 1; ++rational) {
     const std::string tag = rational ? "/rational" : "/polynomial";
     benchmark::RegisterBenchmark(("Random_seam" + tag).c_str(), BM_Random_seam)
@@ -385,6 +491,8 @@ int main(int argc, char** argv) {
   }
   benchmark::RegisterBenchmark("ModelCheck_seam", BM_ModelCheck_seam)->Unit(benchmark::kMillisecond)->Iterations(3);
   benchmark::RegisterBenchmark("ModelCheck_occt", BM_ModelCheck_occt)->Unit(benchmark::kMillisecond)->Iterations(3);
+  benchmark::RegisterBenchmark("NetworkCheck_seam", BM_NetworkCheck_seam)->Unit(benchmark::kMillisecond)->Iterations(3);
+  benchmark::RegisterBenchmark("NetworkCheck_occt", BM_NetworkCheck_occt)->Unit(benchmark::kMillisecond)->Iterations(3);
   benchmark::Initialize(&argc, argv);
   RatioReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);

@@ -23,6 +23,7 @@
 #include "seam/io/file.h"
 #include "seam/spline/bezier.h"
 #include "seam/spline/bspline_surface.h"
+#include "network_support.h"
 
 namespace seam {
 namespace {
@@ -796,6 +797,49 @@ TEST(ModelCheckThreads, OneAndTwoThreadsGiveIdenticalReports) {
   ASSERT_TRUE(pa.isOk() && pb.isOk());
   ASSERT_EQ(pa->pairs.size(), a->seams.size());
   EXPECT_EQ(pairSet(pa->pairs), pairSet(pb->pairs));
+}
+
+
+// =====================================================================================================================
+// Seams that share no control rows (issue 37 goal 1): the closed geodesic network of the local scheme, whose
+// 480 seams are all G0 with kinks. The certified angle bound (the coefficient-ratio bound of the patch route) must
+// cover an independent dense measurement (network_support.h: finite-difference normals at closest points, no seam
+// code) and stay within the 1 % subdivision gap of the seam's own sampled worst angle; the curvature jump of a seam
+// that is not G1 is a refined sample, and says so.
+// =====================================================================================================================
+
+TEST(ModelCheckNetwork, KinkBoundsCoverDenseSamplingAndStayWithinTheSubdivisionGap) {
+  namespace nt = seam::testing;
+  const nt::Network net = nt::buildNetwork(nt::geodesicIcosahedronMesh(2), nt::sphereShape());
+  ModelCheckOptions o;
+  o.threads = 1;
+  const auto r = checkModel(net.model, o);
+  ASSERT_TRUE(r) << r.status().message();
+  ASSERT_EQ(static_cast<int>(r->seams.size()), net.numSeams());
+  // Finite-difference normals (network_support.h, kFdStep = 1e-5 of the domain) are accurate to ~1e-9 rad; the
+  // floor is the bound subdivision's own (kAngleBoundFloor, 1e-9 rad), in degrees, with a wide margin.
+  constexpr double kReferenceFloorDeg = 1e-5;
+  const SeamOptions defaults;
+  int kinks = 0;
+  for (const ModelSeam& s : r->seams) {
+    ASSERT_TRUE(s.report) << s.error.message();
+    const SeamReport& rep = *s.report;
+    const auto& a = net.model.patches[static_cast<size_t>(s.pair.a.patch)].surface;
+    const auto& b = net.model.patches[static_cast<size_t>(s.pair.b.patch)].surface;
+    const nt::EdgeCheck dense = nt::checkSharedEdge(a, s.pair.a.edge, b, s.pair.b.edge, 400);
+    SCOPED_TRACE(fmt::format("{} / {}: bound {} deg, sampled {} deg, dense {} deg", rep.a, rep.b, rep.g1MaxDeg,
+                             rep.g1SampledDeg, dense.maxAngleDeg));
+    EXPECT_TRUE(rep.certified);
+    EXPECT_GE(rep.g1MaxDeg + kReferenceFloorDeg, dense.maxAngleDeg);
+    EXPECT_LE(rep.g1MaxDeg, (1.0 + defaults.boundRelGap) * rep.g1SampledDeg + kReferenceFloorDeg);
+    if (rep.geometric == GeometricClass::kG0) {
+      ++kinks;
+      EXPECT_NE(std::find(rep.notes.begin(), rep.notes.end(),
+                          "not exactly G1: the G2 jump is sampled (refined maximum)"),
+                rep.notes.end());
+    }
+  }
+  EXPECT_EQ(kinks, net.numSeams());  // every seam of this network has a kink
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 
 #include "continuity/sampling.h"
 #include "continuity/seam_internal.h"
+#include "continuity/seam_piece.h"
 #include "seam/continuity/seam.h"
 #include "seam/io/file.h"
 #include "hinge_models.h"
@@ -1835,6 +1836,40 @@ TEST(PCurveSeam, UnsupportedAndInvalidInputAreErrors) {
   const Result<PCurveSeamBounds> r3 = certifyPCurveSeam(none, none);
   ASSERT_FALSE(r3);
   EXPECT_EQ(r3.status().code(), ErrorCode::kInvalidInput);
+}
+
+TEST(SeamPieces, PartnerParameterInvertsEachPiecesMonotoneMap) {
+  // detail::partnerParameter (B's parameter at A's t on a certified seam, instead of a projection): pieces whose
+  // t(x) are monotone cubics, increasing and decreasing. Expected values by construction: pick x, form t = t(x) and
+  // s = s(x) from the explicit Bernstein basis (not de Casteljau), and ask for s back from t alone.
+  auto cubic = [](double c0, double c1, double c2, double c3) {
+    Matrix c(4, 1);
+    c << c0, c1, c2, c3;
+    return BernsteinPoly(c);
+  };
+  auto basis = [](const BernsteinPoly& p, double x) {
+    const Matrix& c = p.coeffs();
+    const double y = 1.0 - x;
+    return c(0, 0) * y * y * y + 3.0 * c(1, 0) * x * y * y + 3.0 * c(2, 0) * x * x * y + c(3, 0) * x * x * x;
+  };
+  std::vector<detail::Piece> pieces(2);
+  pieces[0].tOf = cubic(0.0, 0.05, 0.35, 0.4);  // t in [0, 0.4], increasing, steep in the middle
+  pieces[0].sOf = cubic(2.0, 1.9, 1.7, 1.6);
+  pieces[1].tOf = cubic(1.0, 0.9, 0.45, 0.4);  // t in [0.4, 1], decreasing in x (B is the master here)
+  pieces[1].sOf = cubic(1.0, 1.2, 1.4, 1.6);
+  Rng rng(3702);
+  for (int k = 0; k < 200; ++k) {
+    const size_t i = static_cast<size_t>(k % 2);
+    const double x = urand(rng, 0.0, 1.0);
+    const double t = basis(pieces[i].tOf, x);
+    const std::optional<double> s = detail::partnerParameter(pieces, t);
+    ASSERT_TRUE(s) << "t = " << t;
+    // |ds/dt| <= 6 on these pieces; x is recovered to a few ulps of t's rounding.
+    EXPECT_NEAR(*s, basis(pieces[i].sOf, x), 1e-13) << "piece " << i << ", x = " << x;
+  }
+  EXPECT_FALSE(detail::partnerParameter(pieces, -0.01));
+  EXPECT_FALSE(detail::partnerParameter(pieces, 1.01));
+  EXPECT_EQ(*detail::partnerParameter(pieces, 0.0), 2.0);
 }
 
 TEST(SampledMaxima, ParabolicRefinementFindsTheMaximaGoldenSectionFinds) {

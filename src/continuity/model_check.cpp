@@ -118,6 +118,8 @@ constexpr double kDepartureDivisor = 64.0;
 constexpr double kDepartureCos = 0.5;
 /// Polyline points per Bezier span for the approximate first pass of the overlap test.
 constexpr int kPolylinePerSpan = 32;
+/// Polyline segments per box of the projection's cut-off (polylineProjectionWithin).
+constexpr size_t kPolylineGroup = 8;
 /// A candidate pair is rejected when more than this fraction of its shared part is already claimed, on either edge,
 /// by a closer partner.
 constexpr double kMaxClaimedFraction = 0.5;
@@ -245,6 +247,8 @@ struct EdgeInfo {
   // Dense polyline for the fast approximate projection of the first pass (filled on demand).
   std::vector<double> polyT;
   std::vector<Vec3> polyP;
+  /// Boxes of kPolylineGroup consecutive polyline segments (group g: points g * kPolylineGroup ... + kPolylineGroup).
+  std::vector<BoundingBox> polyGroups;
 };
 
 /// Knot vector of the curve mapped affinely onto [0, 1], written into `out` (as many values as the curve has knots).
@@ -321,18 +325,37 @@ void ensureSamples(EdgeInfo& e) {
       e.polyT.push_back(cuts[static_cast<size_t>(k)] +
                         (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / kPolylinePerSpan);
   for (double t : e.polyT) e.polyP.push_back(ev.point3(t));
+  for (size_t first = 0; first + 1 < e.polyP.size(); first += kPolylineGroup) {
+    BoundingBox g;
+    for (size_t k = first; k <= std::min(first + kPolylineGroup, e.polyP.size() - 1); ++k) g.add(e.polyP[k]);
+    e.polyGroups.push_back(g);
+  }
 }
 
 /// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
 /// pass of the overlap test. Its error is the polyline's sag, ~(span length / kPolylinePerSpan)^2 x curvature / 8.
+detail::EdgeProjection polylineProjectionWithin(const EdgeInfo& e, const Vec3& p, double cutoff);
 detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
+  return polylineProjectionWithin(e, p, std::numeric_limits<double>::infinity());
+}
+
+/// The closest point on the polyline where only a distance within `cutoff` matters (infinite: the closest point): a
+/// group of segments whose box is farther from p than the best distance so far or than the cut-off is skipped (its
+/// segments are at least that far). The result is the full scan's, bit for bit, whenever that is within the
+/// cut-off (a skipped segment is farther than the result, so it was never the first closest); otherwise it is some
+/// distance above the cut-off.
+detail::EdgeProjection polylineProjectionWithin(const EdgeInfo& e, const Vec3& p, double cutoff) {
   detail::EdgeProjection best{e.polyT[0], (e.polyP[0] - p).norm()};
-  for (size_t k = 0; k + 1 < e.polyP.size(); ++k) {
-    const Vec3 d = e.polyP[k + 1] - e.polyP[k];
-    const double len2 = d.squaredNorm();
-    const double f = len2 > 0.0 ? std::clamp((p - e.polyP[k]).dot(d) / len2, 0.0, 1.0) : 0.0;
-    const double dist = (e.polyP[k] + f * d - p).norm();
-    if (dist < best.distance) best = {e.polyT[k] + f * (e.polyT[k + 1] - e.polyT[k]), dist};
+  for (size_t g = 0; g < e.polyGroups.size(); ++g) {
+    if (detail::boxDistance(e.polyGroups[g], p) > std::min(best.distance, cutoff)) continue;
+    const size_t last = std::min((g + 1) * kPolylineGroup, e.polyP.size() - 1);
+    for (size_t k = g * kPolylineGroup; k < last; ++k) {
+      const Vec3 d = e.polyP[k + 1] - e.polyP[k];
+      const double len2 = d.squaredNorm();
+      const double f = len2 > 0.0 ? std::clamp((p - e.polyP[k]).dot(d) / len2, 0.0, 1.0) : 0.0;
+      const double dist = (e.polyP[k] + f * d - p).norm();
+      if (dist < best.distance) best = {e.polyT[k] + f * (e.polyT[k + 1] - e.polyT[k]), dist};
+    }
   }
   return best;
 }
@@ -448,9 +471,18 @@ std::optional<EdgePair> sampledOverlap(const EdgeInfo& a, const EdgeInfo& b, dou
   auto project = [exact](const EdgeInfo& onto, const Vec3& p) {
     return exact ? detail::projectOntoCurve(onto.curve, p) : polylineProjection(onto, p);
   };
+  // A sample farther than tol from the other edge's control box is farther than tol from its curve and polyline
+  // (both lie in the box): its projection is never read but as "beyond tol" (runs, and the verification that fails
+  // on it), so the box distance stands in for it; on the polyline, groups of segments farther than tol are skipped
+  // the same way. Edges that only share a corner skip most of the work this way (issue 37 goal 1).
+  auto projectNear = [&](const EdgeInfo& onto, const Vec3& p) {
+    const double boxD = detail::boxDistance(onto.box, p);
+    if (boxD > tol) return detail::EdgeProjection{onto.domain.lo, boxD};
+    return exact ? project(onto, p) : polylineProjectionWithin(onto, p, tol);
+  };
   std::vector<detail::EdgeProjection> pa, pb;  // a's samples onto b, b's samples onto a
-  for (const Vec3& p : a.sampleP) pa.push_back(project(b, p));
-  for (const Vec3& p : b.sampleP) pb.push_back(project(a, p));
+  for (const Vec3& p : a.sampleP) pa.push_back(projectNear(b, p));
+  for (const Vec3& p : b.sampleP) pb.push_back(projectNear(a, p));
   const auto ra = longestRun(pa, tol), rb = longestRun(pb, tol);
   if (!ra && !rb) return std::nullopt;
 

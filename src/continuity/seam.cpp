@@ -119,6 +119,10 @@ struct SeamAnalysis {
   Vec3 pointOnA(double t) const;
   double sOfT(double t, double guess) const;
   double sAt(double t) const;
+  /// B's parameter at t by projection from the nearest sample's partner (a starting guess for the gap's own
+  /// closest-point search: the same guess as before sAt followed the correspondence, so that the worst point of a
+  /// constant gap, decided by round-off, stays where it was at every scale).
+  double sProjectedAt(double t) const;
   PointMeasures pointMeasure(double t) const { return measureAt(A, t, B, sAt(t), sgn); }
   template <class Get>
   std::pair<double, double> refined(Get get, bool awayFromPoles = false) const;
@@ -155,7 +159,15 @@ double SeamAnalysis::sOfT(double t, double guess) const {
 }
 
 double SeamAnalysis::sAt(double t) const {
-  // Start from the nearest sample's partner and project (on an exact correspondence this is phi(t) to round-off).
+  // A certified correspondence gives B's parameter itself (a projection would only reach it to round-off, at the
+  // price of a Newton iteration on B's edge: a third of the check of a network whose seams are kinks, issue 37).
+  if (corr.certified)
+    if (const std::optional<double> s = detail::partnerParameter(corr.pieces, t)) return *s;
+  return sProjectedAt(t);
+}
+
+double SeamAnalysis::sProjectedAt(double t) const {
+  // Start from the nearest sample's partner and project.
   const auto it = std::lower_bound(S.t.begin(), S.t.end(), t);
   const size_t i = std::min<size_t>(static_cast<size_t>(it - S.t.begin()), S.t.size() - 1);
   return sOfT(t, S.s[i]);
@@ -299,7 +311,7 @@ void SeamAnalysis::sampledGap() {
   for (size_t i = 0; i < S.t.size(); ++i)
     d1[i] = detail::closestPoint(B.curve, S.m[i].point, rep.overlapB, S.s[i]).distance;
   auto f = [&](double t) {
-    return detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB, sAt(t)).distance;
+    return detail::closestPoint(B.curve, A.curve.point3(t), rep.overlapB, sProjectedAt(t)).distance;
   };
   auto [tw, w] = refinedMaximum(S.t, d1, f);
   double other = 0.0;
@@ -401,7 +413,7 @@ bool SeamAnalysis::certifyG1() {
   bool ok = true;
   double best = rep.g1SampledDeg / kRadToDeg, bx = 0.0;
   int bp = -1;
-  const double bound = certifyMax(corr.pieces, detail::g1Bound, detail::g1Value, best, bx, bp, kAngleBoundFloor,
+  const double bound = certifyMax(corr.pieces, detail::g1BoundByRatios, detail::g1Value, best, bx, bp, kAngleBoundFloor,
                                   opt, ok);
   rep.g1MaxDeg = bound * kRadToDeg;
   if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {

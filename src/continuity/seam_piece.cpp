@@ -21,6 +21,10 @@ constexpr int kLemma1Samples = 16;
 constexpr int kLemma1GoldenIterations = 16;
 /// lambda or kappa varying by less than this (relative) over a piece is constant to round-off: not refined.
 constexpr double kLemma1ConstantRel = 1e-9;
+/// partnerParameter: Newton steps on a piece's t(x) (quadratic convergence from the affine guess: 3-5 are used;
+/// bisection steps where Newton leaves the bracket), and the step (in units of epsilon on x in [0, 1]) that ends it.
+constexpr int kPartnerNewtonIterations = 60;
+constexpr double kPartnerStepUlps = 4.0;
 
 // Cartesian derivatives of S = x / w from homogeneous cross-derivative polynomials X0, X1, X2 (k-th u-derivative
 // along the edge, as functions of tau). `slot` selects which weight exponent (A = 0, B = 1) the result carries.
@@ -341,31 +345,57 @@ double g0Bound(const Piece& pc, double x0, double x1) {
 }
 double g0Value(const Piece& pc, double x) { return evalRational(pc.g0, pc, x); }
 
+/// An upper bound of Q / R on an interval from the two polynomials' Bernstein coefficients there (R's all positive,
+/// rLo their minimum). Q and R of one degree (Q = |N_A x N_B|^2, R = |N_A|^2 |N_B|^2 are): Q_i <= m R_i for every i
+/// with m = max_i Q_i / R_i, so Q = sum Q_i B_i <= m sum R_i B_i = m R (the B_i >= 0). Each ratio compares the two
+/// polynomials at about the same point (the coefficients converge to the values at the Greville abscissae as the
+/// interval shrinks), so m exceeds the maximum of Q / R by O(h^2) on an interval of width h, where Q_hi / R_lo (the
+/// extremes of two coefficient lists, taken at different points) exceeds it by O(h): the subdivision closes in
+/// fewer steps (issue 37 goal 1). The smaller of the two is returned (both are bounds); `byRatios` false: Q_hi / R_lo.
+namespace {
+double sineSquaredBound(const CoeffView& q, const std::vector<double>& r, double rLo, bool byRatios) {
+  const double qHi = std::max(0.0, upperBoundOf(q));
+  double bound = qHi / rLo;
+  if (byRatios && static_cast<size_t>(q.rows()) == r.size()) {
+    double m = 0.0;
+    for (Eigen::Index i = 0; i < q.rows(); ++i) m = std::max(m, q(i, 0) / r[static_cast<size_t>(i)]);
+    bound = std::min(bound, m);
+  }
+  return bound;
+}
+}  // namespace
+
 /// g1Bound adds the cosine's bound where the sine's bound reaches this sin^2 (45 degrees): above it the arcsine is
 /// the worse conditioned of the two (at 45 degrees both have slope 1 / cos = 1 / sin = sqrt 2).
 constexpr double kG1CosineBoundMinSin2 = 0.5;
-double g1Bound(const Piece& pc, double x0, double x1) {
+namespace {
+double g1BoundOf(const Piece& pc, double x0, double x1, bool byRatios) {
+  // R's restricted coefficients are kept (a direct restriction of Q below reuses the scratch R's view points into).
+  thread_local std::vector<double> rKept;
   double rLo = 0.0, rHi = 0.0;
   {
     const CoeffView r = restrictedView(pc.R, x0, x1);
     rLo = lowerBoundOf(r);
     rHi = upperBoundOf(r);
+    if (byRatios) rKept.assign(r.data(), r.data() + r.rows());
   }
   if (!(rLo > 0.0)) return std::numbers::pi;
   const double pLo = lowerBoundOf(restrictedView(pc.P, x0, x1));
   if (pLo > 0.0) {
-    // Below 90 degrees two bounds hold: sin(angle) <= sqrt(Q_hi / R_lo), and cos(angle) = P / sqrt(R) >=
+    // Below 90 degrees two bounds hold: sin^2(angle) = Q / R <= max_i Q_i / R_i, and cos(angle) = P / sqrt(R) >=
     // P_lo / sqrt(R_hi). The sine's is the sharp one at small angles; next to 90 degrees (a crease) the arcsine of
     // a value close to 1 is ill-conditioned (a 0.06 % overestimate of Q / R moves an 88.5-degree bound by 0.9
     // degrees) and the cosine's is the sharp one. Above 45 degrees (sin^2 > 1/2) the smaller of the two.
-    const double qHi = std::max(0.0, upperBoundOf(restrictedView(pc.Q, x0, x1)));
-    const double sin2 = std::min(1.0, qHi / rLo);
+    const double sin2 = std::min(1.0, sineSquaredBound(restrictedView(pc.Q, x0, x1), rKept, rLo, byRatios));
     const double bySine = std::asin(std::sqrt(sin2));
     if (!(sin2 > kG1CosineBoundMinSin2)) return bySine;
     return std::min(bySine, std::acos(std::min(1.0, pLo / std::sqrt(rHi))));
   }
   return std::acos(std::clamp(pLo / std::sqrt(rLo), -1.0, 1.0));
 }
+}  // namespace
+double g1Bound(const Piece& pc, double x0, double x1) { return g1BoundOf(pc, x0, x1, false); }
+double g1BoundByRatios(const Piece& pc, double x0, double x1) { return g1BoundOf(pc, x0, x1, true); }
 double g1Value(const Piece& pc, double x) {
   return std::atan2(std::sqrt(std::max(0.0, sampleAt(pc.Q, x))), sampleAt(pc.P, x));
 }
@@ -392,6 +422,38 @@ std::optional<double> g2ValueIfDefined(const Piece& pc, double x) {
   return std::abs(val(pc.rho)) * val(pc.T2) / (std::pow(n2, 2.5) * b2);
 }
 double g2Value(const Piece& pc, double x) { return g2ValueIfDefined(pc, x).value_or(0.0); }
+
+std::optional<double> partnerParameter(const std::vector<Piece>& pieces, double t) {
+  for (const Piece& pc : pieces) {
+    const Matrix& c = pc.tOf.coeffs();
+    if (c.rows() == 0) continue;
+    const double t0 = c(0, 0), t1 = c(c.rows() - 1, 0);
+    if (!(std::min(t0, t1) <= t && t <= std::max(t0, t1))) continue;
+    if (t0 == t1) return pc.sOf.scalar(0.0);
+    // The bracket [lo, hi] of x with tOf(lo) <= t <= tOf(hi) in the increasing sense; the affine guess first
+    // (exact for an affine map but for round-off).
+    const double dir = t1 > t0 ? 1.0 : -1.0;
+    double lo = 0.0, hi = 1.0, x = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
+    if (pc.tOf.degree() > 1) {
+      const BernsteinPoly dt = pc.tOf.derivative();
+      for (int iter = 0; iter < kPartnerNewtonIterations; ++iter) {
+        const double f = dir * (pc.tOf.scalar(x) - t);
+        if (f == 0.0) break;
+        (f < 0.0 ? lo : hi) = x;
+        const double d = dir * dt.scalar(x);
+        double next = d > 0.0 ? x - f / d : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::abs(next - x) <= kPartnerStepUlps * std::numeric_limits<double>::epsilon()) {
+          x = next;
+          break;
+        }
+        x = next;
+      }
+    }
+    return pc.sOf.scalar(x);
+  }
+  return std::nullopt;
+}
 
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
 // section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).

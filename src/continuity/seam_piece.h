@@ -84,12 +84,22 @@ double evalRational(const RationalPoly& r, const Piece& pc, double x, VecX* vec 
 double g0Bound(const Piece& pc, double x0, double x1);
 double g0Value(const Piece& pc, double x);
 double g1Bound(const Piece& pc, double x0, double x1);
+/// g1Bound with sin^2 bounded by the largest ratio Q_i / R_i of the restricted coefficients where that is smaller than
+/// Q_hi / R_lo: it exceeds the angle by O(h^2) on an interval of width h, not O(h), so the subdivision closes in
+/// about a sixth of the steps (the patch route; issue 37 goal 1). The pcurve route keeps g1Bound: its pairing of
+/// the two boundaries is certified only to within the 1 % slack of the looser bound (docs/algorithms/seam-measures.md).
+double g1BoundByRatios(const Piece& pc, double x0, double x1);
 double g1Value(const Piece& pc, double x);
 double g2Bound(const Piece& pc, double x0, double x1);
 // The G2 quotient at x, or nullopt where it has no value: a vanishing normal or tangent, or a chart too
 // ill-conditioned for curvature (next to a pole the quotient is round-off over a vanishing normal, as in measureAt).
 std::optional<double> g2ValueIfDefined(const Piece& pc, double x);
 double g2Value(const Piece& pc, double x);
+
+/// B's edge parameter s = sOf(x) at A's edge parameter t = tOf(x) through the piece whose t range holds t (tOf is
+/// monotone on each piece): x by Newton's method on tOf, kept inside its bracket by bisection, to round-off.
+/// nullopt when no piece holds t.
+std::optional<double> partnerParameter(const std::vector<Piece>& pieces, double t);
 
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
 // section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).
