@@ -472,13 +472,22 @@ std::optional<EdgePair> sampledOverlap(const EdgeInfo& a, const EdgeInfo& b, dou
     return exact ? detail::projectOntoCurve(onto.curve, p) : polylineProjection(onto, p);
   };
   // A sample farther than tol from the other edge's control box is farther than tol from its curve and polyline
-  // (both lie in the box): its projection is never read but as "beyond tol" (runs, and the verification that fails
-  // on it), so the box distance stands in for it; on the polyline, groups of segments farther than tol are skipped
-  // the same way. Edges that only share a corner skip most of the work this way (issue 37 goal 1).
+  // (both lie in the box), and on the polyline groups of segments farther than tol are skipped the same way: such a
+  // sample gets a distance above tol that is not its own (t = NaN marks it). The runs and the verification only ask
+  // whether a distance is above tol; the one place that reads the value (the distance over the final shared part)
+  // projects the marked samples properly (exactDistance). Edges that only share a corner skip most of the
+  // projections this way (issue 37 goal 1).
+  constexpr double kNotProjected = std::numeric_limits<double>::quiet_NaN();
   auto projectNear = [&](const EdgeInfo& onto, const Vec3& p) {
     const double boxD = detail::boxDistance(onto.box, p);
-    if (boxD > tol) return detail::EdgeProjection{onto.domain.lo, boxD};
-    return exact ? project(onto, p) : polylineProjectionWithin(onto, p, tol);
+    if (boxD > tol) return detail::EdgeProjection{kNotProjected, boxD};
+    if (exact) return project(onto, p);
+    detail::EdgeProjection q = polylineProjectionWithin(onto, p, tol);
+    if (q.distance > tol) q.t = kNotProjected;
+    return q;
+  };
+  auto exactDistance = [&](const detail::EdgeProjection& q, const EdgeInfo& onto, const Vec3& p) {
+    return std::isnan(q.t) ? project(onto, p).distance : q.distance;
   };
   std::vector<detail::EdgeProjection> pa, pb;  // a's samples onto b, b's samples onto a
   for (const Vec3& p : a.sampleP) pa.push_back(projectNear(b, p));
@@ -556,9 +565,11 @@ std::optional<EdgePair> sampledOverlap(const EdgeInfo& a, const EdgeInfo& b, dou
   if (!(c->oa.hi > c->oa.lo) || !(c->ob.hi > c->ob.lo)) return std::nullopt;
   c->dist = 0.0;
   for (size_t k = 0; k < pa.size(); ++k)
-    if (a.sampleT[k] >= c->oa.lo && a.sampleT[k] <= c->oa.hi) c->dist = std::max(c->dist, pa[k].distance);
+    if (a.sampleT[k] >= c->oa.lo && a.sampleT[k] <= c->oa.hi)
+      c->dist = std::max(c->dist, exactDistance(pa[k], b, a.sampleP[k]));
   for (size_t k = 0; k < pb.size(); ++k)
-    if (b.sampleT[k] >= c->ob.lo && b.sampleT[k] <= c->ob.hi) c->dist = std::max(c->dist, pb[k].distance);
+    if (b.sampleT[k] >= c->ob.lo && b.sampleT[k] <= c->ob.hi)
+      c->dist = std::max(c->dist, exactDistance(pb[k], a, b.sampleP[k]));
   for (const auto* q : {&bs, &be}) {
     if (q->t >= c->oa.lo && q->t <= c->oa.hi && q->distance <= tol) c->dist = std::max(c->dist, q->distance);
   }

@@ -398,7 +398,7 @@ void SeamAnalysis::refineG2() {
   for (size_t i = 0; i < v.size(); ++i) v[i] = S.m[i].curvatureOk ? S.m[i].g2 : 0.0;
   auto [tw, w] = refinedMaximum(S.t, v, [&](double t) {
     if (nearPole(t)) return 0.0;
-    const PointMeasures m = pointMeasure(t);
+    const PointMeasures m = measureAt(A, t, B, sAt(t), sgn, true);  // the curvature jump alone
     return m.curvatureOk ? m.g2 : 0.0;
   });
   if (w > rep.g2Sampled) {

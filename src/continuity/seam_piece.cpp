@@ -63,6 +63,26 @@ CartesianSide cartesian(const BernsteinPoly& X0, const BernsteinPoly& X1, const 
   return c;
 }
 
+namespace {
+
+/// A piece whose normals make an angle above this (its sine, relative: |N_A x N_B| / (|N_A| |N_B|)) at one of its
+/// ends or its middle is not G1 as an identity: its cross coefficients exceed kIdentityRelTol (a value is a convex
+/// combination of them) and its angle bound exceeds the round-off floor of the identity test (2e-9 rad) by far.
+constexpr double kNotTangentSine = 1e-6;
+
+/// True when the piece is certainly not G1 as an identity (kNotTangentSine at x = 0, 1/2 or 1; crossScale bounds
+/// |N_A| |N_B| from above, so the sine there is at least the ratio tested). Only a G1 identity reads the Lemma 1
+/// and Lemma 2 polynomials (the G2 bound and the connecting functions' ranges), so buildPiece leaves them out: on a
+/// network whose seams are kinks they were half of the pieces' products (issue 37 goal 1).
+bool clearlyNotTangent(const Piece& pc) {
+  const double limit = kNotTangentSine * pc.crossScale;
+  const Matrix& c = pc.cross.coeffs();
+  if (c.rows() == 0 || !(limit > 0.0)) return false;
+  return c.row(0).norm() > limit || c.row(c.rows() - 1).norm() > limit || pc.cross(0.5).norm() > limit;
+}
+
+}  // namespace
+
 /// Degree of the Lemma 2 residual buildPiece forms from these sides: 2 deg D + deg B_cc + deg n_A + 2 (deg w_A +
 /// deg w_B), with n_A = A_t x A_o and D = -|n_A|^2. Known before any product is formed.
 int lemma2Degree(const CartesianSide& A, const CartesianSide& B, int waDegree, int wbDegree) {
@@ -99,6 +119,7 @@ Piece buildPiece(const CartesianSide& A, const CartesianSide& B, BernsteinPoly w
     pc.c2 = ctx.add(Bcc, Aoo, -1.0);
     pc.O = O;
     pc.Aoo = Aoo;
+    if (clearlyNotTangent(pc)) return pc;
   }
   // Lemma 2 with lambda = L / D, kappa = K / D (D = (O x T).nA):  rho~ = nA . (D^2 Bcc - L^2 Aoo - 2 L K Aot - K^2 Att)
   const RationalPoly BcT = WeightContext::cross(Bc, T);  // also |Bc x T|^2 below

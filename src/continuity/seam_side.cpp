@@ -284,7 +284,7 @@ void edgeJet(const Side& s, double t, std::array<Vec3, 6>& out, bool fromRight, 
 
 // sgn = +1 when B's edge parameter s increases with A's t, -1 otherwise. (Seams that share their control rows take
 // measureSharedAt instead, except for the plots' dense samples.)
-PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn) {
+PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn, bool g2Only) {
   std::array<Vec3, 6> da, db;  // S, S_u, S_v, S_uu, S_uv, S_vv
   // The same one-sided limit on both sides at a breakpoint: from the left along A's edge, which is from the right
   // along B's when B runs the other way (a mirrored neighbour).
@@ -296,8 +296,24 @@ PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double
   const Vec3 b = db[0], Bc = db[1], Bt = sgn * db[2];
   const Vec3 Bcc = db[3];
   m.point = a;
-  m.g0 = (a - b).norm();
   const Vec3 nA = T.cross(O), nB = Bt.cross(Bc);
+  if (g2Only) {
+    // The full measure's curvature branch: a vanishing normal (or tangent: then nA = 0) or an ill-conditioned chart
+    // leaves the curvature unmeasured, as the limit normals' test below and the one after it do.
+    const double la = nA.norm(), lb = nB.norm();
+    if (!(la > 0.0) || !(lb > 0.0) || chartConditioning(T, O) < kCurvatureChartRel ||
+        chartConditioning(Bt, Bc) < kCurvatureChartRel) {
+      m.normalsOk = la > 0.0 && lb > 0.0;
+      m.curvatureOk = false;
+      return m;
+    }
+    const Vec3 nhA = nA / la, nhB = nB / lb;
+    const Vec3 e1 = T.normalized(), e2 = nhA.cross(e1);
+    m.g2 = spectralNorm(shapeInFrame(db[1], db[2], db[3], db[4], db[5], nhB, e1, e2) -
+                        shapeInFrame(da[1], da[2], da[3], da[4], da[5], nhA, e1, e2));
+    return m;
+  }
+  m.g0 = (a - b).norm();
   m.c1 = (Bc - O).norm();
   m.c2 = (Bcc - Aoo).norm();
   m.c1Scale = std::max(O.norm(), Bc.norm());

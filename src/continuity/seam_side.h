@@ -77,7 +77,8 @@ struct PointMeasures {
 
 /// The pointwise measures at t on A and s on B (sgn = +1 when B's edge parameter s increases with A's t, -1
 /// otherwise). Seams that share their control rows take measureSharedAt instead, except for the plots' samples.
-PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn);
+/// `g2Only`: only g2 and curvatureOk are measured (the same bits as the full measure; the G2 refinement).
+PointMeasures measureAt(const Side& A, double t, const Side& B, double s, double sgn, bool g2Only = false);
 /// measureAt on a seam whose rows sharedRowBounds certified (B_0 = A_0, B_1 = lambda A_out, B_2 = lambda^2 A_oo up
 /// to rounding): B's derivatives are not evaluated; `sameBoundary` (identicalBoundaryRows): B's boundary point is A's.
 PointMeasures measureSharedAt(const Side& A, double t, const Side& B, double s, double sgn, double lambda,
