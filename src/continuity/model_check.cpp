@@ -315,6 +315,13 @@ void ensureSamples(EdgeInfo& e) {
   cuts.push_back(e.domain.hi);
   const int spans = static_cast<int>(cuts.size()) - 1;
   const int perSpan = std::max(kPairSamplesPerSpan, (kMinPairSamples + spans - 1) / spans);
+  const auto samples = static_cast<size_t>(spans * perSpan + 1);
+  const auto poly = static_cast<size_t>(spans * kPolylinePerSpan + 1);
+  e.sampleT.reserve(samples);
+  e.sampleP.reserve(samples);
+  e.polyT.reserve(poly);
+  e.polyP.reserve(poly);
+  e.polyGroups.reserve((poly - 1 + kPolylineGroup - 1) / kPolylineGroup);
   for (int k = 0; k < spans; ++k)
     for (int i = (k == 0 ? 0 : 1); i <= perSpan; ++i)
       e.sampleT.push_back(cuts[static_cast<size_t>(k)] + (cuts[static_cast<size_t>(k) + 1] - cuts[static_cast<size_t>(k)]) * i / perSpan);

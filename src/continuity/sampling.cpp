@@ -67,7 +67,8 @@ std::pair<double, double> refineMax(const std::function<double(double)>& f, doub
   return f1 > f2 ? std::pair{x1, f1} : std::pair{x2, f2};
 }
 
-std::pair<double, double> refineMaxParabolic(const std::function<double(double)>& f, double lo, double hi) {
+std::pair<double, double> refineMaxParabolic(const std::function<double(double)>& f, double lo, double hi,
+                                             double relTol) {
   // Minimises g = -f (the textbook form). a, b bracket the minimum; x is the best point so far, w the second best,
   // v the previous w; d is the last step and e the one before it (a parabolic step must be shorter than half of e).
   const double golden = 0.5 * (3.0 - std::sqrt(5.0));
@@ -79,7 +80,7 @@ std::pair<double, double> refineMaxParabolic(const std::function<double(double)>
   double x = a + golden * (b - a), w = x, v = x;
   double gx = g(x), gw = gx, gv = gx;
   double d = 0.0, e = 0.0;
-  const double xtol = kRefineRelTol * (b - a);
+  const double xtol = relTol * (b - a);
   for (int evaluations = 1; evaluations < kParabolicMaxEvaluations; ++evaluations) {
     const double m = 0.5 * (a + b);
     // Absolute resolution, never below a few ulps of x (no step that rounds back onto x).
@@ -129,7 +130,7 @@ std::pair<double, double> refineMaxParabolic(const std::function<double(double)>
 
 // Refines the kRefinedMaxima largest local maxima of values[i] (sampled at xs[i]) and returns the best (x, value).
 std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const std::vector<double>& values,
-                                         const std::function<double(double)>& f) {
+                                         const std::function<double(double)>& f, double relTol) {
   std::vector<size_t> locals;
   for (size_t i = 0; i < values.size(); ++i) {
     const bool leftOk = i == 0 || values[i] >= values[i - 1];
@@ -147,7 +148,7 @@ std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const st
   for (size_t i : locals) {
     const double lo = xs[i == 0 ? 0 : i - 1], hi = xs[i + 1 == xs.size() ? i : i + 1];
     if (!(hi > lo)) continue;
-    const auto [x, v] = refineMaxParabolic(f, lo, hi);
+    const auto [x, v] = refineMaxParabolic(f, lo, hi, relTol);
     if (v > best) {
       best = v;
       bestX = x;

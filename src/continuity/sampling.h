@@ -59,6 +59,12 @@ std::pair<double, double> refineMax(const std::function<double(double)>& f, doub
 /// 1e-9 keeps the point at least as close: a smooth maximum's value to round-off, a maximum at a kink (the
 /// spectral norm of the curvature jump where its eigenvalues cross) to the same 1e-9-relative slope error.
 inline constexpr double kRefineRelTol = 1e-9;
+/// The resolution of the curvature-jump refinement of certified seams that are not exactly G1 (SeamAnalysis::refineG2,
+/// issue 37 goal 1). That jump is a spectral norm, with a kink where its eigenvalues cross: there Brent's method falls
+/// back to golden section, 28 evaluations per maximum at kRefineRelTol on the 6 000-patch kinked network. At 1e-6 of
+/// the bracket a kinked maximum is found to 1e-6 x its slope x the bracket (a smooth one to ~1e-12 relative), far
+/// below what separates a dense plot sample from it (1/64 of a span).
+inline constexpr double kG2RefineRelTol = 1e-6;
 /// Most evaluations of one parabolic refinement: golden-section steps alone (a kink, a plateau) reach
 /// kRefineRelTol in 44; the rest is margin for steps of kRefineRelTol itself near the end.
 inline constexpr int kParabolicMaxEvaluations = kGoldenIterations + 25;
@@ -67,11 +73,13 @@ inline constexpr int kParabolicMaxEvaluations = kGoldenIterations + 25;
 /// without Derivatives, 1973, ch. 5): parabolas through the three best points, golden-section steps where a parabola
 /// is not trusted. (x, f(x)) of the best point seen, x within kRefineRelTol (hi - lo) of a local maximum: what
 /// refineMax gives, in 8-15 evaluations on a smooth maximum instead of 42. NaN values count as worse than any.
-std::pair<double, double> refineMaxParabolic(const std::function<double(double)>& f, double lo, double hi);
+/// `relTol`: the resolution in x instead of kRefineRelTol (kG2RefineRelTol).
+std::pair<double, double> refineMaxParabolic(const std::function<double(double)>& f, double lo, double hi,
+                                             double relTol = kRefineRelTol);
 
 /// Refines the kRefinedMaxima largest local maxima of values[i] (sampled at xs[i], increasing) between their
 /// neighbouring samples (refineMaxParabolic) and returns the best (x, value), never below the best sample.
 std::pair<double, double> refinedMaximum(const std::vector<double>& xs, const std::vector<double>& values,
-                                         const std::function<double(double)>& f);
+                                         const std::function<double(double)>& f, double relTol = kRefineRelTol);
 
 }  // namespace seam::detail

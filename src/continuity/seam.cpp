@@ -400,7 +400,7 @@ void SeamAnalysis::refineG2() {
     if (nearPole(t)) return 0.0;
     const PointMeasures m = measureAt(A, t, B, sAt(t), sgn, true);  // the curvature jump alone
     return m.curvatureOk ? m.g2 : 0.0;
-  });
+  }, corr.certified ? detail::kG2RefineRelTol : detail::kRefineRelTol);
   if (w > rep.g2Sampled) {
     rep.g2Sampled = w;
     rep.g2Worst = {tw, pointOnA(tw)};
