@@ -11,6 +11,9 @@
 #include <array>
 #include <bit>
 #include <chrono>
+#include <functional>
+#include <new>
+#include <string_view>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -860,6 +863,50 @@ TEST(FileIo, AtomicWriteLeavesNoTemporaryFileAndKeepsTheInput) {
   EXPECT_EQ(fs::status(output).permissions(), fs::perms::owner_read | fs::perms::owner_write)
       << "replacing a file keeps its permissions";
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"input.json", "output.json"}));
+}
+
+TEST(FileIo, AStreamedWriteIsItsPiecesInOrderAndAFailingProducerLeavesNothing) {
+  TempDir dir;
+  const fs::path file = dir.path() / "out.txt";
+  ASSERT_TRUE(io::writeFileAtomically(file, [](const std::function<void(std::string_view)>& emit) {
+                emit("first ");
+                emit("");
+                emit(std::string(3 << 20, 'y'));  // a piece larger than any buffer
+                emit(" last\n");
+              }).isOk());
+  EXPECT_EQ(readText(file), "first " + std::string(3 << 20, 'y') + " last\n");
+  // A producer that throws half-way (out of memory while building a piece): the old file stays, nothing else.
+  EXPECT_THROW((void)io::writeFileAtomically(file,
+                                             [](const std::function<void(std::string_view)>& emit) {
+                                               emit("partial");
+                                               throw std::bad_alloc();
+                                             }),
+               std::bad_alloc);
+  EXPECT_EQ(readText(file), "first " + std::string(3 << 20, 'y') + " last\n");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"out.txt"}));
+}
+
+TEST(JsonWrite, AModelOfManyMegabytesIsWrittenInPiecesThatReadBackBitForBit) {
+  // writeModelJson passes the text to the file about 1 MB at a time (never the whole text in memory): a model of
+  // about 6 MB of text, read back by the reader (an independent route: simdjson), is the model written.
+  Random rng(3703);
+  Model model;
+  while (model.patches.size() < 4000) {
+    Model part = randomModel(rng);
+    for (Patch& p : part.patches) {
+      p.name = "P" + std::to_string(model.patches.size());
+      model.patches.push_back(std::move(p));
+    }
+  }
+  TempDir dir;
+  const fs::path file = dir.path() / "big.json";
+  ASSERT_TRUE(io::writeModelJson(model, file).isOk());
+  EXPECT_GT(fs::file_size(file), 4u << 20);
+  const Result<Model> back = io::readModel(file);
+  ASSERT_TRUE(back.isOk()) << back.status().message();
+  expectSameModel(model, *back);
+  EXPECT_EQ(readText(file), io::modelToJson(model));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"big.json"}));
 }
 
 TEST(FileIo, FailedWriteReportsTheFileAndLeavesNothing) {

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <new>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -52,7 +53,7 @@ std::string kindOf(mode_t mode) {
 }
 
 /// Writes all of `content` to `fd`, retrying on short writes and EINTR; returns 0 or an errno value.
-int writeAll(int fd, const std::string& content) {
+int writeAll(int fd, std::string_view content) {
   const char* data = content.data();
   size_t left = content.size();
   while (left > 0) {
@@ -169,6 +170,11 @@ Status checkOutputFile(const fs::path& file) {
 }
 
 Status writeFileAtomically(const fs::path& file, const std::string& content) {
+  return writeFileAtomically(file, [&](const std::function<void(std::string_view)>& emit) { emit(content); });
+}
+
+Status writeFileAtomically(const fs::path& file,
+                           const std::function<void(const std::function<void(std::string_view)>&)>& produce) {
   if (Status s = checkOutputFile(file); !s) return s;
   fs::path temp;
   int fd = -1;
@@ -184,7 +190,16 @@ Status writeFileAtomically(const fs::path& file, const std::string& content) {
   // Replacing a file keeps its permission bits (a new file gets 0666 minus the umask).
   struct stat existing {};
   if (::stat(file.c_str(), &existing) == 0) ::fchmod(fd, existing.st_mode & 07777);
-  int err = writeAll(fd, content);
+  int err = 0;
+  try {
+    produce([&](std::string_view piece) {
+      if (err == 0) err = writeAll(fd, piece);
+    });
+  } catch (...) {  // the producer failed (out of memory): nothing is left behind
+    ::close(fd);
+    ::unlink(temp.c_str());
+    throw;
+  }
   if (err == 0 && ::fsync(fd) != 0) err = errno;
   if (::close(fd) != 0 && err == 0) err = errno;  // (errno read right after each failing call)
   if (err != 0) {

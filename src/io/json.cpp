@@ -19,7 +19,9 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -1951,11 +1953,23 @@ Result<Model> readModelJson(const std::filesystem::path& file) {
   return detail::parseModelJsonNlohmann(*text, file.string());
 }
 
-std::string modelToJson(const Model& model) {
+namespace {
+
+/// The model's JSON text in pieces of about kJsonPieceBytes (emit is called with each, in order, then with the
+/// rest): a writer passes them on to the file as they come, so the whole text is never held.
+constexpr size_t kJsonPieceBytes = size_t{1} << 20;
+
+void modelJsonPieces(const Model& model, const std::function<void(std::string_view)>& emit) {
   std::string out = "{\n  \"patches\": [";
+  auto pass = [&] {
+    if (out.size() < kJsonPieceBytes) return;
+    emit(out);
+    out.clear();
+  };
   for (size_t k = 0; k < model.patches.size(); ++k) {
     out += k == 0 ? "\n" : ",\n";
     appendPatch(out, model.patches[k]);
+    pass();
   }
   out += model.patches.empty() ? "]" : "\n  ]";
   if (!model.curves.empty()) {
@@ -1963,17 +1977,28 @@ std::string modelToJson(const Model& model) {
     for (size_t k = 0; k < model.curves.size(); ++k) {
       out += k == 0 ? "\n" : ",\n";
       appendCurve(out, model.curves[k]);
+      pass();
     }
     out += "\n  ]";
   }
   if (model.brep) appendBRep(out, model, *model.brep);
   out += "\n}\n";
-  return out;
+  emit(out);
+}
+
+}  // namespace
+
+std::string modelToJson(const Model& model) {
+  std::string text;
+  modelJsonPieces(model, [&](std::string_view piece) { text += piece; });
+  return text;
 }
 
 Status writeModelJson(const Model& model, const std::filesystem::path& file) {
   if (Status st = checkNoTrimsLost(model, file.string(), /*keepsBRep=*/true); !st) return st;
-  return writeFileAtomically(file, modelToJson(model));
+  return writeFileAtomically(file, [&](const std::function<void(std::string_view)>& emit) {
+    modelJsonPieces(model, emit);
+  });
 }
 
 }  // namespace seam::io

@@ -3,7 +3,9 @@
 // /dev/zero or a directory is refused instead of blocking or exhausting memory) and the atomic writer.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 
@@ -68,6 +70,13 @@ void removeTemporaryFiles();
 /// Writes `content` to a temporary file next to `file` (a short name ".seam-<pid>-<n>.tmp", so that any legal file
 /// name works), then renames it over `file`: never a partial file. Refuses what checkOutputFile refuses.
 Status writeFileAtomically(const std::filesystem::path& file, const std::string& content);
+
+/// writeFileAtomically with the content made piece by piece: `produce(emit)` calls `emit(text)` for each piece in
+/// order, and each piece is written at once, so that a large output is never held whole in memory (a 48 MB healed
+/// model: 100 MB of the process's peak while its text was built). An error of a write ends the output (later pieces
+/// are dropped) and is returned; the temporary file is removed then, as on any failure.
+Status writeFileAtomically(const std::filesystem::path& file,
+                           const std::function<void(const std::function<void(std::string_view)>&)>& produce);
 
 /// Reads a model by extension: .json, .bpt (Newell Bezier patch text format), and .step/.stp/.iges/.igs when the
 /// program links seam::occt (the OpenCASCADE module installs its reader, see registerCadReader; its warnings and
