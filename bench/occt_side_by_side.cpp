@@ -349,14 +349,18 @@ void BM_ModelCheck_seam(benchmark::State& state) {
   runSeamCheck(state, gridModel().model, gridModel().seams.size());
 }
 
-void BM_ModelCheck_occt(benchmark::State& state) {
-  const GridModel& gm = gridModel();
-  const seam::Tolerances tol = modelTolerances();
+// OpenCASCADE's seam loop `check(model, distance, angle)` over `model` with the tolerances `tol`.
+template <class M, class Check>
+void runOcctCheck(benchmark::State& state, const M& model, const seam::Tolerances& tol, const Check& check) {
   for (auto _ : state) {
-    auto c = occtCheck(gm, tol.distance, tol.angleDeg * M_PI / 180.0);
+    auto c = check(model, tol.distance, tol.angleDeg * M_PI / 180.0);
     benchmark::DoNotOptimize(c);
   }
-  state.counters["seams"] = static_cast<double>(gm.seams.size());
+  state.counters["seams"] = static_cast<double>(model.seams.size());
+}
+
+void BM_ModelCheck_occt(benchmark::State& state) {
+  runOcctCheck(state, gridModel(), modelTolerances(), occtCheck);
 }
 
 // ---- network check (issue 37 goal 1) ----------------------------------------------------------------------------
@@ -432,13 +436,7 @@ void BM_NetworkCheck_seam(benchmark::State& state) {
 }
 
 void BM_NetworkCheck_occt(benchmark::State& state) {
-  const NetworkModel& nm = networkModel();
-  const seam::Tolerances tol = networkTolerances();
-  for (auto _ : state) {
-    auto c = occtNetworkCheck(nm, tol.distance, tol.angleDeg * M_PI / 180.0);
-    benchmark::DoNotOptimize(c);
-  }
-  state.counters["seams"] = static_cast<double>(nm.seams.size());
+  runOcctCheck(state, networkModel(), networkTolerances(), occtNetworkCheck);
 }
 
 // ---- registration (interleaved: each seam benchmark followed by its OpenCASCADE twin) and the ratio table -------
