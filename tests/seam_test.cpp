@@ -23,7 +23,7 @@
 
 #include "continuity/sampling.h"
 #include "continuity/seam_internal.h"
-#include "continuity/seam_piece.h"
+#include "continuity/seam_correspondence.h"
 #include "seam/continuity/seam.h"
 #include "seam/io/file.h"
 #include "hinge_models.h"
@@ -1838,8 +1838,8 @@ TEST(PCurveSeam, UnsupportedAndInvalidInputAreErrors) {
   EXPECT_EQ(r3.status().code(), ErrorCode::kInvalidInput);
 }
 
-TEST(SeamPieces, PartnerParameterInvertsEachPiecesMonotoneMap) {
-  // detail::partnerParameter (B's parameter at A's t on a certified seam, instead of a projection): pieces whose
+TEST(SeamPieces, PartnerThroughPiecesInvertsEachPiecesMonotoneMap) {
+  // detail::partnerThroughPieces (B's parameter at A's t on a certified seam, instead of a projection): pieces whose
   // t(x) are monotone cubics, increasing and decreasing. Expected values by construction: pick x, form t = t(x) and
   // s = s(x) from the explicit Bernstein basis (not de Casteljau), and ask for s back from t alone.
   auto cubic = [](double c0, double c1, double c2, double c3) {
@@ -1862,14 +1862,14 @@ TEST(SeamPieces, PartnerParameterInvertsEachPiecesMonotoneMap) {
     const size_t i = static_cast<size_t>(k % 2);
     const double x = urand(rng, 0.0, 1.0);
     const double t = basis(pieces[i].tOf, x);
-    const std::optional<double> s = detail::partnerParameter(pieces, t);
+    const std::optional<double> s = detail::partnerThroughPieces(pieces, t);
     ASSERT_TRUE(s) << "t = " << t;
-    // |ds/dt| <= 6 on these pieces; x is recovered to a few ulps of t's rounding.
+    // |ds/dt| <= 6 on these pieces; x is recovered to about 1e-16 (bisection), far inside the tolerance.
     EXPECT_NEAR(*s, basis(pieces[i].sOf, x), 1e-13) << "piece " << i << ", x = " << x;
   }
-  EXPECT_FALSE(detail::partnerParameter(pieces, -0.01));
-  EXPECT_FALSE(detail::partnerParameter(pieces, 1.01));
-  EXPECT_EQ(*detail::partnerParameter(pieces, 0.0), 2.0);
+  EXPECT_FALSE(detail::partnerThroughPieces(pieces, -0.01));
+  EXPECT_FALSE(detail::partnerThroughPieces(pieces, 1.01));
+  EXPECT_EQ(*detail::partnerThroughPieces(pieces, 0.0), 2.0);
 }
 
 TEST(SampledMaxima, ParabolicRefinementFindsTheMaximaGoldenSectionFinds) {

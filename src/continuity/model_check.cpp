@@ -339,13 +339,6 @@ void ensureSamples(EdgeInfo& e) {
   }
 }
 
-/// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
-/// pass of the overlap test. Its error is the polyline's sag, ~(span length / kPolylinePerSpan)^2 x curvature / 8.
-detail::EdgeProjection polylineProjectionWithin(const EdgeInfo& e, const Vec3& p, double cutoff);
-detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
-  return polylineProjectionWithin(e, p, std::numeric_limits<double>::infinity());
-}
-
 /// The closest point on the polyline where only a distance within `cutoff` matters (infinite: the closest point): a
 /// group of segments whose box is farther from p than the best distance so far or than the cut-off is skipped (its
 /// segments are at least that far). The result is the full scan's, bit for bit, whenever that is within the
@@ -365,6 +358,12 @@ detail::EdgeProjection polylineProjectionWithin(const EdgeInfo& e, const Vec3& p
     }
   }
   return best;
+}
+
+/// Closest point on the polyline of `e` (parameter interpolated linearly on the closest segment): the cheap first
+/// pass of the overlap test. Its error is the polyline's sag, ~(span length / kPolylinePerSpan)^2 x curvature / 8.
+detail::EdgeProjection polylineProjection(const EdgeInfo& e, const Vec3& p) {
+  return polylineProjectionWithin(e, p, std::numeric_limits<double>::infinity());
 }
 
 /// The pair identicalPolygons reports for polygons found to agree in the orientation `reversed` within `distance`

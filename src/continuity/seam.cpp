@@ -162,7 +162,7 @@ double SeamAnalysis::sAt(double t) const {
   // A certified correspondence gives B's parameter itself (a projection would only reach it to round-off, at the
   // price of a Newton iteration on B's edge: a third of the check of a network whose seams are kinks, issue 37).
   if (corr.certified)
-    if (const std::optional<double> s = detail::partnerParameter(corr.pieces, t)) return *s;
+    if (const std::optional<double> s = detail::partnerThroughPieces(corr.pieces, t)) return *s;
   return sProjectedAt(t);
 }
 
@@ -400,7 +400,7 @@ void SeamAnalysis::refineG2() {
     if (nearPole(t)) return 0.0;
     const PointMeasures m = measureAt(A, t, B, sAt(t), sgn, true);  // the curvature jump alone
     return m.curvatureOk ? m.g2 : 0.0;
-  }, corr.certified ? detail::kG2RefineRelTol : detail::kRefineRelTol);
+  }, detail::kG2RefineRelTol);  // every caller is on the certified route
   if (w > rep.g2Sampled) {
     rep.g2Sampled = w;
     rep.g2Worst = {tw, pointOnA(tw)};

@@ -99,6 +99,20 @@ bool affineAsGoodAsProjection(const Side& A, const Side& B, const SeamOptions& o
 
 }  // namespace
 
+std::optional<double> partnerThroughPieces(const std::vector<Piece>& pieces, double t) {
+  for (const Piece& pc : pieces) {
+    const Matrix& c = pc.tOf.coeffs();
+    if (c.rows() == 0) continue;
+    const double t0 = c(0, 0), t1 = c(c.rows() - 1, 0);
+    if (!(std::min(t0, t1) <= t && t <= std::max(t0, t1))) continue;
+    if (t0 == t1) return pc.sOf.scalar(0.0);
+    const double x = pc.tOf.degree() <= 1 ? std::clamp((t - t0) / (t1 - t0), 0.0, 1.0)
+                                          : solveMonotone(pc.tOf, t, 0.0, 1.0);
+    return pc.sOf.scalar(x);
+  }
+  return std::nullopt;
+}
+
 std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool masterIsA,
                                const std::vector<MapSpan>& maps, const SeamOptions& opt) {
   std::vector<Piece> out;

@@ -39,6 +39,11 @@ struct MapSpan {
 };
 
 /// The exact pieces of the seam along the maps (the master's spans, cut where the map crosses a slave breakpoint).
+/// B's edge parameter s = sOf(x) at A's edge parameter t = tOf(x), through the piece whose t range holds t (tOf is
+/// monotone on each piece): x in closed form where tOf is affine, else by the bisection that cuts the pieces
+/// (solveMonotone). nullopt when no piece holds t.
+std::optional<double> partnerThroughPieces(const std::vector<Piece>& pieces, double t);
+
 std::vector<Piece> buildPieces(const Side& master, const Side& slave, bool masterIsA,
                                const std::vector<MapSpan>& maps, const SeamOptions& opt);
 // Affine map from A's overlap onto B's overlap.

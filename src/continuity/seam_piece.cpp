@@ -21,10 +21,6 @@ constexpr int kLemma1Samples = 16;
 constexpr int kLemma1GoldenIterations = 16;
 /// lambda or kappa varying by less than this (relative) over a piece is constant to round-off: not refined.
 constexpr double kLemma1ConstantRel = 1e-9;
-/// partnerParameter: Newton steps on a piece's t(x) (quadratic convergence from the affine guess: 3-5 are used;
-/// bisection steps where Newton leaves the bracket), and the step (in units of epsilon on x in [0, 1]) that ends it.
-constexpr int kPartnerNewtonIterations = 60;
-constexpr double kPartnerStepUlps = 4.0;
 
 // Cartesian derivatives of S = x / w from homogeneous cross-derivative polynomials X0, X1, X2 (k-th u-derivative
 // along the edge, as functions of tau). `slot` selects which weight exponent (A = 0, B = 1) the result carries.
@@ -443,38 +439,6 @@ std::optional<double> g2ValueIfDefined(const Piece& pc, double x) {
   return std::abs(val(pc.rho)) * val(pc.T2) / (std::pow(n2, 2.5) * b2);
 }
 double g2Value(const Piece& pc, double x) { return g2ValueIfDefined(pc, x).value_or(0.0); }
-
-std::optional<double> partnerParameter(const std::vector<Piece>& pieces, double t) {
-  for (const Piece& pc : pieces) {
-    const Matrix& c = pc.tOf.coeffs();
-    if (c.rows() == 0) continue;
-    const double t0 = c(0, 0), t1 = c(c.rows() - 1, 0);
-    if (!(std::min(t0, t1) <= t && t <= std::max(t0, t1))) continue;
-    if (t0 == t1) return pc.sOf.scalar(0.0);
-    // The bracket [lo, hi] of x with tOf(lo) <= t <= tOf(hi) in the increasing sense; the affine guess first
-    // (exact for an affine map but for round-off).
-    const double dir = t1 > t0 ? 1.0 : -1.0;
-    double lo = 0.0, hi = 1.0, x = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
-    if (pc.tOf.degree() > 1) {
-      const BernsteinPoly dt = pc.tOf.derivative();
-      for (int iter = 0; iter < kPartnerNewtonIterations; ++iter) {
-        const double f = dir * (pc.tOf.scalar(x) - t);
-        if (f == 0.0) break;
-        (f < 0.0 ? lo : hi) = x;
-        const double d = dir * dt.scalar(x);
-        double next = d > 0.0 ? x - f / d : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::abs(next - x) <= kPartnerStepUlps * std::numeric_limits<double>::epsilon()) {
-          x = next;
-          break;
-        }
-        x = next;
-      }
-    }
-    return pc.sOf.scalar(x);
-  }
-  return std::nullopt;
-}
 
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
 // section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).

@@ -96,11 +96,6 @@ double g2Bound(const Piece& pc, double x0, double x1);
 std::optional<double> g2ValueIfDefined(const Piece& pc, double x);
 double g2Value(const Piece& pc, double x);
 
-/// B's edge parameter s = sOf(x) at A's edge parameter t = tOf(x) through the piece whose t range holds t (tOf is
-/// monotone on each piece): x by Newton's method on tOf, kept inside its bracket by bisection, to round-off.
-/// nullopt when no piece holds t.
-std::optional<double> partnerParameter(const std::vector<Piece>& pieces, double t);
-
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
 // section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).
 void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& kappa);
