@@ -7,6 +7,8 @@
 #include <Message_ProgressRange.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
+#include <GCPnts_TangentialDeflection.hxx>
+#include <Geom2dAdaptor_Curve.hxx>
 #include <Geom2d_Curve.hxx>
 #include <OSD_Signal.hxx>
 #include <Poly_Triangulation.hxx>
@@ -43,6 +45,17 @@ constexpr int kFallbackMaxCells = 128;
 constexpr int kExtentSamples = 9;
 /// A trim loop whose ends lie within this fraction of the parameter rectangle's size is closed.
 constexpr double kLoopClosedRel = 1e-6;
+/// gridInsideTrims' polygons: each pcurve sampled (GCPnts_TangentialDeflection) to within this fraction of the grid
+/// box's size of the curve, and to at most this turn (radians) between segments. OpenCASCADE's classifier uses a
+/// coarser polygon of its own (a few points per knot span).
+constexpr double kTrimPolygonDeflectionRel = 1e-6;
+constexpr double kTrimPolygonAngle = 0.05;
+/// gridInsideTrims: a wire's polygon whose ends lie within this fraction of the box's size is closed by a segment
+/// (pcurve ends a reader leaves that far apart on real files; far below the grid's spacing); further apart, the
+/// polygon is open and the grid is not classified here.
+constexpr double kTrimLoopClosedRel = 1e-4;
+/// gridInsideTrims: a point within this fraction of the box's size of a polygon segment is on the trim (not OUT).
+constexpr double kTrimOnRel = 1e-9;
 
 using Loop = std::vector<gp_Pnt2d>;  // a closed polygon in the surface's (u, v); the last point joins the first
 
@@ -305,6 +318,78 @@ BRepFaceMesh faceMesh(const TopoDS_Face& face, const Handle(Poly_Triangulation)&
 }
 
 }  // namespace
+
+std::optional<std::vector<gp_Pnt2d>> gridInsideTrims(const TopoDS_Face& face, int n, double u0, double u1, double v0,
+                                                     double v1) {
+  const double size = std::max(u1 - u0, v1 - v0);
+  if (n < 1 || !(size > 0.0) || !std::isfinite(size)) return std::nullopt;
+  const TopoDS_Face forward = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+  const double deflection = kTrimPolygonDeflectionRel * size, on = kTrimOnRel * size;
+  if (!(deflection >= Precision::Confusion())) return std::nullopt;  // below what GCPnts can sample to
+  struct Segment {
+    gp_Pnt2d a, b;
+  };
+  std::vector<Segment> segments;
+  for (TopExp_Explorer w(forward, TopAbs_WIRE); w.More(); w.Next()) {
+    const TopoDS_Wire& wire = TopoDS::Wire(w.Current());
+    int edges = 0, visited = 0;
+    for (TopExp_Explorer e(wire, TopAbs_EDGE); e.More(); e.Next()) ++edges;
+    Loop loop;
+    for (BRepTools_WireExplorer e(wire, forward); e.More(); e.Next(), ++visited) {
+      const TopoDS_Edge& edge = e.Current();
+      double f = 0.0, l = 0.0;
+      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, forward, f, l);
+      if (pc.IsNull() || !std::isfinite(f) || !std::isfinite(l) || !(l > f)) return std::nullopt;
+      const Geom2dAdaptor_Curve curve(pc, f, l);
+      const GCPnts_TangentialDeflection points(curve, kTrimPolygonAngle, deflection, 2);
+      const int m = points.NbPoints();
+      if (m < 2) return std::nullopt;
+      const bool reversed = edge.Orientation() == TopAbs_REVERSED;
+      for (int k = 1; k <= m; ++k) loop.push_back(pc->Value(points.Parameter(reversed ? m + 1 - k : k)));
+    }
+    // The wire explorer leaves out edges it cannot chain; the polygon must hold all of them, and come back to its
+    // start (a band of a periodic surface bounded by wires that each run once around it does not).
+    if (visited != edges || loop.size() < 2 || loop.front().Distance(loop.back()) > kTrimLoopClosedRel * size)
+      return std::nullopt;
+    for (size_t k = 0; k < loop.size(); ++k) segments.push_back({loop[k], loop[(k + 1) % loop.size()]});
+  }
+  if (segments.empty()) return std::nullopt;
+  std::vector<gp_Pnt2d> out;
+  std::vector<double> crossings;
+  std::vector<std::pair<double, double>> onSpans;  // the v ranges of the segments within `on` of the column
+  for (int i = 0; i <= n; ++i) {
+    const double u = u0 + (u1 - u0) * i / n;
+    crossings.clear();
+    onSpans.clear();
+    for (const Segment& s : segments) {
+      const double lo = std::min(s.a.X(), s.b.X()), hi = std::max(s.a.X(), s.b.X());
+      if (u < lo - on || u > hi + on) continue;
+      double vlo = std::min(s.a.Y(), s.b.Y()), vhi = std::max(s.a.Y(), s.b.Y());
+      if (hi - lo > 2.0 * on) {  // the segment's part within the strip |u' - u| <= on
+        const auto vAt = [&](double x) {
+          const double t = std::clamp((x - s.a.X()) / (s.b.X() - s.a.X()), 0.0, 1.0);
+          return s.a.Y() + t * (s.b.Y() - s.a.Y());
+        };
+        vlo = std::min(vAt(u - on), vAt(u + on));
+        vhi = std::max(vAt(u - on), vAt(u + on));
+      }
+      onSpans.emplace_back(vlo - on, vhi + on);
+      // Half-open in u: a column through a polygon vertex counts the two segments there once.
+      if ((s.a.X() > u) != (s.b.X() > u))
+        crossings.push_back(s.a.Y() + (u - s.a.X()) * (s.b.Y() - s.a.Y()) / (s.b.X() - s.a.X()));
+    }
+    std::sort(crossings.begin(), crossings.end());
+    for (int j = 0; j <= n; ++j) {
+      const double v = v0 + (v1 - v0) * j / n;
+      bool inside = (std::lower_bound(crossings.begin(), crossings.end(), v) - crossings.begin()) % 2 == 1;
+      if (!inside)
+        inside = std::any_of(onSpans.begin(), onSpans.end(),
+                             [&](const std::pair<double, double>& r) { return v >= r.first && v <= r.second; });
+      if (inside) out.emplace_back(u, v);
+    }
+  }
+  return out;
+}
 
 std::vector<BRepFaceMesh> meshFaces(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& faces,
                                     double deflection, const std::vector<bool>& wanted,

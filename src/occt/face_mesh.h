@@ -5,6 +5,8 @@
 // to). Private to seam::occt; the public entry is BRepCheckOptions::meshFaces (brep_check.h).
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <gp_Pnt2d.hxx>
+#include <optional>
 #include <vector>
 
 #include "occt/cad_internal.h"
@@ -29,5 +31,16 @@ namespace seam::occt::detail {
 std::vector<BRepFaceMesh> meshFaces(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& faces,
                                     double deflection, const std::vector<bool>& wanted = {},
                                     const Handle(DeadlineIndicator)& deadline = nullptr);
+
+/// The points of the (n + 1) x (n + 1) grid over the box [u0, u1] x [v0, v1] that lie inside `face`'s trims or on them
+/// (in the sense of OpenCASCADE's BRepTopAdaptor_FClass2d: not OUT), row by row in u then v as `u0 + (u1 - u0) i / n`,
+/// `v0 + (v1 - v0) j / n`. One scan per grid column over the trims' parameter-space polygons (pcurves sampled to
+/// kTrimPolygonDeflectionRel of the box), even-odd rule, a point within kTrimOnRel of the box of a polygon segment
+/// counted as on it: linear in the polygons' segments per column where the classifier is per point. Nothing when
+/// the trims do not make closed polygons in (u, v) (an open wire, a pcurve missing, a band of a periodic surface
+/// bounded by two wires that each run once around it): the caller then asks OpenCASCADE point by point.
+/// Throws Standard_Failure as OpenCASCADE does (the caller guards it).
+std::optional<std::vector<gp_Pnt2d>> gridInsideTrims(const TopoDS_Face& face, int n, double u0, double u1, double v0,
+                                                     double v1);
 
 }  // namespace seam::occt::detail
