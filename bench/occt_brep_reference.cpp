@@ -11,18 +11,29 @@
 //
 //   build-dir/bench/occt_brep_reference [--reps N] [FILE...]   (default: the 8 STEP/IGES files of ../shared/data)
 //   build-dir/bench/occt_brep_reference --occt-only FILE       (one reference run: for /usr/bin/time, whole process)
+//   build-dir/bench/occt_brep_reference --trimmed-grid N [FILE...]
+//       also the generated model of issue 37 goal 2: N x N trimmed B-spline faces, each on its own bicubic surface
+//       (a segment of one wavy 100 mm height field, a quarter of a face wider on every side than its trim), sewn,
+//       2 N (N - 1) seams (N = 43: 1 849 faces, 3 612 seams), written as STEP into the temporary folder first.
 //
 // Not a Google Benchmark: each run takes 0.1-5 s and the point is the per-file table. Never run as a test.
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepLib.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
+#include <Precision.hxx>
 #include <STEPControl_Reader.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -35,6 +46,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -142,6 +154,42 @@ Reference occtReference(const fs::path& file) {
   return r;
 }
 
+/// The --trimmed-grid model (above), written as STEP to `file`.
+void writeTrimmedGrid(int n, const fs::path& file) {
+  constexpr int kPoles = 48;  // of the parent height field, per direction
+  constexpr double kSize = 100.0, kAmplitude = 6.0;
+  TColgp_Array2OfPnt poles(1, kPoles, 1, kPoles);
+  for (int i = 1; i <= kPoles; ++i)
+    for (int j = 1; j <= kPoles; ++j) {
+      const double x = kSize * (i - 1) / (kPoles - 1), y = kSize * (j - 1) / (kPoles - 1);
+      poles(i, j) = gp_Pnt(x, y, kAmplitude * std::sin(0.13 * x) * std::cos(0.09 * y) + 0.02 * x);
+    }
+  TColStd_Array1OfReal knots(1, kPoles - 2);
+  TColStd_Array1OfInteger mults(1, kPoles - 2);
+  for (int k = 1; k <= kPoles - 2; ++k) {
+    knots(k) = static_cast<double>(k - 1) / (kPoles - 3);
+    mults(k) = k == 1 || k == kPoles - 2 ? 4 : 1;
+  }
+  const Handle(Geom_BSplineSurface) parent = new Geom_BSplineSurface(poles, knots, knots, mults, mults, 3, 3);
+  BRepBuilderAPI_Sewing sewing(1e-6 * kSize);
+  const double h = 1.0 / n, margin = 0.25 * h;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double u0 = i * h, u1 = (i + 1) * h, v0 = j * h, v1 = (j + 1) * h;
+      const Handle(Geom_BSplineSurface) own = Handle(Geom_BSplineSurface)::DownCast(parent->Copy());
+      own->Segment(std::max(0.0, u0 - margin), std::min(1.0, u1 + margin), std::max(0.0, v0 - margin),
+                   std::min(1.0, v1 + margin));
+      sewing.Add(BRepBuilderAPI_MakeFace(own, u0, u1, v0, v1, Precision::Confusion()).Face());
+    }
+  sewing.Perform();
+  STEPControl_Writer writer;
+  if (writer.Transfer(sewing.SewedShape(), STEPControl_AsIs) != IFSelect_RetDone ||
+      writer.Write(file.c_str()) != IFSelect_RetDone) {
+    std::fprintf(stderr, "%s: not written\n", file.c_str());
+    std::exit(2);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -149,12 +197,15 @@ int main(int argc, char** argv) {
   int reps = 3;
   std::vector<fs::path> files;
   bool occtOnly = false;
+  int trimmedGrid = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--reps" && i + 1 < argc) {
       reps = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--occt-only") {
       occtOnly = true;
+    } else if (a == "--trimmed-grid" && i + 1 < argc) {
+      trimmedGrid = std::max(2, std::atoi(argv[++i]));
     } else {
       files.emplace_back(a);
     }
@@ -165,6 +216,11 @@ int main(int argc, char** argv) {
                           "step/trj3_s1-al-214.stp", "iges/BUC50025.igs", "iges/bearing.iges", "iges/occ22470.igs",
                           "iges/sunglasses_lens.igs"})
       files.push_back(data / f);
+  }
+  if (trimmedGrid > 0) {
+    const fs::path grid = fs::temp_directory_path() / ("seam_trimmed_grid_" + std::to_string(trimmedGrid) + ".step");
+    writeTrimmedGrid(trimmedGrid, grid);
+    files.insert(files.begin(), grid);
   }
   if (occtOnly) {
     for (const fs::path& f : files) {
