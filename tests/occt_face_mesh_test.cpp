@@ -15,7 +15,6 @@
 #include <Bnd_Box.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <STEPControl_Reader.hxx>
-#include <XSControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -30,7 +29,6 @@
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <Geom2dAPI_ProjectPointOnCurve.hxx>
 #include <Geom2d_Curve.hxx>
-#include <IGESControl_Reader.hxx>
 #include <Precision.hxx>
 #include <gp_Ax1.hxx>
 #include <gp_Ax2.hxx>
@@ -41,7 +39,6 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
-#include <memory>
 #include <optional>
 #include <filesystem>
 #include <numbers>
@@ -50,6 +47,7 @@
 #include "occt/face_mesh.h"
 #include "seam/core/tolerances.h"
 #include "seam/occt/brep_check.h"
+#include "occt_counts.h"
 #include "real_cad_files.h"
 
 namespace seam {
@@ -362,15 +360,10 @@ TEST(OcctGridInsideTrims, AgreesWithOpenCascadesClassifierAwayFromTheTrimsOnEver
   for (const char* name : test::kRealFiles) {
     const fs::path file = test::kData / name;
     if (!fs::exists(file)) continue;
-    std::unique_ptr<XSControl_Reader> reader;
-    if (file.extension() == ".igs" || file.extension() == ".iges")
-      reader = std::make_unique<IGESControl_Reader>();
-    else
-      reader = std::make_unique<STEPControl_Reader>();
-    ASSERT_EQ(reader->ReadFile(file.string().c_str()), IFSelect_RetDone) << name;
-    reader->TransferRoots();
+    const TopoDS_Shape shape = test::occtRead(file);
+    ASSERT_FALSE(shape.IsNull()) << name;
     TopTools_IndexedMapOfShape map;
-    TopExp::MapShapes(reader->OneShape(), TopAbs_FACE, map);
+    TopExp::MapShapes(shape, TopAbs_FACE, map);
     for (int i = 1; i <= map.Extent(); ++i) {
       const TopoDS_Face face = TopoDS::Face(map(i));
       ++faces;

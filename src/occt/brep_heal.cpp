@@ -266,13 +266,13 @@ Eigen::SparseMatrix<double> normalMatrix(const Eigen::SparseMatrix<double, Eigen
   const Eigen::Index n = J.cols();
   if (static_cast<double>(n) * static_cast<double>(n) > kDenseNormalMaxEntries) return J.transpose() * J;
   Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(n, n);
-  const int* outer = J.outerIndexPtr();
+  const int* outer = J.outerIndexPtr();  // J is compressed (setFromTriplets): row r is [outer[r], outer[r + 1])
   const int* inner = J.innerIndexPtr();
   const double* value = J.valuePtr();
   for (Eigen::Index r = 0; r < J.rows(); ++r) {
-    const int begin = outer[r], end = J.isCompressed() ? outer[r + 1] : outer[r] + J.innerNonZeroPtr()[r];
+    const int end = outer[r + 1];
     // Columns ascend within a row: entry a pairs with the entries b <= a, all in column inner[a] of `lower`.
-    for (int a = begin; a < end; ++a) {
+    for (int a = outer[r]; a < end; ++a) {
       double* column = lower.col(inner[a]).data();
       const double va = value[a];
       for (int k = a; k < end; ++k) column[inner[k]] += va * value[k];
@@ -1341,7 +1341,7 @@ Status writeUnchanged(const fs::path& in, const TopoDS_Shape& pristine, const fs
     const Handle(TDocStd_Document) doc = detail::newCadDocument();
     XCAFDoc_DocumentTool::ShapeTool(doc->Main())->AddShape(pristine, false);
     return detail::writeCadDocument(doc, file, format, unit, counts, &notes, 0.0, 0.0, &back, threads,
-                                    /*countsRead=*/false);
+                                    /*countReadBack=*/false);
   } catch (const Standard_Failure& f) {
     return invalidInput(fmt::format("{}: OpenCASCADE failed writing it unchanged: {}", in.string(),
                                     f.GetMessageString()));

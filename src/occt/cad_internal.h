@@ -173,13 +173,13 @@ struct WrittenBack {
 /// (solids) first, else the faces mode, with a line in `notes` saying that the solids are written as their
 /// faces. `areaRelTol` > 0 replaces the area tolerance (when it is larger); `areaRelEps` as in countShape,
 /// for the area read back; `back`, when given, receives what was read back; `threads` as in AreaOptions.
-/// `countsRead` false leaves out the counts and areas of what was read back for STEP (a file nobody keeps: the heal's
-/// baseline); IGES counts them always, to choose between its two modes.
+/// `countReadBack` false leaves out the counts and areas of what was read back for STEP (a file nobody keeps: the
+/// heal's baseline); IGES counts them always, to choose between its two modes.
 Status writeCadDocument(const Handle(TDocStd_Document) & document, const std::filesystem::path& file,
                         CadFormat format, const std::string& unitName, const ShapeCounts& expected,
                         std::vector<std::string>* notes = nullptr, double areaRelTol = 0.0,
                         double areaRelEps = 0.0, WrittenBack* back = nullptr, int threads = 0,
-                        bool countsRead = true);
+                        bool countReadBack = true);
 
 /// A written STEP B-rep's area may differ from what was written by this much (relative): surfaces written with 17
 /// significant digits come back bit for bit, the trims are rebuilt from the 3-D curves by the reader (occ22470.igs ->

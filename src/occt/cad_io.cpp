@@ -1397,7 +1397,7 @@ std::string countsLost(const ShapeCounts& expected, const ShapeCounts& got, doub
 Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::path& file, CadFormat format,
                         const std::string& unitName, const ShapeCounts& expected,
                         std::vector<std::string>* notes, double areaRelTol, double areaRelEps,
-                        WrittenBack* writtenBack, int threads, bool countsRead) {
+                        WrittenBack* writtenBack, int threads, bool countReadBack) {
   silenceOcct();
   pinSessionUnitToMillimetres();
   // The document's shapes are in millimetres (the readers convert to OpenCASCADE's session unit), whatever unit the
@@ -1452,7 +1452,7 @@ Status writeCadDocument(const Handle(TDocStd_Document) & document, const fs::pat
             return invalidInput(fmt::format("{}: OpenCASCADE cannot read back what it wrote ({}); nothing written",
                                             file.string(), back.status().message()));
           const std::string lost =
-              countsRead || format == CadFormat::kIges
+              countReadBack || format == CadFormat::kIges
                   ? countsLost(want, countShape(*back, AreaOptions{areaRelEps, threads}),
                                std::max(areaRelTol, format == CadFormat::kStep ? kKeptAreaRelTol : kKeptAreaRelTolIges))
                   : std::string();

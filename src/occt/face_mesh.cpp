@@ -27,7 +27,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "seam/core/tolerances.h"
@@ -119,25 +121,50 @@ void closeAlongBorder(const Rect& r, Loop& loop) {
   loop.push_back(s);
 }
 
-/// The trim polygons of `face` (oriented FORWARD) in its surface's parameters, one per wire, as the wires run (the
-/// face on their left); an open wire's polygon is left open.
-std::vector<Loop> trimPolygons(const TopoDS_Face& face) {
-  std::vector<Loop> loops;
-  for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) {
-    Loop loop;
-    for (BRepTools_WireExplorer e(TopoDS::Wire(w.Current()), face); e.More(); e.Next()) {
-      const TopoDS_Edge& edge = e.Current();
-      double f = 0.0, l = 0.0;
-      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, face, f, l);
-      if (pc.IsNull() || !std::isfinite(f) || !std::isfinite(l)) continue;
-      const bool reversed = edge.Orientation() == TopAbs_REVERSED;
-      for (int i = 0; i <= kFallbackEdgePoints; ++i) {
-        const double t = static_cast<double>(i) / kFallbackEdgePoints;
-        loop.push_back(pc->Value(reversed ? l + (f - l) * t : f + (l - f) * t));
-      }
-    }
-    if (loop.size() >= 2) loops.push_back(std::move(loop));
+/// The parameters at which an edge's pcurve on [f, l] is sampled, in the order the wire runs (from l to f when
+/// `reversed`); empty when it cannot be sampled.
+using EdgeSampler = std::function<std::vector<double>(const Handle(Geom2d_Curve)&, double f, double l, bool reversed)>;
+
+/// The polygon of one wire of `face` (oriented FORWARD) in its surface's parameters, the wire's edges as
+/// BRepTools_WireExplorer chains them, each pcurve at the parameters `sample` gives. `strict`: nothing when an edge
+/// has no usable pcurve or cannot be chained; else such edges are left out.
+std::optional<Loop> wirePolygon(const TopoDS_Wire& wire, const TopoDS_Face& face, const EdgeSampler& sample,
+                                bool strict) {
+  Loop loop;
+  int visited = 0;
+  for (BRepTools_WireExplorer e(wire, face); e.More(); e.Next(), ++visited) {
+    const TopoDS_Edge& edge = e.Current();
+    double f = 0.0, l = 0.0;
+    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, face, f, l);
+    const std::vector<double> at = pc.IsNull() || !std::isfinite(f) || !std::isfinite(l)
+                                       ? std::vector<double>()
+                                       : sample(pc, f, l, edge.Orientation() == TopAbs_REVERSED);
+    if (at.empty() && strict) return std::nullopt;
+    for (const double t : at) loop.push_back(pc->Value(t));
   }
+  if (strict) {  // the wire explorer leaves out edges it cannot chain
+    int edges = 0;
+    for (TopExp_Explorer e(wire, TopAbs_EDGE); e.More(); e.Next()) ++edges;
+    if (visited != edges) return std::nullopt;
+  }
+  return loop;
+}
+
+/// The trim polygons of `face` (oriented FORWARD) in its surface's parameters, one per wire, as the wires run (the
+/// face on their left), each pcurve at kFallbackEdgePoints + 1 even parameters; an open wire's polygon is left open.
+std::vector<Loop> trimPolygons(const TopoDS_Face& face) {
+  const EdgeSampler even = [](const Handle(Geom2d_Curve)&, double f, double l, bool reversed) {
+    std::vector<double> at;
+    for (int i = 0; i <= kFallbackEdgePoints; ++i) {
+      const double t = static_cast<double>(i) / kFallbackEdgePoints;
+      at.push_back(reversed ? l + (f - l) * t : f + (l - f) * t);
+    }
+    return at;
+  };
+  std::vector<Loop> loops;
+  for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next())
+    if (std::optional<Loop> loop = wirePolygon(TopoDS::Wire(w.Current()), face, even, false); loop->size() >= 2)
+      loops.push_back(std::move(*loop));
   return loops;
 }
 
@@ -329,29 +356,22 @@ std::optional<std::vector<gp_Pnt2d>> gridInsideTrims(const TopoDS_Face& face, in
   struct Segment {
     gp_Pnt2d a, b;
   };
+  const EdgeSampler fine = [&](const Handle(Geom2d_Curve)& pc, double f, double l, bool reversed) {
+    std::vector<double> at;
+    if (!(l > f)) return at;
+    const GCPnts_TangentialDeflection points(Geom2dAdaptor_Curve(pc, f, l), kTrimPolygonAngle, deflection, 2);
+    const int m = points.NbPoints();
+    for (int k = 1; m >= 2 && k <= m; ++k) at.push_back(points.Parameter(reversed ? m + 1 - k : k));
+    return at;
+  };
   std::vector<Segment> segments;
   for (TopExp_Explorer w(forward, TopAbs_WIRE); w.More(); w.Next()) {
-    const TopoDS_Wire& wire = TopoDS::Wire(w.Current());
-    int edges = 0, visited = 0;
-    for (TopExp_Explorer e(wire, TopAbs_EDGE); e.More(); e.Next()) ++edges;
-    Loop loop;
-    for (BRepTools_WireExplorer e(wire, forward); e.More(); e.Next(), ++visited) {
-      const TopoDS_Edge& edge = e.Current();
-      double f = 0.0, l = 0.0;
-      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, forward, f, l);
-      if (pc.IsNull() || !std::isfinite(f) || !std::isfinite(l) || !(l > f)) return std::nullopt;
-      const Geom2dAdaptor_Curve curve(pc, f, l);
-      const GCPnts_TangentialDeflection points(curve, kTrimPolygonAngle, deflection, 2);
-      const int m = points.NbPoints();
-      if (m < 2) return std::nullopt;
-      const bool reversed = edge.Orientation() == TopAbs_REVERSED;
-      for (int k = 1; k <= m; ++k) loop.push_back(pc->Value(points.Parameter(reversed ? m + 1 - k : k)));
-    }
-    // The wire explorer leaves out edges it cannot chain; the polygon must hold all of them, and come back to its
-    // start (a band of a periodic surface bounded by wires that each run once around it does not).
-    if (visited != edges || loop.size() < 2 || loop.front().Distance(loop.back()) > kTrimLoopClosedRel * size)
+    const std::optional<Loop> loop = wirePolygon(TopoDS::Wire(w.Current()), forward, fine, true);
+    // Every edge in it, and back to its start (a band of a periodic surface bounded by wires that each run once
+    // around it is not).
+    if (!loop || loop->size() < 2 || loop->front().Distance(loop->back()) > kTrimLoopClosedRel * size)
       return std::nullopt;
-    for (size_t k = 0; k < loop.size(); ++k) segments.push_back({loop[k], loop[(k + 1) % loop.size()]});
+    for (size_t k = 0; k < loop->size(); ++k) segments.push_back({(*loop)[k], (*loop)[(k + 1) % loop->size()]});
   }
   if (segments.empty()) return std::nullopt;
   std::vector<gp_Pnt2d> out;

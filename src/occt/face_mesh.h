@@ -2,7 +2,9 @@
 // Triangle meshes of B-rep faces for the report's 3-D view (issue 17 §4): OpenCASCADE's BRepMesh_IncrementalMesh,
 // which respects the trims (holes, outer loops), read back face by face with BRep_Tool::Triangulation, the face's
 // location applied and its orientation kept (triangles counter-clockwise seen from the side the face's normal points
-// to). Private to seam::occt; the public entry is BRepCheckOptions::meshFaces (brep_check.h).
+// to). Also the faces' trim polygons in parameter space for their other users: the mesher's grid fallback and the
+// heal's fold grid (gridInsideTrims). Private to seam::occt; the public entry is BRepCheckOptions::meshFaces
+// (brep_check.h).
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <gp_Pnt2d.hxx>
