@@ -100,7 +100,7 @@ OrderedJson documentRoute(const Checked& c, const std::string& file, const std::
 TEST(CheckJson, TestModelHasEveryKindOfRecord) {
   const Checked c = checkedModel();
   const std::vector<const SeamReport*> reports = reportsOf(c.report);
-  const std::array<int, 5> verdicts = countVerdicts(reports, kDefaultCreaseAngleDeg);
+  const std::array<int, kSeamVerdictCount> verdicts = countVerdicts(reports, kDefaultCreaseAngleDeg);
   EXPECT_GT(verdicts[static_cast<size_t>(SeamVerdict::kGap)], 0);
   EXPECT_GT(verdicts[static_cast<size_t>(SeamVerdict::kKink)], 0);
   EXPECT_GT(verdicts[static_cast<size_t>(SeamVerdict::kCrease)], 0);

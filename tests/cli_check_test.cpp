@@ -266,7 +266,8 @@ TEST_F(CliVerdicts, JsonVerdictPerSeamAndSummary) {
   EXPECT_EQ(j["seams"][3]["geometric"], "G0");
   EXPECT_EQ(j["tolerances"]["crease_angle_deg"], 20.0);
   const nlohmann::json& s = j["summary"];
-  EXPECT_EQ(s["verdicts"], (nlohmann::json{{"gap", 1}, {"kink", 2}, {"crease", 3}, {"G1", 0}, {"G2", 1}}));
+  EXPECT_EQ(s["verdicts"],
+            (nlohmann::json{{"gap", 1}, {"kink", 2}, {"crease", 3}, {"G1", 0}, {"G2", 1}, {"undetermined", 0}}));
   EXPECT_EQ(s["worst_kink"]["a"], "A0");  // the 10-degree hinge
   EXPECT_NEAR(s["worst_kink"]["angle_deg"].get<double>(), 10.0, 1e-9);
   EXPECT_NEAR(s["worst_kink"]["point"][0].get<double>(), 0.0, 1e-12);  // on the hinge line x = 0

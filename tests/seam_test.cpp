@@ -25,6 +25,7 @@
 #include "continuity/seam_internal.h"
 #include "continuity/seam_correspondence.h"
 #include "seam/continuity/seam.h"
+#include "seam/continuity/verdict.h"
 #include "seam/io/file.h"
 #include "hinge_models.h"
 #include "seam_test_support.h"
@@ -2184,6 +2185,119 @@ TEST(SeamPole, TheTeaspoonsHandleEndPrintsNoPoleNoise) {
   EXPECT_TRUE(std::any_of(r->notes.begin(), r->notes.end(),
                           [](const std::string& n) { return n.find("next to the pole") != std::string::npos; }))
       << describe(*r);
+}
+
+// A normal that vanishes inside the edge (issue 35 §2): A's cross-boundary derivative along its edge v = 1 is
+// S_v(t, 1) = 3 (t - 1/2)^k c, zero at t = 1/2 (k = 2: a double zero, the normal keeps its direction; k = 1: it
+// reverses, A folds back over the edge on t > 1/2). B continues A across the edge; `lift` raises B's second row in
+// z (a kink of about lift / 0.3 radians). Bicubic Bezier nets, row index i * 4 + j (i along u = x, j along v = y).
+struct VanishingNormalPair {
+  Matrix a, b;
+};
+VanishingNormalPair vanishingNormalPair(int order, double lift) {
+  // Bernstein coefficients (cubic) of (t - 1/2)^2 and of t - 1/2.
+  const std::array<double, 4> d = order == 2 ? std::array<double, 4>{0.25, -1.0 / 12, -1.0 / 12, 0.25}
+                                             : std::array<double, 4>{-0.5, -1.0 / 6, 1.0 / 6, 0.5};
+  auto z = [](double x) { return 0.2 * x * x; };
+  VanishingNormalPair p{Matrix(16, 3), Matrix(16, 3)};
+  for (int i = 0; i < 4; ++i) {
+    const double x = i / 3.0;
+    const std::array<double, 4> ya{0.0, 0.5, 1.0 - 0.3 * d[static_cast<size_t>(i)], 1.0}, yb{1.0, 1.3, 1.6, 2.0};
+    for (int j = 0; j < 4; ++j) {
+      p.a.row(i * 4 + j) = Vec3(x, ya[static_cast<size_t>(j)], z(x)).transpose();
+      p.b.row(i * 4 + j) = Vec3(x, yb[static_cast<size_t>(j)], z(x) + (j == 1 ? lift : 0.0)).transpose();
+    }
+  }
+  return p;
+}
+
+/// The unit normal of a bicubic Bezier net at (u, v), from the Bernstein derivative formulas (nullopt where
+/// |S_u x S_v| is below 1e-12).
+std::optional<Vec3> bezierNormal(const Matrix& net, double u, double v) {
+  auto b = [](int i, double t) { return binomial(3, i) * std::pow(t, i) * std::pow(1.0 - t, 3 - i); };
+  auto db = [](int i, double t) {  // d/dt of the cubic Bernstein polynomial B_i
+    const double up = i >= 1 ? binomial(2, i - 1) * std::pow(t, i - 1) * std::pow(1.0 - t, 3 - i) : 0.0;
+    const double down = i <= 2 ? binomial(2, i) * std::pow(t, i) * std::pow(1.0 - t, 2 - i) : 0.0;
+    return 3.0 * (up - down);
+  };
+  Vec3 su = Vec3::Zero(), sv = Vec3::Zero();
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const Vec3 q = net.row(i * 4 + j).transpose();
+      su += db(i, u) * b(j, v) * q;
+      sv += b(i, u) * db(j, v) * q;
+    }
+  const Vec3 n = su.cross(sv);
+  if (!(n.norm() > 1e-12)) return std::nullopt;
+  return n.normalized();
+}
+
+/// The largest angle (degrees) between A's normal at (t, 1) and B's at (t, 0) on 20 001 even t, where both exist.
+double densestVanishingNormalAngle(const VanishingNormalPair& p) {
+  double best = 0.0;
+  for (int k = 0; k <= 20000; ++k) {
+    const double t = k / 20000.0;
+    const auto na = bezierNormal(p.a, t, 1.0), nb = bezierNormal(p.b, t, 0.0);
+    if (na && nb) best = std::max(best, std::atan2(na->cross(*nb).norm(), na->dot(*nb)) * 180.0 / std::numbers::pi);
+  }
+  return best;
+}
+
+Result<SeamReport> vanishingNormalSeam(const VanishingNormalPair& p) {
+  return analyzeSeam(makePatch("A", BezierPatch(3, 3, p.a).toBSpline()), Edge::V1,
+                     makePatch("B", BezierPatch(3, 3, p.b).toBSpline()), Edge::V0);
+}
+
+TEST(SeamPole, ANormalVanishingInsideTheEdgeIsNeverACertified180DegreeCrease) {
+  // Before: the angle bound returned 180 degrees on every interval holding the zero, and the seam was certified a
+  // 180-degree crease; with lift 1e-5 the subdivision's midpoints next to t = 1/2 also "sampled" 89 degrees of
+  // round-off. Now the angle is the one measured where both normals exist, the seam is not certified, and one within
+  // the G1 tolerance is undetermined, with the vanishing point named.
+  for (const double lift : {1e-7, 1e-5}) {
+    const VanishingNormalPair p = vanishingNormalPair(2, lift);
+    const double expected = densestVanishingNormalAngle(p);
+    const Result<SeamReport> r = vanishingNormalSeam(p);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_FALSE(r->certified) << describe(*r);
+    ASSERT_TRUE(r->g1PoleT.has_value()) << describe(*r);
+    EXPECT_NEAR(*r->g1PoleT, 0.5, 1e-3) << describe(*r);
+    EXPECT_NEAR(r->g1MaxDeg, expected, 1e-3 * expected) << lift << ": " << describe(*r);
+    EXPECT_LT(r->g1MaxDeg, SeamOptions{}.tol.angleDeg) << describe(*r);
+    EXPECT_EQ(seamVerdict(*r), SeamVerdict::kUndetermined) << describe(*r);
+    EXPECT_TRUE(passes(SeamFilter::kProblems, &*r, kDefaultCreaseAngleDeg));
+  }
+  // A kink of about 0.2 degrees along the whole seam: a kink of the measured angle, not undetermined.
+  const VanishingNormalPair kinked = vanishingNormalPair(2, 0.3 * std::tan(0.2 * std::numbers::pi / 180.0));
+  const double expected = densestVanishingNormalAngle(kinked);
+  const Result<SeamReport> r = vanishingNormalSeam(kinked);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_NEAR(r->g1MaxDeg, expected, 1e-3 * expected) << describe(*r);
+  EXPECT_EQ(seamVerdict(*r), SeamVerdict::kKink) << describe(*r);
+}
+
+TEST(SeamPole, ATangentSurfaceWithADoubleZeroOfItsNormalIsAG1Identity) {
+  // lift 0: B continues A's cylinder z = 0.2 x^2 exactly, N_A x N_B = 0 as a polynomial. N_A . N_B = (t - 1/2)^2 (...)
+  // has negative Bernstein coefficients but no negative value: no fold, G1 proved (before: a "fold", then 180).
+  const VanishingNormalPair p = vanishingNormalPair(2, 0.0);
+  const Result<SeamReport> r = vanishingNormalSeam(p);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_TRUE(r->g1Identity) << describe(*r);
+  EXPECT_FALSE(r->g1PoleT.has_value()) << describe(*r);
+  EXPECT_GE(r->geometric, GeometricClass::kG1) << describe(*r);
+  EXPECT_LE(r->g1MaxDeg, densestVanishingNormalAngle(p) + kExactAngleDeg) << describe(*r);
+}
+
+TEST(SeamPole, ANormalThatReversesInsideTheEdgeIsAFoldOfItsMeasuredAngle) {
+  // k = 1: A's normal reverses at t = 1/2, so on t > 1/2 A and B face opposite ways (180 degrees, measured on a
+  // whole half of the seam, not at one point): a crease of that angle, never undetermined.
+  const VanishingNormalPair p = vanishingNormalPair(1, 0.0);
+  const double expected = densestVanishingNormalAngle(p);
+  EXPECT_GT(expected, 179.0);
+  const Result<SeamReport> r = vanishingNormalSeam(p);
+  ASSERT_TRUE(r.isOk()) << r.status().message();
+  EXPECT_FALSE(r->g1Identity) << describe(*r);
+  EXPECT_NEAR(r->g1MaxDeg, expected, 1e-3 * expected) << describe(*r);
+  EXPECT_EQ(seamVerdict(*r), SeamVerdict::kCrease) << describe(*r);
 }
 
 }  // namespace

@@ -54,6 +54,27 @@ TEST(SeamVerdict, HingesAtKnownAnglesAreKinksOrCreases) {
   EXPECT_EQ(toString(SeamVerdict::kCrease), "crease");
 }
 
+TEST(SeamVerdict, AVanishingNormalMakesATangentSeamUndeterminedNeverAKinkOrACrease) {
+  // The analysis sets g1PoleT where a normal vanishes and G1 is neither bounded nor an identity (tests/seam_test.cpp,
+  // SeamPole.ANormalVanishingInsideTheEdge...); here the verdict alone, on the hinges' own reports.
+  std::vector<SeamReport> seams = hingeSeams(test::hingeModel({0.0, 10.0, 45.0}));
+  ASSERT_EQ(seams.size(), 3u);
+  for (SeamReport& r : seams) r.g1PoleT = 0.5;
+  EXPECT_EQ(seamVerdict(seams[0]), SeamVerdict::kUndetermined);  // measured within the tolerance: undecided
+  EXPECT_EQ(seamVerdict(seams[1]), SeamVerdict::kKink);          // measured above it: a kink of that angle
+  EXPECT_EQ(seamVerdict(seams[2]), SeamVerdict::kCrease);
+  EXPECT_EQ(toString(SeamVerdict::kUndetermined), "undetermined");
+  EXPECT_FALSE(isProblem(SeamVerdict::kUndetermined));
+  EXPECT_TRUE(passes(SeamFilter::kProblems, &seams[0], kDefaultCreaseAngleDeg));
+  EXPECT_FALSE(passes(SeamFilter::kKinks, &seams[0], kDefaultCreaseAngleDeg));
+  const std::vector<const SeamReport*> p = pointers(seams);
+  EXPECT_EQ(countVerdicts(p), (std::array<int, kSeamVerdictCount>{0, 1, 1, 0, 0, 1}));
+  // By verdict: the kink, then the undetermined seam (with the failed analyses), then the crease.
+  SeamSelection byVerdict;
+  byVerdict.sort = SeamSortKey::kVerdict;
+  EXPECT_EQ(selectSeams(p, byVerdict), (std::vector<size_t>{1, 0, 2}));
+}
+
 TEST(SeamVerdict, AGapIsAGapAtAnyAngleAndKeepsItsAngle) {
   // Gaps of 0.01 (the default distance tolerance is 1e-6 x diagonal, ~4e-6): one flat, one at 45 deg.
   const std::vector<SeamReport> seams = hingeSeams(test::hingeModel({0.0, 45.0}, {0.01, 0.01}));
@@ -101,7 +122,7 @@ TEST(SeamVerdict, SortTopOnlyProblemsAndWorstDefects) {
   ASSERT_TRUE(w.kink && w.gap);
   EXPECT_EQ(*w.kink, 0u);  // 10 deg: the largest angle below the crease angle
   EXPECT_EQ(*w.gap, 4u);
-  EXPECT_EQ(countVerdicts(p), (std::array<int, 5>{2, 2, 3, 0, 0}));
+  EXPECT_EQ(countVerdicts(p), (std::array<int, kSeamVerdictCount>{2, 2, 3, 0, 0, 0}));
   const WorstDefects none = worstDefects(std::vector<const SeamReport*>{&seams[1], &seams[2]});
   EXPECT_FALSE(none.kink || none.gap);
 

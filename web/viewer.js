@@ -16,7 +16,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
-const VERDICT_COLOURS = ['#d62728', '#ff7f0e', '#9467bd', '#1f77b4', '#2ca02c'];
+const VERDICT_COLOURS = ['#d62728', '#ff7f0e', '#9467bd', '#1f77b4', '#2ca02c', '#e377c2'];
 const FAILED_COLOUR = '#000000';
 const OUTLINE_COLOUR = '#9a9a9a';
 const NAKED_COLOUR = '#e377c2';   // src/report/report.cpp kNakedEdgeColour
@@ -136,7 +136,7 @@ function start() {
     const line = lineOf(s.c, colour);
     line.userData.k = s.k;
     seamGroup.add(line);
-    if (s.w && (s.v < 3)) {   // gaps, kinks, creases and failed seams: their worst point
+    if (s.w && (s.v < 3 || s.v === 5)) {   // gaps, kinks, creases, undetermined and failed seams: their worst point
       worstPts.push(s.w[0], s.w[1], s.w[2]);
       const c = new THREE.Color(colour);
       worstCols.push(c.r, c.g, c.b);

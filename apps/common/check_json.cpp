@@ -22,7 +22,7 @@ namespace seam::cli {
 
 namespace {
 
-OrderedJson verdictCountsJson(const std::array<int, 5>& n) {
+OrderedJson verdictCountsJson(const std::array<int, kSeamVerdictCount>& n) {
   OrderedJson j;
   for (size_t k = 0; k < n.size(); ++k) j[std::string(toString(static_cast<SeamVerdict>(k)))] = n[k];
   return j;
@@ -145,6 +145,7 @@ void seamFields(Out& o, const SeamReport& r, double creaseAngleDeg, std::string_
   o.field("overlap", r.overlapA);
   o.field("g0_max", r.g0Max);
   o.field("g1_max_deg", r.g1MaxDeg);
+  if (r.g1PoleT) o.field("g1_pole_t", *r.g1PoleT);
   o.field("g2_max", r.g2Max);
   o.field("g2_rel_max", r.g2RelMax);
   o.field("lambda_range", r.lambdaRange);

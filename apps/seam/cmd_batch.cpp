@@ -33,6 +33,7 @@
 
 #include "cli_util.h"
 #include "command_registry.h"
+#include "seam/continuity/verdict.h"
 
 extern char** environ;
 
@@ -146,7 +147,7 @@ struct Row {
   std::string status = "error";  // ok, problem, error
   std::string error;
   int seams = 0;
-  std::array<int, 5> verdicts{};  // gap, kink, crease, G1, G2
+  std::array<int, kSeamVerdictCount> verdicts{};  // gap, kink, crease, G1, G2, undetermined
   int failed = 0;                  // seams whose analysis failed (a degenerate edge: "collapses to a point")
   int belowRequired = 0;           // seams below --require (failed ones included); 0 without --require
   std::vector<std::string> warnings;  // the reader's (a partly read STEP/IGES file is never "ok" without them)
@@ -156,7 +157,7 @@ struct Row {
   double seconds = 0.0;
 };
 
-constexpr const char* kVerdictKeys[] = {"gap", "kink", "crease", "G1", "G2"};
+constexpr const char* kVerdictKeys[kSeamVerdictCount] = {"gap", "kink", "crease", "G1", "G2", "undetermined"};
 
 std::string readText(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -185,7 +186,7 @@ void fillFromJson(Row& row, const std::string& text, bool require) {
   const nlohmann::json summary = j.value("summary", nlohmann::json::object());
   row.seams = summary.value("seams", 0);
   const nlohmann::json verdicts = summary.value("verdicts", nlohmann::json::object());
-  for (size_t k = 0; k < 5; ++k) row.verdicts[k] = verdicts.value(kVerdictKeys[k], 0);
+  for (size_t k = 0; k < kSeamVerdictCount; ++k) row.verdicts[k] = verdicts.value(kVerdictKeys[k], 0);
   auto number = [](const nlohmann::json& o, const char* key) -> std::optional<double> {
     if (!o.is_object() || !o.contains(key) || !o[key].is_number()) return std::nullopt;
     return o[key].get<double>();
@@ -273,10 +274,11 @@ std::string warningOf(const Row& r, const std::string& w) {
 std::string rowLine(const Row& r) {
   if (r.status == "error") return fmt::format("{}: error: {}", oneLine(r.file), oneLine(r.error));
   std::string line =
-      fmt::format("{}: {}: {} seams (gap {}, kink {}, crease {}, G1 {}, G2 {}{}), worst gap {}, worst kink {} deg, "
+      fmt::format("{}: {}: {} seams (gap {}, kink {}, crease {}, G1 {}, G2 {}{}{}), worst gap {}, worst kink {} deg, "
                   "gap tolerance {}, {:.2f} s",
                   oneLine(r.file), r.status, r.seams, r.verdicts[0], r.verdicts[1], r.verdicts[2], r.verdicts[3],
-                  r.verdicts[4], r.failed > 0 ? fmt::format(", failed {}", r.failed) : "", length(r.worstGap, r),
+                  r.verdicts[4], r.verdicts[5] > 0 ? fmt::format(", undetermined {}", r.verdicts[5]) : "",
+                  r.failed > 0 ? fmt::format(", failed {}", r.failed) : "", length(r.worstGap, r),
                   number(r.worstAngleDeg), length(r.gapTolerance, r), r.seconds);
   for (const std::string& w : r.warnings) line += "\n  warning: " + warningOf(r, w);
   return line;
@@ -288,7 +290,7 @@ OrderedJson rowJson(const Row& r) {
                 {"status", r.status},
                 {"error", r.status == "error" ? OrderedJson(r.error) : OrderedJson(nullptr)},
                 {"seams", r.seams}};
-  for (size_t k = 0; k < 5; ++k) j[kVerdictKeys[k]] = r.verdicts[k];
+  for (size_t k = 0; k < kSeamVerdictCount; ++k) j[kVerdictKeys[k]] = r.verdicts[k];
   j["failed"] = r.failed;
   j["below_required"] = r.belowRequired;
   j["warnings"] = r.warnings;
@@ -429,10 +431,10 @@ int runBatch(const BatchOptions& o) {
                                number(r.worstAngleDeg), length(r.gapTolerance, r), fmt::format("{:.2f}", r.seconds)});
       table.push_back(line);
     }
-    fmt::print("{}", formatTable({"file", "status", "seams", "gap", "kink", "crease", "G1", "G2", "failed",
-                                  "warnings", "worst gap", "worst kink (deg)", "gap tolerance", "seconds"},
+    fmt::print("{}", formatTable({"file", "status", "seams", "gap", "kink", "crease", "G1", "G2", "undetermined",
+                                  "failed", "warnings", "worst gap", "worst kink (deg)", "gap tolerance", "seconds"},
                                  table,
-                                 {false, false, true, true, true, true, true, true, true, true, true, true, true,
+                                 {false, false, true, true, true, true, true, true, true, true, true, true, true, true,
                                   true}));
     for (const Row& r : rows) {
       if (r.status == "error") fmt::print("{}: error: {}\n", oneLine(r.file), oneLine(r.error));

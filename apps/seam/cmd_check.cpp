@@ -132,9 +132,10 @@ std::string creasesNote(const SeamListing& l, const SeamSelection& sel) {
 }
 
 /// "verdicts: gap 1, kink 4, crease 160 (angle >= 20 deg, left as designed), G1 0, G2 43".
-std::string verdictLine(const std::array<int, 5>& n, double creaseAngleDeg) {
-  return fmt::format("verdicts: gap {}, kink {}, crease {} (angle >= {} deg, left as designed), G1 {}, G2 {}\n",
-                     n[0], n[1], n[2], formatNumber(creaseAngleDeg), n[3], n[4]);
+std::string verdictLine(const std::array<int, kSeamVerdictCount>& n, double creaseAngleDeg) {
+  return fmt::format("verdicts: gap {}, kink {}, crease {} (angle >= {} deg, left as designed), G1 {}, G2 {}{}\n",
+                     n[0], n[1], n[2], formatNumber(creaseAngleDeg), n[3], n[4],
+                     n[5] ? fmt::format(", undetermined {} (a normal vanishes: G1 measured, not proved)", n[5]) : "");
 }
 
 std::optional<GeometricClass> parseClass(const std::string& s) {
@@ -379,7 +380,7 @@ int runBRepCheck(const CheckOptions& o, const std::optional<GeometricClass>& req
   const Tolerances& tol = r->tolerances;
   std::vector<const SeamReport*> reports;
   for (const occt::BRepSeam& s : r->seams) reports.push_back(&s.report);
-  const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
+  const std::array<int, kSeamVerdictCount> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
   if (o.json) {
     // Streamed (the same bytes as jsonText(withInputFile(file, brepCheckJson(...))), without the document).
     writeBRepCheckJson(std::cout, o.file, *r, selectSeams(reports, sel), require, sel.creaseAngleDeg);

@@ -60,7 +60,7 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
     problem = any(verdicts.get(v, 0) > 0 for v in PROBLEM_VERDICTS) or bool(below) or failed > 0
     row = {"file": path, "status": "problem" if problem else "ok", "error": None,
            "seams": summary.get("seams", 0)}
-    for v in ("gap", "kink", "crease", "G1", "G2"):
+    for v in ("gap", "kink", "crease", "G1", "G2", "undetermined"):
         row[v] = verdicts.get(v, 0)
     row["failed"] = failed
     row["below_required"] = below
@@ -76,8 +76,8 @@ def summarize(path: str, result: dict, seconds: float, require: str | None = Non
 def error_row(path: str, message: str, seconds: float = 0.0) -> dict:
     """The row of a file that could not be checked."""
     return {"file": path, "status": "error", "error": message, "seams": 0, "gap": 0, "kink": 0, "crease": 0, "G1": 0,
-            "G2": 0, "failed": 0, "below_required": 0, "warnings": [], "worst_gap": None, "worst_angle_deg": None,
-            "length_unit": None, "gap_tolerance": None, "seconds": seconds}
+            "G2": 0, "undetermined": 0, "failed": 0, "below_required": 0, "warnings": [], "worst_gap": None,
+            "worst_angle_deg": None, "length_unit": None, "gap_tolerance": None, "seconds": seconds}
 
 
 def check_file(path: str, **options) -> dict:

@@ -413,8 +413,9 @@ bool SeamAnalysis::certifyG1() {
   bool ok = true;
   double best = rep.g1SampledDeg / kRadToDeg, bx = 0.0;
   int bp = -1;
+  std::pair<int, double> unclosed{-1, 0.0};
   const double bound = certifyMax(corr.pieces, detail::g1BoundByRatios, detail::g1Value, best, bx, bp, kAngleBoundFloor,
-                                  opt, ok);
+                                  opt, ok, nullptr, &unclosed);
   rep.g1MaxDeg = bound * kRadToDeg;
   if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {
     rep.g1SampledDeg = best * kRadToDeg;
@@ -422,8 +423,9 @@ bool SeamAnalysis::certifyG1() {
     rep.g1Worst = {t, pointOnA(t)};
   }
   if (!ok) {
-    rep.notes.push_back("the G1 bound could not be closed near a vanishing normal");
-    rep.g1MaxDeg = std::max(rep.g1SampledDeg, rep.g1MaxDeg);
+    // The angle measured where the normals are defined stands; g1IdentityFrom decides what the seam is.
+    rep.g1PoleT = unclosed.first >= 0 ? tAt(unclosed.first, unclosed.second) : rep.g1Worst.t;
+    rep.g1MaxDeg = rep.g1SampledDeg;
   }
   return ok;
 }
@@ -435,12 +437,23 @@ void SeamAnalysis::g1IdentityFrom(bool ok) {
   bool coeffIdentity = true, fold = false;
   for (const Piece& pc : corr.pieces) {
     if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
-    if (detail::lowerBound(pc.P) < 0.0) fold = true;
+    // A fold: N_A . N_B below zero somewhere (a negative coefficient alone is not one: a normal vanishing to second
+    // order inside the edge gives P = (x - x0)^2 (...), negative in its middle coefficients).
+    if (detail::lowerBound(pc.P) < 0.0 && detail::negativeSomewhere(pc.P, kIdentityRelTol * pc.crossScale))
+      fold = true;
   }
   for (const auto& m : S.m)
     if (m.normalsOk && m.g1 > std::numbers::pi / 2) fold = true;
   const bool angleAtRoundoff = ok && rep.g1MaxDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
   rep.g1Identity = (coeffIdentity && !fold) || angleAtRoundoff;
+  if (!ok && !rep.g1Identity) {
+    // No bound through the vanishing normal, no identity: the angle is measured (issue 35 §2), never certified.
+    rep.certified = corr.certified = false;
+    rep.notes.push_back(fmt::format("not certified: a normal vanishes at t = {:.6g}, where the G1 bound cannot close; "
+                                    "the angle shown ({:.6g} deg) is measured where both normals are defined",
+                                    *rep.g1PoleT, rep.g1SampledDeg));
+  }
+  if (rep.g1Identity) rep.g1PoleT.reset();
   if (rep.g1Identity && !ok) {
     // N_A x N_B vanishes as a polynomial: tangent planes agree wherever the normals are defined. The quotient
     // bound cannot close at the pole itself, so the angle shown is the sampled one (one-sided limits there).

@@ -396,7 +396,10 @@ double g1BoundOf(const Piece& pc, double x0, double x1, bool byRatios) {
     rHi = upperBoundOf(r);
     if (byRatios) rKept.assign(r.data(), r.data() + r.rows());
   }
-  if (!(rLo > 0.0)) return std::numbers::pi;
+  // A normal may vanish in [x0, x1] (a pole, or a point where a side's cross-boundary derivative meets the edge's
+  // tangent): no angle bound. The subdivision either separates the zero or ends unclosed (certifyMax: ok = false);
+  // pi here let a seam be certified a 180-degree crease on the strength of that one point (issue 35 §2).
+  if (!(rLo > 0.0)) return std::numeric_limits<double>::infinity();
   const double pLo = lowerBoundOf(restrictedView(pc.P, x0, x1));
   if (pLo > 0.0) {
     // Below 90 degrees two bounds hold: sin^2(angle) = Q / R <= max_i Q_i / R_i, and cos(angle) = P / sqrt(R) >=
@@ -413,8 +416,40 @@ double g1BoundOf(const Piece& pc, double x0, double x1, bool byRatios) {
 }  // namespace
 double g1Bound(const Piece& pc, double x0, double x1) { return g1BoundOf(pc, x0, x1, false); }
 double g1BoundByRatios(const Piece& pc, double x0, double x1) { return g1BoundOf(pc, x0, x1, true); }
-double g1Value(const Piece& pc, double x) {
-  return std::atan2(std::sqrt(std::max(0.0, sampleAt(pc.Q, x))), sampleAt(pc.P, x));
+std::optional<double> g1ValueIfDefined(const Piece& pc, double x) {
+  const double p = sampleAt(pc.P, x), q = std::max(0.0, sampleAt(pc.Q, x)), r = sampleAt(pc.R, x);
+  // The angle is atan2(sqrt(Q), P) with P^2 + Q = R = |N_A|^2 |N_B|^2. Each value is off by at most about
+  // 2 (n + 1) eps times its largest coefficient (n the degree; the evaluation's error bound); an error dP moves the
+  // angle by at most dP / sqrt(R), an error dQ moves sqrt(Q) by at most dQ / (sqrt(Q) + sqrt(dQ)).
+  const double e = 2.0 * (std::max({pc.P.degree(), pc.Q.degree(), pc.R.degree()}) + 1) *
+                   std::numeric_limits<double>::epsilon();
+  const double dP = e * pc.P.maxAbsCoeff(), dQ = e * pc.Q.maxAbsCoeff(), dR = e * pc.R.maxAbsCoeff();
+  const double norm = std::sqrt(std::max(0.0, r - dR));
+  if (!(norm > 0.0) || !((dP + dQ / (std::sqrt(q) + std::sqrt(dQ))) <= kG1ValueNoise * norm)) return std::nullopt;
+  return std::atan2(std::sqrt(q), p);
+}
+double g1Value(const Piece& pc, double x) { return g1ValueIfDefined(pc, x).value_or(0.0); }
+
+bool negativeSomewhere(const BernsteinPoly& p, double tolerance) {
+  // Intervals whose coefficients are all above -tolerance are done (the polynomial lies above it there); a value
+  // below -tolerance at an interval's end settles it; otherwise halve, to the depth limit.
+  struct Item {
+    BernsteinPoly q;
+    int depth;
+  };
+  std::vector<Item> stack{{p, 0}};
+  while (!stack.empty()) {
+    Item it = std::move(stack.back());
+    stack.pop_back();
+    if (!(lowerBound(it.q) < -tolerance)) continue;
+    const Matrix& c = it.q.coeffs();
+    if (c(0, 0) < -tolerance || c(c.rows() - 1, 0) < -tolerance) return true;
+    if (it.depth >= kNegativeSearchDepth) continue;
+    auto [left, right] = it.q.subdivided(0.5);
+    stack.push_back({std::move(left), it.depth + 1});
+    stack.push_back({std::move(right), it.depth + 1});
+  }
+  return false;
 }
 
 double g2Bound(const Piece& pc, double x0, double x1) {
@@ -495,7 +530,8 @@ void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& 
 // could not be bounded (infinite bound at the depth limit).
 double certifyMax(const std::vector<Piece>& pieces, const std::function<double(const Piece&, double, double)>& bound,
                   const std::function<double(const Piece&, double)>& value, double& best, double& bestX,
-                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop) {
+                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop,
+                  std::pair<int, double>* unclosed) {
   struct Item {
     int piece;
     double x0, x1;
@@ -541,7 +577,10 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
       continue;
     }
     if (it.depth >= opt.maxSubdivisionDepth || work >= opt.maxBoundWork) {
-      if (!std::isfinite(ub)) ok = false;
+      if (!std::isfinite(ub)) {
+        if (ok && unclosed != nullptr) *unclosed = {it.piece, 0.5 * (it.x0 + it.x1)};
+        ok = false;
+      }
       result = std::max(result, ub);
       tree.release(node);
       continue;

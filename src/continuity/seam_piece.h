@@ -24,6 +24,12 @@ constexpr double kAngleBoundFloor = 1e-9;
 /// A closed certified bound within this factor of its round-off floor (kAngleBoundFloor for angles,
 /// kIdentityRelTol x curvature for G2) makes the condition an identity, as the coefficient tests do.
 constexpr double kIdentityBoundFactor = 2.0;
+/// Largest error (radians) of a sampled angle taken as a measurement (g1ValueIfDefined): next to a vanishing normal
+/// the angle is round-off over a vanishing length (89 degrees where the limit is 0.002, issue 35 §2). 1e-5 rad is
+/// 0.0006 degrees, far below every angle tolerance (0.01 degrees and more).
+constexpr double kG1ValueNoise = 1e-5;
+/// Halvings negativeSomewhere takes before it gives up on an interval (2^-40 of a piece).
+constexpr int kNegativeSearchDepth = 40;
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
@@ -89,7 +95,14 @@ double g1Bound(const Piece& pc, double x0, double x1);
 /// about a sixth of the steps (the patch route; issue 37 goal 1). The pcurve route keeps g1Bound: its pairing of
 /// the two boundaries is certified only to within the 1 % slack of the looser bound (docs/algorithms/seam-measures.md).
 double g1BoundByRatios(const Piece& pc, double x0, double x1);
+/// The angle between the normals at x, or nullopt where its evaluation error may exceed kG1ValueNoise (a normal
+/// vanishing at or next to x). g1Value: the same, 0 where undefined (a sample that raises no maximum).
+std::optional<double> g1ValueIfDefined(const Piece& pc, double x);
 double g1Value(const Piece& pc, double x);
+/// True when p takes a value below -tolerance somewhere on [0, 1] (found by subdivision, to kNegativeSearchDepth).
+/// The fold test of a G1 identity: N_A . N_B with a negative coefficient may still be nonnegative (a normal with a
+/// double zero inside the edge has P = (x - x0)^2 (...), whose middle coefficients are negative).
+bool negativeSomewhere(const BernsteinPoly& p, double tolerance);
 double g2Bound(const Piece& pc, double x0, double x1);
 // The G2 quotient at x, or nullopt where it has no value: a vanishing normal or tangent, or a chart too
 // ill-conditioned for curvature (next to a pole the quotient is round-off over a vanishing normal, as in measureAt).
@@ -102,9 +115,11 @@ void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& 
 
 // Certified maximum over all pieces: subdivides each piece until its bound is within the relative gap of the best
 // value seen (`best`, raised by the values found at midpoints). Returns the bound; `ok` false when some interval
-// could not be bounded (infinite bound at the depth limit).
+// could not be bounded (infinite bound at the depth limit); `unclosed` (if given) then receives the piece and the
+// midpoint of the first such interval.
 double certifyMax(const std::vector<Piece>& pieces, const std::function<double(const Piece&, double, double)>& bound,
                   const std::function<double(const Piece&, double)>& value, double& best, double& bestX,
-                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop = nullptr);
+                  int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop = nullptr,
+                  std::pair<int, double>* unclosed = nullptr);
 
 }  // namespace seam::detail

@@ -1,4 +1,5 @@
-// Seam verdicts for CAD users: gap, kink, crease, G1, G2 (continuity/verdict.h), and the listing order of a check.
+// Seam verdicts for CAD users: gap, kink, crease, G1, G2, undetermined (continuity/verdict.h), and the listing order
+// of a check.
 #include "seam/continuity/verdict.h"
 
 #include <fmt/format.h>
@@ -16,6 +17,7 @@ std::string_view toString(SeamVerdict v) {
     case SeamVerdict::kCrease: return "crease";
     case SeamVerdict::kG1: return "G1";
     case SeamVerdict::kG2: return "G2";
+    case SeamVerdict::kUndetermined: return "undetermined";
   }
   return "?";
 }
@@ -26,8 +28,8 @@ SeamVerdict seamVerdict(const SeamReport& r, double creaseAngleDeg) {
     case GeometricClass::kG0:
       // NaN angles (nothing measurable) stay kinks: a defect to look at, never a silent crease.
       return r.g1MaxDeg >= creaseAngleDeg ? SeamVerdict::kCrease : SeamVerdict::kKink;
-    case GeometricClass::kG1: return SeamVerdict::kG1;
-    case GeometricClass::kG2: return SeamVerdict::kG2;
+    case GeometricClass::kG1: return r.g1PoleT ? SeamVerdict::kUndetermined : SeamVerdict::kG1;
+    case GeometricClass::kG2: return r.g1PoleT ? SeamVerdict::kUndetermined : SeamVerdict::kG2;
   }
   return SeamVerdict::kGap;
 }
@@ -45,7 +47,8 @@ Result<SeamFilter> parseSeamFilter(std::string_view text) {
   for (SeamFilter f : {SeamFilter::kAll, SeamFilter::kProblems, SeamFilter::kGaps, SeamFilter::kKinks,
                        SeamFilter::kCreases})
     if (text == toString(f)) return f;
-  return invalidInput(fmt::format("\"{}\" is not problems (gaps, kinks and failed analyses), gaps, kinks, creases or all",
+  return invalidInput(fmt::format("\"{}\" is not problems (gaps, kinks, undetermined seams and failed analyses), gaps, "
+                                  "kinks, creases or all",
                                   text));
 }
 
@@ -65,7 +68,7 @@ bool passes(SeamFilter f, const SeamReport* seam, double creaseAngleDeg) {
   if (seam == nullptr) return f == SeamFilter::kProblems;
   const SeamVerdict v = seamVerdict(*seam, creaseAngleDeg);
   switch (f) {
-    case SeamFilter::kProblems: return isProblem(v);
+    case SeamFilter::kProblems: return isProblem(v) || v == SeamVerdict::kUndetermined;
     case SeamFilter::kGaps: return v == SeamVerdict::kGap;
     case SeamFilter::kKinks: return v == SeamVerdict::kKink;
     case SeamFilter::kCreases: return v == SeamVerdict::kCrease;
@@ -96,8 +99,8 @@ std::vector<std::size_t> selectSeams(std::span<const SeamReport* const> seams, c
   for (std::size_t k = 0; k < seams.size(); ++k)
     if (passes(sel.only, seams[k], sel.creaseAngleDeg)) order.push_back(k);
   if (sel.sort == SeamSortKey::kVerdict) {
-    // Kinks (largest angle first), gaps (largest first), failed analyses, G1/G2 (file order), creases (largest
-    // angle first). NaN measures sort last within their verdict.
+    // Kinks (largest angle first), gaps (largest first), undetermined seams and failed analyses, G1/G2 (file
+    // order), creases (largest angle first). NaN measures sort last within their verdict.
     auto rank = [&](std::size_t k) -> std::pair<int, double> {
       const SeamReport* r = seams[k];
       if (r == nullptr) return {2, 0.0};
@@ -105,6 +108,7 @@ std::vector<std::size_t> selectSeams(std::span<const SeamReport* const> seams, c
         case SeamVerdict::kKink: return {0, -sortValue(*r, SeamSortKey::kAngle)};
         case SeamVerdict::kGap: return {1, -sortValue(*r, SeamSortKey::kGap)};
         case SeamVerdict::kCrease: return {4, -sortValue(*r, SeamSortKey::kAngle)};
+        case SeamVerdict::kUndetermined: return {2, 0.0};
         default: return {3, 0.0};
       }
     };
@@ -133,8 +137,8 @@ WorstDefects worstDefects(std::span<const SeamReport* const> seams, double creas
   return w;
 }
 
-std::array<int, 5> countVerdicts(std::span<const SeamReport* const> seams, double creaseAngleDeg) {
-  std::array<int, 5> n{};
+std::array<int, kSeamVerdictCount> countVerdicts(std::span<const SeamReport* const> seams, double creaseAngleDeg) {
+  std::array<int, kSeamVerdictCount> n{};
   for (const SeamReport* r : seams)
     if (r != nullptr) ++n[static_cast<std::size_t>(seamVerdict(*r, creaseAngleDeg))];
   return n;

@@ -45,7 +45,8 @@ constexpr const char* kNakedEdgeColour = "#e377c2";
 const char* classColour(GeometricClass c) { return kClassColour[static_cast<size_t>(c)]; }
 
 /// Colours of the verdicts gap, kink, crease, G1, G2 in the 3-D view (web/viewer.js has the same list).
-constexpr std::array<const char*, 5> kVerdictColour{"#d62728", "#ff7f0e", "#9467bd", "#1f77b4", "#2ca02c"};
+constexpr std::array<const char*, kSeamVerdictCount> kVerdictColour{"#d62728", "#ff7f0e", "#9467bd",
+                                                                  "#1f77b4", "#2ca02c", "#e377c2"};
 
 /// Axonometric projection: view direction (1, 1, 1) (z up in the drawing unless the model is flat in z).
 struct View {
@@ -261,7 +262,7 @@ document.querySelectorAll('table.sortable th').forEach(function(th, col){
 /// curvature jump.
 const Vec3& worstPointOf(const SeamReport& r, SeamVerdict v) {
   if (v == SeamVerdict::kGap) return r.g0Worst.point;
-  if (v == SeamVerdict::kKink || v == SeamVerdict::kCrease) return r.g1Worst.point;
+  if (v == SeamVerdict::kKink || v == SeamVerdict::kCrease || v == SeamVerdict::kUndetermined) return r.g1Worst.point;
   return r.g2Worst.point;
 }
 
@@ -500,10 +501,11 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     h += fmt::format("<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>", escape(k), v);
   };
   row("seams", fmt::format("{} ({} certified, {} failed)", data.seams.size(), certified, failed));
-  const std::array<int, 5> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
-  row("by verdict", fmt::format("gap {}, kink {}, crease {} (angle &ge; {}&deg;, left as designed), G1 {}, G2 {}",
+  const std::array<int, kSeamVerdictCount> verdicts = countVerdicts(reports, sel.creaseAngleDeg);
+  row("by verdict", fmt::format("gap {}, kink {}, crease {} (angle &ge; {}&deg;, left as designed), G1 {}, G2 {}{}",
                                 verdicts[0], verdicts[1], verdicts[2], num(sel.creaseAngleDeg), verdicts[3],
-                                verdicts[4]));
+                                verdicts[4],
+                                verdicts[5] ? fmt::format(", undetermined {} (a normal vanishes)", verdicts[5]) : ""));
   const WorstDefects worstDefect = worstDefects(reports, sel.creaseAngleDeg);
   auto where = [&](size_t k, const Vec3& p) {
     const ReportSeam& s = data.seams[k];
@@ -563,7 +565,7 @@ std::string htmlReport(const ReportData& data, const HtmlReportOptions& options)
     h += "<div id=\"view3d\"><p id=\"view3d-note\">3-D view: drag to rotate, right-drag to pan, wheel to zoom; "
          "click a seam for its plots. Shaded patches, seams coloured by verdict, worst points of gaps, kinks and "
          "creases as dots.</p>\n<div id=\"view3d-ui\" style=\"display:none\"><div class=\"legend\">";
-    for (int v = 0; v < 5; ++v)
+    for (int v = 0; v < static_cast<int>(kSeamVerdictCount); ++v)
       h += fmt::format("<span><span class=\"sw\" style=\"background:{}\"></span>{}</span>", kVerdictColour[v],
                        toString(static_cast<SeamVerdict>(v)));
     h += fmt::format("<span><span class=\"sw\" style=\"background:#000\"></span>analysis failed</span>"

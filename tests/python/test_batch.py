@@ -12,8 +12,8 @@ import pytest
 import seam
 import seam.batch
 
-ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "failed", "below_required",
-            "warnings", "worst_gap", "worst_angle_deg", "length_unit", "gap_tolerance", "seconds"]
+ROW_KEYS = ["file", "status", "error", "seams", "gap", "kink", "crease", "G1", "G2", "undetermined", "failed",
+            "below_required", "warnings", "worst_gap", "worst_angle_deg", "length_unit", "gap_tolerance", "seconds"]
 
 
 def small_files(shared_data):
@@ -56,8 +56,8 @@ def test_cli_batch_rows_match_single_checks(cli, run_cli, batch_dir):
         code, single, err = run_cli("check", row["file"], "--json")
         assert code == 0, err
         v = single["summary"]["verdicts"]
-        assert [row[k] for k in ("gap", "kink", "crease", "G1", "G2")] == [v[k] for k in
-                                                                             ("gap", "kink", "crease", "G1", "G2")]
+        keys = ("gap", "kink", "crease", "G1", "G2", "undetermined")
+        assert [row[k] for k in keys] == [v[k] for k in keys]
         assert row["seams"] == single["summary"]["seams"]
         assert row["status"] == ("problem" if v["gap"] + v["kink"] > 0 else "ok")
     # One line per file on stderr, as each finishes.

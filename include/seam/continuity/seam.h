@@ -108,6 +108,11 @@ struct SeamReport {
   bool g2Identity = false;            ///< G2 proved as a polynomial identity
   /// The bounds came from the sides' shared control rows (SeamOptions::sharedRows), not from the exact piece data.
   bool sharedRows = false;
+  /// Set where the G1 bound could not close because a normal vanishes on the seam (a pole at an end, or a point
+  /// inside where a side's cross-boundary derivative is tangent to the edge) and G1 was not proved as an identity:
+  /// A's edge parameter there. g1MaxDeg is then the angle measured where the normals are defined (the limits along
+  /// the edge from inside), never a bound from the vanishing point, and the seam is not certified (issue 35 §2).
+  std::optional<double> g1PoleT;
   std::vector<std::string> notes;     ///< why something was not certified, degenerate normals, ...
   std::vector<SeamSample> samples;    ///< only with SeamOptions::keepSamples
 };

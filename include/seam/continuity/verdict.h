@@ -5,7 +5,10 @@
 //   gap     G0 fails (the gap is above the distance tolerance), whatever the angle;
 //   kink    G0 holds, the angle is above the G1 tolerance and below the crease angle (a near-tangent seam: a defect);
 //   crease  G0 holds and the angle is at or above the crease angle (an intended sharp edge, left as designed);
-//   G1, G2  tangent / curvature continuous within the tolerances.
+//   G1, G2  tangent / curvature continuous within the tolerances;
+//   undetermined  G0 holds and the angle measured wherever both normals are defined is within the G1 tolerance,
+//           but a normal vanishes on the seam (a pole) where G1 was neither bounded nor proved as an identity
+//           (SeamReport::g1PoleT): tangent everywhere it can be measured, undecided at that point (issue 35 §2).
 // The angle used is SeamReport::g1MaxDeg (the certified bound, or the refined sampled maximum when the seam is not
 // certified): the same number the tables print and heal compares with its crease angle.
 #include <array>
@@ -26,27 +29,32 @@ namespace seam {
 /// `seam heal --crease-angle` (heal leaves creases alone), `seam join --crease-angle`.
 inline constexpr double kDefaultCreaseAngleDeg = 20.0;
 
-enum class SeamVerdict { kGap, kKink, kCrease, kG1, kG2 };
-/// "gap", "kink", "crease", "G1", "G2".
+enum class SeamVerdict { kGap, kKink, kCrease, kG1, kG2, kUndetermined };
+/// Number of verdicts (countVerdicts' entries).
+inline constexpr std::size_t kSeamVerdictCount = 6;
+/// "gap", "kink", "crease", "G1", "G2", "undetermined".
 std::string_view toString(SeamVerdict v);
 
 /// The verdict of an analysed seam (its geometric class was computed with the tolerances in force; see above).
 SeamVerdict seamVerdict(const SeamReport& report, double creaseAngleDeg = kDefaultCreaseAngleDeg);
 
-/// Gaps and kinks are defects; creases, G1 and G2 seams are not.
+/// Gaps and kinks are defects; creases, G1 and G2 seams are not, nor are undetermined ones (listed with the
+/// problems all the same: see SeamFilter::kProblems).
 inline bool isProblem(SeamVerdict v) { return v == SeamVerdict::kGap || v == SeamVerdict::kKink; }
 
 /// True when `creaseAngleDeg` is an angle in (0, 180] degrees.
 inline bool validCreaseAngle(double creaseAngleDeg) { return creaseAngleDeg > 0.0 && creaseAngleDeg <= 180.0; }
 
 /// Order of a seam listing: as found (the file's / pairing order), by a measure, largest first, or by verdict: kinks
-/// (largest angle first), gaps (largest first), failed analyses, G1 and G2 seams (file order), creases (largest
-/// angle first), the order of `seam report`'s tables and the default of `seam check`'s text tables (issue 38 goal 3).
+/// (largest angle first), gaps (largest first), undetermined seams and failed analyses, G1 and G2 seams (file order),
+/// creases (largest angle first), the order of `seam report`'s tables and the default of `seam check`'s text tables
+/// (issue 38 goal 3).
 enum class SeamSortKey { kFile, kAngle, kGap, kCurvature, kVerdict };
 /// Parses "file", "angle", "gap", "curvature" or "verdict". Errors: kInvalidInput naming the accepted values.
 Result<SeamSortKey> parseSeamSortKey(std::string_view text);
 
-/// Which verdicts a listing shows: all, problems (gaps, kinks and failed analyses), or one verdict.
+/// Which verdicts a listing shows: all, problems (gaps, kinks, undetermined seams and failed analyses), or one
+/// verdict.
 enum class SeamFilter { kAll, kProblems, kGaps, kKinks, kCreases };
 /// Parses "all", "problems", "gaps", "kinks" or "creases". Errors: kInvalidInput naming the accepted values.
 Result<SeamFilter> parseSeamFilter(std::string_view text);
@@ -75,8 +83,9 @@ struct WorstDefects {
 };
 WorstDefects worstDefects(std::span<const SeamReport* const> seams, double creaseAngleDeg = kDefaultCreaseAngleDeg);
 
-/// Counts per verdict, indexed by SeamVerdict (gap, kink, crease, G1, G2). Null entries are not counted.
-std::array<int, 5> countVerdicts(std::span<const SeamReport* const> seams,
+/// Counts per verdict, indexed by SeamVerdict (gap, kink, crease, G1, G2, undetermined). Null entries are not
+/// counted.
+std::array<int, kSeamVerdictCount> countVerdicts(std::span<const SeamReport* const> seams,
                                  double creaseAngleDeg = kDefaultCreaseAngleDeg);
 
 }  // namespace seam
