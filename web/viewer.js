@@ -16,7 +16,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
-const VERDICT_COLOURS = ['#d62728', '#ff7f0e', '#9467bd', '#1f77b4', '#2ca02c', '#e377c2'];
+const VERDICT_COLOURS = ['#d62728', '#ff7f0e', '#9467bd', '#1f77b4', '#2ca02c', '#bcbd22'];
 const FAILED_COLOUR = '#000000';
 const OUTLINE_COLOUR = '#9a9a9a';
 const NAKED_COLOUR = '#e377c2';   // src/report/report.cpp kNakedEdgeColour

@@ -44,9 +44,9 @@ constexpr const char* kNakedEdgeColour = "#e377c2";
 
 const char* classColour(GeometricClass c) { return kClassColour[static_cast<size_t>(c)]; }
 
-/// Colours of the verdicts gap, kink, crease, G1, G2 in the 3-D view (web/viewer.js has the same list).
+/// Colours of the verdicts gap, kink, crease, G1, G2, undetermined in the 3-D view (web/viewer.js has the same list).
 constexpr std::array<const char*, kSeamVerdictCount> kVerdictColour{"#d62728", "#ff7f0e", "#9467bd",
-                                                                  "#1f77b4", "#2ca02c", "#e377c2"};
+                                                                  "#1f77b4", "#2ca02c", "#bcbd22"};
 
 /// Axonometric projection: view direction (1, 1, 1) (z up in the drawing unless the model is flat in z).
 struct View {
