@@ -514,8 +514,7 @@ Status PCurveSeam::certifyG0G1() {
   bool coeffIdentity = true, fold = false;
   for (const Piece& pc : pieces) {
     if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
-    if (detail::lowerBound(pc.P) < 0.0 && detail::negativeSomewhere(pc.P, kIdentityRelTol * pc.crossScale))
-      fold = true;  // as in analyzeSeam: N_A . N_B below zero somewhere, not only a negative coefficient
+    if (detail::folds(pc, kIdentityRelTol * pc.crossScale)) fold = true;  // as in analyzeSeam
   }
   out.g1Identity =
       (coeffIdentity && !fold) || out.g1BoundDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;

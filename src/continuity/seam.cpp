@@ -439,8 +439,7 @@ void SeamAnalysis::g1IdentityFrom(bool ok) {
     if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
     // A fold: N_A . N_B below zero somewhere (a negative coefficient alone is not one: a normal vanishing to second
     // order inside the edge gives P = (x - x0)^2 (...), negative in its middle coefficients).
-    if (detail::lowerBound(pc.P) < 0.0 && detail::negativeSomewhere(pc.P, kIdentityRelTol * pc.crossScale))
-      fold = true;
+    if (detail::folds(pc, kIdentityRelTol * pc.crossScale)) fold = true;
   }
   for (const auto& m : S.m)
     if (m.normalsOk && m.g1 > std::numbers::pi / 2) fold = true;

@@ -430,28 +430,6 @@ std::optional<double> g1ValueIfDefined(const Piece& pc, double x) {
 }
 double g1Value(const Piece& pc, double x) { return g1ValueIfDefined(pc, x).value_or(0.0); }
 
-bool negativeSomewhere(const BernsteinPoly& p, double tolerance) {
-  // Intervals whose coefficients are all above -tolerance are done (the polynomial lies above it there); a value
-  // below -tolerance at an interval's end settles it; otherwise halve, to the depth limit.
-  struct Item {
-    BernsteinPoly q;
-    int depth;
-  };
-  std::vector<Item> stack{{p, 0}};
-  while (!stack.empty()) {
-    Item it = std::move(stack.back());
-    stack.pop_back();
-    if (!(lowerBound(it.q) < -tolerance)) continue;
-    const Matrix& c = it.q.coeffs();
-    if (c(0, 0) < -tolerance || c(c.rows() - 1, 0) < -tolerance) return true;
-    if (it.depth >= kNegativeSearchDepth) continue;
-    auto [left, right] = it.q.subdivided(0.5);
-    stack.push_back({std::move(left), it.depth + 1});
-    stack.push_back({std::move(right), it.depth + 1});
-  }
-  return false;
-}
-
 double g2Bound(const Piece& pc, double x0, double x1) {
   const SubPiece sp(pc, x0, x1);
   const double rho = maxAbsCoeffOf(restrictedView(pc.rho.num, x0, x1)) / sp.denLower(pc.rho);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "continuity/rational_poly.h"
+#include "core/bernstein_internal.h"
 #include "seam/continuity/seam.h"
 #include "seam/core/bernstein.h"
 
@@ -28,8 +29,6 @@ constexpr double kIdentityBoundFactor = 2.0;
 /// the angle is round-off over a vanishing length (89 degrees where the limit is 0.002, issue 35 §2). 1e-5 rad is
 /// 0.0006 degrees, far below every angle tolerance (0.01 degrees and more).
 constexpr double kG1ValueNoise = 1e-5;
-/// Halvings negativeSomewhere takes before it gives up on an interval (2^-40 of a piece).
-constexpr int kNegativeSearchDepth = 40;
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
@@ -99,10 +98,12 @@ double g1BoundByRatios(const Piece& pc, double x0, double x1);
 /// vanishing at or next to x). g1Value: the same, 0 where undefined (a sample that raises no maximum).
 std::optional<double> g1ValueIfDefined(const Piece& pc, double x);
 double g1Value(const Piece& pc, double x);
-/// True when p takes a value below -tolerance somewhere on [0, 1] (found by subdivision, to kNegativeSearchDepth).
-/// The fold test of a G1 identity: N_A . N_B with a negative coefficient may still be nonnegative (a normal with a
-/// double zero inside the edge has P = (x - x0)^2 (...), whose middle coefficients are negative).
-bool negativeSomewhere(const BernsteinPoly& p, double tolerance);
+/// The fold test of a G1 identity: N_A . N_B takes a value below -tolerance somewhere (certifiedMinimum). A negative
+/// coefficient alone is not a fold: a normal with a double zero inside the edge has P = (x - x0)^2 (...), whose
+/// middle coefficients are negative.
+inline bool folds(const Piece& pc, double tolerance) {
+  return lowerBound(pc.P) < 0.0 && certifiedMinimum(pc.P, tolerance).attained < -tolerance;
+}
 double g2Bound(const Piece& pc, double x0, double x1);
 // The G2 quotient at x, or nullopt where it has no value: a vanishing normal or tangent, or a chart too
 // ill-conditioned for curvature (next to a pole the quotient is round-off over a vanishing normal, as in measureAt).

@@ -609,6 +609,37 @@ Eigen::Map<const Matrix> restrictedCoeffs(const BernsteinPoly& p, double a, doub
   }
   return {scratch.data(), c.rows(), c.cols()};
 }
+
+CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDepth) {
+  CertifiedMin r;
+  r.lower = r.attained = std::numeric_limits<double>::infinity();
+  if (p.empty()) return r;
+  struct Item {
+    BernsteinPoly q;
+    double lo, hi;
+    int depth;
+  };
+  std::vector<Item> stack{{p, 0.0, 1.0, 0}};
+  while (!stack.empty()) {
+    Item it = std::move(stack.back());
+    stack.pop_back();
+    const Eigen::VectorXd c = it.q.coeffs().col(0);
+    // The end coefficients are values of p: candidates for the attained minimum.
+    if (c[0] < r.attained) { r.attained = c[0]; r.at = it.lo; }
+    if (c[c.size() - 1] < r.attained) { r.attained = c[c.size() - 1]; r.at = it.hi; }
+    const double bound = c.minCoeff();  // convex hull: p >= bound on this piece
+    if (bound >= r.attained - tolAbs || it.depth >= maxDepth) {
+      r.lower = std::min(r.lower, bound);
+      continue;
+    }
+    auto [left, right] = it.q.subdivided(0.5);
+    const double mid = 0.5 * (it.lo + it.hi);
+    stack.push_back({std::move(right), mid, it.hi, it.depth + 1});
+    stack.push_back({std::move(left), it.lo, mid, it.depth + 1});
+  }
+  r.lower = std::min(r.lower, r.attained);
+  return r;
+}
 }  // namespace detail
 
 namespace {

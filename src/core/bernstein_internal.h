@@ -17,4 +17,12 @@ Eigen::Map<const Matrix> restrictedCoeffs(const BernsteinPoly& p, double a, doub
 /// restrictedCoeffs(p, 0, 1/2) and (1/2, 1) to round-off, not bit for bit.
 void splitHalves(const double* c, Eigen::Index n, Eigen::Index d, double* left, double* right);
 
+/// The minimum of a scalar polynomial on [0,1], certified: `lower` <= min p <= `attained` = p(at). Branch and bound on
+/// the Bernstein coefficients (their minimum bounds p from below on each piece, the end coefficients are values);
+/// pieces are split until their bound is within `tolAbs` of the best value found (or at depth `maxDepth`).
+struct CertifiedMin {
+  double lower = 0.0, attained = 0.0, at = 0.0;
+};
+CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDepth = 40);
+
 }  // namespace seam::detail

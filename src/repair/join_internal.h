@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/bernstein_internal.h"
 #include "seam/continuity/seam.h"
 #include "seam/core/bernstein.h"
 #include "seam/core/result.h"
@@ -36,13 +37,6 @@ inline constexpr double kConstraintRelTol = 1e-9;
 /// patch's own cross derivative is clearly regular and never binds for a join that only straightens a kink.
 inline constexpr double kLambdaFloorRel = 1e-2;
 
-/// The minimum of a scalar polynomial on [0,1], certified: `lower` <= min p <= `attained` = p(at). Branch and bound on
-/// the Bernstein coefficients (their minimum bounds p from below on each piece, the end coefficients are values);
-/// pieces are split until their bound is within `tolAbs` of the best value found (or at depth `maxDepth`).
-struct CertifiedMin {
-  double lower = 0.0, attained = 0.0, at = 0.0;
-};
-CertifiedMin certifiedMinimum(const BernsteinPoly& p, double tolAbs, int maxDepth = 40);
 
 /// min sum_k w_k^2 (x_k - x0_k)^2 subject to C x = d (w_k = 0: free, minimum norm), by the nullspace method
 /// (rank-revealing QR of C^T with the threshold kIdentityRelTol). `residual` (if given): max |C x - d|. Used by the
