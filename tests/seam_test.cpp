@@ -27,6 +27,7 @@
 #include "seam/continuity/seam.h"
 #include "seam/continuity/verdict.h"
 #include "seam/io/file.h"
+#include "seam/model/brep.h"
 #include "hinge_models.h"
 #include "seam_test_support.h"
 
@@ -1732,6 +1733,48 @@ TEST(PCurveSeam, APcurveMayOvershootTheDomainWithinTheSlack) {
   EXPECT_EQ(q.status().code(), ErrorCode::kUnsupported);
 }
 
+TEST(PCurveSeam, APcurveMayOvershootTheDomainByItsSidesSlack) {
+  // A B-rep pcurve overshoots its bounded surface by up to its edge's tolerance (trj3_s1-al-214.stp: 4e-4 of the
+  // domain). With PCurveSide::domainSlackRel = kBRepDomainRelTol the end span's polynomial continues the surface.
+  // Independent route: the graph z = u^3 + v^2 over (x, y) = (u, v) is one polynomial, built here twice as bicubic
+  // B-splines from its blossoms: A on [0, 1]^2 with interior knots, B on [-0.01, 1] x [0, 1]. A's pcurve starts
+  // 5e-4 before u = 0, B's is the same line inside B's domain: the seam is exact only if A is continued by its
+  // end span's polynomial (clamped, the gap would be about 5e-4).
+  auto graph = [](std::vector<double> ku, std::vector<double> kv) {
+    const int p = 3, nu = static_cast<int>(ku.size()) - p - 1, nv = static_cast<int>(kv.size()) - p - 1;
+    Matrix pts(nu * nv, 3);
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const double* a = &ku[static_cast<size_t>(i) + 1];
+        const double* b = &kv[static_cast<size_t>(j) + 1];
+        const double u = (a[0] + a[1] + a[2]) / 3.0, v = (b[0] + b[1] + b[2]) / 3.0;  // blossoms of u and v
+        const double u3 = a[0] * a[1] * a[2], v2 = (b[0] * b[1] + b[0] * b[2] + b[1] * b[2]) / 3.0;
+        pts.row(i * nv + j) << u, v, u3 + v2;
+      }
+    return BSplineSurface(p, p, KnotVector(ku), KnotVector(kv), nu, nv, std::move(pts));
+  };
+  const std::vector<double> kv{0, 0, 0, 0, 0.5, 1, 1, 1, 1};
+  const BSplineSurface A = graph({0, 0, 0, 0, 0.3, 0.6, 1, 1, 1, 1}, kv);
+  const BSplineSurface B = graph({-0.01, -0.01, -0.01, -0.01, 0.45, 1, 1, 1, 1}, kv);
+  ASSERT_NEAR(A.evaluate(0.0, 0.5)[2], 0.25, 1e-15);  // the blossoms reproduce the polynomial
+  ASSERT_NEAR(B.evaluate(-0.005, 0.5)[2], 0.25 - 1.25e-7, 1e-15);
+  const BSplineCurve c = pcurve::line2d({-5e-4, 0.2}, {0.7, 0.9});
+  PCurveSide a = pcurve::side(A, c);
+  const PCurveSide b = pcurve::side(B, c);
+  ASSERT_FALSE(certifyPCurveSeam(a, b));  // the default slack (kPCurveDomainSlackRel) refuses it
+  a.domainSlackRel = kBRepDomainRelTol;
+  const Result<PCurveSeamBounds> r = certifyPCurveSeam(a, b);
+  ASSERT_TRUE(r) << r.status().message();
+  EXPECT_LE(r->g0Bound, 1e-12);
+  EXPECT_TRUE(r->g1Identity) << r->g1BoundDeg;
+  a.domainSlackRel = 0.1 * kBRepDomainRelTol;  // short of the overshoot
+  EXPECT_FALSE(certifyPCurveSeam(a, b));
+  a.domainSlackRel = std::numeric_limits<double>::quiet_NaN();
+  const Result<PCurveSeamBounds> bad = certifyPCurveSeam(a, b);
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.status().code(), ErrorCode::kInvalidInput);
+}
+
 TEST(PCurveSeam, RationalPcurvesAreComposedHomogeneously) {
   // The parabola (t, t^2) reparametrised by the Moebius map t = l s / ((1 - s) + l s): the same control points
   // with weights (1, l, l^2). On the plane / parabolic-graph pair of CurvatureJumpAcrossACurvedTrimmingCurve the
@@ -2232,11 +2275,12 @@ std::optional<Vec3> bezierNormal(const Matrix& net, double u, double v) {
   return n.normalized();
 }
 
-/// The largest angle (degrees) between A's normal at (t, 1) and B's at (t, 0) on 20 001 even t, where both exist.
-double densestVanishingNormalAngle(const VanishingNormalPair& p) {
+/// The largest angle (degrees) between A's normal at (t, 1) and B's at (t, 0) on 20 001 even t in [0, tMax], where
+/// both exist.
+double densestVanishingNormalAngle(const VanishingNormalPair& p, double tMax = 1.0) {
   double best = 0.0;
   for (int k = 0; k <= 20000; ++k) {
-    const double t = k / 20000.0;
+    const double t = tMax * k / 20000.0;
     const auto na = bezierNormal(p.a, t, 1.0), nb = bezierNormal(p.b, t, 0.0);
     if (na && nb) best = std::max(best, std::atan2(na->cross(*nb).norm(), na->dot(*nb)) * 180.0 / std::numbers::pi);
   }
@@ -2273,6 +2317,46 @@ TEST(SeamPole, ANormalVanishingInsideTheEdgeIsNeverACertified180DegreeCrease) {
   ASSERT_TRUE(r.isOk()) << r.status().message();
   EXPECT_NEAR(r->g1MaxDeg, expected, 1e-3 * expected) << describe(*r);
   EXPECT_EQ(seamVerdict(*r), SeamVerdict::kKink) << describe(*r);
+}
+
+TEST(SeamPole, ThePCurveRouteMeasuresTheAngleWhereANormalVanishesInsideTheEdge) {
+  // The same pairs seen as trimmed faces: A's pcurve v = 1 and B's v = 0, sharing the edge parameter, over u in
+  // [0, end]. Before, the pcurve route refused the whole seam ("a bound could not be closed"), and the B-rep check
+  // fell back to samples with no word of the vanishing normal. Now G0 is certified and the angle bound either closes
+  // (round-off leaves |N_A|^2 a tiny positive value at the double zero: then it must still bound the dense measure
+  // and stay sharp) or stays open: then the angle is the one measured where both normals exist, and the point is
+  // named. Which of the two happens depends on the last bits at the zero; both must occur among these edges. A
+  // tangent surface (lift 0) stays a G1 identity with no pole.
+  int open = 0, closed = 0;
+  for (const double end : {1.0, 0.9, 0.8, 0.7}) {
+    const BSplineCurve top = pcurve::line2d({0.0, 1.0}, {end, 1.0}), bottom = pcurve::line2d({0.0, 0.0}, {end, 0.0});
+    for (const double lift : {1e-7, 1e-5, 0.0}) {
+      const VanishingNormalPair p = vanishingNormalPair(2, lift);
+      const BSplineSurface A = BezierPatch(3, 3, p.a).toBSpline(), B = BezierPatch(3, 3, p.b).toBSpline();
+      const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(A, top), pcurve::side(B, bottom));
+      ASSERT_TRUE(r) << end << " " << lift << ": " << r.status().message();
+      EXPECT_LE(r->g0Bound, 1e-12) << lift;  // B's first row is A's last: no gap
+      if (lift == 0.0) {
+        EXPECT_TRUE(r->g1Identity) << end;
+        EXPECT_FALSE(r->g1PoleT.has_value()) << end;
+        continue;
+      }
+      const double expected = densestVanishingNormalAngle(p, end);
+      EXPECT_FALSE(r->g1Identity) << end << " " << lift;
+      EXPECT_NEAR(r->g1SampledDeg, expected, 1e-3 * expected) << end << " " << lift;
+      if (r->g1PoleT) {
+        ++open;
+        EXPECT_NEAR(*r->g1PoleT, 0.5 / end, 1e-3) << end << " " << lift;
+        EXPECT_NEAR(r->g1BoundDeg, expected, 1e-3 * expected) << end << " " << lift;
+      } else {
+        ++closed;
+        EXPECT_GE(r->g1BoundDeg, expected * (1.0 - 1e-9)) << end << " " << lift;
+        EXPECT_LE(r->g1BoundDeg, 1.05 * expected) << end << " " << lift;
+      }
+    }
+  }
+  EXPECT_GE(open, 1);
+  std::cout << "vanishing normal on the pcurve route: " << open << " open, " << closed << " closed\n";
 }
 
 TEST(SeamPole, ATangentSurfaceWithADoubleZeroOfItsNormalIsAG1Identity) {

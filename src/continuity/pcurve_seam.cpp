@@ -110,9 +110,10 @@ SpanPatches spanPatches(const BSplineSurface& s) {
 
 /// The span containing the coordinate range [lo, hi] (slack: a pcurve may overshoot a knot or the domain by
 /// round-off); where it lies on a knot line, the span on the face's side. nullopt when none or ambiguous.
-std::optional<size_t> spanOf(const std::vector<Interval>& spans, double lo, double hi, Interval face) {
+std::optional<size_t> spanOf(const std::vector<Interval>& spans, double lo, double hi, Interval face,
+                             double endSlackRel) {
   const double range = spans.back().hi - spans.front().lo;
-  const double slack = kKnotRelTol * range, endSlack = kPCurveDomainSlackRel * range;
+  const double slack = kKnotRelTol * range, endSlack = endSlackRel * range;
   std::optional<size_t> found;
   int count = 0;
   for (size_t i = 0; i < spans.size(); ++i) {
@@ -409,7 +410,7 @@ bool PCurveSeam::place(const PCurvePiece& c, const SpanPatches& sp, const PCurve
         if (const auto x = monotoneCrossing(c.num(k) - *knot * c.w, 0.0)) cutAt = *x;
       continue;
     }
-    const auto idx = spanOf(spans, lo, hi, k == 0 ? side.faceU : side.faceV);
+    const auto idx = spanOf(spans, lo, hi, k == 0 ? side.faceU : side.faceV, side.domainSlackRel);
     if (!idx) return false;
     (k == 0 ? iu : iv) = *idx;
   }
@@ -502,22 +503,27 @@ Status PCurveSeam::certifyG0G1() {
   bool ok0 = true, ok1 = true;
   out.g0Bound = certifyMax(pieces, detail::g0Bound, detail::g0Value, g0Best, g0x, g0p, kRoundoff * edgeScale, opt,
                            ok0);
+  if (!ok0) return Status(ErrorCode::kUnsupported, "pcurve seam: the distance bound could not be closed");
+  std::pair<int, double> unclosed{-1, 0.0};
   const double g1b = certifyMax(pieces, detail::g1Bound, detail::g1Value, g1Best, g1x, g1p, kAngleBoundFloor, opt,
-                                ok1);
-  if (!ok0 || !ok1)
-    return Status(ErrorCode::kUnsupported, "pcurve seam: a bound could not be closed (vanishing normal)");
+                                ok1, nullptr, &unclosed);
   out.g0Sampled = g0Best;
   out.g0At = pieces[static_cast<size_t>(g0p)].tOf.scalar(g0x);
-  out.g1BoundDeg = g1b * kRadToDeg;
   out.g1SampledDeg = g1Best * kRadToDeg;
   out.g1At = pieces[static_cast<size_t>(g1p)].tOf.scalar(g1x);
+  // Where the angle bound cannot close (a normal vanishing inside the edge, no end root to divide out), the angle
+  // measured where both normals are defined stands in (as analyzeSeam's certifyG1) and g1PoleT says where.
+  out.g1BoundDeg = ok1 ? g1b * kRadToDeg : out.g1SampledDeg;
   bool coeffIdentity = true, fold = false;
   for (const Piece& pc : pieces) {
     if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
     if (detail::folds(pc, kIdentityRelTol * pc.crossScale)) fold = true;  // as in analyzeSeam
   }
-  out.g1Identity =
-      (coeffIdentity && !fold) || out.g1BoundDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
+  const bool angleAtRoundoff = ok1 && out.g1BoundDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
+  out.g1Identity = (coeffIdentity && !fold) || angleAtRoundoff;
+  if (!ok1 && !out.g1Identity)
+    out.g1PoleT = unclosed.first >= 0 ? pieces[static_cast<size_t>(unclosed.first)].tOf.scalar(unclosed.second)
+                                      : out.g1At;
   return Status::ok();
 }
 
@@ -657,6 +663,8 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     if (!s->surface || s->surface->dim() != 3) return invalidInput("pcurve seam: a side has no 3-D surface");
     if (s->pcurve.dim() != 2) return invalidInput("pcurve seam: the parameter curve is not 2-D");
     if (!(s->range.length() > 0.0)) return invalidInput("pcurve seam: empty parameter range");
+    if (!(s->domainSlackRel >= 0.0 && std::isfinite(s->domainSlackRel)))
+      return invalidInput("pcurve seam: the domain slack is negative or not finite");
   }
   // Each side's spans: the shared ones when given for its surface, else built here.
   std::optional<SpanPatches> ownA, ownB;

@@ -476,8 +476,12 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
         if (!periodic[k] || (at[k] >= dom[k].lo && at[k] <= dom[k].hi)) continue;
         const double period = k == 0 ? f.surface->UPeriod() : f.surface->VPeriod();
         if (!(period > 0.0)) continue;
-        const double shift = period * std::floor((dom[k].hi - at[k]) / period);
-        if (shift != 0.0 && at[k] + shift >= dom[k].lo) pts.col(k).array() += shift;
+        // The whole periods that bring the middle nearest the domain's centre: a pcurve on the domain's side (u = 2
+        // on a patch converted over [10, 14], period 8, trj3_s1-al-214.stp F33/F52) lands on it within round-off,
+        // which the pcurve's domain slack covers (floor((hi - at) / period) missed it when hi was 14 less an ulp).
+        const double shift = period * std::round((0.5 * (dom[k].lo + dom[k].hi) - at[k]) / period);
+        const double moved = at[k] + shift, slack = kBRepDomainRelTol * dom[k].length();
+        if (shift != 0.0 && moved >= dom[k].lo - slack && moved <= dom[k].hi + slack) pts.col(k).array() += shift;
       }
     }
     VecX weights;
@@ -497,7 +501,11 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
     side.faceV = {box.v0, box.v1};
     side.normalSign = f.sign;
     const Interval pd = patch.domainU(), qd = patch.domainV();
-    const double slackU = kPCurveDomainSlackRel * pd.length(), slackV = kPCurveDomainSlackRel * qd.length();
+    // A pcurve may overshoot its bounded surface by up to its edge's tolerance (trj3_s1-al-214.stp: 4e-4 of the
+    // domain): the face's boundary there is the surface's end-span polynomial continued, as OpenCASCADE evaluates
+    // it, and the certified route composes that same polynomial (PCurveSide::domainSlackRel).
+    side.domainSlackRel = kBRepDomainRelTol;
+    const double slackU = kBRepDomainRelTol * pd.length(), slackV = kBRepDomainRelTol * qd.length();
     for (int i = 0; i <= kParamCheckPoints; ++i) {
       const double t = f.first + (f.last - f.first) * i / kParamCheckPoints;
       const VecX uv = side.pcurve.evaluate(t);
@@ -505,8 +513,11 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
         return why(fmt::format("the pcurve leaves the patch's parameter domain: ({:.9g}, {:.9g}) outside [{:.9g}, "
                                "{:.9g}] x [{:.9g}, {:.9g}]",
                                uv[0], uv[1], pd.lo, pd.hi, qd.lo, qd.hi));
-      const Vec3 x = patchPoint(patch, std::clamp(uv[0], pd.lo, pd.hi), std::clamp(uv[1], qd.lo, qd.hi));
-      if ((x - toVec(f.surface->Value(uv[0], uv[1]))).norm() > kSameParametrisationRel * modelSize) {
+      // Does the patch reproduce the face's surface in its own parameters? Compared inside the domain (the patch's
+      // evaluator clamps; OpenCASCADE's continues the end span).
+      const double cu = std::clamp(uv[0], pd.lo, pd.hi), cv = std::clamp(uv[1], qd.lo, qd.hi);
+      const Vec3 x = patchPoint(patch, cu, cv);
+      if ((x - toVec(f.surface->Value(cu, cv))).norm() > kSameParametrisationRel * modelSize) {
         // A converted analytic surface: the edge as an iso-line of the patch, in a parameter of its own.
         Result<BSplineCurve> line = isoLineInPatch(f, side.pcurve, patch, modelSize);
         if (!line) return why(line.status().message());
@@ -523,7 +534,8 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
       // 2 R sin(error / 2) that is not there). Such a form is exact in a parameter of its own: the other face is
       // paired with it by correspondence.
       const gp_Pnt2d o = f.pcurve->Value(t);
-      if ((x - toVec(f.surface->Value(o.X(), o.Y()))).norm() > kSameParametrisationRel * modelSize) {
+      if ((toVec(f.surface->Value(uv[0], uv[1])) - toVec(f.surface->Value(o.X(), o.Y()))).norm() >
+          kSameParametrisationRel * modelSize) {
         side.range = side.pcurve.domain();
         return FacePCurve{std::move(side), true,
                           fmt::format("the rational B-spline form of its {} pcurve (whose parameter is not the angle)",
@@ -560,7 +572,8 @@ void certifyThroughPCurves(SeamReport& rep, const Result<PCurveSeamBounds>& r, c
   rep.g1MaxDeg = std::max(r->g1BoundDeg, r->g1SampledDeg);
   rep.g1Worst = {r->g1At, pointAt(r->g1At)};
   rep.g1Identity = r->g1Identity;
-  rep.certified = true;
+  rep.g1PoleT = r->g1PoleT;
+  rep.certified = !r->g1PoleT;
   std::erase_if(rep.notes, [](const std::string& n) { return n.starts_with(kSampledNote); });
   std::string g2;
   if (r->g2Certified) {
@@ -582,10 +595,20 @@ void certifyThroughPCurves(SeamReport& rep, const Result<PCurveSeamBounds>& r, c
   } else {
     g2 = fmt::format("G2 sampled through the pcurves ({})", r->g2Why);
   }
-  rep.notes.insert(rep.notes.begin(),
-                   fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein form "
-                               "({} pieces, degree <= {}); {}",
-                               r->pieces, r->maxDegree, g2));
+  if (r->g1PoleT) {
+    // No bound through the vanishing normal, no identity: the angle is measured (issue 35 section 2), as on patch
+    // seams (analyzeSeam).
+    rep.notes.insert(rep.notes.begin(),
+                     fmt::format("not certified: a normal vanishes at t = {:.6g}, where the G1 bound cannot close; the "
+                                 "angle shown ({:.6g} deg) is measured where both normals are defined; G0 certified "
+                                 "through the pcurves composed with the surfaces ({} pieces, degree <= {})",
+                                 *r->g1PoleT, r->g1SampledDeg, r->pieces, r->maxDegree));
+  } else {
+    rep.notes.insert(rep.notes.begin(),
+                     fmt::format("G0 and G1 certified through the pcurves composed with the surfaces in Bernstein "
+                                 "form ({} pieces, degree <= {}); {}",
+                                 r->pieces, r->maxDegree, g2));
+  }
   reconcileVerdict(rep, opt.tol);
 }
 
@@ -822,10 +845,13 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
     rep.notes.push_back(c.failure);
     return;
   }
+  const double sampledG0 = rep.g0Sampled, sampledG0Max = rep.g0Max;
+  const WorstLocation sampledG0Worst = rep.g0Worst;
   certifyThroughPCurves(rep, *c.bounds, *c.a, c.opt, modelSize);
   // The bound holds for the points the certified route pairs, not for closest points: a kink made by that pairing
   // alone (the closest-point pairing could not be certified), or a sample between closest points above the bound
-  // (its pairing error shows). The sampled angle is shown, and the seam is not called certified.
+  // (its pairing error shows). The sampled angle and gap (between closest points) are shown, and the seam is not
+  // called certified: the paired points' distance bounds the gap, but a drift makes it larger than the gap.
   const bool belowSamples =
       c.closestSampleAngleDeg > rep.g1MaxDeg * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg;
   if (rep.certified && (c.angleFromPairing || belowSamples)) {
@@ -835,6 +861,9 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
         "to {:.3g} apart, and the closest-point pairing could not be certified closer): the sampled angle is shown",
         rep.g1MaxDeg, c.closestSampleAngleDeg, rep.g0Max));
     rep.g1MaxDeg = rep.g1SampledDeg = c.closestSampleAngleDeg;
+    rep.g0Sampled = sampledG0;
+    rep.g0Max = sampledG0Max;
+    rep.g0Worst = sampledG0Worst;
     rep.certified = false;
     reconcileVerdict(rep, c.opt.tol);
   }

@@ -158,6 +158,10 @@ struct PCurveSide {
   Interval range;
   Interval faceU, faceV;
   double normalSign = 1.0;
+  /// How far the pcurve may run past its surface's parameter domain, as a fraction of the domain: the end span's
+  /// polynomial continues the surface there (exactly as OpenCASCADE evaluates a bounded B-spline surface outside its
+  /// bounds). The B-rep check sets kBRepDomainRelTol (model/brep.h) for the faces whose patch is their own surface.
+  double domainSlackRel = kPCurveDomainSlackRel;
 };
 
 /// Certified values of a seam between two faces along their pcurves, which share the edge parameter (B's range
@@ -174,6 +178,10 @@ struct PCurveSeamBounds {
   double g0Bound = 0.0, g0Sampled = 0.0, g0At = 0.0;        ///< distance: certified bound, best value, where
   double g1BoundDeg = 0.0, g1SampledDeg = 0.0, g1At = 0.0;  ///< normal angle (degrees), likewise
   bool g1Identity = false;  ///< the normals are parallel and agree as a polynomial identity (to round-off)
+  /// Set where a normal vanishes inside the edge so that the angle bound cannot close there (and N_A x N_B is no
+  /// identity): A's pcurve parameter of that point. g1BoundDeg is then the angle measured where both normals are
+  /// defined, not a bound (SeamReport::g1PoleT; issue 35 section 2).
+  std::optional<double> g1PoleT;
   /// G2 certified: g1Identity held, the Lemma 2 polynomials stayed within maxCertifiedDegree and the bound closed.
   bool g2Certified = false;
   double g2Bound = 0.0, g2Sampled = 0.0, g2At = 0.0;  ///< shape-operator jump (1/length), when g2Certified
@@ -190,7 +198,8 @@ struct PCurveSeamBounds {
 };
 /// Errors (the caller samples instead): kInvalidInput (missing surface, pcurve not 2-D, empty ranges),
 /// kUnsupported (a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
-/// above SeamOptions::maxCertifiedDegree, a normal vanishing so that the angle bound cannot be closed).
+/// above SeamOptions::maxCertifiedDegree, a normal vanishing so that the distance bound cannot be closed). A normal
+/// vanishing inside the edge, where the angle bound cannot close, is no error: g1PoleT says where.
 Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide& b, const SeamOptions& options = {});
 
 /// A surface's Bezier span patches with their homogeneous partials up to order 2, as certifyPCurveSeam
