@@ -657,5 +657,25 @@ TEST(OcctTruth, LooseEdgesAreCountedNotACrash) {
   EXPECT_EQ(r->looseEdges, 2);
 }
 
+TEST(OcctTruth, AWorseSeamIsNamedInTheUnitTheTableShows) {
+  // The heal's table shows a cm file's gaps in cm; the reason beside it ("left: F3 put back as it was: seam of edge
+  // 9 got worse: its gap would grow from 0.0024 to 0.00257") gave the model's mm, unnamed (trj3_s1-al-214.stp,
+  // 0.0002397 cm in the table). Lengths of B-rep reports are mm; the file's unit is cm: the reason shows a tenth.
+  SeamReport before, after;
+  before.g0Max = 2.4e-3;
+  after.g0Max = 2.57e-3;
+  Tolerances tol;
+  tol.distance = 1e-3;
+  ModelUnits units;
+  units.length = LengthUnit::kMillimetre;
+  units.display = LengthUnit::kCentimetre;
+  using occt::detail::seamWorseThan;
+  EXPECT_EQ(seamWorseThan(after, before, tol, 20.0, units), "its gap would grow from 0.00024 to 0.000257 cm");
+  units.display.reset();
+  EXPECT_EQ(seamWorseThan(after, before, tol, 20.0, units), "its gap would grow from 0.0024 to 0.00257 mm");
+  EXPECT_EQ(seamWorseThan(after, before, tol, 20.0), "its gap would grow from 0.0024 to 0.00257");
+  EXPECT_EQ(seamWorseThan(before, before, tol, 20.0, units), "");
+}
+
 }  // namespace
 }  // namespace seam

@@ -1304,12 +1304,17 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
   return out;
 }
 
-std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg) {
+std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg,
+                          const ModelUnits& units) {
   const double gapLimit = std::max(before.g0Max, tol.distance) + kWorseSlackRel * tol.distance;
+  const std::optional<LengthUnit> shown = units.shownUnit();
+  const std::string unit = shown ? std::string(" ") + lengthUnitInfo(*shown).name : std::string();
   // Angles are judged on seam's strict scale whatever the verdict's tolerance: with the CAD default (0.5 deg) a kink
   // of 0.62 deg could otherwise grow to 0.66 and a 0.1-degree seam to 0.5 without counting as worse.
   const double strict = tol.strictAngleDeg();
-  if (after.g0Max > gapLimit) return fmt::format("its gap would grow from {:.3g} to {:.3g}", before.g0Max, after.g0Max);
+  if (after.g0Max > gapLimit)
+    return fmt::format("its gap would grow from {:.3g} to {:.3g}{}", before.g0Max * units.displayScale(),
+                       after.g0Max * units.displayScale(), unit);
   if (before.g1MaxDeg > creaseDeg) {
     if (std::abs(after.g1MaxDeg - before.g1MaxDeg) > strict)
       return fmt::format("its crease angle would change from {:.4g} to {:.4g} deg", before.g1MaxDeg, after.g1MaxDeg);
@@ -1322,13 +1327,13 @@ std::string seamWorseThan(const SeamReport& after, const SeamReport& before, con
 }
 
 std::vector<SeamWorse> seamsWorse(const std::vector<BRepSeam>& before, const std::vector<BRepSeam>& after,
-                                  const Tolerances& tol, double creaseDeg) {
+                                  const Tolerances& tol, double creaseDeg, const ModelUnits& units) {
   std::vector<SeamWorse> worse;
   for (const BRepSeam& s : after) {
     if (s.curve.empty()) continue;
     SeamWorse w;
     for (const BRepSeam* b : nearestSeams(before, seamMidpoint(s), tol.distance, seamMidpoint)) {
-      std::string why = seamWorseThan(s.report, b->report, tol, creaseDeg);
+      std::string why = seamWorseThan(s.report, b->report, tol, creaseDeg, units);
       if (why.empty()) {
         w.before = nullptr;
         break;

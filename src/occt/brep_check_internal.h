@@ -44,8 +44,11 @@ inline constexpr double kWorseSlackRel = 0.1;
 
 /// Why the seam `after` is worse than `before`, "" when it is not. A crease (angle above `creaseDeg`) is worse when
 /// its angle changes by more than the angle tolerance either way (its angle is the design's); any other seam when its
-/// angle grows beyond max(before, tolerance); any seam when its gap grows beyond max(before, tolerance).
-std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg);
+/// angle grows beyond max(before, tolerance); any seam when its gap grows beyond max(before, tolerance). The gaps
+/// of the reason are shown in `units`' shown unit, named (the heal's table shows a cm file's gaps in cm; this text
+/// gave them in mm, unnamed, beside it); the default shows model units, unnamed for a unit-less model.
+std::string seamWorseThan(const SeamReport& after, const SeamReport& before, const Tolerances& tol, double creaseDeg,
+                          const ModelUnits& units = {});
 
 /// The middle point of a seam's 3-D edge (its drawing polyline), where seams of two checks of the same model are
 /// paired: the edge numbers of a file read back need not be those of the input.
@@ -72,6 +75,6 @@ struct SeamWorse {
 };
 /// Every seam of `after` worse than the seams of `before` at its place (paired by midpoint within `tol.distance`).
 std::vector<SeamWorse> seamsWorse(const std::vector<BRepSeam>& before, const std::vector<BRepSeam>& after,
-                                  const Tolerances& tol, double creaseDeg);
+                                  const Tolerances& tol, double creaseDeg, const ModelUnits& units = {});
 
 }  // namespace seam::occt::detail

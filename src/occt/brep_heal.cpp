@@ -816,7 +816,7 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
       const auto fixed = trimFixes.find(s.edge);
       if (fixed == trimFixes.end()) continue;
       const BRepSeam& was = before->seams[seamOfEdge.at(s.edge)];
-      const std::string why = detail::seamWorseThan(s.report, was.report, tol, options.creaseAngleDeg);
+      const std::string why = detail::seamWorseThan(s.report, was.report, tol, options.creaseAngleDeg, report.units);
       const bool invalid = !faceValid(fixed->second.fa) || !faceValid(fixed->second.fb);
       if (why.empty() && !invalid && s.report.g0Max < was.report.g0Max) continue;
       restore(fixed->second);  // its pcurves back: the seam is the input's again
@@ -1022,7 +1022,8 @@ Status healShape(const TopoDS_Shape& shape, const fs::path& file, const detail::
         const auto it = seamOfEdge.find(s.edge);
         if (it == seamOfEdge.end()) continue;
         const std::string why =
-            detail::seamWorseThan(s.report, before->seams[it->second].report, tol, options.creaseAngleDeg);
+            detail::seamWorseThan(s.report, before->seams[it->second].report, tol, options.creaseAngleDeg,
+                                  report.units);
         if (why.empty()) continue;
         for (const std::string& name : {s.a, s.b}) {
           const int fi = faceIndex(name);
@@ -1235,7 +1236,8 @@ std::vector<WorseSeam> worseSeams(const std::vector<BRepSeam>& written, const BR
     for (const BRepHealSeam* h : detail::nearestSeams(report.seams, mid, slack, [](const BRepHealSeam& x) {
            return x.midpoint;
          })) {
-      const std::string why = detail::seamWorseThan(s.report, h->before, report.tolerances, options.creaseAngleDeg);
+      const std::string why =
+          detail::seamWorseThan(s.report, h->before, report.tolerances, options.creaseAngleDeg, report.units);
       if (why.empty()) {
         w.input = nullptr;
         break;

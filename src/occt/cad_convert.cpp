@@ -77,7 +77,7 @@ Result<CadConvertReport> convertCadFile(const fs::path& in, const fs::path& out,
     }
     report.seamsCompared = static_cast<int>(after->seams.size());
     for (const detail::SeamWorse& w : detail::seamsWorse(before->seams, after->seams, before->tolerances,
-                                                         convert.creaseAngleDeg))
+                                                         convert.creaseAngleDeg, before->units))
       report.seamsWorse.push_back(fmt::format(
           "the seam of {} and {} (edge {}) is worse in {} as read back than in {}: {}; OpenCASCADE's writer "
           "keeps the surfaces and 3-D edges bit for bit and its reader builds the trims again from them",
