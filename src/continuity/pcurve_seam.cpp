@@ -514,13 +514,7 @@ Status PCurveSeam::certifyG0G1() {
   // Where the angle bound cannot close (a normal vanishing inside the edge, no end root to divide out), the angle
   // measured where both normals are defined stands in (as analyzeSeam's certifyG1) and g1PoleT says where.
   out.g1BoundDeg = ok1 ? g1b * kRadToDeg : out.g1SampledDeg;
-  bool coeffIdentity = true, fold = false;
-  for (const Piece& pc : pieces) {
-    if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
-    if (detail::folds(pc, kIdentityRelTol * pc.crossScale)) fold = true;  // as in analyzeSeam
-  }
-  const bool angleAtRoundoff = ok1 && out.g1BoundDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
-  out.g1Identity = (coeffIdentity && !fold) || angleAtRoundoff;
+  out.g1Identity = detail::g1IdentityOf(pieces, ok1, out.g1BoundDeg);
   if (!ok1 && !out.g1Identity)
     out.g1PoleT = unclosed.first >= 0 ? pieces[static_cast<size_t>(unclosed.first)].tOf.scalar(unclosed.second)
                                       : out.g1At;

@@ -434,17 +434,11 @@ bool SeamAnalysis::certifyG1() {
 // coefficient test allows, a closed certified angle bound at the round-off floor of the subdivision. `ok`: the
 // angle bound closed.
 void SeamAnalysis::g1IdentityFrom(bool ok) {
-  bool coeffIdentity = true, fold = false;
-  for (const Piece& pc : corr.pieces) {
-    if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
-    // A fold: N_A . N_B below zero somewhere (a negative coefficient alone is not one: a normal vanishing to second
-    // order inside the edge gives P = (x - x0)^2 (...), negative in its middle coefficients).
-    if (detail::folds(pc, kIdentityRelTol * pc.crossScale)) fold = true;
-  }
+  // A sample with the normals more than 90 degrees apart is a fold too (besides N_A . N_B below zero on a piece).
+  bool sampledFold = false;
   for (const auto& m : S.m)
-    if (m.normalsOk && m.g1 > std::numbers::pi / 2) fold = true;
-  const bool angleAtRoundoff = ok && rep.g1MaxDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
-  rep.g1Identity = (coeffIdentity && !fold) || angleAtRoundoff;
+    if (m.normalsOk && m.g1 > std::numbers::pi / 2) sampledFold = true;
+  rep.g1Identity = detail::g1IdentityOf(corr.pieces, ok, rep.g1MaxDeg, sampledFold);
   if (!ok && !rep.g1Identity) {
     // No bound through the vanishing normal, no identity: the angle is measured (issue 35 §2), never certified.
     rep.certified = corr.certified = false;

@@ -430,6 +430,16 @@ std::optional<double> g1ValueIfDefined(const Piece& pc, double x) {
 }
 double g1Value(const Piece& pc, double x) { return g1ValueIfDefined(pc, x).value_or(0.0); }
 
+bool g1IdentityOf(const std::vector<Piece>& pieces, bool boundClosed, double boundDeg, bool foldSeen) {
+  bool coeffIdentity = true, fold = foldSeen;
+  for (const Piece& pc : pieces) {
+    if (pc.cross.maxAbsCoeff() > kIdentityRelTol * pc.crossScale) coeffIdentity = false;
+    if (!fold && folds(pc, kIdentityRelTol * pc.crossScale)) fold = true;
+  }
+  const bool angleAtRoundoff = boundClosed && boundDeg <= kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg;
+  return (coeffIdentity && !fold) || angleAtRoundoff;
+}
+
 double g2Bound(const Piece& pc, double x0, double x1) {
   const SubPiece sp(pc, x0, x1);
   const double rho = maxAbsCoeffOf(restrictedView(pc.rho.num, x0, x1)) / sp.denLower(pc.rho);

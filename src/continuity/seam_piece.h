@@ -104,6 +104,10 @@ double g1Value(const Piece& pc, double x);
 inline bool folds(const Piece& pc, double tolerance) {
   return lowerBound(pc.P) < 0.0 && certifiedMinimum(pc.P, tolerance).attained < -tolerance;
 }
+/// G1 as an identity on composed pieces: N_A x N_B vanishes coefficient-wise (to kIdentityRelTol) and no piece
+/// folds (`foldSeen`: a fold the caller found otherwise), or the angle bound closed (`boundClosed`) at the
+/// round-off floor of the subdivision (`boundDeg` within kIdentityBoundFactor of kAngleBoundFloor). Both seam routes.
+bool g1IdentityOf(const std::vector<Piece>& pieces, bool boundClosed, double boundDeg, bool foldSeen = false);
 double g2Bound(const Piece& pc, double x0, double x1);
 // The G2 quotient at x, or nullopt where it has no value: a vanishing normal or tangent, or a chart too
 // ill-conditioned for curvature (next to a pole the quotient is round-off over a vanishing normal, as in measureAt).
