@@ -11,6 +11,9 @@
 //
 //   build-dir/bench/occt_brep_reference [--reps N] [FILE...]   (default: the 8 STEP/IGES files of ../shared/data)
 //   build-dir/bench/occt_brep_reference --occt-only FILE       (one reference run: for /usr/bin/time, whole process)
+//   build-dir/bench/occt_brep_reference --max-certified-degree N [FILE...]
+//       seam's side with SeamOptions::maxCertifiedDegree = N instead of kBRepMaxCertifiedDegree (256 gives the limit
+//       the B-rep check had before 2026-12-01: what certifying the composed pcurves up to degree 1000 costs)
 //   build-dir/bench/occt_brep_reference --trimmed-grid N [FILE...]
 //       also the generated model of issue 37 goal 2: N x N trimmed B-spline faces, each on its own bicubic surface
 //       (a segment of one wavy 100 mm height field, a quarter of a face wider on every side than its trim), sewn,
@@ -198,12 +201,15 @@ int main(int argc, char** argv) {
   std::vector<fs::path> files;
   bool occtOnly = false;
   int trimmedGrid = 0;
+  seam::occt::BRepCheckOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--reps" && i + 1 < argc) {
       reps = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--occt-only") {
       occtOnly = true;
+    } else if (a == "--max-certified-degree" && i + 1 < argc) {
+      options.seam.maxCertifiedDegree = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--trimmed-grid" && i + 1 < argc) {
       trimmedGrid = std::max(2, std::atoi(argv[++i]));
     } else {
@@ -230,20 +236,21 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  std::printf("%-26s %6s %6s | %9s %9s | %9s %9s | %6s %6s | %s\n", "file", "faces", "seams", "OCCT cpu", "wall",
-              "seam cpu", "wall", "cpu x", "wall x", "OCCT regular / seam G1+");
+  std::printf("%-26s %6s %6s | %9s %9s | %9s %9s | %6s %6s | %s | %s\n", "file", "faces", "seams", "OCCT cpu",
+              "wall", "seam cpu", "wall", "cpu x", "wall x", "OCCT regular / seam G1+", "certified");
   for (const fs::path& f : files) {
     Times bestRef{std::numeric_limits<double>::max(), std::numeric_limits<double>::max()}, bestSeam = bestRef;
     Reference ref;
-    int seams = 0, smooth = 0;
+    int seams = 0, smooth = 0, certified = 0;
     for (int k = 0; k < reps; ++k) {
       const Times tr = timed([&] { ref = occtReference(f); });
       bool ok = true;
       const Times ts = timed([&] {
-        auto r = seam::occt::checkBRepFile(f);
+        auto r = seam::occt::checkBRepFile(f, options);
         ok = static_cast<bool>(r);
         if (ok) {
           seams = static_cast<int>(r->seams.size());
+          certified = r->certifiedSeams;
           smooth = r->geometric[2] + r->geometric[3];
         }
       });
@@ -254,9 +261,9 @@ int main(int argc, char** argv) {
       bestRef = {std::min(bestRef.cpu, tr.cpu), std::min(bestRef.wall, tr.wall)};
       bestSeam = {std::min(bestSeam.cpu, ts.cpu), std::min(bestSeam.wall, ts.wall)};
     }
-    std::printf("%-26s %6d %6d | %8.3fs %8.3fs | %8.3fs %8.3fs | %6.2f %6.2f | %d / %d\n", f.filename().c_str(),
-                ref.faces, seams, bestRef.cpu, bestRef.wall, bestSeam.cpu, bestSeam.wall, bestSeam.cpu / bestRef.cpu,
-                bestSeam.wall / bestRef.wall, ref.regular, smooth);
+    std::printf("%-26s %6d %6d | %8.3fs %8.3fs | %8.3fs %8.3fs | %6.2f %6.2f | %d / %d | %d\n",
+                f.filename().c_str(), ref.faces, seams, bestRef.cpu, bestRef.wall, bestSeam.cpu, bestSeam.wall,
+                bestSeam.cpu / bestRef.cpu, bestSeam.wall / bestRef.wall, ref.regular, smooth, certified);
     std::fflush(stdout);
   }
   return 0;

@@ -190,6 +190,34 @@ TEST(BernsteinPoly, DotCrossTripleArePointwise) {
   }
 }
 
+/// Products of degree 500-1000 take the power-of-two scaled binomials, above 1000 the per-term weights (the pcurve
+/// route's compositions on real B-reps reach 750). Coefficients far from 1 (1e-9, 1e9) would overflow or lose the
+/// unscaled form's binomial products (C(500, 250) C(480, 240) ~ 1e293); the values must still be the pointwise
+/// products. Relative tolerance: the reference's own sums of ~1000 terms and the products' ~(n + m) eps each.
+constexpr double kHighDegreeTol = 1e-10;
+TEST(BernsteinPoly, HighDegreeProductsDotsAndCrossesArePointwise) {
+  std::mt19937_64 rng(1000);
+  const std::pair<int, int> degrees[] = {{260, 250}, {480, 500}, {700, 200}, {520, 500}, {0, 900}};
+  const double scales[] = {1e-9, 1.0, 1e9};
+  for (auto [na, nb] : degrees)
+    for (double sa : scales) {
+      const double sb = scales[static_cast<size_t>(uniformInt(rng, 0, 2))];
+      const BernsteinPoly a(randomMatrix(rng, na + 1, 3, -sa, sa)), b(randomMatrix(rng, nb + 1, 3, -sb, sb));
+      const BernsteinPoly ax = a.component(0), p = product(ax, b), d = dot(a, b), x = cross(a, b);
+      ASSERT_EQ(p.degree(), na + nb);
+      ASSERT_EQ(x.degree(), na + nb);
+      const double bound = kHighDegreeTol * sa * sb;
+      for (double t : unitSamples(rng, 8)) {
+        const VecX va = refBernsteinEval(a.coeffs(), t), vb = refBernsteinEval(b.coeffs(), t);
+        const std::string at = "degrees " + std::to_string(na) + "+" + std::to_string(nb) + " scales " +
+                               std::to_string(sa) + "," + std::to_string(sb) + " t " + std::to_string(t);
+        ASSERT_TRUE(closeTo(VecX(va[0] * vb), p(t), bound)) << "product, " << at;
+        ASSERT_NEAR(d.scalar(t), va.dot(vb), 3 * bound) << "dot, " << at;
+        ASSERT_TRUE(closeTo(VecX(Vec3(va).cross(Vec3(vb))), x(t), 2 * bound)) << "cross, " << at;
+      }
+    }
+}
+
 TEST(BernsteinPoly, ElevationByAnyAmountPreservesValues) {
   std::mt19937_64 rng(105);
   for (int dim : kDims)

@@ -814,13 +814,21 @@ TEST(OcctBRep, AnglesAreBetweenClosestPointsWhereTheBearingsPCurvesDrift) {
     ++found;
     std::string notes;
     for (const std::string& n : s.report.notes) notes += n + "\n";
-    EXPECT_NEAR(s.report.g1MaxDeg, it->second, 0.01 * it->second) << "edge " << s.edge << "\n" << notes;
     EXPECT_EQ(s.report.geometric >= GeometricClass::kG1, it->second <= rep->tolerances.angleDeg)
         << "edge " << s.edge << "\n" << notes;
+    EXPECT_NE(notes.find("between the sampled closest points"), std::string::npos) << notes;
     if (s.edge == 105) {
-      EXPECT_FALSE(s.report.certified) << "the closest-point pairing of edge 105 is not certified\n" << notes;
-      EXPECT_NE(notes.find("between the sampled closest points"), std::string::npos) << notes;
+      // Its closest-point correspondence (degree 308) is certified since the B-rep check takes composed degrees up
+      // to kBRepMaxCertifiedDegree; it pairs points up to 6.4e-7 from the closest ones, on fillets of radius ~0.01:
+      // the certified angle between them bounds the independent one from above, loosely (0.0041 deg).
+      if (s.report.certified) {
+        EXPECT_GE(s.report.g1MaxDeg, 0.99 * it->second) << notes;
+        EXPECT_LE(s.report.g1MaxDeg, 1.7 * it->second) << notes;
+        EXPECT_NE(notes.find("correspondence"), std::string::npos) << notes;
+        continue;
+      }
     }
+    EXPECT_NEAR(s.report.g1MaxDeg, it->second, 0.01 * it->second) << "edge " << s.edge << "\n" << notes;
   }
   EXPECT_EQ(found, 3);
 }
@@ -904,6 +912,39 @@ TEST(OcctBRep, TheReportDoesNotDependOnTheNumberOfThreads) {
     EXPECT_EQ(a->certifiedSeams, b->certifiedSeams);
     EXPECT_EQ(a->degenerateEdges, b->degenerateEdges);
   }
+}
+
+TEST(OcctBRep, HighDegreePCurveSeamsAreCertifiedAndDecidedNextToTheirTolerance) {
+  // linkrods.step: rational faces along B-spline pcurves compose to degree 260-744. Since the B-rep check certifies up
+  // to kBRepMaxCertifiedDegree (1000; 256 before) 79 of its 108 seams are certified (48 before). Independent values,
+  // OpenCASCADE only (no seam code):
+  // - edge 75 (F21|F32): tests/occt_probe's angle between the two boundaries is 0.495 deg, under the CAD default
+  //   tolerance of 0.5; its equal-parameter bound had closed at 0.5016 (within the 1 % gap) and called it a kink.
+  // - edge 53 (F13|F15): BRepLProp_SLProps along the edge: F13's normal curvature across the edge is 0, F15's -4.2521
+  //   at the edge's start (falling to 0.02 at its end), both faces' largest principal curvature 8: a relative jump of
+  //   4.2521 / 8 = 0.5315, G1 and not G2. A surface knot 1e-9 before the pcurve's end makes a sliver leaf whose chart
+  //   curvature was round-off (6e7) and had made the reference of the relative jump (6.8e-8: "G2").
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "step" / "linkrods.step");
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  EXPECT_GE(rep->certifiedSeams, 79);
+  int found = 0;
+  for (const occt::BRepSeam& s : rep->seams) {
+    std::string notes;
+    for (const std::string& n : s.report.notes) notes += n + "\n";
+    if (s.edge == 75) {
+      ++found;
+      EXPECT_TRUE(s.report.certified) << notes;
+      EXPECT_LE(s.report.g1MaxDeg, rep->tolerances.angleDeg) << notes;
+      EXPECT_GE(s.report.g1MaxDeg, 0.495) << notes;
+      EXPECT_EQ(s.report.geometric, GeometricClass::kG1) << notes;
+    }
+    if (s.edge == 53) {
+      ++found;
+      EXPECT_EQ(s.report.geometric, GeometricClass::kG1) << notes;
+      EXPECT_NEAR(s.report.g2RelMax, 4.2521 / 8.0, 0.02 * 4.2521 / 8.0) << notes;
+    }
+  }
+  EXPECT_EQ(found, 2);
 }
 
 TEST(OcctBRep, CurvatureJumpsOnTrimmedEdgesAreCertifiedWhereTheEdgeIsG1) {

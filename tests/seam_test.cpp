@@ -1916,6 +1916,101 @@ TEST(SeamPieces, PartnerThroughPiecesInvertsEachPiecesMonotoneMap) {
   EXPECT_EQ(*detail::partnerThroughPieces(pieces, 0.0), 2.0);
 }
 
+TEST(SeamPieces, TheSampledAngleIsTheNormalsAngleUpToDegree1000) {
+  // detail::g1ValueIfDefined on pieces whose P, Q, R reach degree 500-960 (the pcurve route on real B-reps: the
+  // B-rep check certifies up to kBRepMaxCertifiedDegree), with normals of size 1e-4 and 1e6, where Q's and R's
+  // Horner sums would overflow unscaled. Expected: the angle between the two normals evaluated by an explicit
+  // Bernstein sum whose basis values come from lgamma and logarithms (neither Horner nor de Casteljau).
+  auto basisSum = [](const BernsteinPoly& p, double x) {
+    const int n = p.degree();
+    Vec3 v = Vec3::Zero();
+    for (int i = 0; i <= n; ++i) {
+      const double lb = std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
+                        i * std::log(x) + (n - i) * std::log1p(-x);
+      v += std::exp(lb) * p.coeffs().row(i).transpose().head<3>();
+    }
+    return v;
+  };
+  std::mt19937_64 rng(1000);
+  std::uniform_real_distribution<double> U(-0.3, 0.3);
+  const std::pair<int, int> degrees[] = {{250, 230}, {400, 80}, {240, 240}};
+  for (auto [na, nb] : degrees)
+    for (double scale : {1e-4, 1e6}) {
+      auto normal = [&](int n) {
+        Matrix c(n + 1, 3);
+        for (int i = 0; i <= n; ++i) c.row(i) << U(rng), U(rng), 1.0 + U(rng);
+        return BernsteinPoly(c * scale);
+      };
+      const BernsteinPoly NA = normal(na), NB = normal(nb);
+      detail::Piece pc;
+      pc.P = dot(NA, NB);
+      pc.cross = cross(NA, NB);
+      pc.Q = dot(pc.cross, pc.cross);
+      pc.R = product(dot(NA, NA), dot(NB, NB));
+      ASSERT_GT(pc.R.degree(), 512);
+      for (int k = 1; k < 20; ++k) {
+        const double x = k / 20.0 + 0.013;
+        const Vec3 a = basisSum(NA, x), b = basisSum(NB, x);
+        const std::optional<double> v = detail::g1ValueIfDefined(pc, x);
+        ASSERT_TRUE(v) << "degrees " << na << ", " << nb << " scale " << scale << " x " << x;
+        // The reference's lgamma-based weights are good to ~1e-12 relative; the angle is O(0.3) rad.
+        EXPECT_NEAR(*v, std::atan2(a.cross(b).norm(), a.dot(b)), 1e-9)
+            << "degrees " << na << ", " << nb << " scale " << scale << " x " << x;
+      }
+    }
+}
+
+TEST(SeamPieces, ACertifiedMaximumNextToTheToleranceIsDecided) {
+  // detail::certifyMax with the verdict's tolerance as threshold: normals N_A = (0, 0, 1) and N_B = (a (x - x^3), 0, 1)
+  // make the angle atan(a (x - x^3)), whose maximum atan(2 a / (3 sqrt 3)) lies at x = 1 / sqrt 3 (no midpoint of
+  // the subdivision reaches it exactly). With the tolerance 1-4 % above the maximum, inside the 5 % the bounds close
+  // at here (boundRelGap), the bound must come out at or below the tolerance (the seam is G1); as far below it, the
+  // best value must pass the tolerance (a kink). Expected values from the closed form only.
+  const double a = 0.3;
+  const double maxAngle = std::atan(2.0 * a / (3.0 * std::sqrt(3.0)));
+  VecX power(4);
+  power << 0.0, 1.0, 0.0, -1.0;
+  const BernsteinPoly px = BernsteinPoly::fromPowerBasis(power);
+  Matrix nb = Matrix::Zero(4, 3), na = Matrix::Zero(4, 3);
+  nb.col(0) = a * px.coeffs().col(0);
+  nb.col(2).setOnes();
+  na.col(2).setOnes();
+  const BernsteinPoly NA(na), NB(nb);
+  std::vector<detail::Piece> pieces(1);
+  detail::Piece& pc = pieces[0];
+  pc.P = dot(NA, NB);
+  pc.cross = cross(NA, NB);
+  pc.Q = dot(pc.cross, pc.cross);
+  pc.R = product(dot(NA, NA), dot(NB, NB));
+  SeamOptions opt;
+  opt.boundRelGap = 0.05;
+  int closedAbove = 0;
+  for (double rel : {1.01, 1.02, 1.04}) {
+    const double tolerance = maxAngle * rel;
+    for (bool decide : {false, true}) {
+      double best = 0.0, bx = 0.0;
+      int bp = -1;
+      bool ok = true;
+      const double bound =
+          detail::certifyMax(pieces, detail::g1Bound, detail::g1Value, best, bx, bp, 1e-15, opt, ok, nullptr,
+                             nullptr, decide ? tolerance : std::numeric_limits<double>::infinity());
+      ASSERT_TRUE(ok);
+      EXPECT_GE(bound, maxAngle * (1.0 - 1e-12)) << rel;
+      EXPECT_LE(best, maxAngle * (1.0 + 1e-12)) << rel;
+      if (decide) EXPECT_LE(bound, tolerance) << "tolerance " << rel << " x the maximum";
+      else closedAbove += bound > tolerance ? 1 : 0;
+    }
+    double best = 0.0, bx = 0.0;
+    int bp = -1;
+    bool ok = true;
+    detail::certifyMax(pieces, detail::g1Bound, detail::g1Value, best, bx, bp, 1e-15, opt, ok, nullptr, nullptr,
+                       maxAngle / rel);
+    EXPECT_GT(best, maxAngle / rel) << "tolerance " << rel << " below the maximum: the samples must pass it";
+  }
+  // Without the threshold the slack leaves some bound above its tolerance: the case the threshold decides.
+  EXPECT_GT(closedAbove, 0);
+}
+
 TEST(SampledMaxima, ParabolicRefinementFindsTheMaximaGoldenSectionFinds) {
   // detail::refineMaxParabolic (the sampled maxima's refinement) against exact maxima and against golden section
   // (detail::refineMax, the route it replaced): smooth peaks are found to round-off in far fewer evaluations; a kink

@@ -53,6 +53,11 @@ constexpr int kPCurveSamplesPerPiece = 8;
 /// A chart whose two directions make an angle with sine below this is ill-conditioned at that point (a pole):
 /// its curvature samples are skipped, for the curvature reference and for refuting a G2 identity.
 constexpr double kChartRegularSin = 1e-3;
+/// A chart curvature sample whose round-off estimate exceeds this share of its value (or of a plane's) is skipped
+/// (chartCurvature).
+constexpr double kChartCurvatureNoiseShare = 0.01;
+/// The unit round-off of double arithmetic (the evaluation error of each coefficient operation).
+constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon();
 
 /// The largest of value(piece, x) at kPCurveSamplesPerPiece + 1 evenly spaced x on every piece (the start value
 /// of certifyMax).
@@ -301,8 +306,15 @@ std::array<BernsteinPoly, 3> chartRows(const SpanPatches& sp, size_t iu, size_t 
 
 /// Largest normal curvature of either side at x of a piece built from chart rows (spectral norm of the shape
 /// operator), or nullopt where a chart is ill-conditioned (its two directions within kChartRegularSin of parallel:
-/// next to a pole the curvature of a chart is round-off divided by a vanishing normal).
-std::optional<double> chartCurvature(const CartesianSide& A, const CartesianSide& B, const Piece& pc, double x) {
+/// next to a pole the curvature of a chart is round-off divided by a vanishing normal), or where its round-off may
+/// exceed kChartCurvatureNoiseShare of the curvature (or of `flat`, the curvature of a plane): the second
+/// derivative along the leaf carries about kUnitRoundoff deg^2 |S| of round-off (the chart's coefficients, of the
+/// model's size, differenced twice; the cross derivatives are composed from the surface's own, without that
+/// cancellation), divided by the squared first derivative along the leaf. On a sliver leaf that is tiny (linkrods edge
+/// 53: a surface knot 1e-9 before the pcurve's end; |S_v| = 1.2e-10, curvature 6e7 from round-off where
+/// OpenCASCADE's is 8), and the sample would make the curvature reference of the relative jump.
+std::optional<double> chartCurvature(const CartesianSide& A, const CartesianSide& B, const Piece& pc, double x,
+                                     double flat) {
   double out = 0.0;
   for (const CartesianSide* c : {&A, &B}) {
     VecX su, sv, suu, suv, svv;
@@ -315,7 +327,13 @@ std::optional<double> chartCurvature(const CartesianSide& A, const CartesianSide
     const Vec3 n = t.cross(a);
     if (!(n.norm() > kChartRegularSin * t.norm() * a.norm())) return std::nullopt;
     const Vec3 nh = n.normalized(), e1 = t.normalized(), e2 = nh.cross(e1);
-    out = std::max(out, spectralNorm(shapeInFrame(a, t, suu, suv, svv, nh, e1, e2)));
+    const double curvature = spectralNorm(shapeInFrame(a, t, suu, suv, svv, nh, e1, e2));
+    const double den = std::pow(pc.wa.scalar(x), c->S.ea) * std::pow(pc.wb.scalar(x), c->S.eb);
+    const double deg = std::max(1, c->S.num.degree());
+    const double noise =
+        kUnitRoundoff * deg * deg * c->S.num.maxCoeffNorm() / den / t.squaredNorm();
+    if (!(noise <= kChartCurvatureNoiseShare * std::max(curvature, flat))) return std::nullopt;
+    out = std::max(out, curvature);
   }
   return out;
 }
@@ -364,6 +382,8 @@ struct PCurveSeam {
   std::vector<std::array<double, 2>> regular;  // (jump, curvature) at the well-conditioned start samples
 
   double toB(double t) const { return b.range.lo + (t - a.range.lo) / a.range.length() * b.range.length(); }
+  /// The curvature of a plane at this seam's scale (kFlatCurvatureRatio / the larger surface's control diagonal).
+  double flatCurvature() const { return kFlatCurvatureRatio / std::max(edgeScale, std::numeric_limits<double>::min()); }
   std::vector<double> edgeCuts() const;
   bool place(const PCurvePiece& c, const SpanPatches& sp, const PCurveSide& side, size_t& iu, size_t& iv,
              bool& ok, double& cutAt) const;
@@ -501,12 +521,13 @@ Status PCurveSeam::certifyG0G1() {
   auto [g0Best, g0x, g0p] = bestSample(pieces, detail::g0Value);
   auto [g1Best, g1x, g1p] = bestSample(pieces, detail::g1Value);
   bool ok0 = true, ok1 = true;
+  // The tolerances as thresholds: a maximum within the bounds' relative gap of one is decided (certifyMax).
   out.g0Bound = certifyMax(pieces, detail::g0Bound, detail::g0Value, g0Best, g0x, g0p, kRoundoff * edgeScale, opt,
-                           ok0);
+                           ok0, nullptr, nullptr, opt.tol.distance);
   if (!ok0) return Status(ErrorCode::kUnsupported, "pcurve seam: the distance bound could not be closed");
   std::pair<int, double> unclosed{-1, 0.0};
   const double g1b = certifyMax(pieces, detail::g1Bound, detail::g1Value, g1Best, g1x, g1p, kAngleBoundFloor, opt,
-                                ok1, nullptr, &unclosed);
+                                ok1, nullptr, &unclosed, opt.tol.angleDeg / kRadToDeg);
   out.g0Sampled = g0Best;
   out.g0At = pieces[static_cast<size_t>(g0p)].tOf.scalar(g0x);
   out.g1SampledDeg = g1Best * kRadToDeg;
@@ -544,7 +565,7 @@ G2Leaf PCurveSeam::buildG2Leaf(size_t li) const {
                             opt.maxCertifiedDegree, PieceData::kG2Only);
   for (int k = 0; k <= kPCurveSamplesPerPiece; ++k) {
     const double x = static_cast<double>(k) / kPCurveSamplesPerPiece;
-    g.curvature[static_cast<size_t>(k)] = chartCurvature(CA, CB, g.pc, x);
+    g.curvature[static_cast<size_t>(k)] = chartCurvature(CA, CB, g.pc, x, flatCurvature());
     if (g.curvature[static_cast<size_t>(k)] && g.pc.g2Available)
       g.jump[static_cast<size_t>(k)] = detail::g2Value(g.pc, x);
   }
@@ -630,7 +651,7 @@ void PCurveSeam::certifyG2() {
     out.g2Why = fmt::format("the G2 polynomials exceed degree {} (maxCertifiedDegree)", opt.maxCertifiedDegree);
     return;
   }
-  boundG2(kFlatCurvatureRatio / std::max(edgeScale, std::numeric_limits<double>::min()));
+  boundG2(flatCurvature());
 }
 
 }  // namespace

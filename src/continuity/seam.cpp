@@ -415,7 +415,7 @@ bool SeamAnalysis::certifyG1() {
   int bp = -1;
   std::pair<int, double> unclosed{-1, 0.0};
   const double bound = certifyMax(corr.pieces, detail::g1BoundByRatios, detail::g1Value, best, bx, bp, kAngleBoundFloor,
-                                  opt, ok, nullptr, &unclosed);
+                                  opt, ok, nullptr, &unclosed, opt.tol.angleDeg / kRadToDeg);
   rep.g1MaxDeg = bound * kRadToDeg;
   if (bp >= 0 && best * kRadToDeg > rep.g1SampledDeg) {
     rep.g1SampledDeg = best * kRadToDeg;

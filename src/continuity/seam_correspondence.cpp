@@ -61,7 +61,8 @@ std::pair<std::vector<Piece>, double> certifiedMaps(const Side& master, const Si
   bool ok = true;
   for (size_t i = 0; i < pcs.size(); ++i)
     for (int k = 0; k <= 4; ++k) best = std::max(best, g0Value(pcs[i], k / 4.0));
-  const double bound = certifyMax(pcs, g0Bound, g0Value, best, bx, bp, exactFloor, opt, ok);
+  const double bound = certifyMax(pcs, g0Bound, g0Value, best, bx, bp, exactFloor, opt, ok, nullptr, nullptr,
+                                  opt.tol.distance);
   return std::pair{std::move(pcs), bound};
 }
 

@@ -3,6 +3,7 @@
 #include "continuity/seam_piece.h"
 
 #include <cassert>
+#include <cmath>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -259,7 +260,12 @@ double maxCoeffNormOf(const CoeffView& c) { return c.size() ? c.rowwise().norm()
 
 // Scalar Bernstein polynomial at x in [0, 1] (coefficient column 0) in O(n), no allocation: Horner's scheme in
 // s = x / (1 - x) (or, mirrored, in (1 - x) / x for x > 1/2, so that |s| <= 1), times (1 - x)^n. For the samples
-// of the connecting functions only (bounds never use it).
+// of the connecting functions only (bounds never use it). Up to kScalarAtUnscaledDegree the sum stays far inside
+// the double range; above it (it may reach max|c_i| 2^n) the coefficients are taken times 2^-e, e the exponent of
+// their largest magnitude (exact: the same bits up to that power of two), and the value multiplied back. Up to
+// kScalarAtMaxDegree the binomials stay below C(1000, 500) ~ 2.7e299 and (1/2)^n normal.
+constexpr int kScalarAtUnscaledDegree = 512;
+constexpr int kScalarAtMaxDegree = 1000;
 double scalarAt(const BernsteinPoly& p, double x) {
   const int n = p.degree();
   const double* c = p.coeffs().data();
@@ -289,20 +295,28 @@ double scalarAt(const BernsteinPoly& p, double x) {
     for (int i = n; i >= 1; --i) acc = acc * s + row[i] * (mirror ? c[n - i + 1] : c[i - 1]);
     return acc * std::pow(1.0 - y, n);
   }
+  int e = 0;
+  if (n > kScalarAtUnscaledDegree) {
+    double big = std::numeric_limits<double>::min();
+    for (int i = 0; i <= n; ++i) big = std::max(big, std::abs(c[i]));
+    e = std::ilogb(big);
+  }
+  const double f = std::ldexp(1.0, -e);
+  acc *= f;
   for (int i = n; i >= 1; --i) {
     binom = binom * i / (n - i + 1);
-    acc = acc * s + binom * (mirror ? c[n - i + 1] : c[i - 1]);
+    acc = acc * s + binom * (f * (mirror ? c[n - i + 1] : c[i - 1]));
   }
-  return acc * std::pow(1.0 - y, n);
+  return std::ldexp(acc * std::pow(1.0 - y, n), e);
 }
 
 // A sample, never a bound: from degree kSampleHornerDegree (the pcurve route's composed P, Q, rho, ..., degree
 // ~40-500) in O(n) by scalarAt instead of de Casteljau's O(n^2), which differs in the last bits only (issue 16 goal
 // 6). Below it (every quantity of a bicubic or biquartic seam: rho of a bicubic one has degree 28) de Casteljau, as
-// before. Above degree 512 the binomial factors of scalarAt may overflow: de Casteljau again.
+// before. Above kScalarAtMaxDegree the binomial factors of scalarAt may overflow: de Casteljau again.
 constexpr int kSampleHornerDegree = 32;
 double sampleAt(const BernsteinPoly& p, double x) {
-  if (p.degree() < kSampleHornerDegree || p.degree() > 512) return p.scalar(x);
+  if (p.degree() < kSampleHornerDegree || p.degree() > kScalarAtMaxDegree) return p.scalar(x);
   const double v = scalarAt(p, x);
   return std::isfinite(v) ? v : p.scalar(x);
 }
@@ -519,7 +533,7 @@ void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& 
 double certifyMax(const std::vector<Piece>& pieces, const std::function<double(const Piece&, double, double)>& bound,
                   const std::function<double(const Piece&, double)>& value, double& best, double& bestX,
                   int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop,
-                  std::pair<int, double>* unclosed) {
+                  std::pair<int, double>* unclosed, double threshold) {
   struct Item {
     int piece;
     double x0, x1;
@@ -559,7 +573,8 @@ double certifyMax(const std::vector<Piece>& pieces, const std::function<double(c
     const int node = tree.current;  // created by the bound when it restricted a high-degree polynomial
     tree.current = -1;
     ++work;
-    if (ub <= (1.0 + opt.boundRelGap) * best + floor) {
+    const bool straddles = best <= threshold && ub > threshold + floor;
+    if (ub <= (1.0 + opt.boundRelGap) * best + floor && !straddles) {
       result = std::max(result, ub);
       tree.release(node);
       continue;

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -121,10 +122,15 @@ void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& 
 // Certified maximum over all pieces: subdivides each piece until its bound is within the relative gap of the best
 // value seen (`best`, raised by the values found at midpoints). Returns the bound; `ok` false when some interval
 // could not be bounded (infinite bound at the depth limit); `unclosed` (if given) then receives the piece and the
-// midpoint of the first such interval.
+// midpoint of the first such interval. `threshold` (the verdict's tolerance in the value's unit; none by default):
+// an interval whose bound lies above it while the best value does not is subdivided further even when its bound is
+// within the relative gap, so that a certificate whose maximum lies within boundRelGap of the tolerance still
+// decides which side the maximum is on (linkrods.step edge 75: bound 0.5016 deg, samples 0.4967 deg, tolerance 0.5)
+// unless the depth or work limit ends the subdivision first.
 double certifyMax(const std::vector<Piece>& pieces, const std::function<double(const Piece&, double, double)>& bound,
                   const std::function<double(const Piece&, double)>& value, double& best, double& bestX,
                   int& bestPiece, double floor, const SeamOptions& opt, bool& ok, const bool* stop = nullptr,
-                  std::pair<int, double>* unclosed = nullptr);
+                  std::pair<int, double>* unclosed = nullptr,
+                  double threshold = std::numeric_limits<double>::infinity());
 
 }  // namespace seam::detail

@@ -181,10 +181,16 @@ Eigen::RowVectorXd blossom(const Matrix& c, const std::vector<double>& args) {
 
 // Weighted Cauchy product of Bernstein coefficient rows: out_k = sum_{i+j=k} C(n,i)C(m,j)/C(n+m,k) a_i * b_j
 // where "*" is the elementwise product of the rows (a broadcast when one of them has one column).
-// Products with n + m above this use the per-term weights C(n,i) C(m,j) / C(n+m,i+j); below it the scaled form
-// (rows multiplied by C(n,i), C(m,j), convolved, divided by C(n+m,k)) is used: C(500,250) ~ 1e149, so the scaled
-// coefficients stay far inside the double range while saving the per-term divisions.
+// Products with n + m above kPow2ScaledProductMaxDegree use the per-term weights C(n,i) C(m,j) / C(n+m,i+j); below
+// it the scaled form (rows multiplied by C(n,i), C(m,j), convolved, divided by C(n+m,k)), which saves the per-term
+// divisions. Up to kScaledProductMaxDegree the binomials as they are: C(500,250) ~ 1e149, so the scaled
+// coefficients stay far inside the double range. Above it (the pcurve route's compositions on real B-reps reach
+// degree 300-750) the binomial rows are first divided by powers of two, 2^-e_n and 2^-e_m with e_n the exponent of
+// C(n, n/2), and the divisors C(n+m,k) by 2^(e_n + e_m): the same products up to that exact power of two (no
+// rounding of its own), so the scaled rows stay near the coefficients' size; C(1000,500) ~ 2.7e299 bounds the rows
+// and 2^-(e_n + e_m) >= 2^-1000 keeps the divisors normal.
 constexpr int kScaledProductMaxDegree = 500;
+constexpr int kPow2ScaledProductMaxDegree = 1000;
 
 // so[i + j] += sa[i] * sb[j], i outer (each so[k] sums its terms in the order of i).
 SEAM_KERNEL void convolveAddKernel(const double* sa, int n, const double* sb, int m, double* so) {
@@ -201,6 +207,26 @@ void convolveAdd(const double* sa, int n, const double* sb, int m, double* so) {
 inline const double* binomialRow(int n) {
   if (n < kBinomialTableSize) return &kBinomials.v[static_cast<size_t>(n * kBinomialTableSize)];
   return cachedBinomialRow(n);
+}
+
+// The binomial rows of a product of degrees n and m in the scaled form (see kPow2ScaledProductMaxDegree): C(n, i),
+// C(m, j) and the divisors C(n + m, k), as they are up to kScaledProductMaxDegree, divided by 2^e_n, 2^e_m and
+// 2^(e_n + e_m) above (exact: ldexp of values >= 1 that stay normal). Valid until the next call on the thread.
+struct ProductBinomials {
+  const double *bn, *bm, *bnm;
+};
+ProductBinomials productBinomials(int n, int m) {
+  const double *bn = binomialRow(n), *bm = binomialRow(m), *bnm = binomialRow(n + m);
+  if (n + m <= kScaledProductMaxDegree) return {bn, bm, bnm};
+  assert(n + m <= kPow2ScaledProductMaxDegree);
+  thread_local std::vector<double> rows;
+  const size_t sn = static_cast<size_t>(n) + 1, sm = static_cast<size_t>(m) + 1;
+  rows.resize(sn + sm + static_cast<size_t>(n + m) + 1);
+  const int en = std::ilogb(bn[n / 2]), em = std::ilogb(bm[m / 2]);
+  for (size_t i = 0; i < sn; ++i) rows[i] = std::ldexp(bn[i], -en);
+  for (size_t j = 0; j < sm; ++j) rows[sn + j] = std::ldexp(bm[j], -em);
+  for (int k = 0; k <= n + m; ++k) rows[sn + sm + static_cast<size_t>(k)] = std::ldexp(bnm[k], -(en + em));
+  return {rows.data(), rows.data() + sn, rows.data() + sn + sm};
 }
 
 // out[(i + j) * d + c] += sa(i, c) * sb(j, c) over i (outer), j, c on row-major rows of d values; an operand with
@@ -273,10 +299,10 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
   const int m = static_cast<int>(b.rows()) - 1;
   const auto dim = std::max(a.cols(), b.cols());
   Matrix out = Matrix::Zero(n + m + 1, dim);
-  if (n + m <= kScaledProductMaxDegree && dim == 1) {
+  if (n + m <= kPow2ScaledProductMaxDegree && dim == 1) {
     // One column: a contiguous scaled copy of each row set, convolved, divided by C(n + m, k).
-    double sa[kScaledProductMaxDegree + 1], sb[kScaledProductMaxDegree + 1];
-    const double *bn = binomialRow(n), *bmr = binomialRow(m), *bnm = binomialRow(n + m);
+    double sa[kPow2ScaledProductMaxDegree + 1], sb[kPow2ScaledProductMaxDegree + 1];
+    const auto [bn, bmr, bnm] = productBinomials(n, m);
     for (int i = 0; i <= n; ++i) sa[i] = a(i, 0) * bn[i];
     for (int j = 0; j <= m; ++j) sb[j] = b(j, 0) * bmr[j];
     double* so = out.data();
@@ -284,10 +310,10 @@ Matrix productRows(const Matrix& a, const Matrix& b) {
     for (int k = 0; k <= n + m; ++k) so[k] = so[k] / bnm[k];
     return out;
   }
-  if (n + m <= kScaledProductMaxDegree) {
+  if (n + m <= kPow2ScaledProductMaxDegree) {
     // All columns at once on the row-major rows (a one-column operand scaled once and broadcast): per value the
     // same products, sums in the same order and the same division as column by column.
-    const double *bn = binomialRow(n), *bmr = binomialRow(m), *bnm = binomialRow(n + m);
+    const auto [bn, bmr, bnm] = productBinomials(n, m);
     constexpr size_t kStack = 2048;
     double stackA[kStack], stackB[kStack];
     std::vector<double> heapA, heapB;
@@ -792,7 +818,7 @@ BernsteinPoly dot(const BernsteinPoly& a, const BernsteinPoly& b) {
 BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
   assert(a.dim() == 3 && b.dim() == 3);
   const int n = a.degree(), m = b.degree();
-  if (n + m > kScaledProductMaxDegree) {
+  if (n + m > kPow2ScaledProductMaxDegree) {
     auto c = [&](int i, int j) { return product(a.component(i), b.component(j)); };
     const BernsteinPoly x = c(1, 2) - c(2, 1);
     const BernsteinPoly y = c(2, 0) - c(0, 2);
@@ -804,9 +830,10 @@ BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
     return BernsteinPoly(std::move(out));
   }
   // One convolution of the binomially scaled rows (see productRows), B's rows and the sums by column (crossRows).
+  const auto [bn, bmr, bnm] = productBinomials(n, m);
   Matrix as = a.coeffs(), bs = b.coeffs();
-  for (int i = 0; i <= n; ++i) as.row(i) *= binom(n, i);
-  for (int j = 0; j <= m; ++j) bs.row(j) *= binom(m, j);
+  for (int i = 0; i <= n; ++i) as.row(i) *= bn[i];
+  for (int j = 0; j <= m; ++j) bs.row(j) *= bmr[j];
   thread_local std::vector<double> scratch;
   const size_t nb = static_cast<size_t>(m) + 1, no = static_cast<size_t>(n + m) + 1;
   scratch.assign(3 * (nb + no), 0.0);
@@ -818,7 +845,7 @@ BernsteinPoly cross(const BernsteinPoly& a, const BernsteinPoly& b) {
   Matrix out(n + m + 1, 3);
   for (size_t k = 0; k < no; ++k)
     for (size_t c = 0; c < 3; ++c) out(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = so[c * no + k];
-  for (int k = 0; k <= n + m; ++k) out.row(k) /= binom(n + m, k);
+  for (int k = 0; k <= n + m; ++k) out.row(k) /= bnm[k];
   return BernsteinPoly(std::move(out));
 }
 
