@@ -55,7 +55,8 @@ struct BRepFaceMesh {
 /// SeamOptions::maxCertifiedDegree of the B-rep check (BRepCheckOptions::seam): a pcurve composed with its surface
 /// reaches degree 300-750 on real files (linkrods.step, bearing.iges: 53 seams between 256 and 744), which the
 /// default of 256 left sampled. Products and samples stay O(n^2) and O(n) up to this degree (bernstein.cpp's
-/// power-of-two scaled products, seam_piece.cpp's scaled Horner samples).
+/// power-of-two scaled products, seam_piece.cpp's scaled Horner samples). G0 and G1 only: the pcurve route's G2
+/// polynomials stay within kPCurveG2MaxDegree (256; pcurve_seam.cpp).
 inline constexpr int kBRepMaxCertifiedDegree = 1000;
 
 struct BRepCheckOptions {
