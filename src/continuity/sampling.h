@@ -1,6 +1,6 @@
 #pragma once
 // Pointwise curvature comparison and 1-D maximum refinement shared by the seam analysis (continuity/seam.cpp) and
-// the B-rep edge check (occt/brep_check.cpp).
+// the B-rep edge check (occt/brep_edge.cpp).
 #include <Eigen/Dense>
 #include <functional>
 #include <optional>
