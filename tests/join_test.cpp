@@ -8,6 +8,9 @@
 // geometrically unchanged (evaluated). Expected values never come from the code under test.
 #include <gtest/gtest.h>
 #include <Eigen/SVD>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseQR>
+#include <Eigen/OrderingMethods>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -1065,6 +1068,68 @@ TEST(ConstrainedLeastSquares, TallSparseSystemsGiveTheSolutionOfTheSVD) {
   }
 }
 
+
+// A real rank-deficient join system: the 5th sparse-QR system of `seam heal sunglasses_lens.igs --tol-angle 0.01`
+// (937 x 500, rows scaled by their largest entry; tests/data/least_squares/README.md). Its SVD has two singular
+// values at 0 and the next at 1.9e-5 of the largest. A sparse QR in COLAMD's column order kept one of the null
+// directions (its R11 had a singular value of 7.5e-17 of the largest column), so its solutions carried a component
+// amplified by 1e16. Expected values by another route: the SVD (BDCSVD), minimum-|W (x - x0)| in the nullspace.
+TEST(ConstrainedLeastSquares, ARealRankDeficientJoinSystemGivesTheSolutionOfTheSVD) {
+  std::ifstream in(std::filesystem::path(SEAM_TEST_DATA_DIR) / "least_squares" / "sunglasses_join_937x500.txt");
+  ASSERT_TRUE(in.good());
+  int m = 0, n = 0;
+  in >> m >> n;
+  ASSERT_EQ(m, 937);
+  ASSERT_EQ(n, 500);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(m, n);
+  int i = 0, j = 0;
+  double v = 0.0;
+  while (in >> i >> j >> v) C(i, j) = v;
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(C, Eigen::ComputeThinU | Eigen::ComputeFullV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  int rank = 0;
+  while (rank < sv.size() && sv[rank] > 1e-10 * sv[0]) ++rank;
+  ASSERT_EQ(rank, 498);  // the premise: two null directions, the rest well above the threshold
+  ASSERT_GT(sv[rank - 1], 1e-6 * sv[0]);
+  // The columns in their own order, and in the order a sparse QR with COLAMD puts them (where the null direction
+  // was kept: constrainedLeastSquares must then see that R11 is singular and let the dense route decide).
+  Eigen::SparseQR<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> colamd;
+  colamd.compute(Eigen::SparseMatrix<double>(C.sparseView()));
+  ASSERT_EQ(colamd.info(), Eigen::Success);
+  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order = colamd.colsPermutation();
+  Rng rng(20261202);
+  for (int trial = 0; trial < 4; ++trial) {
+    const bool permuted = trial >= 2;
+    Eigen::VectorXd x0(n), w(n), d(m), xs(n);
+    for (int k = 0; k < n; ++k) {
+      x0[k] = urand(rng, -1.0, 1.0);
+      w[k] = urand(rng, 0.5, 2.0);
+      xs[k] = urand(rng, -1.0, 1.0);
+    }
+    d = C * xs;  // consistent (a join that can be met) ...
+    if (trial % 2 == 1)
+      for (int r = 0; r < m; ++r) d[r] += urand(rng, -1e-3, 1e-3);  // ... and one that cannot, quite
+    Eigen::VectorXd expected = Eigen::VectorXd::Zero(n);
+    const Eigen::VectorXd ud = svd.matrixU().transpose() * d;
+    for (int k = 0; k < rank; ++k) expected += svd.matrixV().col(k) * (ud[k] / sv[k]);
+    const Eigen::MatrixXd V = svd.matrixV().rightCols(n - rank);
+    Eigen::JacobiSVD<Eigen::MatrixXd> small(w.asDiagonal() * V, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    expected += V * small.solve(Eigen::VectorXd(w.asDiagonal() * (x0 - expected)));
+    double residual = -1.0;
+    Eigen::VectorXd x;
+    if (permuted) {  // C P (P^T x) = C x; the objective |W (x - x0)| does not depend on the order
+      const Eigen::MatrixXd Cp = C * order;
+      const Eigen::VectorXd xp = detail::constrainedLeastSquares(Cp, d, order.transpose() * x0,
+                                                                 order.transpose() * w, &residual);
+      x = order * xp;
+    } else {
+      x = detail::constrainedLeastSquares(C, d, x0, w, &residual);
+    }
+    // The solution is known to about the condition number (5e4) times round-off.
+    EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-8) << "trial " << trial;
+    EXPECT_NEAR(residual, (C * expected - d).cwiseAbs().maxCoeff(), 1e-9) << "trial " << trial;
+  }
+}
 
 // Issue 36 goal 6: a refusal must not rest on a loose bound. The cap's bound for a rational patch was the largest
 // point move plus (max weight ratio / min weight ratio - 1) x half the net's box: 7x the real displacement in the

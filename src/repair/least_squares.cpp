@@ -92,6 +92,13 @@ constexpr int kSmallSystem = 48;
 /// from above). Below it the dense route decides.
 constexpr double kNormalEquationsMinPivotRatio = 1e-8;
 constexpr int kInverseIterations = 3;
+/// sparseQRSolution keeps its rank decision only where the smallest singular value of R11 (the kept columns) is at
+/// least this fraction of the largest column norm: two orders of magnitude inside the dense route's rank threshold
+/// (kIdentityRelTol = 1e-10), so that no direction the dense route would drop is kept. Below it the dense route
+/// decides. Measured on the 29 rank-deficient systems of the strict heal of sunglasses_lens.igs (2026-12-02): in
+/// the columns' own order the smallest is 8.4e-7 (inverse iteration within 1 % of the SVD after 3 steps); COLAMD's
+/// order had kept directions of 7.5e-17 on 4 of them (solutions amplified by 1e16) and 6.8e-9 on another.
+constexpr double kSparseQRMinSigmaRel = 1e-8;
 /// The sparse routes are taken when at most one entry in kSparseRouteDensity of C is non-zero.
 constexpr Eigen::Index kSparseRouteDensity = 8;
 
@@ -124,9 +131,16 @@ std::optional<Eigen::VectorXd> fullColumnRankSolution(const Eigen::SparseMatrix<
   return x;
 }
 
-/// The rank-deficient or ill-conditioned tall sparse system, by a sparse QR of C with a fill-reducing column order
-/// (COLAMD) whose rank decision is the dense route's: a column whose remaining norm is below kIdentityRelTol times
-/// the largest column norm counts as dependent. C Pi = Q [R11 R12; 0 0] gives the least-squares solutions
+/// The rank-deficient or ill-conditioned tall sparse system, by a sparse QR of C in its own column order, whose rank
+/// decision is the dense route's: a column whose remaining norm is below kIdentityRelTol times the largest column
+/// norm counts as dependent. A QR without column pivoting reveals the rank only when the directions it keeps are
+/// well inside the threshold: where the smallest singular value of R11 (estimated by inverse iteration) is below
+/// kSparseQRMinSigmaRel of the largest column norm, the decision is left to the dense route (empty). The columns
+/// keep their order (the seams' unknowns, patch by patch): on the 29 rank-deficient systems of the strict heal of
+/// sunglasses_lens.igs, COLAMD's fill-reducing order gave a factor twice as full, took 5x as long, and kept a
+/// direction of singular value 0 on 4 of them (rank 499 where the SVD says 498; measured 2026-12-02,
+/// docs/performance.md "The sparse QR's column order"); the own order agreed with the SVD's rank on those and on
+/// the 15 of the teaspoon and example heals. C Pi = Q [R11 R12; 0 0] gives the least-squares solutions
 /// x = Pi [R11^-1 (Q^T d)_r; 0] + Z y with the nullspace Z = Pi [-R11^-1 R12; I]; as on the dense route, the
 /// particular solution is made orthogonal to the nullspace (minimum norm) and the nullspace part minimises
 /// |W (x - x0)| (minimum norm where the weights vanish). Empty when the factorisation fails.
@@ -135,7 +149,7 @@ std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double
   const Eigen::Index n = S.cols();
   double largestColumn = 0.0;
   for (Eigen::Index j = 0; j < n; ++j) largestColumn = std::max(largestColumn, S.col(j).norm());
-  Eigen::SparseQR<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> qr;
+  Eigen::SparseQR<Eigen::SparseMatrix<double>, Eigen::NaturalOrdering<int>> qr;
   qr.setPivotThreshold(kIdentityRelTol * largestColumn);
   qr.compute(S);
   if (qr.info() != Eigen::Success) return std::nullopt;
@@ -143,6 +157,17 @@ std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double
   const Eigen::SparseMatrix<double> R = qr.matrixR();
   const Eigen::MatrixXd R11 = Eigen::MatrixXd(R.topLeftCorner(r, r));
   const auto T = R11.triangularView<Eigen::Upper>();
+  if (r > 0) {
+    // sigma_min(R11)^2 <= 1 / |(R11^T R11)^-1 v| for a unit v, converging to it (inverse iteration from above).
+    Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(r, 1.0, 2.0).normalized();
+    const double floor = kSparseQRMinSigmaRel * largestColumn;
+    for (int k = 0; k < kInverseIterations; ++k) {
+      const Eigen::VectorXd y = T.solve(R11.transpose().triangularView<Eigen::Lower>().solve(v));
+      const double growth = y.norm();
+      if (!(growth > 0.0) || !std::isfinite(growth) || growth * floor * floor > 1.0) return std::nullopt;
+      v = y / growth;
+    }
+  }
   const Eigen::VectorXd qd = qr.matrixQ().transpose() * d;
   Eigen::VectorXd y = Eigen::VectorXd::Zero(n);
   y.head(r) = T.solve(qd.head(r));
