@@ -185,7 +185,6 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
     const EdgeCheckContext edgeContext{file,    faceMap, edgeFaces,       onlyEdges, out.import, patchOfFace,
                                        out.tolerances, seamOpt, size, options.threads, faceBoxes, spansCache};
-    auto analyseEdge = [&](int i) { return detail::analyseEdge(edgeContext, i); };
     const int nEdges = edgeFaces.Extent(), nFaces = faceMap.Extent();
     // The edges in blocks of kProgressEdgeStep: each block on options.threads threads, then merged in edge order
     // (the report does not depend on the number of threads) and reported to the progress callback on this thread.
@@ -199,11 +198,11 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
       if (options.threads == 1) {
         // In the one-thread arena: the nested parallel loops of an edge (certifyPCurveSeam's leaves) run here too.
         arena.execute([&] {
-          for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(first + k);
+          for (int k = 0; k < n; ++k) block[static_cast<size_t>(k)] = analyseEdge(edgeContext, first + k);
         });
       } else {
         arena.execute([&] {
-          tbb::parallel_for(0, n, [&](int k) { block[static_cast<size_t>(k)] = analyseEdge(first + k); });
+          tbb::parallel_for(0, n, [&](int k) { block[static_cast<size_t>(k)] = analyseEdge(edgeContext, first + k); });
         });
       }
       for (EdgeOutcome& o : block) {

@@ -102,6 +102,21 @@ constexpr double kSparseQRMinSigmaRel = 1e-8;
 /// The sparse routes are taken when at most one entry in kSparseRouteDensity of C is non-zero.
 constexpr Eigen::Index kSparseRouteDensity = 8;
 
+/// Whether the smallest eigenvalue of a symmetric positive definite matrix A of order n stays above `floor` through
+/// kInverseIterations steps of inverse iteration (`solveA(v)` = A^-1 v): for a unit v, 1 / |A^-1 v| bounds the
+/// smallest eigenvalue from above and converges to it. False as soon as an estimate is below the floor or not finite.
+template <typename SolveA>
+bool smallestEigenvalueStaysAbove(Eigen::Index n, const SolveA& solveA, double floor) {
+  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0).normalized();  // not orthogonal to any eigenvector
+  for (int k = 0; k < kInverseIterations; ++k) {
+    const Eigen::VectorXd y = solveA(v);
+    const double growth = y.norm();
+    if (!(growth > 0.0) || !std::isfinite(growth) || growth * floor > 1.0) return false;
+    v = y / growth;
+  }
+  return true;
+}
+
 /// The least-squares solution of C x = d when C (m >= n) has full column rank: then it is unique, whatever x0 and the
 /// weights, and it is what the dense route returns. Sparse LDL^T of C^T C (the seams' rows touch a few control
 /// points each: 0.7 % of the entries of a sunglasses_lens.igs system of 1404 x 747) and one step of iterative
@@ -117,14 +132,9 @@ std::optional<Eigen::VectorXd> fullColumnRankSolution(const Eigen::SparseMatrix<
   const Eigen::VectorXd D = ldlt.vectorD();
   const double largest = std::max(D.maxCoeff(), Eigen::VectorXd(N.diagonal()).maxCoeff());  // <= lambda_max
   if (!(largest > 0.0) || !(D.minCoeff() >= kNormalEquationsMinPivotRatio * largest)) return std::nullopt;
-  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0).normalized();  // not orthogonal to any eigenvector
-  for (int k = 0; k < kInverseIterations; ++k) {
-    const Eigen::VectorXd y = ldlt.solve(v);
-    const double growth = y.norm();  // 1 / growth: a Rayleigh-like estimate of lambda_min from above
-    if (!(growth > 0.0) || !std::isfinite(growth) || growth * kNormalEquationsMinPivotRatio * largest > 1.0)
-      return std::nullopt;
-    v = y / growth;
-  }
+  const auto solveNormal = [&](const Eigen::VectorXd& v) { return Eigen::VectorXd(ldlt.solve(v)); };
+  if (!smallestEigenvalueStaysAbove(n, solveNormal, kNormalEquationsMinPivotRatio * largest))
+    return std::nullopt;
   Eigen::VectorXd x = ldlt.solve(S.transpose() * d);
   x += ldlt.solve(S.transpose() * (d - S * x));
   if (!x.allFinite()) return std::nullopt;
@@ -157,17 +167,10 @@ std::optional<Eigen::VectorXd> sparseQRSolution(const Eigen::SparseMatrix<double
   const Eigen::SparseMatrix<double> R = qr.matrixR();
   const Eigen::MatrixXd R11 = Eigen::MatrixXd(R.topLeftCorner(r, r));
   const auto T = R11.triangularView<Eigen::Upper>();
-  if (r > 0) {
-    // sigma_min(R11)^2 <= 1 / |(R11^T R11)^-1 v| for a unit v, converging to it (inverse iteration from above).
-    Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(r, 1.0, 2.0).normalized();
-    const double floor = kSparseQRMinSigmaRel * largestColumn;
-    for (int k = 0; k < kInverseIterations; ++k) {
-      const Eigen::VectorXd y = T.solve(R11.transpose().triangularView<Eigen::Lower>().solve(v));
-      const double growth = y.norm();
-      if (!(growth > 0.0) || !std::isfinite(growth) || growth * floor * floor > 1.0) return std::nullopt;
-      v = y / growth;
-    }
-  }
+  // sigma_min(R11)^2 is the smallest eigenvalue of R11^T R11.
+  const double sigmaFloor = kSparseQRMinSigmaRel * largestColumn;
+  const auto solveNormal = [&](const Eigen::VectorXd& v) { return Eigen::VectorXd(T.solve(T.transpose().solve(v))); };
+  if (r > 0 && !smallestEigenvalueStaysAbove(r, solveNormal, sigmaFloor * sigmaFloor)) return std::nullopt;
   const Eigen::VectorXd qd = qr.matrixQ().transpose() * d;
   Eigen::VectorXd y = Eigen::VectorXd::Zero(n);
   y.head(r) = T.solve(qd.head(r));
