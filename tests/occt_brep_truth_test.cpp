@@ -639,6 +639,53 @@ TEST(OcctTruth, EdgeJetMemoGivesTheJetsOfANewEvaluation) {
   }
 }
 
+// Two straight edges in one plane, a gap d apart and turned against each other by a slope s: A(r) = (r, 0) and
+// B(q) = (-s d + c q, d + s c q), c = 1 / (1 + s^2) (lengths in units of the size), so that B(q) - A(q) is normal to
+// B: the closest point on B of A(r) is B(r), the exact correspondence the identity. A's pcurve has knots at 0.3 and
+// 0.6, B's a little below (by e). Projected onto A, B's knot lands at -s d + c (0.3 - e), above A's knot (0.3) when
+// s d is negative enough, while its q stays below A's: the breakpoints crossed and no correspondence was made
+// (trj3_s1-al-214.stp F2/F4: 44 shared knots 5e-10 apart, 9 of them crossed, the seam uncertified). B's knot belongs
+// where A's point lies in B's normal plane there, r = 0.3 - e. The correspondence must exist and pair within its
+// tolerance of the identity. At three scales.
+TEST(OcctTruth, CorrespondenceOrdersKnotsOfDriftingEdgesByTheNormalPlane) {
+  for (const double size : {1e-3, 1.0, 1e4}) {
+    SCOPED_TRACE(::testing::Message() << "size " << size);
+    const double d = 0.1, s = -0.1, e = 1e-3, c = 1.0 / (1.0 + s * s);
+    // The plane z = 0 as a bilinear patch over [-1, 2]^2 (times size).
+    Matrix corners(4, 3);
+    corners << -size, -size, 0.0, -size, 2 * size, 0.0, 2 * size, -size, 0.0, 2 * size, 2 * size, 0.0;
+    Result<BSplineSurface> plane = BSplineSurface::create(1, 1, {-size, -size, 2 * size, 2 * size},
+                                                          {-size, -size, 2 * size, 2 * size}, 2, 2, corners);
+    ASSERT_TRUE(plane.isOk()) << plane.status().message();
+    // The pcurve (x0 + dx q, y0 + dy q) times size, knots at 0.3 and 0.6 less knotShift.
+    auto line = [&](double x0, double dx, double y0, double dy, double knotShift) {
+      const std::vector<double> knots{0.0, 0.0, 0.3 - knotShift, 0.6 - knotShift, 1.0, 1.0};
+      Matrix pts(4, 2);
+      for (int i = 0; i < 4; ++i) {
+        const double q = i == 0 ? 0.0 : i == 3 ? 1.0 : knots[static_cast<size_t>(i + 1)];
+        pts.row(i) << size * (x0 + dx * q), size * (y0 + dy * q);
+      }
+      return BSplineCurve::create(1, knots, std::move(pts)).value();
+    };
+    PCurveSide a, b;
+    a.surface = b.surface = &*plane;
+    a.pcurve = line(0.0, 1.0, 0.0, 0.0, 0.0);
+    b.pcurve = line(-s * d, c, d, s * c, e);
+    a.range = b.range = {0.0, 1.0};
+    a.faceU = b.faceU = a.faceV = b.faceV = {-size, 2 * size};
+    const double tol = d * size;
+    const Result<occt::detail::Correspondence> corr = occt::detail::correspondInParameterOf(a, b, tol);
+    ASSERT_TRUE(corr.isOk()) << corr.status().message();
+    for (int i = 0; i <= 100; ++i) {
+      const double r = i / 100.0;
+      const VecX uvPaired = corr->b.pcurve.evaluate(r), uvClosest = b.pcurve.evaluate(r);
+      const Vec3 paired = corr->b.surface->evaluate(uvPaired[0], uvPaired[1]).head<3>();
+      const Vec3 closest = b.surface->evaluate(uvClosest[0], uvClosest[1]).head<3>();
+      EXPECT_LE((paired - closest).norm(), occt::detail::kCorrespondenceTolFraction * tol) << "r " << r;
+    }
+  }
+}
+
 TEST(OcctTruth, LooseEdgesAreCountedNotACrash) {
   const Handle(Geom_SphericalSurface) sphere = new Geom_SphericalSurface(gp_Ax3(gp::XOY()), 2.0);
   const TopoDS_Shape shell = sewn({BRepBuilderAPI_MakeFace(sphere, 0.0, kPi, -kPi / 2, kPi / 2, 1e-9),

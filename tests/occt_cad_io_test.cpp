@@ -817,16 +817,17 @@ TEST(OcctBRep, AnglesAreBetweenClosestPointsWhereTheBearingsPCurvesDrift) {
     EXPECT_EQ(s.report.geometric >= GeometricClass::kG1, it->second <= rep->tolerances.angleDeg)
         << "edge " << s.edge << "\n" << notes;
     EXPECT_NE(notes.find("between the sampled closest points"), std::string::npos) << notes;
-    if (s.edge == 105) {
-      // Its closest-point correspondence (degree 308) is certified since the B-rep check takes composed degrees up
-      // to kBRepMaxCertifiedDegree; it pairs points up to 6.4e-7 from the closest ones, on fillets of radius ~0.01:
-      // the certified angle between them bounds the independent one from above, loosely (0.0041 deg).
-      if (s.report.certified) {
-        EXPECT_GE(s.report.g1MaxDeg, 0.99 * it->second) << notes;
-        EXPECT_LE(s.report.g1MaxDeg, 1.7 * it->second) << notes;
-        EXPECT_NE(notes.find("correspondence"), std::string::npos) << notes;
-        continue;
-      }
+    // Edge 105: its closest-point correspondence (degree 308) is certified since the B-rep check takes composed
+    // degrees up to kBRepMaxCertifiedDegree; it pairs points up to 6.4e-7 from the closest ones, on fillets of
+    // radius ~0.01: the certified angle between them bounds the independent one from above, loosely (0.0041 deg).
+    // Edge 367: certified since the correspondence is paired finer where its bound lay below a sample (2026-12-02):
+    // 0.010482 deg, the certification gap (1 %) above the closest points' angle, which the projection onto B's
+    // surface measures 1 % lower.
+    if (s.report.certified) {
+      EXPECT_GE(s.report.g1MaxDeg, 0.99 * it->second) << notes;
+      EXPECT_LE(s.report.g1MaxDeg, (s.edge == 105 ? 1.7 : 1.03) * it->second) << notes;
+      EXPECT_NE(notes.find("correspondence"), std::string::npos) << notes;
+      continue;
     }
     EXPECT_NEAR(s.report.g1MaxDeg, it->second, 0.01 * it->second) << "edge " << s.edge << "\n" << notes;
   }

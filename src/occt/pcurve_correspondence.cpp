@@ -63,6 +63,39 @@ double closest(EdgeJetMemo& memo, const Vec3& x, double t) {
   return t;
 }
 
+/// The parameter of the point of side `s`'s edge in the normal plane of the other edge at jet b (Newton on
+/// (A(r) - b.point) . b.tangent, clamped to the range), from `t`: the r whose closest point on the other edge is b's
+/// point, found from b's side of the closest-point equation. Projecting b's point onto A instead solves A's side of
+/// it; between two edges a gap apart the two differ (by 5e-10 of the parameter on trj3_s1-al-214.stp F2/F4, whose
+/// pcurves share 44 knots), enough to put a knot's preimage on the wrong side of the other edge's matching knot.
+double inNormalPlane(EdgeJetMemo& memo, const EdgeJet& b, double t) {
+  const PCurveSide& s = memo.side();
+  const Interval r = s.range;
+  t = std::clamp(t, r.lo, r.hi);
+  for (int it = 0; it < kClosestIterations; ++it) {
+    const EdgeJet j = memo.at(t);
+    const double slope = j.tangent.dot(b.tangent);
+    if (!(slope != 0.0)) break;
+    const double next = std::clamp(t - (j.point - b.point).dot(b.tangent) / slope, r.lo, r.hi);
+    if (!std::isfinite(next)) break;
+    const bool done = std::abs(next - t) <= kClosestStepRel * r.length();
+    t = next;
+    if (done) break;
+  }
+  return t;
+}
+
+/// Where a piece of phi is compared with the closest points (its local parameter; phi interpolates them at 0, 1/3,
+/// 2/3 and 1).
+constexpr std::array<double, 9> kPairingChecks = {1.0 / 12, 1.0 / 6, 1.0 / 4, 5.0 / 12, 1.0 / 2,
+                                                  7.0 / 12, 3.0 / 4, 5.0 / 6, 11.0 / 12};
+
+/// A piece of the correspondence at an end of the edge, once no longer than kEndPieceRel of the range, pairs within
+/// kEndOverhangFactor times the end's overhang (when that is above the pairing tolerance): the rest keeps the pairing
+/// tolerance.
+constexpr double kEndOverhangFactor = 2.0;
+constexpr double kEndPieceRel = 1.0 / 64.0;
+
 /// The Bernstein cubic on [0, 1] through (0, q0), (1/3, q1), (2/3, q2), (1, q3).
 BernsteinPoly cubicThrough(double q0, double q1, double q2, double q3) {
   // Bernstein coefficients from the values at 0, 1/3, 2/3, 1 (inverse of the collocation matrix).
@@ -80,9 +113,11 @@ struct Piece {
 
 }  // namespace
 
-Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurveSide& b, double distanceTol) {
+Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurveSide& b, double distanceTol,
+                                               double pairFraction) {
   auto unsupported = [](std::string why) { return Status(ErrorCode::kUnsupported, std::move(why)); };
-  if (!(distanceTol > 0.0) || !a.surface || !b.surface) return invalidInput("correspondence: bad sides");
+  if (!(distanceTol > 0.0) || !(pairFraction > 0.0) || !a.surface || !b.surface)
+    return invalidInput("correspondence: bad sides");
   const Interval ra = a.range, rb = b.range;
   // Orientation from the end points: B's range runs along A's or against it.
   EdgeJetMemo jetA(a), jetB(b);
@@ -109,7 +144,7 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
     const double q = p.interval.lo;
     if (!(q > rb.lo + minGap * rb.length() && q < rb.hi - minGap * rb.length())) continue;
     const double guess = ra.lo + (q - qStart) / (qEnd - qStart) * ra.length();
-    breaks.push_back({closest(jetA, jetB.at(q).point, guess), q});
+    breaks.push_back({inNormalPlane(jetA, jetB.at(q), guess), q});
   }
   std::sort(breaks.begin(), breaks.end(), [](const Break& x, const Break& y) { return x.r < y.r; });
   {
@@ -127,7 +162,20 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
     if ((breaks[i + 1].q - breaks[i].q) * (qEnd - qStart) <= 0.0)
       return unsupported("the two edges' breakpoints do not correspond in order");
 
-  const double pairTol = kCorrespondenceTolFraction * distanceTol;
+  const double pairTol = pairFraction * distanceTol;
+  // Where one edge overhangs the other at an end, the closest-point correspondence is clamped there (or starts inside
+  // B's range) while phi maps end to end: a piece at an end pairs within the overhang (the distance between B's end
+  // and the closest point of A's end on B) and no closer, however short. A finer pairing (pairFraction below
+  // kCorrespondenceTolFraction, tried where a bound lies below a sample) holds such a piece to kEndOverhangFactor
+  // times that instead of pairTol when larger; the interior keeps pairTol. The default pairing stays as it was: the
+  // heal's checks go through it, and a looser end there changed the heal of a 45-degree crease
+  // (BRepHeal.ACreaseKeepsItsAngleWhileItsGapCloses) into a model OpenCASCADE's STEP writer could not keep.
+  const bool finer = pairFraction < kCorrespondenceTolFraction;
+  const auto overhang = [&](double r, double q) {  // B past A's end r, or A past B's end q
+    return std::max((jetB.at(q).point - jetB.at(phiStar(r, q)).point).norm(),
+                    (jetA.at(r).point - jetA.at(inNormalPlane(jetA, jetB.at(q), r)).point).norm());
+  };
+  const double overhangLo = overhang(ra.lo, qStart), overhangHi = overhang(ra.hi, qEnd);
   std::vector<Piece> pieces;
   double pairingError = 0.0;
   std::function<bool(double, double, double, double, int)> build = [&](double r0, double q0, double r1, double q3,
@@ -142,12 +190,17 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
     bool ok = (d.coeffs().array() * sense).minCoeff() > 0.0;
     double err = 0.0;
     if (ok) {
-      for (const double s : {1.0 / 6.0, 0.5, 5.0 / 6.0}) {
+      for (const double s : kPairingChecks) {
         const double r = r0 + s * h, q = phi.scalar(s);
         const double qs = phiStar(r, q);
         err = std::max(err, (jetB.at(q).point - jetB.at(qs).point).norm());
       }
-      ok = err <= pairTol;
+      double tol = pairTol;
+      if (finer && h <= kEndPieceRel * ra.length()) {
+        if (r0 == ra.lo) tol = std::max(tol, kEndOverhangFactor * overhangLo);
+        if (r1 == ra.hi) tol = std::max(tol, kEndOverhangFactor * overhangHi);
+      }
+      ok = err <= tol;
     }
     if (ok) {
       pairingError = std::max(pairingError, err);

@@ -22,6 +22,9 @@ namespace seam::occt::detail {
 
 /// A fraction of the distance tolerance: phi must pair points within this of the closest-point correspondence.
 inline constexpr double kCorrespondenceTolFraction = 1e-3;
+/// Finer pairing accuracies (fractions of the distance tolerance) tried in turn where the angle bound of the pairing
+/// at kCorrespondenceTolFraction lies below a sample between closest points.
+inline constexpr std::array<double, 2> kFinerPairingFractions = {1e-5, 1e-7};
 /// Halvings of a piece of phi before the correspondence is given up (2^10 pieces per piece of the breakpoints).
 inline constexpr int kCorrespondenceMaxDepth = 10;
 
@@ -66,6 +69,9 @@ class EdgeJetMemo {
 /// B's side in A's parameter, as above. `distanceTol` is the model's G0 tolerance (it sets how close phi must pair
 /// points). kUnsupported (with the reason) when phi cannot be made monotone and accurate, or when the composed
 /// pcurve is not a valid (positive-weight) B-spline.
-Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurveSide& b, double distanceTol);
+/// `pairFraction` (of distanceTol) is the pairing accuracy asked for; kCorrespondenceTolFraction unless a finer pairing
+/// is retried (kFinerPairingFractions).
+Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurveSide& b, double distanceTol,
+                                               double pairFraction = kCorrespondenceTolFraction);
 
 }  // namespace seam::occt::detail
