@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "continuity/sampling.h"
@@ -45,16 +46,18 @@ namespace {
 constexpr int kClosestIterations = 40;
 constexpr double kClosestStepRel = 1e-15;
 
-/// The parameter of the point of side `s`'s edge closest to x, from `t` (Gauss-Newton, clamped to the range).
-double closest(EdgeJetMemo& memo, const Vec3& x, double t) {
-  const PCurveSide& s = memo.side();
-  const Interval r = s.range;
+/// The parameter t of side `s`'s edge where (x - E(t)) . d = 0, from `t` (Newton's steps, clamped to the range):
+/// with d = E'(t) the point closest to x (Gauss-Newton), with a fixed direction d the point in the plane through x
+/// normal to d.
+double footOnEdge(EdgeJetMemo& memo, const Vec3& x, const std::optional<Vec3>& direction, double t) {
+  const Interval r = memo.side().range;
   t = std::clamp(t, r.lo, r.hi);
   for (int it = 0; it < kClosestIterations; ++it) {
     const EdgeJet j = memo.at(t);
-    const double tt = j.tangent.squaredNorm();
-    if (!(tt > 0.0)) break;  // a vanishing tangent (a pole of the edge): keep the point reached
-    const double next = std::clamp(t + (x - j.point).dot(j.tangent) / tt, r.lo, r.hi);
+    const Vec3 d = direction ? *direction : j.tangent;
+    const double slope = j.tangent.dot(d);
+    if (!(slope != 0.0)) break;  // a vanishing tangent (a pole of the edge) or one in the plane: keep the point
+    const double next = std::clamp(t + (x - j.point).dot(d) / slope, r.lo, r.hi);
     if (!std::isfinite(next)) break;
     const bool done = std::abs(next - t) <= kClosestStepRel * r.length();
     t = next;
@@ -63,27 +66,15 @@ double closest(EdgeJetMemo& memo, const Vec3& x, double t) {
   return t;
 }
 
-/// The parameter of the point of side `s`'s edge in the normal plane of the other edge at jet b (Newton on
-/// (A(r) - b.point) . b.tangent, clamped to the range), from `t`: the r whose closest point on the other edge is b's
-/// point, found from b's side of the closest-point equation. Projecting b's point onto A instead solves A's side of
-/// it; between two edges a gap apart the two differ (by 5e-10 of the parameter on trj3_s1-al-214.stp F2/F4, whose
-/// pcurves share 44 knots), enough to put a knot's preimage on the wrong side of the other edge's matching knot.
-double inNormalPlane(EdgeJetMemo& memo, const EdgeJet& b, double t) {
-  const PCurveSide& s = memo.side();
-  const Interval r = s.range;
-  t = std::clamp(t, r.lo, r.hi);
-  for (int it = 0; it < kClosestIterations; ++it) {
-    const EdgeJet j = memo.at(t);
-    const double slope = j.tangent.dot(b.tangent);
-    if (!(slope != 0.0)) break;
-    const double next = std::clamp(t - (j.point - b.point).dot(b.tangent) / slope, r.lo, r.hi);
-    if (!std::isfinite(next)) break;
-    const bool done = std::abs(next - t) <= kClosestStepRel * r.length();
-    t = next;
-    if (done) break;
-  }
-  return t;
-}
+/// The parameter of the point of side `s`'s edge closest to x, from `t`.
+double closest(EdgeJetMemo& memo, const Vec3& x, double t) { return footOnEdge(memo, x, std::nullopt, t); }
+
+/// The parameter of the point of side `s`'s edge in the normal plane of the other edge at jet b, from `t`: the r whose
+/// closest point on the other edge is b's point, found from b's side of the closest-point equation. Projecting b's
+/// point onto A instead solves A's side of it; between two edges a gap apart the two differ (by 5e-10 of the
+/// parameter on trj3_s1-al-214.stp F2/F4, whose pcurves share 44 knots), enough to put a knot's preimage on the wrong
+/// side of the other edge's matching knot.
+double inNormalPlane(EdgeJetMemo& memo, const EdgeJet& b, double t) { return footOnEdge(memo, b.point, b.tangent, t); }
 
 /// Where a piece of phi is compared with the closest points (its local parameter; phi interpolates them at 0, 1/3,
 /// 2/3 and 1).
@@ -175,7 +166,7 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
     return std::max((jetB.at(q).point - jetB.at(phiStar(r, q)).point).norm(),
                     (jetA.at(r).point - jetA.at(inNormalPlane(jetA, jetB.at(q), r)).point).norm());
   };
-  const double overhangLo = overhang(ra.lo, qStart), overhangHi = overhang(ra.hi, qEnd);
+  const double overhangLo = finer ? overhang(ra.lo, qStart) : 0.0, overhangHi = finer ? overhang(ra.hi, qEnd) : 0.0;
   std::vector<Piece> pieces;
   double pairingError = 0.0;
   std::function<bool(double, double, double, double, int)> build = [&](double r0, double q0, double r1, double q3,

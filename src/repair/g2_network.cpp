@@ -733,12 +733,11 @@ Result<G2NetworkResult> g2NetworkScheme(const Model& model, const G2NetworkOptio
         for (int j = 0; j < nvv; ++j) {
           using Tap = std::pair<int, double>;
           using Three = std::array<Tap, 3>;
+          using Four = std::array<Tap, 4>;
           if (i + 2 < nu) addDiff(Three{{{at(i, j), 1.0}, {at(i + 1, j), -2.0}, {at(i + 2, j), 1.0}}}, 1.0);
           if (j + 2 < nvv) addDiff(Three{{{at(i, j), 1.0}, {at(i, j + 1), -2.0}, {at(i, j + 2), 1.0}}}, 1.0);
           if (i + 1 < nu && j + 1 < nvv)
-            addDiff(std::array<Tap, 4>{{{at(i, j), 1.0}, {at(i + 1, j), -1.0}, {at(i, j + 1), -1.0},
-                                        {at(i + 1, j + 1), 1.0}}},
-                    2.0);
+            addDiff(Four{{{at(i, j), 1.0}, {at(i + 1, j), -1.0}, {at(i, j + 1), -1.0}, {at(i + 1, j + 1), 1.0}}}, 2.0);
         }
     }
     fairK.resize(nv, nv);
