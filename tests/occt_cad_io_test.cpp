@@ -816,17 +816,20 @@ TEST(OcctBRep, AnglesAreBetweenClosestPointsWhereTheBearingsPCurvesDrift) {
     for (const std::string& n : s.report.notes) notes += n + "\n";
     EXPECT_EQ(s.report.geometric >= GeometricClass::kG1, it->second <= rep->tolerances.angleDeg)
         << "edge " << s.edge << "\n" << notes;
-    EXPECT_NE(notes.find("between the sampled closest points"), std::string::npos) << notes;
-    // Edge 105: its closest-point correspondence (degree 308) is certified since the B-rep check takes composed
-    // degrees up to kBRepMaxCertifiedDegree; it pairs points up to 6.4e-7 from the closest ones, on fillets of
-    // radius ~0.01: the certified angle between them bounds the independent one from above, loosely (0.0041 deg).
-    // Edge 367: certified since the correspondence is paired finer where its bound lay below a sample (2026-12-02):
-    // 0.010482 deg, the certification gap (1 %) above the closest points' angle, which the projection onto B's
-    // surface measures 1 % lower.
+    // The certified angle is between closest points: the paired points' bound plus the excess the note states
+    // (PCurveSeamBounds::g1ClosestExcessDeg, 2026-12-02), never below the independent angle (which the projection
+    // onto B's surface measures about 1 % lower). Paired by a correspondence (edges 105, 154) or at equal parameters
+    // (edge 367, whose correspondences carry more excess from an end overhang of 1.9e-6 mm), the paired bound lies
+    // within the certification gap of the independent angle (edge 105: 1.7, its correspondence pairs up to 6.4e-7
+    // from the closest points on fillets of radius ~0.01), and the excess, which does not know that both normals
+    // turn together along the edge, stays below half the angle on this model.
     if (s.report.certified) {
+      double excess = 0.0;
+      const std::string key = "by at most ";
+      if (const size_t at = notes.find(key); at != std::string::npos) excess = std::stod(notes.substr(at + key.size()));
       EXPECT_GE(s.report.g1MaxDeg, 0.99 * it->second) << notes;
-      EXPECT_LE(s.report.g1MaxDeg, (s.edge == 105 ? 1.7 : 1.03) * it->second) << notes;
-      EXPECT_NE(notes.find("correspondence"), std::string::npos) << notes;
+      EXPECT_LE(s.report.g1MaxDeg - excess, (s.edge == 105 ? 1.7 : 1.03) * it->second) << notes;
+      EXPECT_LE(excess, 0.5 * it->second) << notes;
       continue;
     }
     EXPECT_NEAR(s.report.g1MaxDeg, it->second, 0.01 * it->second) << "edge " << s.edge << "\n" << notes;
@@ -933,10 +936,14 @@ TEST(OcctBRep, HighDegreePCurveSeamsAreCertifiedAndDecidedNextToTheirTolerance) 
     std::string notes;
     for (const std::string& n : s.report.notes) notes += n + "\n";
     if (s.edge == 75) {
+      // Between the points its equal-parameter route pairs the bound is 0.4999 deg; between closest points it can
+      // only be bounded 2.45 deg higher (a drift of 1.7e-4 mm where the normals turn by 150 rad/mm; the
+      // correspondence exceeds the degree limit), which alone would make the seam a kink: neither class is proved,
+      // and the samples between closest points (0.4944 deg) decide, with a note (2026-12-02).
       ++found;
-      EXPECT_TRUE(s.report.certified) << notes;
+      if (!s.report.certified) EXPECT_NE(notes.find("the bound alone would change the class"), std::string::npos);
       EXPECT_LE(s.report.g1MaxDeg, rep->tolerances.angleDeg) << notes;
-      EXPECT_GE(s.report.g1MaxDeg, 0.495) << notes;
+      EXPECT_GE(s.report.g1MaxDeg, 0.99 * 0.495) << notes;
       EXPECT_EQ(s.report.geometric, GeometricClass::kG1) << notes;
     }
     if (s.edge == 53) {

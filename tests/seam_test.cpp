@@ -12,6 +12,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <numbers>
 #include <cstdint>
 #include <iostream>
 #include <limits>
@@ -1842,6 +1843,64 @@ TEST(PCurveSeam, RationalPcurvesAreComposedHomogeneously) {
   EXPECT_LE(r->g0Bound, 1e-11);
   if (r->g2Certified) EXPECT_TRUE(r->g2Identity) << r->g2Bound;
   else EXPECT_FALSE(r->g2Why.empty());
+}
+
+TEST(PCurveSeam, TheClosestPointExcessCoversAPairingThatLags) {
+  // A = s (u, v, k u v) and B = s (u, -v, k v (1 - u)) (bilinear) meet along the segment s (x, 0, 0), their normals
+  // tilted about it by atan(k x) and atan(k (1 - x)) to either side: between closest points (the same x) the angle
+  // is atan(k x) + atan(k (1 - x)), largest at x = 1/2: 2 atan(k / 2). A's pcurve is (t, 0); B's lags, x = u(t)
+  // with u(t) - t up to 0.03 (a quadratic t + eps t (1 - t), or a rational quadratic with middle weight 1.1), so
+  // at equal t the route pairs A(t) with a point of B's edge up to s 0.03 away, where B's normal has turned: the
+  // angle at the paired points stays about 1 deg below the closest points'. The excess
+  // (SeamOptions::closestPointsOn) must cover the difference, and stay within twice k max |u(t) - t| (the turning
+  // rate of B's normal times the largest distance between paired and closest points), at sizes 1e-3, 1, 1e4; the
+  // same seam with its sides exchanged has the same excess on its first side (kOnA).
+  const double k = 1.0, eps = 0.1, c1 = 0.5 + 0.5 * eps, deg = 180.0 / std::numbers::pi;
+  const double truth = 2.0 * std::atan(0.5 * k) * deg;
+  for (const double s : {1e-3, 1.0, 1e4})
+    for (const bool rational : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "size " << s << " rational " << rational);
+      Matrix pa(4, 3), pb(4, 3);
+      pa << 0, 0, 0, 0, s, 0, s, 0, 0, s, s, k * s;
+      pb << 0, 0, 0, 0, -s, k * s, s, 0, 0, s, -s, 0;
+      const BSplineSurface A(1, 1, KnotVector({0, 0, 1, 1}), KnotVector({0, 0, 1, 1}), 2, 2, std::move(pa));
+      const BSplineSurface B(1, 1, KnotVector({0, 0, 1, 1}), KnotVector({0, 0, 1, 1}), 2, 2, std::move(pb));
+      const double w = rational ? 1.1 : 1.0;
+      Matrix cp(3, 2);
+      cp << 0.0, 0.0, c1, 0.0, 1.0, 0.0;
+      VecX weights(3);
+      weights << 1.0, w, 1.0;
+      const BSplineCurve cb = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, cp, rational ? weights : VecX()).value();
+      // Independent: the largest |u(t) - t| of the (rational) quadratic, densely.
+      double lag = 0.0;
+      for (int i = 0; i <= 20000; ++i) {
+        const double t = i / 20000.0, b1 = 2.0 * t * (1.0 - t);
+        const double u = (w * b1 * c1 + t * t) / ((1.0 - t) * (1.0 - t) + w * b1 + t * t);
+        ASSERT_GE(u - t, -1e-15);  // a lag everywhere
+        lag = std::max(lag, u - t);
+      }
+      SeamOptions opt;
+      opt.boundRelGap = 1e-4;  // the bound within 1e-4 of the paired points' largest angle
+      const Result<PCurveSeamBounds> plain =
+          certifyPCurveSeam(pcurve::side(A, pcurve::line2d({0, 0}, {1, 0})), pcurve::side(B, cb, -1.0), opt);
+      ASSERT_TRUE(plain) << plain.status().message();
+      EXPECT_EQ(plain->g1ClosestExcessDeg, 0.0);  // not asked for
+      opt.closestPointsOn = ClosestPoints::kOnB;
+      const Result<PCurveSeamBounds> r =
+          certifyPCurveSeam(pcurve::side(A, pcurve::line2d({0, 0}, {1, 0})), pcurve::side(B, cb, -1.0), opt);
+      ASSERT_TRUE(r) << r.status().message();
+      // One segment, no gap between the edges: the route's distance is the paired points', s max |u(t) - t|.
+      EXPECT_GE(r->g0Bound, s * lag * (1.0 - 1e-9));
+      EXPECT_LE(r->g0Bound, 1.011 * s * lag);
+      EXPECT_LT(r->g1BoundDeg, truth - 0.5);  // the paired points alone miss the closest points' angle
+      EXPECT_GE(r->g1BoundDeg + r->g1ClosestExcessDeg, truth);
+      EXPECT_LE(r->g1ClosestExcessDeg, 2.0 * k * lag * deg);
+      opt.closestPointsOn = ClosestPoints::kOnA;
+      const Result<PCurveSeamBounds> swapped =
+          certifyPCurveSeam(pcurve::side(B, cb, -1.0), pcurve::side(A, pcurve::line2d({0, 0}, {1, 0})), opt);
+      ASSERT_TRUE(swapped) << swapped.status().message();
+      EXPECT_NEAR(swapped->g1ClosestExcessDeg, r->g1ClosestExcessDeg, 1e-9 * r->g1ClosestExcessDeg);
+    }
 }
 
 TEST(PCurveSeam, CreaseHasNoCertifiedG2) {

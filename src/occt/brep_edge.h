@@ -3,6 +3,7 @@
 // through OpenCASCADE and the sampled measures along the edge (src/occt/brep_edge.cpp), and the certified route
 // through the pcurves composed with the converted patches (src/occt/brep_edge_certificate.cpp).
 #include <filesystem>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -166,6 +167,13 @@ struct EdgeCertificate {
   bool angleFromPairing = false;
   /// G0 and G1 (g2: and G2) values will come from the certified route (unless reconcileVerdict withdraws them).
   [[nodiscard]] bool certifies() const { return bounds && bounds->isOk(); }
+  /// The certified angle between closest points (degrees; when certifies()): the paired points' bound plus how much
+  /// the closest points' angle can exceed it (PCurveSeamBounds::g1ClosestExcessDeg), where that is bounded; where it
+  /// is not (or a normal vanishes, g1PoleT), the paired points' angle.
+  [[nodiscard]] double angleBoundDeg() const {
+    const PCurveSeamBounds& r = **bounds;
+    return r.g1BoundDeg + (r.g1PoleT || !std::isfinite(r.g1ClosestExcessDeg) ? 0.0 : r.g1ClosestExcessDeg);
+  }
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
 };
 

@@ -51,6 +51,9 @@ struct SeamSample {
   double g2Rel = 0.0;    ///< relative to the larger curvature
 };
 
+/// Which closest points a pcurve seam's angle bound covers (SeamOptions::closestPointsOn).
+enum class ClosestPoints { kNone, kOnB, kOnA };
+
 struct SeamOptions {
   Tolerances tol;                 ///< classification thresholds (defaults: Tolerances{}; scale them to the model)
   int samplesPerSpan = 64;        ///< dense samples per Bezier span where the seam cannot be certified
@@ -74,6 +77,11 @@ struct SeamOptions {
   /// row differences, without the exact piece data and the subdivision (docs/algorithms/seam-measures.md). The
   /// same classes; the bounds are rigorous and at round-off level. false: always the general route (tests).
   bool sharedRows = true;
+  /// Pcurve seams (certifyPCurveSeam): also bound how much the angle between the normals at closest points can
+  /// exceed the angle at the points the route pairs (PCurveSeamBounds::g1ClosestExcessDeg): kOnB for each point of
+  /// A's edge and its closest point on B's, kOnA the other way. The B-rep check asks for the direction its pairing
+  /// was made in: its angles are between closest points (issue 35).
+  ClosestPoints closestPointsOn = ClosestPoints::kNone;
 };
 
 struct SeamReport {
@@ -195,6 +203,13 @@ struct PCurveSeamBounds {
   int pieces = 0;           ///< polynomial pieces along the edge
   int maxDegree = 0;        ///< largest degree of the composed G1 polynomials
   int maxDegreeG2 = 0;      ///< largest degree of the Lemma 2 residual polynomials (0 when not built)
+  /// With SeamOptions::closestPointsOn = kOnB: a certified bound of how much the angle between A's normal at a point
+  /// of A's edge and B's normal at the (local) closest point of B's edge can exceed the angle between the normals at
+  /// the points the route pairs, in degrees (g1BoundDeg + this bounds the angle between closest points); kOnA: the
+  /// same with A and B exchanged. Infinite where it cannot be bounded (the other edge's tangent or normal not bounded
+  /// away from zero near the pairing, or its curvature too large for the distance between the paired points). 0
+  /// with kNone.
+  double g1ClosestExcessDeg = 0.0;
 };
 /// Errors (the caller samples instead): kInvalidInput (missing surface, pcurve not 2-D, empty ranges),
 /// kUnsupported (a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
