@@ -2,8 +2,8 @@
 // One shared edge of the B-rep check (checkBRepShape's edge loop, src/occt/brep_check.cpp): the two faces' sides
 // through OpenCASCADE and the sampled measures along the edge (src/occt/brep_edge.cpp), and the certified route
 // through the pcurves composed with the converted patches (src/occt/brep_edge_certificate.cpp).
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -145,6 +145,13 @@ struct FacePCurve {
 /// share a parameter, B's side (or A's, when only B has a parameter of its own, or when B's pcurve has the higher
 /// degree) re-expressed in the other's parameter by a monotone piecewise-cubic correspondence
 /// (detail::correspondInParameterOf); then certifyPCurveSeam. Filled in place (a and b point into it).
+/// The part of a pcurve route's angle bound that covers closest points beyond the paired ones, as the B-rep check
+/// adds it (PCurveSeamBounds::g1ClosestExcessDeg, degrees): 0 where it could not be bounded (the paired bound then
+/// stands, held to the samples) and where a normal vanishes (g1PoleT: the angle is measured, not bounded).
+inline double closestExcessDeg(const PCurveSeamBounds& r) {
+  return r.g1PoleT || !std::isfinite(r.g1ClosestExcessDeg) ? 0.0 : r.g1ClosestExcessDeg;
+}
+
 struct EdgeCertificate {
   std::optional<Result<FacePCurve>> sideA, sideB;
   std::optional<Result<detail::Correspondence>> correspondence;
@@ -170,10 +177,7 @@ struct EdgeCertificate {
   /// The certified angle between closest points (degrees; when certifies()): the paired points' bound plus how much
   /// the closest points' angle can exceed it (PCurveSeamBounds::g1ClosestExcessDeg), where that is bounded; where it
   /// is not (or a normal vanishes, g1PoleT), the paired points' angle.
-  [[nodiscard]] double angleBoundDeg() const {
-    const PCurveSeamBounds& r = **bounds;
-    return r.g1BoundDeg + (r.g1PoleT || !std::isfinite(r.g1ClosestExcessDeg) ? 0.0 : r.g1ClosestExcessDeg);
-  }
+  [[nodiscard]] double angleBoundDeg() const { return (*bounds)->g1BoundDeg + closestExcessDeg(**bounds); }
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
 };
 

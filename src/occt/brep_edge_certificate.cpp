@@ -256,7 +256,7 @@ void certifyThroughPCurves(SeamReport& rep, const Result<PCurveSeamBounds>& r, c
   // not (the other edge's second derivative on a sliver leaf is round-off over the leaf's length squared), the bound
   // holds at the paired points, and the samples between closest points still withdraw it when above it.
   const bool excessBounded = std::isfinite(r->g1ClosestExcessDeg);
-  const double excess = r->g1PoleT || !excessBounded ? 0.0 : r->g1ClosestExcessDeg;
+  const double excess = closestExcessDeg(*r);
   // The composed route's own values replace the sampled ones for G0 and G1: the same surfaces, each face
   // evaluated on its own side of a knot line (OpenCASCADE evaluates a surface shared by two faces on one side
   // there), and no direction noise near poles, where the exact normal keeps its limit.
@@ -505,9 +505,7 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   // certification gap: the pcurves drift, and the closest-point pairing, whose excess is at the pairing's accuracy,
   // may give the closer bound (trj3_s1-al-214.stp edge 96: 0.0369 deg at equal parameters plus 0.0443 of excess).
   const auto excessLoose = [](const EdgeCertificate& e) {
-    const PCurveSeamBounds& eb = **e.bounds;
-    return std::isfinite(eb.g1ClosestExcessDeg) && !eb.g1PoleT &&
-           eb.g1ClosestExcessDeg > kLooseAngleRelSlack * eb.g1BoundDeg + kAngleRetrySlackDeg;
+    return closestExcessDeg(**e.bounds) > kLooseAngleRelSlack * (*e.bounds)->g1BoundDeg + kAngleRetrySlackDeg;
   };
   const bool looseExcess = excessLoose(c);
   if (!belowSamples && !looseBound && !aboveSamples && !looseExcess) return;
@@ -536,7 +534,7 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   if (closest && excessLoose(*closest)) {
     const PCurveSeamBounds& cb = **closest->bounds;
     const double fraction = std::max(detail::kFinerPairingFractions.back(),
-                                     pairing * kLooseAngleRelSlack * cb.g1BoundDeg / cb.g1ClosestExcessDeg);
+                                     pairing * kLooseAngleRelSlack * cb.g1BoundDeg / closestExcessDeg(cb));
     if (fraction < pairing)
       if (std::optional<EdgeCertificate> finer = closestPointCertificate(c, spans, patchA, patchB, fraction);
           finer && finer->angleBoundDeg() < closest->angleBoundDeg()) {
@@ -583,8 +581,7 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
   // of 1.7e-4 mm where the normals turn by 150 rad/mm, 0.4967 deg between the sampled closest points): neither class
   // is proved, and the sampled one is shown.
   bool excessDecides = false;
-  if (rep.certified && c.certifies() && !(*c.bounds)->g1PoleT && (*c.bounds)->g1ClosestExcessDeg > 0.0 &&
-      std::isfinite((*c.bounds)->g1ClosestExcessDeg)) {
+  if (rep.certified && c.certifies() && closestExcessDeg(**c.bounds) > 0.0) {
     SeamReport paired = rep;
     paired.g1MaxDeg = std::max((*c.bounds)->g1BoundDeg, (*c.bounds)->g1SampledDeg);
     reconcileVerdict(paired, c.opt.tol);
