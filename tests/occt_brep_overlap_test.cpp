@@ -168,6 +168,35 @@ TEST(BRepOverlaps, TheResultDoesNotDependOnTheNumberOfThreads) {
   }
 }
 
+// Many faces lying on one face with a hole, searched on more threads than cores: every thread classifies its
+// face's samples on that one face at once. OpenCASCADE 7.6's face classifier is not safe to call from two threads at
+// once (its polygons sit in a sequence whose reads move a cached cursor), and the search crashed here (SIGSEGV in
+// BRepTopAdaptor_FClass2d::Perform) before it took each face's classifier for one thread at a time (issue 39). The
+// expected pairs come from the construction: the 8 x 8 unit tiles of [0, 8] x [0, 8] in its plane, less the 4 that
+// fill the hole [3, 5] x [3, 5], lie on the face; the tiles share only edges with each other.
+TEST(BRepOverlaps, ManyFacesOnOneFaceWithAHoleAreClassifiedOnItFromEveryThreadAtOnce) {
+  auto square = [](double x0, double x1) {
+    BRepBuilderAPI_MakePolygon wire(gp_Pnt(x0, x0, 0), gp_Pnt(x1, x0, 0), gp_Pnt(x1, x1, 0), gp_Pnt(x0, x1, 0), true);
+    return wire.Wire();
+  };
+  BRepBuilderAPI_MakeFace holed(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), square(0, 8));
+  holed.Add(TopoDS::Wire(square(3, 5).Reversed()));
+  const TopoDS_Face plate = holed.Face();
+  ASSERT_TRUE(BRepCheck_Analyzer(plate).IsValid());
+  std::vector<TopoDS_Face> faces{plate};
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) faces.push_back(rectangle(i, i + 1, j, j + 1));
+  for (int round = 0; round < 10; ++round) {
+    const auto found = search(faces, 8);
+    ASSERT_EQ(found.overlaps.size(), 60u) << "round " << round;
+    for (const FaceOverlap& o : found.overlaps) {
+      EXPECT_EQ(o.a, 0);
+      EXPECT_GE(o.fraction, 0.8);  // a tile's samples on the hole's edge are on the plate's trim, not inside it
+      EXPECT_LE(o.maxDistance, 1e-12);
+    }
+  }
+}
+
 // trj3_s1-al-214.stp (5 solids, sliver and zero-area faces): every pair reported lies on each other at its witness
 // point by OpenCASCADE alone (the point projects onto both faces' surfaces within the tolerance, and the exact face
 // classifier puts both feet inside the trims); a face of zero area is never in a pair. The single-part files, valid
@@ -229,3 +258,4 @@ TEST(BRepOverlaps, RealFilesWitnessPointsLieInsideBothFacesByOpenCascade) {
 
 }  // namespace
 }  // namespace seam
+

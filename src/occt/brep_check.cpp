@@ -268,7 +268,7 @@ Result<BRepCheckReport> checkBRepShape(const TopoDS_Shape& input, const fs::path
   } catch (const Standard_Failure& f) {
     return Status(ErrorCode::kInvalidInput,
                   fmt::format("{}: OpenCASCADE {} during the B-rep check: {}", file.string(),
-                              isSignal(f) ? "crashed (the file is corrupt)" : "failed", f.GetMessageString()));
+                              isSignal(f) ? detail::kCrashedOnTheModel : "failed", f.GetMessageString()));
   }
   for (const BRepSeam& s : out.seams) {
     ++out.geometric[static_cast<size_t>(s.report.geometric)];

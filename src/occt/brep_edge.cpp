@@ -137,8 +137,8 @@ SeamReport pcurveRouteReport(const EdgeCheckContext& ctx, const TopoDS_Edge& edg
     std::exception_ptr sampleError, certError;
     tbb::task_group tasks;
     tasks.run([&] {
-      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
       try {
+        OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler (inside the try, which catches it)
         samples = sampleEdge(edge, A, B, seamOpt, size);
       } catch (...) {
         sampleError = std::current_exception();
@@ -326,8 +326,8 @@ EdgeOutcome analyseEdge(const EdgeCheckContext& ctx, int i) {
   const std::filesystem::path& file = ctx.file;
   auto faceName = [&](int fi) { return fmt::format("F{}", fi); };
   EdgeOutcome o;
-  OCC_CATCH_SIGNALS  // this thread's handler: a signal here comes back as an OSD_Signal failure
   try {
+    OCC_CATCH_SIGNALS  // this thread's handler: a signal here comes back as an OSD_Signal failure, caught below
     const TopoDS_Edge edge = TopoDS::Edge(edgeFaces.FindKey(i));
     if (onlyEdges && !onlyEdges(edge)) return o;  // not asked for
     if (BRep_Tool::Degenerated(edge)) {

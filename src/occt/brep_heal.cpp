@@ -1420,7 +1420,7 @@ Result<BRepHealReport> healBRepFile(const fs::path& in, const fs::path& out, con
         report.after = countsOf(shape, countsAfter);
       } catch (const Standard_Failure& f) {
         return invalidInput(fmt::format("{}: OpenCASCADE {} during the heal: {}", in.string(),
-                                        isSignal(f) ? "crashed (the file is corrupt)" : "failed",
+                                        isSignal(f) ? detail::kCrashedOnTheModel : "failed",
                                         f.GetMessageString()));
       }
     }

@@ -57,11 +57,25 @@ struct FaceGrid {
   Bnd_Box box;                     ///< the face's box, enlarged by the tolerance
 };
 
-/// The face's classifier, made once on the first thread that needs it (its Perform is const: read by every thread).
+/// The face's classifier, made on the first thread that needs it, and used by one thread at a time: its Perform is
+/// const but not safe to call from two threads at once (OpenCASCADE 7.6 reads the classifier's polygons from an
+/// NCollection_Sequence, whose reads move a cursor cached in the sequence; two threads classifying on one face
+/// crashed the search about once in 200 runs of `seam check linkrods.step`, issue 39). The lock is per face: the
+/// threads still classify on different faces at once.
 struct LazyClassifier {
-  std::once_flag once;
+  std::mutex lock;
   std::unique_ptr<BRepTopAdaptor_FClass2d> classifier;
 };
+
+/// `classifier` made on `face` where it is not yet, then its state of `uv`, under this frame's own signal handler: a
+/// signal inside OpenCASCADE jumps back here (not to a caller's handler, past the caller's lock) and leaves as a
+/// Standard_Failure that unwinds the caller's lock.
+TopAbs_State classifyUnlocked(std::unique_ptr<BRepTopAdaptor_FClass2d>& classifier, const TopoDS_Face& face,
+                              const gp_Pnt2d& uv) {
+  OCC_CATCH_SIGNALS
+  if (!classifier) classifier = std::make_unique<BRepTopAdaptor_FClass2d>(face, Precision::PConfusion());
+  return classifier->Perform(uv);
+}
 
 FaceGrid faceGrid(const TopoDS_Face& face, int n, double tol) {
   FaceGrid g;
@@ -170,8 +184,8 @@ class Search {
     const int n = std::max(1, kOverlapGridFactor * options_.samplesPerDirection);
     arena_.execute([&] {
       tbb::parallel_for(0, n_, [&](int k) {
-        OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
         try {
+          OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler (inside the try, which catches it)
           grids_[static_cast<size_t>(k)] = faceGrid(face(k), n, tol_);
         } catch (const Standard_Failure&) {
           grids_[static_cast<size_t>(k)] = FaceGrid{};
@@ -194,13 +208,11 @@ class Search {
   [[nodiscard]] TopoDS_Face face(int k) const { return TopoDS::Face(faces_(k + 1)); }
   [[nodiscard]] const FaceGrid& grid(int k) const { return grids_[static_cast<size_t>(k)]; }
 
-  /// The classifier of face k, made once on the first thread that needs it (its Perform is const: read by all).
-  const BRepTopAdaptor_FClass2d& classifier(int k) {
+  /// The state of `uv` on face k by the face's classifier (LazyClassifier: one thread at a time per face).
+  TopAbs_State classify(int k, const gp_Pnt2d& uv) {
     LazyClassifier& c = classifiers_[static_cast<size_t>(k)];
-    std::call_once(c.once, [&] {
-      c.classifier = std::make_unique<BRepTopAdaptor_FClass2d>(face(k), Precision::PConfusion());
-    });
-    return *c.classifier;
+    const std::lock_guard<std::mutex> hold(c.lock);  // outside classifyUnlocked's signal frame: always unlocked
+    return classifyUnlocked(c.classifier, face(k), uv);
   }
 
   /// Face a's samples on each of its partners (hits_[a]); for a face with a hit, how many of its samples lie inside
@@ -214,13 +226,13 @@ class Search {
     std::vector<signed char> in(ga.xyz.size(), -1);  // a's own classification of its samples, when asked
     auto insideA = [&](int s) {
       if (in[static_cast<size_t>(s)] < 0)
-        in[static_cast<size_t>(s)] = classifier(a).Perform(ga.uv[static_cast<size_t>(s)]) == TopAbs_IN ? 1 : 0;
+        in[static_cast<size_t>(s)] = classify(a, ga.uv[static_cast<size_t>(s)]) == TopAbs_IN ? 1 : 0;
       return in[static_cast<size_t>(s)] == 1;
     };
     bool any = false;
     for (size_t m = 0; m < mine.size(); ++m) {
-      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
       try {
+        OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler (inside the try, which catches it)
         out[m] = samplesOn(ga, mine[m], insideA);
         any = any || !out[m].samples.empty();
       } catch (const Standard_Failure&) {
@@ -228,8 +240,8 @@ class Search {
       }
     }
     if (!any) return;
-    OCC_CATCH_SIGNALS
     try {
+      OCC_CATCH_SIGNALS
       int count = 0;
       for (int s = 0; s < static_cast<int>(ga.xyz.size()); ++s) count += insideA(s) ? 1 : 0;
       inside_[static_cast<size_t>(a)] = count;
@@ -268,7 +280,7 @@ class Search {
       const gp_Pnt2d foot = footNear(*surfaceB, p, gb.uv[nearest].X(), gb.uv[nearest].Y());
       const double d = p.Distance(surfaceB->Value(foot.X(), foot.Y()));  // the foot found is the witness
       if (!(d <= tol_)) continue;
-      if (classifier(b).Perform(foot) != TopAbs_IN) continue;
+      if (classify(b, foot) != TopAbs_IN) continue;
       if (!insideA(s)) continue;
       out.samples.push_back(s);
       out.distances.push_back(d);

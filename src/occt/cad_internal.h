@@ -30,6 +30,10 @@ namespace seam::occt::detail {
 /// True when OpenCASCADE turned a signal (a crash inside it) into this failure, not an ordinary exception.
 inline bool isSignal(const Standard_Failure& f) { return f.IsKind(STANDARD_TYPE(OSD_Signal)); }
 
+/// How a check or heal names a signal inside OpenCASCADE: on a file that reads, the crash is not evidence that the
+/// file is corrupt (the overlap search's concurrent classifiers crashed on valid files, issue 39).
+inline constexpr const char* kCrashedOnTheModel = "crashed on this model (a defect of the file or of OpenCASCADE)";
+
 /// A face's parameter box [u0, u1] x [v0, v1].
 struct ParamBox {
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;

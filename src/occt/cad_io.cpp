@@ -1294,8 +1294,8 @@ void forEachOnThreads(int n, int threads, const std::function<void(int)>& task) 
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(0, n, [&](int k) {
-      OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler
       try {
+        OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler (inside the try, which catches it)
         task(k);
       } catch (...) {
         failed[static_cast<size_t>(k)] = std::current_exception();
