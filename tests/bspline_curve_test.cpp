@@ -366,7 +366,7 @@ TEST(BSplineCurve, BezierPiecesEvaluateToTheCurve) {
       return test::refBezierCurvePoint(pieces[i].curve.points(), pieces[i].curve.weights(), s);
     };
     ASSERT_TRUE(test::agreeAt(
-        ts, [&](double t) { return refCurvePoint(c, t); }, pieceValue, test::controlScale(c.points()),
+        ts, [&curve = c](double t) { return refCurvePoint(curve, t); }, pieceValue, test::controlScale(c.points()),
         test::kGeometryRelTol))
         << describe(c);
   }

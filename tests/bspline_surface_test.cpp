@@ -181,10 +181,10 @@ TEST(BSplineSurface, DerivativesMatchFiniteDifferences) {
               // Difference the brute-force lower-order derivative in u (k > 0) or v.
               const VecX fd =
                   k > 0 ? test::richardsonDerivative(
-                              [&](double x) { return VecX(refSurfaceDerivs(s, x, v, kOrder)[k - 1][l]); }, u,
+                              [&, v0 = v](double x) { return VecX(refSurfaceDerivs(s, x, v0, kOrder)[k - 1][l]); }, u,
                               lu / test::kFdStepDivisor)
                         : test::richardsonDerivative(
-                              [&](double y) { return VecX(refSurfaceDerivs(s, u, y, kOrder)[k][l - 1]); }, v,
+                              [&, u0 = u](double y) { return VecX(refSurfaceDerivs(s, u0, y, kOrder)[k][l - 1]); }, v,
                               lv / test::kFdStepDivisor);
               ASSERT_TRUE(closeTo(fd, got[k][l], test::kFdRelTol * magnitude[k][l]))
                   << describe(s) << " at " << u << "," << v << " derivative (" << k << "," << l << ")";
@@ -347,7 +347,7 @@ TEST(BSplineSurface, BezierPatchesTileTheDomainAndEvaluateCorrectly) {
       const auto& bp = piece.patch;
       ASSERT_TRUE(test::agreeAt2(
           test::sampleParams2(rng, piece.u, piece.v, perPatch),
-          [&](double u, double v) { return refSurfacePoint(s, u, v); },
+          [&surface = s](double u, double v) { return refSurfacePoint(surface, u, v); },
           [&](double u, double v) {
             return test::refBezierPatchPoint(bp.degreeU(), bp.degreeV(), bp.points(), bp.weights(),
                                              (u - piece.u.lo) / piece.u.length(),
@@ -458,7 +458,9 @@ TEST(BSplineSurface, BoundaryCurveIsTheSurfaceAlongTheEdge) {
       ASSERT_EQ(c.isRational(), s.isRational());
       ASSERT_TRUE(test::agreeAt(
           test::sampleParams(rng, g.along, samples / 4),
-          [&](double t) { return g.isU ? refSurfacePoint(s, g.fixed, t) : refSurfacePoint(s, t, g.fixed); },
+          [&, &surface = s](double t) {
+            return g.isU ? refSurfacePoint(surface, g.fixed, t) : refSurfacePoint(surface, t, g.fixed);
+          },
           [&](double t) { return test::refCurvePoint(c, t); }, test::controlScale(s.points()),
           test::kGeometryRelTol))
           << describe(s) << " edge " << edgeName(e);
@@ -756,7 +758,9 @@ TEST(BSplineSurface, OrientedFromMakesTheEdgeU0) {
       const double u0 = o.domainU().lo;
       ASSERT_TRUE(test::agreeAt(
           test::sampleParams(rng, g.along, 200),
-          [&](double t) { return g.isU ? refSurfacePoint(s, g.fixed, t) : refSurfacePoint(s, t, g.fixed); },
+          [&, &surface = s](double t) {
+            return g.isU ? refSurfacePoint(surface, g.fixed, t) : refSurfacePoint(surface, t, g.fixed);
+          },
           [&](double t) { return refSurfacePoint(o, u0, t); }, test::controlScale(s.points()),
           test::kGeometryRelTol))
           << describe(s) << " edge " << edgeName(e);

@@ -376,7 +376,7 @@ TEST(CliHostile, FileAboveTheSizeLimit) {
 // that names the file and says "out of memory"; never a signal (bad_alloc thrown again while a document unwinds
 // used to abort) and never the bare "std::bad_alloc".
 TEST(CliHostile, OutOfMemoryIsAnErrorNamingTheFileUnderAnyCap) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SEAM_SANITIZED)  // the sanitizer build (AddressSanitizer with GCC or Clang)
   GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no address-space cap can be tested";
 #else
   if (std::system("command -v prlimit >/dev/null 2>&1") != 0) GTEST_SKIP() << "no prlimit (util-linux)";

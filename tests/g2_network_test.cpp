@@ -294,8 +294,8 @@ double valenceThreeTwistMisprediction(const Model& m, const nt::Network& net) {
     std::vector<std::pair<Vec3, Vec3>> edges;  // (first derivative, second derivative) away from V
     for (const CornerJet& j : jets)
       for (const auto& [d, dd] : {std::make_pair(j.x, j.xx), std::make_pair(j.y, j.yy)}) {
-        const bool seen = std::any_of(edges.begin(), edges.end(), [&](const auto& e) {
-          return e.first.normalized().dot(d.normalized()) > 0.99;
+        const bool seen = std::any_of(edges.begin(), edges.end(), [&first = d](const auto& e) {
+          return e.first.normalized().dot(first.normalized()) > 0.99;
         });
         if (!seen) edges.emplace_back(d, dd);
       }

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SEAM_SANITIZED)  // the sanitizer build (AddressSanitizer with GCC or Clang)
 #include <sanitizer/lsan_interface.h>
 #endif
 #include <sys/wait.h>
@@ -204,11 +204,11 @@ TEST(HostileCadCheck, ASignalDuringTheBRepCheckIsAnError) {
   // OpenCASCADE's signal conversion leaves the guarded block by longjmp, so the containers that the check had
   // built inside it (a few hundred bytes here) are never destroyed: a crash in a corrupt file costs that memory,
   // which LeakSanitizer would report. Allocations made while it is disabled are not reported.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SEAM_SANITIZED)  // the sanitizer build (AddressSanitizer with GCC or Clang)
   __lsan_disable();
 #endif
   const Result<occt::BRepCheckReport> r = occt::checkBRepFile(file, options);
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SEAM_SANITIZED)  // the sanitizer build (AddressSanitizer with GCC or Clang)
   __lsan_enable();
 #endif
   EXPECT_EQ(calls, 1);

@@ -443,7 +443,7 @@ std::vector<ReportMesh> reportMeshes(const Model& model, const std::vector<bool>
         m.points.push_back(pt);
         m.normals.push_back(n);
       }
-    auto id = [&](int a, int b) { return a * (nv + 1) + b; };
+    auto id = [rowLength = nv + 1](int a, int b) { return a * rowLength + b; };
     for (int a = 0; a < nu; ++a)
       for (int b = 0; b < nv; ++b)
         m.triangles.insert(m.triangles.end(),
@@ -784,7 +784,7 @@ Result<std::string> objMesh(const Model& model, const MeshOptions& options) {
         normals += fmt::format("vn {:.9g} {:.9g} {:.9g}\n", n.x(), n.y(), n.z());
       }
     out += normals;
-    auto id = [&](int i, int j) { return base + static_cast<long>(i) * (nv + 1) + j; };
+    auto id = [&, rowLength = nv + 1](int i, int j) { return base + static_cast<long>(i) * rowLength + j; };
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < nv; ++j) {
         const long a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
