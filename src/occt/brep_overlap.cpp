@@ -164,7 +164,8 @@ struct Hits {
 /// The search over one shape's faces: the grids, the classifiers (made on first use), the candidate pairs and what
 /// each face's samples found on its partners. Every failure inside OpenCASCADE (a face it cannot evaluate or
 /// classify) leaves that face or that pair out: the search reports what it finds; the seams' check reports the
-/// faces' problems.
+/// faces' problems. A signal (a crash inside OpenCASCADE) is raised to the caller instead, which ends the check with
+/// an error, as a signal on an edge does: a crash is never turned into a silently missing pair.
 class Search {
  public:
   Search(const TopTools_IndexedMapOfShape& faces, double tol, const OverlapOptions& options)
@@ -187,7 +188,8 @@ class Search {
         try {
           OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler (inside the try, which catches it)
           grids_[static_cast<size_t>(k)] = faceGrid(face(k), n, tol_);
-        } catch (const Standard_Failure&) {
+        } catch (const Standard_Failure& f) {
+          if (isSignal(f)) throw;  // a crash inside OpenCASCADE ends the check (exit 2), as on an edge
           grids_[static_cast<size_t>(k)] = FaceGrid{};
         }
       });
@@ -235,7 +237,8 @@ class Search {
         OCC_CATCH_SIGNALS  // the thread that runs the task: its own handler (inside the try, which catches it)
         out[m] = samplesOn(ga, mine[m], insideA);
         any = any || !out[m].samples.empty();
-      } catch (const Standard_Failure&) {
+      } catch (const Standard_Failure& f) {
+        if (isSignal(f)) throw;  // a crash inside OpenCASCADE ends the check (exit 2), as on an edge
         out[m] = Hits{};
       }
     }
@@ -250,7 +253,8 @@ class Search {
       const double area = std::abs(props.Mass()), sampled = sampledArea(face(a), ga, in);
       if (!(sampled <= kOverlapAreaAgreement * area && area <= kOverlapAreaAgreement * sampled))
         skipped_[static_cast<size_t>(a)] = 1;
-    } catch (const Standard_Failure&) {
+    } catch (const Standard_Failure& f) {
+      if (isSignal(f)) throw;  // a crash inside OpenCASCADE ends the check (exit 2), as on an edge
       inside_[static_cast<size_t>(a)] = 0;
       skipped_[static_cast<size_t>(a)] = 1;
     }
