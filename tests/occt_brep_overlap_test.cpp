@@ -258,4 +258,3 @@ TEST(BRepOverlaps, RealFilesWitnessPointsLieInsideBothFacesByOpenCascade) {
 
 }  // namespace
 }  // namespace seam
-

@@ -215,7 +215,9 @@ TEST(HostileCadCheck, ASignalDuringTheBRepCheckIsAnError) {
   ASSERT_FALSE(r.isOk());
   EXPECT_EQ(r.status().code(), ErrorCode::kInvalidInput);
   EXPECT_THAT(r.status().message(), HasSubstr(file.string()));
-  EXPECT_THAT(r.status().message(), HasSubstr("OpenCASCADE crashed on this model (a defect of the file or of OpenCASCADE) during the B-rep check"));
+  EXPECT_THAT(r.status().message(),
+              HasSubstr("OpenCASCADE crashed on this model (a defect of the file or of OpenCASCADE) during the B-rep "
+                        "check"));
   // The guard is gone afterwards and the next check of the same file works, with the reader's warning passed on.
   const Result<occt::BRepCheckReport> again = occt::checkBRepFile(file);
   ASSERT_TRUE(again.isOk()) << again.status().message();
