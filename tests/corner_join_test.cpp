@@ -55,10 +55,6 @@ constexpr double kPlausibleDisplacementRel = 0.1;
 /// Scaled G1 compatibility residual at the 4-valent vertex (Johansson's relations, corner.h) of an exact G1 vertex:
 /// round-off of least-squares connecting functions; the default angle tolerance as a sine is ~1.7e-4.
 constexpr double kVertexG1Residual = 1e-6;
-/// The reported before (certified, the seam's own correspondence) against the dense closest-point reference of the
-/// input: the bounds are tight to boundRelGap = 25 % (refereeOptions) and the correspondences differ where there is
-/// a gap of 2e-3 x size.
-constexpr double kBeforeSlackRel = 0.3;
 
 using seamtest::refereeOptions;
 CornerJoinOptions cornerOptions() {
@@ -208,8 +204,9 @@ void expectNoSeamWorse(const Model& in, const Model& out, const CornerJoinReport
     EXPECT_LE(after.g0, before.g0 + tol.distance) << s.a << "/" << s.b;
     EXPECT_LE(after.g1Deg, before.g1Deg + tol.angleDeg) << s.a << "/" << s.b;
     // A certified before bounds the input's values from above: the closest-point gap sampled here is at most the
-    // gap along any correspondence; the angle depends on the correspondence where there is a gap (hence the slack).
-    // Sampled (uncertified) befores are not compared.
+    // gap along any correspondence; across a gap the certified angle also bounds the angle between closest points
+    // (SeamReport::g1ClosestExcessDeg; it had needed a 30 % slack, and the angle at the three patches' corner was
+    // 6.78 deg against a bound of 3.55). Sampled (uncertified) befores are not compared.
     // Compared over the overlap the report paired (the dense reference's two-way distance over whole edges also
     // counts an end of one edge overshooting the other).
     if (s.before->certified) {
@@ -219,7 +216,7 @@ void expectNoSeamWorse(const Model& in, const Model& out, const CornerJoinReport
       const seamtest::RefMeasures paired =
           seamtest::denseReference(in.findPatch(s.a)->surface, s.aEdge, in.findPatch(s.b)->surface, s.bEdge, ov);
       EXPECT_GE(s.before->g0Max, paired.g0 - tol.distance) << s.a << "/" << s.b;
-      EXPECT_GE(s.before->g1MaxDeg, paired.g1Deg * (1.0 - kBeforeSlackRel) - tol.angleDeg) << s.a << "/" << s.b;
+      EXPECT_GE(s.before->g1MaxDeg, paired.g1Deg - tol.angleDeg) << s.a << "/" << s.b;
     }
   }
 }
@@ -313,8 +310,12 @@ TEST(CornerJoin3, PerturbedNearEverySeamAndTheCornerJoinsG1) {
     auto nearEdges = [](const BSplineSurface& s) {
       return [&s](int i, int j) { return i <= 1 || j <= 1 || i >= s.numU() - 2 || j >= s.numV() - 2; };
     };
-    const Model m = modelOf(noisy(rng, f.S, 2e-3 * size, nearEdges(f.S)), noisy(rng, f.St, 2e-3 * size, nearEdges(f.St)),
-                            noisy(rng, f.Sh, 2e-3 * size, nearEdges(f.Sh)));
+    // Drawn one after the other (the order of a call's arguments is the compiler's choice: Clang's left-to-right
+    // order drew the case where the paired and the closest-point angles differ most, 3.55 against 6.79 deg).
+    const BSplineSurface S = noisy(rng, f.S, 2e-3 * size, nearEdges(f.S));
+    const BSplineSurface St = noisy(rng, f.St, 2e-3 * size, nearEdges(f.St));
+    const BSplineSurface Sh = noisy(rng, f.Sh, 2e-3 * size, nearEdges(f.Sh));
+    const Model m = modelOf(S, St, Sh);
     auto r = joinThreePatchCorner(m, f.corner, cornerOptions());
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_TRUE(r->proportionality->allHold);

@@ -18,6 +18,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "continuity/closest_excess.h"
 #include "continuity/sampling.h"
 #include "continuity/seam_piece.h"
 #include "continuity/seam_side.h"
@@ -266,100 +267,6 @@ ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const PCur
   return out;
 }
 
-/// Halvings of a leaf while bounding the length of a vector polynomial from below (normLowerBound).
-constexpr int kNormBoundDepth = 4;
-/// normLowerBound accepts a piece's bound once it reaches this share of the length at the piece's middle.
-constexpr double kNormBoundShare = 0.5;
-
-/// A lower bound of |v(x)| on [0, 1]: per piece (halved up to kNormBoundDepth times), the least Bernstein coefficient
-/// of v . e, with e the unit direction of v at the piece's middle (|v| >= v . e); 0 where no positive bound is found.
-double normLowerBound(const BernsteinPoly& v, int depth = 0) {
-  const VecX mid = v(0.5);
-  const double len = mid.norm();
-  double lo = 0.0;
-  if (len > 0.0 && std::isfinite(len)) lo = (v.coeffs() * (mid / len)).minCoeff();
-  if (lo >= kNormBoundShare * len || depth >= kNormBoundDepth) return std::max(lo, 0.0);
-  const auto [left, right] = v.subdivided(0.5);
-  return std::min(normLowerBound(left, depth + 1), normLowerBound(right, depth + 1));
-}
-
-/// Halvings while bounding max |F| of the closest-point residual on a leaf (maxAbsBound), and the share above the
-/// largest end value (of the pieces reached) at which a piece's coefficient bound is accepted.
-constexpr int kResidualBoundDepth = 2;
-constexpr double kResidualBoundRel = 0.1;
-/// Halvings of the cells whose closest-point excess exceeds the target (PCurveSeam::closestExcess): a cell's own
-/// bounds of the residual, |B_x| and the normal's turning lie closer to the values at each point than the leaf's (a
-/// rational quadratic edge: 10.5 deg of excess from the whole leaf, 2.2 deg from 8 cells, 1.75 deg true). The
-/// halving stops when a round lowers the largest excess by less than kClosestRefineGain: where the pcurves drift,
-/// the excess is the drift times the normal's turning, which smaller cells do not lower (linkrods.step: 0.36 s of
-/// CPU for 8 cells per leaf, and the same bound).
-constexpr int kClosestRefineRounds = 3;
-constexpr double kClosestRefineGain = 0.75;
-
-/// An upper bound of max |p| on [0, 1]: the largest |coefficient|, on halves (up to `depth` times) where it exceeds
-/// the piece's end values (which are values of p) by more than kResidualBoundRel.
-double maxAbsBound(const BernsteinPoly& p, int depth) {
-  const Matrix& c = p.coeffs();
-  const double b = p.maxAbsCoeff(), ends = std::max(std::abs(c(0, 0)), std::abs(c(c.rows() - 1, 0)));
-  if (b <= (1.0 + kResidualBoundRel) * ends || depth <= 0) return b;
-  const auto [left, right] = p.subdivided(0.5);
-  return std::max(maxAbsBound(left, depth - 1), maxAbsBound(right, depth - 1));
-}
-
-/// What bounds, on one leaf (local parameter x in [0, 1]), how far B's point closest to A(x) lies from the paired
-/// B(x) (SeamOptions::closestPointsOn; kOnA: A and B exchanged): Bernstein coefficient bounds, A = X_A / w_A,
-/// B = X_B / w_B.
-struct ClosestData {
-  double f = 0.0;        ///< max |(A - B) . B_x|, the closest-point equation's residual at the paired point
-  double speedLo = 0.0;  ///< min |B_x| (0: not bounded away from zero)
-  double speedHi = 0.0;  ///< max |B_x|
-  double accelHi = 0.0;  ///< max |B_xx|
-  double gapHi = 0.0;    ///< max |A - B|
-  double turnHi = std::numeric_limits<double>::infinity();  ///< max |d(N_B / |N_B|) / dx| (radians per unit x)
-};
-
-/// A piece [x0, x1] of a leaf, [t0, t1] of the edge (A's parameter), with its ClosestData (per unit of its own local
-/// parameter).
-struct ClosestCell {
-  size_t leaf = 0;
-  double x0 = 0.0, x1 = 1.0, t0 = 0.0, t1 = 0.0;
-  ClosestData d;
-};
-
-/// One leaf's sides for the closest-point excess (SeamOptions::closestPointsOn): A = xa / wa, the side whose points
-/// are taken, B = xb / wb, the side their closest points lie on, nb B's normal numerator (end roots divided out),
-/// and the leaf as one cell.
-struct ClosestLeaf {
-  BernsteinPoly xa, wa, xb, wb, nb;
-  ClosestCell whole;
-};
-
-/// B_x = T / w_B^2 with T = X_B' w_B - X_B w_B'; B_xx = (T' w_B - 2 T w_B') / w_B^3; A - B = D / (w_A w_B) with
-/// D = X_A w_B - X_B w_A; so (A - B) . B_x = (D . T) / (w_A w_B^3). The unit normal turns by at most |N'| / |N| for
-/// any numerator N of it. On [x0, x1] of the leaf, per unit of the local parameter of [x0, x1]; `refine`: the
-/// residual's bound made closer by halving (maxAbsBound) where its coefficients bound it loosely (A - B turning
-/// against B's tangent along the piece).
-ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine) {
-  ClosestData d;
-  const auto on = [&](const BernsteinPoly& p) { return x0 == 0.0 && x1 == 1.0 ? p : p.restricted(x0, x1); };
-  const BernsteinPoly xa = on(L.xa), wa = on(L.wa), xb = on(L.xb), wb = on(L.wb), nb = on(L.nb);
-  const double waLo = wa.coeffs().minCoeff(), wbLo = wb.coeffs().minCoeff(), wbHi = wb.coeffs().maxCoeff();
-  if (!(waLo > 0.0 && wbLo > 0.0)) return d;
-  const BernsteinPoly D = product(xa, wb) - product(xb, wa);
-  const BernsteinPoly wb1 = wb.derivative();
-  const BernsteinPoly T = product(xb.derivative(), wb) - product(xb, wb1);
-  const BernsteinPoly acc = product(T.derivative(), wb) - 2.0 * product(T, wb1);
-  const BernsteinPoly F = dot(D, T);
-  const double den = waLo * wbLo * wbLo * wbLo;
-  d.f = (refine ? maxAbsBound(F, kResidualBoundDepth) : F.maxAbsCoeff()) / den;
-  d.speedLo = normLowerBound(T) / (wbHi * wbHi);
-  d.speedHi = T.maxCoeffNorm() / (wbLo * wbLo);
-  d.accelHi = acc.maxCoeffNorm() / (wbLo * wbLo * wbLo);
-  d.gapHi = D.maxCoeffNorm() / (waLo * wbLo);
-  if (const double nLo = normLowerBound(nb); nLo > 0.0) d.turnHi = nb.derivative().maxCoeffNorm() / nLo;
-  return d;
-}
-
 /// One side's homogeneous rows along a leaf in the chart (s, tau) -> H(c(tau) + s d(tau)) (span-local coordinates):
 /// H(c), dH/ds = d_u H_u + d_v H_v and d2H/ds2 = d_u^2 H_uu + 2 d_u d_v H_uv + d_v^2 H_vv, all composed with the
 /// pcurve, in the form `cartesian` and `buildPiece` take for patch edges (row k: k-th derivative across the edge).
@@ -475,7 +382,7 @@ struct PCurveSeam {
   std::vector<PCurveLeaf> leaves;
   std::vector<Piece> pieces;                                             // the G0 / G1 data per leaf
   std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed;  // A's and B's ComposedSide::h per leaf
-  std::vector<ClosestLeaf> closest;  // per leaf, with SeamOptions::closestPointsOn
+  std::vector<detail::ClosestLeaf> closest;  // per leaf, with SeamOptions::closestPointsOn
   double edgeScale = 0.0;
   std::vector<Piece> g2Pieces;
   double curvMax = 0.0;
@@ -491,7 +398,6 @@ struct PCurveSeam {
              bool& ok, double& cutAt) const;
   bool split(double t0, double t1, int depth);
   void composeLeaf(size_t li);
-  double closestExcess(double target);
   G2Leaf buildG2Leaf(size_t li) const;
   bool buildG2Pieces();
   void boundG2(double flat);
@@ -594,9 +500,7 @@ void PCurveSeam::composeLeaf(size_t li) {
   if (opt.closestPointsOn != ClosestPoints::kNone) {
     const bool onB = opt.closestPointsOn == ClosestPoints::kOnB;
     const ComposedSide &from = onB ? A : B, &to = onB ? B : A;
-    ClosestLeaf& c = closest[li];
-    c = {from.x, from.w, to.x, to.w, onB ? NB : NA, {}};
-    c.whole = {li, 0.0, 1.0, L.t0, L.t1, closestData(c, 0.0, 1.0, false)};
+    closest[li] = detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NB : NA, li, L.t0, L.t1);
   }
   composed[li] = {std::move(A.h), std::move(B.h)};
 }
@@ -650,95 +554,12 @@ Status PCurveSeam::certifyG0G1() {
   // The excess is made closer where it exceeds the bound's own certification gap (boundRelGap).
   if (opt.closestPointsOn != ClosestPoints::kNone)
     out.g1ClosestExcessDeg =
-        closestExcess(std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg)) * kRadToDeg;
+        detail::closestExcess(closest, std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg)) *
+        kRadToDeg;
   if (!ok1 && !out.g1Identity)
     out.g1PoleT = unclosed.first >= 0 ? pieces[static_cast<size_t>(unclosed.first)].tOf.scalar(unclosed.second)
                                       : out.g1At;
   return Status::ok();
-}
-
-/// The excess (radians) of each of `cells` (in edge order): see PCurveSeam::closestExcess; infinite where a cell's
-/// excess cannot be bounded.
-std::vector<double> excessOfCells(const std::vector<ClosestCell>& cells) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> out(cells.size(), kInf);
-  const auto len = [&](size_t j) { return cells[j].t1 - cells[j].t0; };
-  for (size_t i = 0; i < cells.size(); ++i) {
-    const double f = cells[i].d.f / len(i);  // per unit of t
-    size_t lo = i, hi = i;
-    for (;;) {
-      double m = kInf, M = 0.0, S = 0.0, K = 0.0;
-      for (size_t j = lo; j <= hi; ++j) {
-        const ClosestData& c = cells[j].d;
-        const double h = len(j);
-        m = std::min(m, c.speedLo / h);
-        M = std::max(M, c.accelHi / (h * h));
-        S = std::max(S, c.speedHi / h);
-        K = std::max(K, c.turnHi / h);
-      }
-      const double d0 = 2.0 * f / (m * m);
-      if (!(m > 0.0) || !std::isfinite(M) || !std::isfinite(S) || !std::isfinite(d0)) break;
-      // The cells that [t0 - d0, t1 + d0] reaches: any new one may lower m or raise M, S, K.
-      size_t nlo = lo, nhi = hi;
-      while (nlo > 0 && cells[nlo].t0 > cells[i].t0 - d0) --nlo;
-      while (nhi + 1 < cells.size() && cells[nhi].t1 < cells[i].t1 + d0) ++nhi;
-      if (nlo == lo && nhi == hi) {
-        const double c = m * m - (cells[i].d.gapHi + d0 * S) * M;
-        const double e = f / c * K;
-        if (c >= 0.5 * m * m && e >= 0.0) out[i] = e;  // else (or NaN: 0 / 0, inf * 0) not bounded
-        break;
-      }
-      lo = nlo;
-      hi = nhi;
-    }
-  }
-  return out;
-}
-
-// How much the angle between A's normal and B's at B's (local) closest point can exceed the angle at the paired
-// points, in radians (SeamOptions::closestPointsOn; kOnA: A and B exchanged in what follows; infinite where it cannot
-// be bounded): first over each leaf as a whole, then with the cells above `target` halved (kClosestRefineRounds).
-// In A's edge parameter t, at a point t of a cell, g(s) = (A(t) - B(s)) . B'(s) vanishes at B's closest point and
-// g(t) = (A - B) . B' = f. With |B'| >= m, |B''| <= M and |A(t) - B(s)| <= G over the cells within d0 of the cell,
-// g'(s) = -|B'|^2 + (A(t) - B(s)) . B'' <= -(m^2 - G M) =: -c < 0 there: |A(t) - B(s)|^2 is strictly convex in s
-// and its least value on B's range lies within |f| / c of t (clamped at an end of the range likewise). Taking
-// d0 = 2 |f| / m^2 and G = |A - B|(cell) + d0 max|B'|, c >= m^2 / 2 makes |f| / c <= d0 consistent. B's unit normal
-// turns by at most K |s - t| (K = max |d(N_B / |N_B|) / dt| there). Local: a closest point elsewhere would need B's
-// edge to come back within the gap of itself.
-double PCurveSeam::closestExcess(double target) {
-  std::vector<ClosestCell> cells;
-  for (const ClosestLeaf& c : closest) cells.push_back(c.whole);
-  double previous = std::numeric_limits<double>::infinity();
-  for (int round = 0;; ++round) {
-    const std::vector<double> e = excessOfCells(cells);
-    const double worst = e.empty() ? 0.0 : *std::max_element(e.begin(), e.end());
-    // (An excess that cannot be bounded over a whole leaf may be over its halves: the first round always halves.)
-    if (worst <= target || round >= kClosestRefineRounds || (round > 0 && !(worst < kClosestRefineGain * previous)))
-      return worst;
-    previous = worst;
-    std::vector<size_t> split;
-    for (size_t i = 0; i < cells.size(); ++i)
-      if (!(e[i] <= target)) split.push_back(i);
-    std::vector<std::array<ClosestCell, 2>> halves(split.size());
-    tbb::parallel_for(size_t{0}, split.size(), [&](size_t k) {
-      const ClosestCell& c = cells[split[k]];
-      const double xm = 0.5 * (c.x0 + c.x1), tm = 0.5 * (c.t0 + c.t1);
-      const ClosestLeaf& L = closest[c.leaf];
-      halves[k] = {ClosestCell{c.leaf, c.x0, xm, c.t0, tm, closestData(L, c.x0, xm, true)},
-                   ClosestCell{c.leaf, xm, c.x1, tm, c.t1, closestData(L, xm, c.x1, true)}};
-    });
-    std::vector<ClosestCell> next;
-    for (size_t i = 0, k = 0; i < cells.size(); ++i) {
-      if (k < split.size() && split[k] == i) {
-        next.push_back(halves[k][0]);
-        next.push_back(halves[k][1]);
-        ++k;
-      } else {
-        next.push_back(cells[i]);
-      }
-    }
-    cells = std::move(next);
-  }
 }
 
 // A leaf's G2 data (a pure function of the leaf, as composeLeaf).

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "continuity/closest_excess.h"
 #include "continuity/curve_projection.h"
 #include "continuity/sampling.h"
 #include "continuity/seam_correspondence.h"
@@ -75,6 +76,8 @@ using detail::identicalBoundaryRows;
 using detail::measureAt;
 using detail::measureSharedAt;
 
+/// The largest angle between two directions, degrees.
+constexpr double kStraightAngleDeg = 180.0;
 /// |slope| of an affine correspondence within this of 1 means the edge parametrisations match (parametric C^k).
 constexpr double kMatchingSlopeTol = 1e-9;
 
@@ -137,6 +140,7 @@ struct SeamAnalysis {
   void sampledRanges();
   bool certifyG1();
   void g1IdentityFrom(bool ok);
+  void closestPointAngles();
   void certifyG2();
   void g2Bounds();
   void refineG2();
@@ -464,6 +468,54 @@ void SeamAnalysis::g1IdentityFrom(bool ok) {
   }
 }
 
+// Across a gap the correspondence pairs A(t) with B(phi(t)), which is not B's point closest to A(t): the angle
+// between the faces is read at closest points (the dense references, OpenCASCADE's probes), and next to a corner
+// the two differ by more than the bound's slack (CornerJoin3: 3.55 deg paired, 6.79 deg at closest points). The
+// certified angle bound grows by the closest-point excess (closest_excess.h, as on the pcurve route) so that it
+// bounds both; where that excess cannot be bounded (B's edge curving too much for the gap) the angle is not
+// certified. An exact correspondence (gap bound at the round-off floor) pairs closest points up to round-off.
+void SeamAnalysis::closestPointAngles() {
+  if (!(corr.corrBound > exactFloor) || corr.pieces.empty()) return;
+  std::vector<detail::ClosestLeaf> leaves;
+  leaves.reserve(corr.pieces.size());
+  for (size_t i = 0; i < corr.pieces.size(); ++i) {
+    const Piece& pc = corr.pieces[i];
+    leaves.push_back(
+        detail::closestLeaf(pc.xa, pc.wa, pc.xb, pc.wb, pc.nb, i, pc.tOf.scalar(0.0), pc.tOf.scalar(1.0)));
+  }
+  const double excess =
+      detail::closestExcess(leaves, std::max(kAngleBoundFloor, opt.boundRelGap * rep.g1MaxDeg / kRadToDeg),
+                            detail::kPatchClosestRefinement);
+  // No angle exceeds 180 deg: a bound that reaches it holds, and where the paired points' normals are already
+  // opposite to within the angle tolerance, 180 is the angle whatever the excess (teaspoon.bpt: a 180 deg crease
+  // across a gap of 0.0089, next to a pole where B's normal turns without bound). A smaller paired angle with an
+  // excess that cannot be bounded is not certified: 180 would hold but say nothing.
+  if (rep.g1MaxDeg + excess * kRadToDeg >= kStraightAngleDeg &&
+      (std::isfinite(excess) || rep.g1MaxDeg >= kStraightAngleDeg - opt.tol.angleDeg)) {
+    rep.g1ClosestExcessDeg = kStraightAngleDeg - rep.g1MaxDeg;
+    rep.g1MaxDeg = kStraightAngleDeg;
+    return;
+  }
+  if (std::isfinite(excess)) {
+    rep.g1ClosestExcessDeg = excess * kRadToDeg;
+    if (rep.g1ClosestExcessDeg > 0.0)
+      rep.notes.push_back(fmt::format("across the gap the angle between closest points exceeds the paired points' "
+                                      "({:.6g} deg) by at most {:.3g} deg, included",
+                                      rep.g1MaxDeg, rep.g1ClosestExcessDeg));
+    rep.g1MaxDeg += rep.g1ClosestExcessDeg;
+    // An identity along the pairing says nothing of the closest points once they differ.
+    if (rep.g1Identity && rep.g1ClosestExcessDeg > kIdentityBoundFactor * kAngleBoundFloor * kRadToDeg)
+      rep.g1Identity = false;
+    return;
+  }
+  rep.certified = corr.certified = false;
+  rep.notes.push_back(fmt::format("not certified: across the gap of {:.6g} the angle between closest points cannot "
+                                  "be bounded from the angle between the points the correspondence pairs ({:.6g} deg); "
+                                  "the angle shown is sampled",
+                                  corr.corrBound, rep.g1MaxDeg));
+  rep.g1MaxDeg = rep.g1SampledDeg;
+}
+
 // The G2 identity and bound of an exactly G1 seam whose Lemma 2 polynomials were formed.
 void SeamAnalysis::g2Bounds() {
   rep.g2Identity = true;
@@ -541,7 +593,9 @@ void SeamAnalysis::parametricIdentities() {
 void SeamAnalysis::certifiedBounds() {
   // The correspondence search already certified the distance bound on these very pieces.
   rep.g0Max = std::max(corr.corrBound, rep.g0Sampled);
-  g1IdentityFrom(certifyG1());
+  const bool g1Closed = certifyG1();
+  g1IdentityFrom(g1Closed);
+  if (g1Closed) closestPointAngles();
   certifyG2();
   // Connecting functions: from the exact Lemma 1 polynomials instead of the start samples.
   if (rep.g1Identity) detail::lemma1Ranges(corr.pieces, rep.lambdaRange, rep.kappaRange);

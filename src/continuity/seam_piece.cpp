@@ -112,6 +112,9 @@ Piece buildPiece(const CartesianSide& A, const CartesianSide& B, BernsteinPoly w
     pc.Q = dot(pc.cross, pc.cross);
     pc.R = product(NA.degree() == nA.num.degree() ? nA2.num : dot(NA, NA), dot(NB, NB));
     pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
+    pc.xa = A.S.num;
+    pc.xb = B.S.num;
+    pc.nb = NB;
     pc.c1 = ctx.add(Bc, O, -1.0);
     pc.c2 = ctx.add(Bcc, Aoo, -1.0);
     pc.O = O;

@@ -99,6 +99,11 @@ struct SeamReport {
   /// overlap snap distance, the gap of the seam is this distance, not the gap over the common part alone.
   double endMismatch = 0.0;
   double g1MaxDeg = 0.0, g1SampledDeg = 0.0;
+  /// Where the seam has a gap (its certified correspondence is not exact): the part of g1MaxDeg that covers the
+  /// angle between A's normal at a point of A's edge and B's normal at the closest point of B's edge, beyond the
+  /// angle at the points the correspondence pairs (a certified bound, degrees; issue 35). 0 where the
+  /// correspondence is exact (the paired points are the closest points up to round-off) or not certified.
+  double g1ClosestExcessDeg = 0.0;
   double g2Max = 0.0, g2Sampled = 0.0;          ///< absolute (1/length)
   /// g2Max / g2Sampled divided by the largest curvature (spectral norm of either shape operator) found anywhere on
   /// the seam, floored at "flat" (1e-3 / patch size): a seam-global ratio, not the pointwise maximum of

@@ -1,0 +1,204 @@
+// How much the angle between the normals at closest points can exceed the angle at paired points
+// (continuity/closest_excess.h).
+#include "continuity/closest_excess.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "core/bernstein_internal.h"
+
+namespace seam::detail {
+
+namespace {
+
+/// Halvings of a leaf while bounding the length of a vector polynomial from below (normLowerBound).
+constexpr int kNormBoundDepth = 4;
+/// normLowerBound accepts a piece's bound once it reaches this share of the length at the piece's middle.
+constexpr double kNormBoundShare = 0.5;
+
+/// A lower bound of |v(x)| on [0, 1]: per piece (halved up to kNormBoundDepth times), the least Bernstein coefficient
+/// of v . e, with e the unit direction of v at the piece's middle (|v| >= v . e); 0 where no positive bound is found.
+double normLowerBound(const BernsteinPoly& v, int depth = 0) {
+  const VecX mid = v(0.5);
+  const double len = mid.norm();
+  double lo = 0.0;
+  if (len > 0.0 && std::isfinite(len)) lo = (v.coeffs() * (mid / len)).minCoeff();
+  if (lo >= kNormBoundShare * len || depth >= kNormBoundDepth) return std::max(lo, 0.0);
+  const auto [left, right] = v.subdivided(0.5);
+  return std::min(normLowerBound(left, depth + 1), normLowerBound(right, depth + 1));
+}
+
+/// Halvings while bounding max |F| of the closest-point residual on a leaf (maxAbsBound), and the share above the
+/// largest end value (of the pieces reached) at which a piece's coefficient bound is accepted.
+constexpr int kResidualBoundDepth = 2;
+constexpr double kResidualBoundRel = 0.1;
+/// Halvings of the cells whose closest-point excess exceeds the target (closestExcess): a cell's own bounds of the
+/// residual, |B_x| and the normal's turning lie closer to the values at each point than the leaf's (a rational
+/// quadratic edge: 10.5 deg of excess from the whole leaf, 2.2 deg from 8 cells, 1.75 deg true). The halving stops
+/// when a round lowers the largest excess by less than a quarter (ClosestRefinement::gain): where the pcurves
+/// drift, the excess is the drift times the normal's turning, which smaller cells do not lower (linkrods.step: 0.36 s
+/// of CPU for 8 cells per leaf, and the same bound).
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// An upper bound of max |p| on [0, 1]: the largest |coefficient|, on halves (up to `depth` times) where it exceeds
+/// the piece's end values (which are values of p) by more than kResidualBoundRel.
+double maxAbsBound(const BernsteinPoly& p, int depth) {
+  const Matrix& c = p.coeffs();
+  const double b = p.maxAbsCoeff(), ends = std::max(std::abs(c(0, 0)), std::abs(c(c.rows() - 1, 0)));
+  if (b <= (1.0 + kResidualBoundRel) * ends || depth <= 0) return b;
+  const auto [left, right] = p.subdivided(0.5);
+  return std::max(maxAbsBound(left, depth - 1), maxAbsBound(right, depth - 1));
+}
+
+/// Rounds of widening the reach of a cell's excess (excessOfCells): each round's reach is kReachGrowth times the
+/// distance the last round's bounds asked for, so that a reach that settles needs two or three rounds.
+constexpr int kReachRounds = 6;
+constexpr double kReachGrowth = 1.5;
+
+/// The excess (radians) of each of `cells` (in edge order, the cells of `leaves`): see closestExcess; infinite where
+/// a cell's excess cannot be bounded. The bounds of B's speed, curvature and normal turning are taken over the cell
+/// and over the parts of its neighbours within the reach in t (whole neighbours made the normal's turning at a far
+/// end of a neighbour count: SeamGap.AcrossAGap... stopped at 13 times the true angle).
+std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const std::vector<ClosestCell>& cells,
+                                  bool clip) {
+  std::vector<double> out(cells.size(), kInf);
+  const auto len = [&](size_t j) { return cells[j].t1 - cells[j].t0; };
+  for (size_t i = 0; i < cells.size(); ++i) {
+    const double f = cells[i].d.f / len(i);  // per unit of t
+    const double lo = cells[i].t0, hi = cells[i].t1;
+    double reach = 0.0;
+    for (int round = 0; round < kReachRounds; ++round) {
+      double m = kInf, kappa = 0.0, K = 0.0;
+      // B's bounds on [a, b] of cell j (per unit of t).
+      const auto take = [&](size_t j, double a, double b) {  // (whole cells where !clip)
+        const ClosestCell& c = cells[j];
+        ClosestData d = c.d;
+        if (!clip) {
+          a = c.t0;
+          b = c.t1;
+        } else if (a > c.t0 || b < c.t1) {
+          const auto x = [&](double t) { return c.x0 + (t - c.t0) / len(j) * (c.x1 - c.x0); };
+          d = closestData(leaves[c.leaf], x(a), x(b), false);
+        }
+        m = std::min(m, d.speedLo / (b - a));
+        kappa = std::max(kappa, d.curvatureHi);
+        K = std::max(K, d.turnHi / (b - a));
+      };
+      take(i, lo, hi);
+      for (size_t j = i; j > 0 && cells[j - 1].t1 > lo - reach; --j)
+        take(j - 1, std::max(cells[j - 1].t0, lo - reach), cells[j - 1].t1);
+      for (size_t j = i + 1; j < cells.size() && cells[j].t0 < hi + reach; ++j)
+        take(j, cells[j].t0, std::min(cells[j].t1, hi + reach));
+      const double r = f / m, d = 2.0 * r, dt = d / m;  // arc lengths, and the reach they ask for in t
+      if (!(m > 0.0) || !std::isfinite(kappa) || !std::isfinite(dt)) break;
+      // A reach over every cell on both sides takes in B's whole range: a longer one adds nothing.
+      const bool atEnds = lo - reach <= cells.front().t0 && hi + reach >= cells.back().t1;
+      if (dt <= reach || (atEnds && round > 0)) {
+        const double c = 1.0 - (cells[i].d.gapHi + d) * kappa;
+        const double e = K / m * (r / c);
+        if (c >= 0.5 && e >= 0.0) out[i] = e;  // else (or NaN: 0 / 0, inf * 0) not bounded
+        break;
+      }
+      reach = kReachGrowth * dt;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+/// B_x = T / w_B^2 with T = X_B' w_B - X_B w_B'; B_xx = (T' w_B - 2 T w_B') / w_B^3; A - B = D / (w_A w_B) with
+/// D = X_A w_B - X_B w_A; so (A - B) . B_x = (D . T) / (w_A w_B^3). The unit normal turns by at most
+/// |N x N'| / |N|^2 <= |N'| / |N| for any numerator N of it. On [x0, x1] of the leaf, per unit of the local
+/// parameter of [x0, x1]; `refine`: the residual's bound made closer by halving (maxAbsBound) where its coefficients
+/// bound it loosely (A - B turning against B's tangent along the piece).
+ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine) {
+  ClosestData d;
+  const auto on = [&](const BernsteinPoly& p) { return x0 == 0.0 && x1 == 1.0 ? p : p.restricted(x0, x1); };
+  const BernsteinPoly xa = on(L.xa), wa = on(L.wa), xb = on(L.xb), wb = on(L.wb), nb = on(L.nb);
+  const double waLo = wa.coeffs().minCoeff(), wbLo = wb.coeffs().minCoeff(), wbHi = wb.coeffs().maxCoeff();
+  if (!(waLo > 0.0 && wbLo > 0.0)) return d;
+  const BernsteinPoly D = product(xa, wb) - product(xb, wa);
+  const BernsteinPoly wb1 = wb.derivative();
+  const BernsteinPoly T = product(xb.derivative(), wb) - product(xb, wb1);
+  const BernsteinPoly T1 = T.derivative();
+  const BernsteinPoly acc = product(T1, wb) - 2.0 * product(T, wb1);
+  const BernsteinPoly F = dot(D, T);
+  const double den = waLo * wbLo * wbLo * wbLo;
+  d.f = (refine ? maxAbsBound(F, kResidualBoundDepth) : F.maxAbsCoeff()) / den;
+  const double tLo = normLowerBound(T);
+  d.speedLo = tLo / (wbHi * wbHi);
+  d.gapHi = D.maxCoeffNorm() / (waLo * wbLo);
+  // Curvature |B_x x B_xx| / |B_x|^3 with B_x = T / w^2, B_xx = (T' w - 2 T w') / w^3: B_x x B_xx = T x T' / w^4, so
+  // kappa = w^2 |T x T'| / |T|^3; also at most |B_xx| / |B_x|^2 (the smaller bound is taken).
+  if (tLo > 0.0) {
+    const double byCross = wbHi * wbHi * cross(T, T1).maxCoeffNorm() / (tLo * tLo * tLo);
+    const double byAccel = acc.maxCoeffNorm() / (wbLo * wbLo * wbLo) / (d.speedLo * d.speedLo);
+    d.curvatureHi = std::min(byCross, byAccel);
+  }
+  // d(N / |N|) / dx = (N' - (n . N') n) / |N| with n = N / |N|: its length is |N x N'| / |N|^2 <= |N'| / |N|. The
+  // first is zero for a plane whose normal numerator only changes length (HealCrease: a vertical plane with a
+  // lifted boundary row, 90 deg everywhere); either bound holds, the smaller is taken.
+  if (const double nLo = normLowerBound(nb); nLo > 0.0) {
+    const BernsteinPoly nb1 = nb.derivative();
+    d.turnHi = std::min(nb1.maxCoeffNorm() / nLo, cross(nb, nb1).maxCoeffNorm() / (nLo * nLo));
+  }
+  return d;
+}
+
+ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly nb,
+                        size_t index, double t0, double t1) {
+  ClosestLeaf c{std::move(xa), std::move(wa), std::move(xb), std::move(wb), std::move(nb), {}};
+  c.whole = {index, 0.0, 1.0, t0, t1, closestData(c, 0.0, 1.0, false)};
+  return c;
+}
+
+double closestExcess(const std::vector<ClosestLeaf>& closest, double target, const ClosestRefinement& how) {
+  std::vector<ClosestCell> cells;
+  for (const ClosestLeaf& c : closest) cells.push_back(c.whole);
+  double previous = std::numeric_limits<double>::infinity();
+  size_t previousUnbounded = cells.size() + 1;
+  for (int round = 0;; ++round) {
+    const std::vector<double> e = excessOfCells(closest, cells, how.clipNeighbours);
+    const double worst = e.empty() ? 0.0 : *std::max_element(e.begin(), e.end());
+    const auto unbounded = static_cast<size_t>(std::count_if(e.begin(), e.end(), [](double x) { return !(x < kInf); }));
+    // (An excess that cannot be bounded over a whole leaf may be over its halves: the first round always halves.)
+    const bool gained = worst < how.gain * previous ||
+                        (how.whileUnboundedShrink && unbounded > 0 && unbounded < previousUnbounded);
+    if (worst <= target || round >= how.rounds || (round > 0 && !gained)) return worst;
+    previous = worst;
+    previousUnbounded = unbounded;
+    std::vector<size_t> split;
+    const double splitAbove = std::max(target, how.splitShare * (std::isfinite(worst) ? worst : 0.0));
+    for (size_t i = 0; i < cells.size(); ++i)
+      if (!(e[i] <= splitAbove)) split.push_back(i);
+    std::vector<std::array<ClosestCell, 2>> halves(split.size());
+    tbb::parallel_for(size_t{0}, split.size(), [&](size_t k) {
+      const ClosestCell& c = cells[split[k]];
+      const double xm = 0.5 * (c.x0 + c.x1), tm = 0.5 * (c.t0 + c.t1);
+      const ClosestLeaf& L = closest[c.leaf];
+      halves[k] = {ClosestCell{c.leaf, c.x0, xm, c.t0, tm, closestData(L, c.x0, xm, true)},
+                   ClosestCell{c.leaf, xm, c.x1, tm, c.t1, closestData(L, xm, c.x1, true)}};
+    });
+    std::vector<ClosestCell> next;
+    for (size_t i = 0, k = 0; i < cells.size(); ++i) {
+      if (k < split.size() && split[k] == i) {
+        next.push_back(halves[k][0]);
+        next.push_back(halves[k][1]);
+        ++k;
+      } else {
+        next.push_back(cells[i]);
+      }
+    }
+    cells = std::move(next);
+  }
+}
+
+
+}  // namespace seam::detail
