@@ -524,6 +524,10 @@ LambdaKappa randomLambdaKappa(Rng& rng, bool linearLambda, bool linearKappa) {
   return {BernsteinPoly::linear(l0, l1), BernsteinPoly::linear(k0, k1), l0, l1, k0, k1};
 }
 
+/// The refined Lemma 2 residual against the dense reference's 400 samples, whose maximum lies within about h^2 of the
+/// true one (h = 1/400).
+constexpr double kRefinedResidualRel = 1e-4;
+
 TEST(SeamLemma1, G1NotG2WithRandomLambdaAndKappa) {
   Rng rng(3201);
   SeamOptions opt;
@@ -558,8 +562,11 @@ TEST(SeamLemma1, G1NotG2WithRandomLambdaAndKappa) {
       EXPECT_LE(r->g1MaxDeg, kExactAngleDeg);
       EXPECT_GE(r->g2RelMax, ref.g2Rel * (1.0 - kDenseSlackRel));
       EXPECT_GE(r->g2Max, ref.g2 * (1.0 - kDenseSlackRel));
-      if (dir == 0) {  // the Lemma 2 residual (sampled in the report): as measured densely here
-        EXPECT_TRUE(near(ref.g2Residual, r->g2ResidualMax, kSampledRel * ref.g2Residual, "g2ResidualMax"));
+      if (dir == 0) {  // the Lemma 2 residual (refined on the exact pieces): as measured densely here
+        // (The start samples alone came 3.6 % below the dense maximum in the case Clang's argument order draws;
+        // refined, the 8 cases here agree with it to 1.3e-6.)
+        EXPECT_GE(r->g2ResidualMax, ref.g2Residual * (1.0 - 1e-12));
+        EXPECT_TRUE(near(ref.g2Residual, r->g2ResidualMax, kRefinedResidualRel * ref.g2Residual, "g2ResidualMax"));
       }
       const double la = dir == 0 ? lk.l0 : 1.0 / lk.l0, lb = dir == 0 ? lk.l1 : 1.0 / lk.l1;
       const double ka = dir == 0 ? lk.k0 : lk.k0 / lk.l0, kb = dir == 0 ? lk.k1 : lk.k1 / lk.l1;

@@ -480,6 +480,32 @@ std::optional<double> g2ValueIfDefined(const Piece& pc, double x) {
 }
 double g2Value(const Piece& pc, double x) { return g2ValueIfDefined(pc, x).value_or(0.0); }
 
+// The largest Lemma 2 residual over all pieces (as lemma1Ranges: kLemma1Samples per piece, the largest sample refined
+// by golden section between its neighbours), where the curvature quotient is defined (g2ValueIfDefined).
+std::optional<double> lemma2ResidualMax(const std::vector<Piece>& pieces) {
+  double out = 0.0;
+  for (const Piece& pc : pieces) {
+    if (!pc.g2Available) return std::nullopt;
+    const auto value = [&](double x) {
+      if (!g2ValueIfDefined(pc, x)) return 0.0;
+      const double wa = pc.wa.scalar(x), wb = pc.wb.scalar(x);
+      auto val = [&](const RationalPoly& r) { return sampleAt(r.num, x) / (std::pow(wa, r.ea) * std::pow(wb, r.eb)); };
+      return std::abs(val(pc.rho)) / std::pow(val(pc.nA2), 2.5);  // |n_A . res| / |n_A| with D^2 = |n_A|^4
+    };
+    double best = -1.0, where = 0.0;
+    for (int i = 0; i <= kLemma1Samples; ++i) {
+      const double x = static_cast<double>(i) / kLemma1Samples, v = value(x);
+      if (v > best) best = v, where = x;
+    }
+    if (where > 0.0 && where < 1.0) {
+      const double h = 1.0 / kLemma1Samples;
+      best = std::max(best, refineMax(value, where - h, where + h, kLemma1GoldenIterations).second);
+    }
+    out = std::max(out, best);
+  }
+  return out;
+}
+
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
 // section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).
 void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& kappa) {

@@ -121,6 +121,9 @@ double g2Value(const Piece& pc, double x);
 // Ranges of lambda and kappa over all pieces: kLemma1Samples per piece, the extreme sample of each refined by golden
 // section between its neighbours (cheap rational polynomials here, unlike the pointwise measures).
 void lemma1Ranges(const std::vector<Piece>& pieces, Interval& lambda, Interval& kappa);
+/// The largest |n_A . (B_cc - lambda^2 A_oo - 2 lambda kappa A_ot - kappa^2 A_tt)| (unit n_A) over all pieces, refined
+/// the same way, where the curvature is defined; nullopt when some piece's Lemma 2 polynomials were not formed.
+std::optional<double> lemma2ResidualMax(const std::vector<Piece>& pieces);
 
 // Certified maximum over all pieces: subdivides each piece until its bound is within the relative gap of the best
 // value seen (`best`, raised by the values found at midpoints). Returns the bound; `ok` false when some interval

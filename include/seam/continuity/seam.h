@@ -109,7 +109,8 @@ struct SeamReport {
   /// the seam, floored at "flat" (1e-3 / patch size): a seam-global ratio, not the pointwise maximum of
   /// jump(t) / curvature(t). Dividing by a value no larger than the true maximum keeps g2RelMax an upper bound.
   double g2RelMax = 0.0, g2RelSampled = 0.0;
-  double g2ResidualMax = 0.0;                    ///< |normal component of the Lemma 2 residual|, sampled
+  /// |normal component of the Lemma 2 residual|: sampled; on a certified G1 identity refined on the exact pieces
+  double g2ResidualMax = 0.0;
   WorstLocation g0Worst, g1Worst, g2Worst;
   Interval lambdaRange{0.0, 0.0}, kappaRange{0.0, 0.0};  ///< sampled ranges of the G1 connecting functions
   double c1Mismatch = 0.0, c2Mismatch = 0.0;    ///< max |B'_u^k - (-1)^k A'_u^k| relative to max |A'_u^k|
