@@ -1899,6 +1899,24 @@ TEST(PCurveSeam, RationalPcurvesAreComposedHomogeneously) {
   else EXPECT_FALSE(r->g2Why.empty());
 }
 
+namespace pcurve {
+
+/// B's pcurve lagging along the u axis: the quadratic (0, 0), (c1, 0), (1, 0) with middle weight w (1: polynomial),
+/// x = u(t) = (w b1 c1 + t^2) / ((1 - t)^2 + w b1 + t^2), b1 = 2 t (1 - t): lagU, from the Bernstein form.
+BSplineCurve lagging(double c1, double w) {
+  Matrix cp(3, 2);
+  cp << 0.0, 0.0, c1, 0.0, 1.0, 0.0;
+  VecX weights(3);
+  weights << 1.0, w, 1.0;
+  return BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, cp, w != 1.0 ? weights : VecX()).value();
+}
+double lagU(double t, double c1, double w) {
+  const double b1 = 2.0 * t * (1.0 - t);
+  return (w * b1 * c1 + t * t) / ((1.0 - t) * (1.0 - t) + w * b1 + t * t);
+}
+
+}  // namespace pcurve
+
 TEST(PCurveSeam, TheClosestPointExcessCoversAPairingThatLags) {
   // A = s (u, v, k u v) and B = s (u, -v, k v (1 - u)) (bilinear) meet along the segment s (x, 0, 0), their normals
   // tilted about it by atan(k x) and atan(k (1 - x)) to either side: between closest points (the same x) the angle
@@ -1920,16 +1938,11 @@ TEST(PCurveSeam, TheClosestPointExcessCoversAPairingThatLags) {
       const BSplineSurface A(1, 1, KnotVector({0, 0, 1, 1}), KnotVector({0, 0, 1, 1}), 2, 2, std::move(pa));
       const BSplineSurface B(1, 1, KnotVector({0, 0, 1, 1}), KnotVector({0, 0, 1, 1}), 2, 2, std::move(pb));
       const double w = rational ? 1.1 : 1.0;
-      Matrix cp(3, 2);
-      cp << 0.0, 0.0, c1, 0.0, 1.0, 0.0;
-      VecX weights(3);
-      weights << 1.0, w, 1.0;
-      const BSplineCurve cb = BSplineCurve::create(2, {0, 0, 0, 1, 1, 1}, cp, rational ? weights : VecX()).value();
+      const BSplineCurve cb = pcurve::lagging(c1, w);
       // Independent: the largest |u(t) - t| of the (rational) quadratic, densely.
       double lag = 0.0;
       for (int i = 0; i <= 20000; ++i) {
-        const double t = i / 20000.0, b1 = 2.0 * t * (1.0 - t);
-        const double u = (w * b1 * c1 + t * t) / ((1.0 - t) * (1.0 - t) + w * b1 + t * t);
+        const double t = i / 20000.0, u = pcurve::lagU(t, c1, w);
         ASSERT_GE(u - t, -1e-15);  // a lag everywhere
         lag = std::max(lag, u - t);
       }
@@ -1954,6 +1967,63 @@ TEST(PCurveSeam, TheClosestPointExcessCoversAPairingThatLags) {
           certifyPCurveSeam(pcurve::side(B, cb, -1.0), pcurve::side(A, pcurve::line2d({0, 0}, {1, 0})), opt);
       ASSERT_TRUE(swapped) << swapped.status().message();
       EXPECT_NEAR(swapped->g1ClosestExcessDeg, r->g1ClosestExcessDeg, 1e-9 * r->g1ClosestExcessDeg);
+    }
+}
+
+TEST(PCurveSeam, TheClosestPointExcessAlongALineOfCurvatureIsSecondOrderInTheLag) {
+  // B a cylinder of radius s below the quarter circle s (cos phi, sin phi, 0), A the cone above it through the circle
+  // s (1 + a) (cos phi, sin phi, 1) at height s h (rational quadratic in u, linear in v): their normals make the
+  // angle theta = atan(a / h) all along the circle, a line of curvature of both (the normals turn along it, not
+  // across). B's pcurve lags as in the test above, so the route pairs A's normal at phi with B's at phi + dphi,
+  // dphi up to 0.008 or 0.021 rad: B's normal has turned by dphi there, but the angle at the paired points only grows
+  // to acos(cos theta cos dphi). Between closest points (the same phi) the angle is theta. The certified angle must
+  // cover theta, and the closest-point excess stay below a fifth of dphi (the whole turning of B's normal between
+  // paired and closest points, which is what the excess was before the along / across split) and be of second order
+  // in dphi, at sizes 1e-3, 1, 1e4 (dphi 0.0083 with the polynomial pcurve, 0.0207 with the rational one).
+  const double a = 0.364, h = 1.0, eps = 0.02, c1 = 0.5 + 0.5 * eps, deg = 180.0 / std::numbers::pi;
+  const double theta = std::atan(a / h) * deg, r2 = std::sqrt(0.5);
+  for (const double s : {1e-3, 1.0, 1e4})
+    for (const bool rational : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "size " << s << " rational pcurve " << rational);
+      Matrix pa(6, 3), pb(6, 3);
+      const double arc[3][2] = {{1, 0}, {1, 1}, {0, 1}};
+      for (int i = 0; i < 3; ++i) {
+        pa.row(2 * i) << s * arc[i][0], s * arc[i][1], 0.0;
+        pa.row(2 * i + 1) << s * (1 + a) * arc[i][0], s * (1 + a) * arc[i][1], s * h;
+        pb.row(2 * i) << s * arc[i][0], s * arc[i][1], 0.0;
+        pb.row(2 * i + 1) << s * arc[i][0], s * arc[i][1], -s;
+      }
+      VecX w(6);
+      w << 1.0, 1.0, r2, r2, 1.0, 1.0;
+      const BSplineSurface A(2, 1, KnotVector({0, 0, 0, 1, 1, 1}), KnotVector({0, 0, 1, 1}), 3, 2, std::move(pa), w);
+      const BSplineSurface B(2, 1, KnotVector({0, 0, 0, 1, 1, 1}), KnotVector({0, 0, 1, 1}), 3, 2, std::move(pb), w);
+      const double pw = rational ? 1.1 : 1.0;
+      const BSplineCurve cb = pcurve::lagging(c1, pw);
+      // Independent: the largest angle dphi between the circle's points at u(t) and t, densely (the rational quarter
+      // circle's angle phi(u) = atan2(y, x) from its Bernstein form).
+      const auto phi = [&](double u) {
+        const double b0 = (1 - u) * (1 - u), b1 = 2 * u * (1 - u), b2 = u * u;
+        return std::atan2(r2 * b1 + b2, b0 + r2 * b1);
+      };
+      double dphi = 0.0;
+      for (int i = 0; i <= 20000; ++i) {
+        const double t = i / 20000.0;
+        dphi = std::max(dphi, phi(pcurve::lagU(t, c1, pw)) - phi(t));
+      }
+      ASSERT_GT(dphi, 0.005);
+      SeamOptions opt;
+      opt.boundRelGap = 1e-4;
+      opt.closestPointsOn = ClosestPoints::kOnB;
+      const Result<PCurveSeamBounds> r =
+          certifyPCurveSeam(pcurve::side(A, pcurve::line2d({0, 0}, {1, 0})), pcurve::side(B, cb, -1.0), opt);
+      ASSERT_TRUE(r) << r.status().message();
+      EXPECT_NEAR(r->g1SampledDeg, std::acos(std::cos(theta / deg) * std::cos(dphi)) * deg, 1e-3 * theta);
+      EXPECT_GE(r->g1BoundDeg + r->g1ClosestExcessDeg, theta);
+      // Second order: B's normal turns by dphi between paired and closest points while A's leans along B's edge by
+      // at most about 2 dphi, so the chord of the angle grows from that of theta by about 2 dphi^2 / theta; a
+      // factor 3 leaves room for the coefficient bounds (the whole turning, the bound before, is dphi).
+      EXPECT_LE(r->g1ClosestExcessDeg, 3.0 * dphi * dphi / (theta / deg) * deg);
+      EXPECT_LE(r->g1ClosestExcessDeg, 0.2 * dphi * deg);
     }
 }
 

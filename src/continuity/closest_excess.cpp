@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <utility>
 #include <vector>
 
@@ -64,17 +65,22 @@ constexpr double kReachGrowth = 1.5;
 /// The excess (radians) of each of `cells` (in edge order, the cells of `leaves`): see closestExcess; infinite where
 /// a cell's excess cannot be bounded. The bounds of B's speed, curvature and normal turning are taken over the cell
 /// and over the parts of its neighbours within the reach in t (whole neighbours made the normal's turning at a far
-/// end of a neighbour count: SeamGap.AcrossAGap... stopped at 13 times the true angle).
+/// end of a neighbour count: SeamGap.AcrossAGap... stopped at 13 times the true angle). `whole`: the excess from B's
+/// whole turning alone (the bound before the along / across split), which closestExcess's halving also follows.
 std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const std::vector<ClosestCell>& cells,
-                                  bool clip) {
+                                  double paired, bool clip, std::vector<double>& whole) {
+  const double s0 = 2.0 * std::sin(0.5 * std::min(paired, std::numbers::pi));  // the chord of the paired angle
   std::vector<double> out(cells.size(), kInf);
+  whole.assign(cells.size(), kInf);
   const auto len = [&](size_t j) { return cells[j].t1 - cells[j].t0; };
+  std::vector<std::pair<ClosestSplit, double>> reached;  // the split of each part taken, and its length in t
   for (size_t i = 0; i < cells.size(); ++i) {
     const double f = cells[i].d.f / len(i);  // per unit of t
     const double lo = cells[i].t0, hi = cells[i].t1;
     double reach = 0.0;
     for (int round = 0; round < kReachRounds; ++round) {
       double m = kInf, kappa = 0.0, K = 0.0;
+      reached.clear();
       // B's bounds on [a, b] of cell j (per unit of t).
       const auto take = [&](size_t j, double a, double b) {  // (whole cells where !clip)
         const ClosestCell& c = cells[j];
@@ -89,6 +95,7 @@ std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const 
         m = std::min(m, d.speedLo / (b - a));
         kappa = std::max(kappa, d.curvatureHi);
         K = std::max(K, d.turnHi / (b - a));
+        reached.emplace_back(d.split, b - a);
       };
       take(i, lo, hi);
       for (size_t j = i; j > 0 && cells[j - 1].t1 > lo - reach; --j)
@@ -100,9 +107,20 @@ std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const 
       // A reach over every cell on both sides takes in B's whole range: a longer one adds nothing.
       const bool atEnds = lo - reach <= cells.front().t0 && hi + reach >= cells.back().t1;
       if (dt <= reach || (atEnds && round > 0)) {
-        const double c = 1.0 - (cells[i].d.gapHi + d) * kappa;
-        const double e = K / m * (r / c);
-        if (c >= 0.5 && e >= 0.0) out[i] = e;  // else (or NaN: 0 / 0, inf * 0) not bounded
+        const double c = 1.0 - (cells[i].d.gapHi + d) * kappa, l = r / c;  // l: paired to closest, arc length
+        if (!(c >= 0.5)) break;  // (or NaN: 0 / 0, inf * 0) not bounded
+        double e = K / m * l;
+        whole[i] = e;
+        // Split along and across the edge (closestExcess), per unit of arc length: the part along it is taken as the
+        // whole turning (nearly all of it wherever the split pays), the part across at most that.
+        double across = 0.0;
+        for (const auto& [sp, length] : reached) across = std::max(across, sp.acrossTurnHi / length);
+        const double kn = K / m, tau = std::min(across, K) / m;
+        const double eps = std::min(1.0, cells[i].d.split.tangentSinHi + kappa * l);
+        const double chord = std::sqrt(s0 * s0 + 2.0 * kn * eps * l) + tau * l;
+        if (chord < 2.0) e = std::min(e, std::max(0.0, 2.0 * std::asin(0.5 * chord) - paired));
+        // A halved cell keeps its parent's bound where that is lower.
+        if (e >= 0.0) out[i] = std::min(e, cells[i].cap);
         break;
       }
       reach = kReachGrowth * dt;
@@ -145,46 +163,65 @@ ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine)
   // d(N / |N|) / dx = (N' - (n . N') n) / |N| with n = N / |N|: its length is |N x N'| / |N|^2 <= |N'| / |N|. The
   // first is zero for a plane whose normal numerator only changes length (HealCrease: a vertical plane with a
   // lifted boundary row, 90 deg everywhere); either bound holds, the smaller is taken.
+  // The split (ClosestSplit): N x N' = |N|^2 n_B x n_B', which turns n_B''s parts (along T_B, across b = n_B x T_B)
+  // into (across, -along), so n_B' . b = -(N x N') . T / (|N|^2 |T|), from the product formed for turnHi anyway.
+  // And n_A . T_B = N_A . T / (|N_A| |T|).
   if (const double nLo = normLowerBound(nb); nLo > 0.0) {
-    const BernsteinPoly nb1 = nb.derivative();
-    d.turnHi = std::min(nb1.maxCoeffNorm() / nLo, cross(nb, nb1).maxCoeffNorm() / (nLo * nLo));
+    const BernsteinPoly nb1 = nb.derivative(), C = cross(nb, nb1);
+    d.turnHi = std::min(nb1.maxCoeffNorm() / nLo, C.maxCoeffNorm() / (nLo * nLo));
+    if (tLo > 0.0) d.split.acrossTurnHi = dot(C, T).maxAbsCoeff() / (nLo * nLo * tLo);
+  }
+  if (tLo > 0.0) {
+    const BernsteinPoly na = on(L.na);
+    if (const double naLo = normLowerBound(na); naLo > 0.0)
+      d.split.tangentSinHi = std::min(1.0, dot(na, T).maxAbsCoeff() / (naLo * tLo));
   }
   return d;
 }
 
-ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly nb,
-                        size_t index, double t0, double t1) {
-  ClosestLeaf c{std::move(xa), std::move(wa), std::move(xb), std::move(wb), std::move(nb), {}};
+ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly na,
+                        BernsteinPoly nb, size_t index, double t0, double t1) {
+  ClosestLeaf c{std::move(xa), std::move(wa), std::move(xb), std::move(wb), std::move(na), std::move(nb), {}};
   c.whole = {index, 0.0, 1.0, t0, t1, closestData(c, 0.0, 1.0, false)};
   return c;
 }
 
-double closestExcess(const std::vector<ClosestLeaf>& closest, double target, const ClosestRefinement& how) {
+double closestExcess(const std::vector<ClosestLeaf>& closest, double target, double paired,
+                     const ClosestRefinement& how) {
   std::vector<ClosestCell> cells;
   for (const ClosestLeaf& c : closest) cells.push_back(c.whole);
-  double previous = std::numeric_limits<double>::infinity();
+  double previous = std::numeric_limits<double>::infinity(), previousWhole = previous;
   size_t previousUnbounded = cells.size() + 1;
+  std::vector<double> whole;
   for (int round = 0;; ++round) {
-    const std::vector<double> e = excessOfCells(closest, cells, how.clipNeighbours);
-    const double worst = e.empty() ? 0.0 : *std::max_element(e.begin(), e.end());
+    const std::vector<double> e = excessOfCells(closest, cells, paired, how.clipNeighbours, whole);
+    const auto largest = [](const std::vector<double>& v) {
+      return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+    };
+    const double worst = largest(e), worstWhole = largest(whole);
     const auto unbounded = static_cast<size_t>(std::count_if(e.begin(), e.end(), [](double x) { return !(x < kInf); }));
     // (An excess that cannot be bounded over a whole leaf may be over its halves: the first round always halves.)
-    const bool gained = worst < how.gain * previous ||
+    // The halving goes on while either bound gains (as it did before the split bound): the split one may stall where
+    // the whole turning's still falls below it (linkrods.step edge 58 stopped at 0.00046 deg, where the whole
+    // turning's went on to 0.00037).
+    const bool gained = worst < how.gain * previous || worstWhole < how.gain * previousWhole ||
                         (how.whileUnboundedShrink && unbounded > 0 && unbounded < previousUnbounded);
     if (worst <= target || round >= how.rounds || (round > 0 && !gained)) return worst;
     previous = worst;
+    previousWhole = worstWhole;
     previousUnbounded = unbounded;
     std::vector<size_t> split;
     const double splitAbove = std::max(target, how.splitShare * (std::isfinite(worst) ? worst : 0.0));
+    // Cells above it by either bound (a whole neighbour left unhalved widens the bounds next to it).
     for (size_t i = 0; i < cells.size(); ++i)
-      if (!(e[i] <= splitAbove)) split.push_back(i);
+      if (!(e[i] <= splitAbove) || !(whole[i] <= splitAbove)) split.push_back(i);
     std::vector<std::array<ClosestCell, 2>> halves(split.size());
     tbb::parallel_for(size_t{0}, split.size(), [&](size_t k) {
       const ClosestCell& c = cells[split[k]];
       const double xm = 0.5 * (c.x0 + c.x1), tm = 0.5 * (c.t0 + c.t1);
       const ClosestLeaf& L = closest[c.leaf];
-      halves[k] = {ClosestCell{c.leaf, c.x0, xm, c.t0, tm, closestData(L, c.x0, xm, true)},
-                   ClosestCell{c.leaf, xm, c.x1, tm, c.t1, closestData(L, xm, c.x1, true)}};
+      halves[k] = {ClosestCell{c.leaf, c.x0, xm, c.t0, tm, closestData(L, c.x0, xm, true), e[split[k]]},
+                   ClosestCell{c.leaf, xm, c.x1, tm, c.t1, closestData(L, xm, c.x1, true), e[split[k]]}};
     });
     std::vector<ClosestCell> next;
     for (size_t i = 0, k = 0; i < cells.size(); ++i) {

@@ -11,6 +11,16 @@
 
 namespace seam::detail {
 
+/// The part of B's turning across its edge, and how far A's normal leans along B's edge (ClosestData::split).
+struct ClosestSplit {
+  /// max |n_B' . (n_B x T_B)| per unit x, n_B, T_B the unit normal and edge tangent: the edge's geodesic torsion
+  /// times its speed (0 along a line of curvature); infinite where not bounded.
+  double acrossTurnHi = std::numeric_limits<double>::infinity();
+  /// max |n_A . T_B| at the paired points (0 where the edges are parallel: n_A is perpendicular to A's own edge);
+  /// 1 where not bounded.
+  double tangentSinHi = 1.0;
+};
+
 /// What bounds, on one leaf (local parameter x in [0, 1]), how far B's point closest to A(x) lies from the paired
 /// B(x) (SeamOptions::closestPointsOn; kOnA: A and B exchanged): Bernstein coefficient bounds, A = X_A / w_A,
 /// B = X_B / w_B.
@@ -22,6 +32,7 @@ struct ClosestData {
   /// speed that varies along the edge (uneven knots) does not count as bending, as |B_xx| / |B_x|^2 would.
   double curvatureHi = std::numeric_limits<double>::infinity();
   double turnHi = std::numeric_limits<double>::infinity();  ///< max |d(N_B / |N_B|) / dx| (radians per unit x)
+  ClosestSplit split;  ///< the part of that turning across B's edge, and A's normal's lean
 };
 
 /// A piece [x0, x1] of a leaf, [t0, t1] of the edge (A's parameter), with its ClosestData (per unit of its own local
@@ -30,13 +41,14 @@ struct ClosestCell {
   size_t leaf = 0;
   double x0 = 0.0, x1 = 1.0, t0 = 0.0, t1 = 0.0;
   ClosestData d;
+  double cap = std::numeric_limits<double>::infinity();  ///< the excess of the cell it was halved from
 };
 
 /// One leaf's sides for the closest-point excess (SeamOptions::closestPointsOn): A = xa / wa, the side whose points
-/// are taken, B = xb / wb, the side their closest points lie on, nb B's normal numerator (end roots divided out),
-/// and the leaf as one cell.
+/// are taken, B = xb / wb, the side their closest points lie on, na and nb their normal numerators (end roots divided
+/// out), and the leaf as one cell.
 struct ClosestLeaf {
-  BernsteinPoly xa, wa, xb, wb, nb;
+  BernsteinPoly xa, wa, xb, wb, na, nb;
   ClosestCell whole;
 };
 
@@ -49,6 +61,9 @@ struct ClosestLeaf {
 /// within a quarter of the largest excess only, while a round still lowers it by 5 %. `clipNeighbours`: a cell's
 /// bounds take in only the parts of its neighbours within its reach (one more closestData per neighbour reached),
 /// else whole neighbours (as the pcurve route, whose leaves are short: clipping doubled its cost on occ22470.igs).
+/// "The largest excess" is followed both as bounded (closestExcess) and from B's whole turning alone, the bound before
+/// the along / across split: a round that lowers either goes on, the cells above the share by either are halved,
+/// and a half keeps its parent's excess where its own is larger.
 struct ClosestRefinement {
   int rounds = 3;
   double gain = 0.75;
@@ -61,14 +76,15 @@ inline constexpr ClosestRefinement kPatchClosestRefinement{10, 0.95, 0.25, true,
 /// The leaf's data over [x0, x1] of it (see closest_excess.cpp).
 ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine);
 
-/// The leaf `index` of a seam with A = xa / wa, B = xb / wb and B's normal numerator nb along local x in [0, 1],
+/// The leaf `index` of a seam with A = xa / wa, B = xb / wb and normal numerators na, nb along local x in [0, 1],
 /// over [t0, t1] of the edge parameter both sides are written in (t0 < t1; leaves in increasing t), as one cell.
-ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly nb,
-                        size_t index, double t0, double t1);
+ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly na,
+                        BernsteinPoly nb, size_t index, double t0, double t1);
 
 /// How much the angle between A's normal and B's at B's (local) closest point can exceed the angle at the paired
-/// points, in radians (SeamOptions::closestPointsOn; kOnA: A and B exchanged in what follows; infinite where it cannot
-/// be bounded): first over each leaf as a whole, then with the cells above `target` halved (ClosestRefinement).
+/// points, in radians, where that angle is at most `paired` (radians) everywhere (SeamOptions::closestPointsOn; kOnA:
+/// A and B exchanged in what follows; infinite where it cannot be bounded): first over each leaf as a whole, then
+/// with the cells above `target` halved (ClosestRefinement).
 /// At a point t of a cell (A's edge parameter; B is written in it too), with sigma the arc length of B's edge:
 /// h(sigma) = |A(t) - B(sigma)|^2 / 2 has h' = -(A - B) . T_B and h'' = 1 - (A - B) . kappa n_B >= 1 - G kappa_max
 /// =: c, so it is strictly convex where |A - B| <= G and the curvature is at most kappa_max. At the paired point
@@ -79,6 +95,16 @@ ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, Be
 /// Local: a closest point elsewhere would need B's edge to come back within the gap of itself. In arc length the
 /// argument holds wherever the parametric one (|B_tt| in place of the curvature, 2 |f| / m^2 |B_t|max in place of d)
 /// did, and gives at most its excess: grid3x3's uneven knots make |B_tt| 56 where the curvature is 2.
-double closestExcess(const std::vector<ClosestLeaf>& leaves, double target, const ClosestRefinement& how = {});
+/// Sharper where B's normal turns along the edge rather than across it (a fillet along a line of curvature): with a
+/// = n_A(t) fixed and s = |a - n_B| the chord of the angle, (s^2 / 2)' = -a . n_B' = -(a . T_B) k_n - (a . b) tau
+/// (b = n_B x T_B; k_n, tau the parts of n_B' along T_B and b), |a . b| <= s and |a . T_B| <= eps := |n_A . T_B|
+/// at the paired point + kappa_max (r / c) (the tangent turns by at most that much within the reach). So
+/// (s^2 / 2)' <= k_n eps + tau s, whence s <= sqrt(s0^2 + 2 k_n eps l) + tau l after an arc length l <= r / c, and
+/// the angle at the closest point is at most 2 asin(that / 2), increasing in s0 <= 2 sin(paired / 2). A crease of
+/// angle theta along a line of curvature (tau = 0) then adds about k_n eps l / theta instead of k_n l. k_n is taken
+/// as B's whole turning K / m (nearly all of it wherever tau is small, where the split pays), tau bounded through
+/// N x N' (ClosestSplit); the excess is the smaller of this and (K / m) (r / c).
+double closestExcess(const std::vector<ClosestLeaf>& leaves, double target, double paired,
+                     const ClosestRefinement& how = {});
 
 }  // namespace seam::detail

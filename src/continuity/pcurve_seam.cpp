@@ -500,7 +500,7 @@ void PCurveSeam::composeLeaf(size_t li) {
   if (opt.closestPointsOn != ClosestPoints::kNone) {
     const bool onB = opt.closestPointsOn == ClosestPoints::kOnB;
     const ComposedSide &from = onB ? A : B, &to = onB ? B : A;
-    closest[li] = detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NB : NA, li, L.t0, L.t1);
+    closest[li] = detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NA : NB, onB ? NB : NA, li, L.t0, L.t1);
   }
   composed[li] = {std::move(A.h), std::move(B.h)};
 }
@@ -554,7 +554,8 @@ Status PCurveSeam::certifyG0G1() {
   // The excess is made closer where it exceeds the bound's own certification gap (boundRelGap).
   if (opt.closestPointsOn != ClosestPoints::kNone)
     out.g1ClosestExcessDeg =
-        detail::closestExcess(closest, std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg)) *
+        detail::closestExcess(closest, std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg),
+                              out.g1BoundDeg / kRadToDeg) *
         kRadToDeg;
   if (!ok1 && !out.g1Identity)
     out.g1PoleT = unclosed.first >= 0 ? pieces[static_cast<size_t>(unclosed.first)].tOf.scalar(unclosed.second)

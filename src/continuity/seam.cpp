@@ -481,11 +481,11 @@ void SeamAnalysis::closestPointAngles() {
   for (size_t i = 0; i < corr.pieces.size(); ++i) {
     const Piece& pc = corr.pieces[i];
     leaves.push_back(
-        detail::closestLeaf(pc.xa, pc.wa, pc.xb, pc.wb, pc.nb, i, pc.tOf.scalar(0.0), pc.tOf.scalar(1.0)));
+        detail::closestLeaf(pc.xa, pc.wa, pc.xb, pc.wb, pc.na, pc.nb, i, pc.tOf.scalar(0.0), pc.tOf.scalar(1.0)));
   }
   const double excess =
       detail::closestExcess(leaves, std::max(kAngleBoundFloor, opt.boundRelGap * rep.g1MaxDeg / kRadToDeg),
-                            detail::kPatchClosestRefinement);
+                            rep.g1MaxDeg / kRadToDeg, detail::kPatchClosestRefinement);
   // No angle exceeds 180 deg: a bound that reaches it holds, and where the paired points' normals are already
   // opposite to within the angle tolerance, 180 is the angle whatever the excess (teaspoon.bpt: a 180 deg crease
   // across a gap of 0.0089, next to a pole where B's normal turns without bound). A smaller paired angle with an

@@ -114,6 +114,7 @@ Piece buildPiece(const CartesianSide& A, const CartesianSide& B, BernsteinPoly w
     pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
     pc.xa = A.S.num;
     pc.xb = B.S.num;
+    pc.na = NA;
     pc.nb = NB;
     pc.c1 = ctx.add(Bc, O, -1.0);
     pc.c2 = ctx.add(Bcc, Aoo, -1.0);

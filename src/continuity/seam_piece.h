@@ -56,9 +56,9 @@ struct Piece {
   double rhoScale = 0.0;
   RationalPoly c1, c2, O, Aoo;
   RationalPoly L, K, D;     // Lemma 1: lambda = L / D, kappa = K / D (kappa per unit of the piece parameter)
-  // A's and B's position numerators (x / w) and B's normal numerator (end roots divided out): the closest-point
-  // excess of a seam with a gap (continuity/closest_excess.h). Patch seams only (PieceData::kAll).
-  BernsteinPoly xa, xb, nb;
+  // A's and B's position and normal numerators (x / w; end roots divided out): the closest-point excess of a seam
+  // with a gap (continuity/closest_excess.h). Patch seams only (PieceData::kAll).
+  BernsteinPoly xa, xb, na, nb;
 };
 
 /// Degree of the Lemma 2 residual buildPiece forms from these sides: 2 deg D + deg B_cc + deg n_A + 2 (deg w_A +
