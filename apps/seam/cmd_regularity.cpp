@@ -2,10 +2,13 @@
 // (Dyn-Levin-Yad-Shalom, Lau) per curve segment / surface sub-net, Theorems 2.7 / 3.5, and the defect search.
 // Exit 1 when a verdict is "fails" or the search finds a critical point or self-intersection.
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -136,12 +139,14 @@ class JsonStream {
 
 /// Progress lines on stderr for long runs: nothing during the first second, then at most one line a second, on
 /// any stderr (a terminal or a log), like the progress of `seam check` on large B-reps.
+// Called from the threads that analyse the objects at once: one line a second at most, whichever object prints it.
 class ProgressPrinter {
  public:
   explicit ProgressPrinter(std::string file) : file_(std::move(file)), start_(Clock::now()), last_(start_) {}
   ProgressCallback callback(const std::string& object) {
     return [this, object](std::string_view stage, long done, long total) {
       const Clock::time_point now = Clock::now();
+      const std::lock_guard<std::mutex> lock(mutex_);
       if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::seconds(1)) return;
       last_ = now;
       const double elapsed = std::chrono::duration<double>(now - start_).count();
@@ -154,7 +159,17 @@ class ProgressPrinter {
   std::string file_;
   Clock::time_point start_;
   Clock::time_point last_;
+  std::mutex mutex_;
 };
+
+/// `analyse` of every object, on TBB's threads (each object's analysis is serial and independent of the others:
+/// linkrods.step's 37 faces ran 13.6 s on one core of two); the results in the objects' order.
+template <class Object, class Analyse>
+auto analyseAll(const std::vector<const Object*>& objects, Analyse analyse) {
+  std::vector<std::optional<decltype(analyse(*objects.front()))>> out(objects.size());
+  tbb::parallel_for(size_t{0}, objects.size(), [&](size_t i) { out[i].emplace(analyse(*objects[i])); });
+  return out;
+}
 
 void addRegularity(CLI::App& app, int& exit) {
   struct Options {
@@ -206,26 +221,35 @@ void addRegularity(CLI::App& app, int& exit) {
     options.maxEll = o->ell;
     ProgressPrinter progress(o->file);
 
-    // Everything is analysed before anything is printed (a failing object prints its error and nothing else).
+    // Everything is analysed before anything is printed (a failing object prints its error and nothing else: the
+    // first in the file's order).
     bool problem = false;
     std::vector<CurveRegularity> curveResults;
     std::vector<SurfaceRegularity> patchResults;
-    for (const Curve* c : curves) {
-      options.progress = progress.callback("curve \"" + c->name + "\"");
-      Result<CurveRegularity> r = analyzeCurve(c->curve, options);
+    auto curveGot = analyseAll(curves, [&](const Curve& c) {
+      RegularityOptions co = options;
+      co.progress = progress.callback("curve \"" + c.name + "\"");
+      return analyzeCurve(c.curve, co);
+    });
+    for (size_t i = 0; i < curves.size(); ++i) {
+      Result<CurveRegularity>& r = *curveGot[i];
       if (!r) {
-        printError(fmt::format("{}: curve \"{}\": {}", o->file, c->name, r.status().message()));
+        printError(fmt::format("{}: curve \"{}\": {}", o->file, curves[i]->name, r.status().message()));
         exit = kExitBadInput;
         return;
       }
       problem = problem || r->anyFails();
       curveResults.push_back(std::move(r).value());
     }
-    for (const Patch* p : patches) {
-      options.progress = progress.callback("patch \"" + p->name + "\"");
-      Result<SurfaceRegularity> r = analyzeSurface(p->surface, options);
+    auto patchGot = analyseAll(patches, [&](const Patch& p) {
+      RegularityOptions po = options;
+      po.progress = progress.callback("patch \"" + p.name + "\"");
+      return analyzeSurface(p.surface, po);
+    });
+    for (size_t i = 0; i < patches.size(); ++i) {
+      Result<SurfaceRegularity>& r = *patchGot[i];
       if (!r) {
-        printError(fmt::format("{}: patch \"{}\": {}", o->file, p->name, r.status().message()));
+        printError(fmt::format("{}: patch \"{}\": {}", o->file, patches[i]->name, r.status().message()));
         exit = kExitBadInput;
         return;
       }
