@@ -825,19 +825,22 @@ py::object regularityOf(const PyModel& m, const std::optional<std::string>& patc
   cli::OrderedJson json;
   {
     py::gil_scoped_release release;
-    for (const Curve* c : curves) {
-      if (!status) break;
-      Result<regularity::CurveRegularity> r = regularity::analyzeCurve(c->curve, options);
-      if (!r) status = Status(r.status().code(), fmt::format("{}: curve \"{}\": {}", m.source, c->name,
-                                                              r.status().message()));
-      else curveNames.push_back(c->name), curveResults.push_back(std::move(r).value());
+    // Every object on TBB's threads (regularity::analyzeSurfaces); the first error in the model's order is raised.
+    std::vector<const BSplineCurve*> curveOf;
+    std::vector<const BSplineSurface*> surfaceOf;
+    for (const Curve* c : curves) curveOf.push_back(&c->curve);
+    for (const Patch* p : patches) surfaceOf.push_back(&p->surface);
+    std::vector<Result<regularity::CurveRegularity>> cr = regularity::analyzeCurves(curveOf, options);
+    std::vector<Result<regularity::SurfaceRegularity>> pr = regularity::analyzeSurfaces(surfaceOf, options);
+    for (size_t i = 0; i < curves.size() && status; ++i) {
+      if (!cr[i]) status = Status(cr[i].status().code(), fmt::format("{}: curve \"{}\": {}", m.source,
+                                                                    curves[i]->name, cr[i].status().message()));
+      else curveNames.push_back(curves[i]->name), curveResults.push_back(std::move(cr[i]).value());
     }
-    for (const Patch* p : patches) {
-      if (!status) break;
-      Result<regularity::SurfaceRegularity> r = regularity::analyzeSurface(p->surface, options);
-      if (!r) status = Status(r.status().code(), fmt::format("{}: patch \"{}\": {}", m.source, p->name,
-                                                              r.status().message()));
-      else patchNames.push_back(p->name), patchResults.push_back(std::move(r).value());
+    for (size_t i = 0; i < patches.size() && status; ++i) {
+      if (!pr[i]) status = Status(pr[i].status().code(), fmt::format("{}: patch \"{}\": {}", m.source,
+                                                                    patches[i]->name, pr[i].status().message()));
+      else patchNames.push_back(patches[i]->name), patchResults.push_back(std::move(pr[i]).value());
     }
     if (status) json = cli::regularityJson(m.source, curveNames, curveResults, patchNames, patchResults);
   }

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -636,6 +637,82 @@ TEST(RegularityCurves, HelixIsCertifiedEverywhereWithClampedKnots) {
   RegularityOptions strict;
   strict.allSplitsForNonUniform = false;
   EXPECT_EQ(analyzeCurve(*c, strict)->segments[0].verdict, Verdict::kCertified);
+}
+
+TEST(RegularityMany, EveryObjectGetsItsOwnResultInOrderFromAllThreads) {
+  // analyzeCurves / analyzeSurfaces (on TBB's threads) against analyzeCurve / analyzeSurface one at a time: the same
+  // verdicts, search findings and errors, object by object, and each object's progress callback.
+  std::mt19937_64 rng(3901);
+  RegularityOptions opt;
+  opt.search = fastSearch();
+  std::vector<BSplineSurface> surfaces;
+  std::vector<BSplineCurve> curves;
+  for (int trial = 0; trial < 24; ++trial) {
+    const int k1 = test::uniformInt(rng, 3, 4), k2 = test::uniformInt(rng, 3, 4);
+    const double noise = trial % 3 == 0 ? 0.9 : 0.1;  // some fold
+    Matrix p(k1 * k2, 3);
+    for (int i = 0; i < k1; ++i)
+      for (int j = 0; j < k2; ++j) {
+        const double x = uniformReal(rng, -1, 1), y = uniformReal(rng, -1, 1), z = uniformReal(rng, -1, 1);
+        p.row(i * k2 + j) << i + noise * x, j + noise * y, 0.3 * (i - 1) * (j - 1) + noise * z;
+      }
+    surfaces.push_back(uniformSurface(p, k1 - 1, k2 - 1, k1, k2));
+    Matrix c(5, 2);
+    for (int i = 0; i < 5; ++i) {
+      const double x = uniformReal(rng, -1, 1), y = uniformReal(rng, -1, 1);
+      c.row(i) << i + noise * x, noise * y;
+    }
+    curves.push_back(uniformCurve(c, 3));
+  }
+  Result<BSplineCurve> c4 = BSplineCurve::create(1, {0, 0, 1, 1}, Matrix::Zero(2, 4));  // 4 coordinates: refused
+  ASSERT_TRUE(c4.isOk());
+  curves.insert(curves.begin() + 7, *c4);
+  std::vector<const BSplineSurface*> sp;
+  std::vector<const BSplineCurve*> cp;
+  for (const BSplineSurface& s : surfaces) sp.push_back(&s);
+  for (const BSplineCurve& c : curves) cp.push_back(&c);
+  std::mutex m;
+  std::vector<int> called(surfaces.size(), 0);
+  const std::vector<Result<SurfaceRegularity>> all = analyzeSurfaces(sp, opt, [&](size_t i) -> ProgressCallback {
+    const std::lock_guard<std::mutex> lock(m);
+    ++called[i];
+    return {};
+  });
+  const std::vector<Result<CurveRegularity>> allCurves = analyzeCurves(cp, opt);
+  ASSERT_EQ(all.size(), surfaces.size());
+  ASSERT_EQ(allCurves.size(), curves.size());
+  int folds = 0;
+  for (size_t i = 0; i < surfaces.size(); ++i) {
+    SCOPED_TRACE(::testing::Message() << "surface " << i);
+    EXPECT_EQ(called[i], 1);
+    const Result<SurfaceRegularity> one = analyzeSurface(surfaces[i], opt);
+    ASSERT_TRUE(one.isOk() && all[i].isOk());
+    EXPECT_EQ(one->anyFails(), all[i]->anyFails());
+    folds += one->anyFails() ? 1 : 0;
+    ASSERT_EQ(one->subnets.size(), all[i]->subnets.size());
+    for (size_t k = 0; k < one->subnets.size(); ++k) EXPECT_EQ(one->subnets[k].verdict, all[i]->subnets[k].verdict);
+    ASSERT_EQ(one->search.has_value(), all[i]->search.has_value());
+    if (one->search) {
+      EXPECT_EQ(one->search->criticalPoints.size(), all[i]->search->criticalPoints.size());
+      EXPECT_EQ(one->search->selfIntersections.size(), all[i]->search->selfIntersections.size());
+    }
+  }
+  EXPECT_GT(folds, 0);
+  EXPECT_LT(folds, static_cast<int>(surfaces.size()));
+  for (size_t i = 0; i < curves.size(); ++i) {
+    SCOPED_TRACE(::testing::Message() << "curve " << i);
+    const Result<CurveRegularity> one = analyzeCurve(curves[i], opt);
+    ASSERT_EQ(one.isOk(), allCurves[i].isOk());
+    if (!one.isOk()) {
+      EXPECT_EQ(i, 7u);
+      EXPECT_EQ(one.status().code(), allCurves[i].status().code());
+      continue;
+    }
+    EXPECT_EQ(one->anyFails(), allCurves[i]->anyFails());
+    ASSERT_EQ(one->segments.size(), allCurves[i]->segments.size());
+    for (size_t k = 0; k < one->segments.size(); ++k)
+      EXPECT_EQ(one->segments[k].verdict, allCurves[i]->segments[k].verdict);
+  }
 }
 
 TEST(RegularityCurves, UniformityUsesTheNamedTolerance) {

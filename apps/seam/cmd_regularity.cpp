@@ -2,13 +2,11 @@
 // (Dyn-Levin-Yad-Shalom, Lau) per curve segment / surface sub-net, Theorems 2.7 / 3.5, and the defect search.
 // Exit 1 when a verdict is "fails" or the search finds a critical point or self-intersection.
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <iostream>
 #include <memory>
 #include <mutex>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -162,15 +160,6 @@ class ProgressPrinter {
   std::mutex mutex_;
 };
 
-/// `analyse` of every object, on TBB's threads (each object's analysis is serial and independent of the others:
-/// linkrods.step's 37 faces ran 13.6 s on one core of two); the results in the objects' order.
-template <class Object, class Analyse>
-auto analyseAll(const std::vector<const Object*>& objects, Analyse analyse) {
-  std::vector<std::optional<decltype(analyse(*objects.front()))>> out(objects.size());
-  tbb::parallel_for(size_t{0}, objects.size(), [&](size_t i) { out[i].emplace(analyse(*objects[i])); });
-  return out;
-}
-
 void addRegularity(CLI::App& app, int& exit) {
   struct Options {
     std::string file;
@@ -226,13 +215,12 @@ void addRegularity(CLI::App& app, int& exit) {
     bool problem = false;
     std::vector<CurveRegularity> curveResults;
     std::vector<SurfaceRegularity> patchResults;
-    auto curveGot = analyseAll(curves, [&](const Curve& c) {
-      RegularityOptions co = options;
-      co.progress = progress.callback("curve \"" + c.name + "\"");
-      return analyzeCurve(c.curve, co);
-    });
+    std::vector<const BSplineCurve*> curveOf;
+    for (const Curve* c : curves) curveOf.push_back(&c->curve);
+    std::vector<Result<CurveRegularity>> curveGot = analyzeCurves(
+        curveOf, options, [&](size_t i) { return progress.callback("curve \"" + curves[i]->name + "\""); });
     for (size_t i = 0; i < curves.size(); ++i) {
-      Result<CurveRegularity>& r = *curveGot[i];
+      Result<CurveRegularity>& r = curveGot[i];
       if (!r) {
         printError(fmt::format("{}: curve \"{}\": {}", o->file, curves[i]->name, r.status().message()));
         exit = kExitBadInput;
@@ -241,13 +229,12 @@ void addRegularity(CLI::App& app, int& exit) {
       problem = problem || r->anyFails();
       curveResults.push_back(std::move(r).value());
     }
-    auto patchGot = analyseAll(patches, [&](const Patch& p) {
-      RegularityOptions po = options;
-      po.progress = progress.callback("patch \"" + p.name + "\"");
-      return analyzeSurface(p.surface, po);
-    });
+    std::vector<const BSplineSurface*> surfaceOf;
+    for (const Patch* p : patches) surfaceOf.push_back(&p->surface);
+    std::vector<Result<SurfaceRegularity>> patchGot = analyzeSurfaces(
+        surfaceOf, options, [&](size_t i) { return progress.callback("patch \"" + patches[i]->name + "\""); });
     for (size_t i = 0; i < patches.size(); ++i) {
-      Result<SurfaceRegularity>& r = *patchGot[i];
+      Result<SurfaceRegularity>& r = patchGot[i];
       if (!r) {
         printError(fmt::format("{}: patch \"{}\": {}", o->file, patches[i]->name, r.status().message()));
         exit = kExitBadInput;

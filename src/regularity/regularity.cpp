@@ -2,8 +2,11 @@
 // 2.7 / 3.5, and the defect search as an independent check.
 #include "seam/regularity/regularity.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "conditions_internal.h"
@@ -343,6 +346,41 @@ Result<SurfaceRegularity> analyzeSurface(const BSplineSurface& surface, const Re
     }
   }
   return out;
+}
+
+namespace {
+
+template <class R, class Object, class Analyse>
+std::vector<Result<R>> analyseAll(const std::vector<const Object*>& objects, const RegularityOptions& options,
+                                  const ProgressOf& progressOf, Analyse analyse) {
+  std::vector<std::optional<Result<R>>> got(objects.size());
+  tbb::parallel_for(size_t{0}, objects.size(), [&](size_t i) {
+    RegularityOptions own = options;
+    if (progressOf) own.progress = progressOf(i);
+    got[i].emplace(analyse(*objects[i], own));
+  });
+  std::vector<Result<R>> out;
+  out.reserve(objects.size());
+  for (std::optional<Result<R>>& r : got) out.push_back(std::move(*r));
+  return out;
+}
+
+}  // namespace
+
+std::vector<Result<CurveRegularity>> analyzeCurves(const std::vector<const BSplineCurve*>& curves,
+                                                   const RegularityOptions& options, const ProgressOf& progressOf) {
+  return analyseAll<CurveRegularity>(curves, options, progressOf, [](const BSplineCurve& c, const RegularityOptions& o) {
+    return analyzeCurve(c, o);
+  });
+}
+
+std::vector<Result<SurfaceRegularity>> analyzeSurfaces(const std::vector<const BSplineSurface*>& surfaces,
+                                                       const RegularityOptions& options,
+                                                       const ProgressOf& progressOf) {
+  return analyseAll<SurfaceRegularity>(surfaces, options, progressOf,
+                                       [](const BSplineSurface& s, const RegularityOptions& o) {
+                                         return analyzeSurface(s, o);
+                                       });
 }
 
 }  // namespace seam::regularity

@@ -6,6 +6,7 @@
 //
 //   auto report = seam::regularity::analyzeCurve(curve);
 //   for (const auto& s : report->segments) if (s.verdict == Verdict::kFails) ... s.result.failure()->separation.witness
+#include <functional>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -130,6 +131,18 @@ Result<CurveRegularity> analyzeCurve(const BSplineCurve& curve, const Regularity
 /// Certificates for every sub-net of a surface (2 or 3 coordinates), Theorem 3.5 up to maxEll, and the search.
 /// Rational surfaces get not-applicable verdicts (search only). Errors as analyzeCurve.
 Result<SurfaceRegularity> analyzeSurface(const BSplineSurface& surface, const RegularityOptions& options = {});
+
+/// The progress callback of the i-th object of analyzeCurves / analyzeSurfaces (called from the thread analysing it).
+using ProgressOf = std::function<ProgressCallback(size_t)>;
+/// analyzeCurve / analyzeSurface of every object on TBB's threads (each analysis is serial and independent of the
+/// others; GLPK keeps its environment per thread): the results in the objects' order. `progressOf` (if set) gives
+/// object i's options.progress; it may be called from several threads at once.
+std::vector<Result<CurveRegularity>> analyzeCurves(const std::vector<const BSplineCurve*>& curves,
+                                                   const RegularityOptions& options = {},
+                                                   const ProgressOf& progressOf = {});
+std::vector<Result<SurfaceRegularity>> analyzeSurfaces(const std::vector<const BSplineSurface*>& surfaces,
+                                                       const RegularityOptions& options = {},
+                                                       const ProgressOf& progressOf = {});
 
 /// Are the knots t_first .. t_last equally spaced up to relTol * (their mean gap)? (An empty gap is never uniform.)
 bool uniformKnots(const std::vector<double>& knots, int first, int last, double relTol = kUniformKnotRelTol);
