@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -551,11 +552,12 @@ Status PCurveSeam::certifyG0G1() {
   // measured where both normals are defined stands in (as analyzeSeam's certifyG1) and g1PoleT says where.
   out.g1BoundDeg = ok1 ? g1b * kRadToDeg : out.g1SampledDeg;
   out.g1Identity = detail::g1IdentityOf(pieces, ok1, out.g1BoundDeg);
-  // The excess is made closer where it exceeds the bound's own certification gap (boundRelGap).
+  // The excess is made closer where it exceeds the bound's own certification gap (boundRelGap). Its split bound
+  // rests on the paired angle's bound: a sampled stand-in is not one, and 180 deg leaves the whole-turning excess.
   if (opt.closestPointsOn != ClosestPoints::kNone)
     out.g1ClosestExcessDeg =
         detail::closestExcess(closest, std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg),
-                              out.g1BoundDeg / kRadToDeg) *
+                              ok1 ? out.g1BoundDeg / kRadToDeg : std::numbers::pi) *
         kRadToDeg;
   if (!ok1 && !out.g1Identity)
     out.g1PoleT = unclosed.first >= 0 ? pieces[static_cast<size_t>(unclosed.first)].tOf.scalar(unclosed.second)
