@@ -269,7 +269,8 @@ TEST(BernsteinPoly, RestrictionToAnyIntervalIncludingReversedAndOutside) {
       for (int k = 0; k < 3; ++k) {
         const double a = uniformReal(rng, 0.0, 1.0), b = uniformReal(rng, 0.0, 1.0);
         intervals.emplace_back(a, b);  // inside, any order
-        intervals.emplace_back(uniformReal(rng, -1.0, 2.0), uniformReal(rng, -1.0, 2.0));  // partly outside
+        const double p1 = uniformReal(rng, -1.0, 2.0), p0 = uniformReal(rng, -1.0, 2.0);  // drawn last first
+        intervals.emplace_back(p0, p1);  // partly outside
       }
       intervals.emplace_back(1.2, 1.9);    // entirely right of [0,1]
       intervals.emplace_back(-0.3, -1.1);  // entirely left, reversed
@@ -726,7 +727,10 @@ TEST(BernsteinPoly, ProductOfDerivativesObeysLeibnizRule) {
 
 std::vector<Vec2> unitSamples2(std::mt19937_64& rng, int count) {
   std::vector<Vec2> uv{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  while (static_cast<int>(uv.size()) < count) uv.emplace_back(uniformReal(rng, 0, 1), uniformReal(rng, 0, 1));
+  while (static_cast<int>(uv.size()) < count) {
+    const double v = uniformReal(rng, 0, 1), u = uniformReal(rng, 0, 1);  // drawn last argument first (test_helpers.h)
+    uv.emplace_back(u, v);
+  }
   return uv;
 }
 

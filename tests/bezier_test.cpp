@@ -25,13 +25,14 @@ using test::uniformInt;
 using test::uniformReal;
 
 BezierCurve randomBezierCurve(std::mt19937_64& rng, int degree, int dim, bool rational) {
-  return BezierCurve(randomMatrix(rng, degree + 1, dim, -5.0, 5.0),
-                     rational ? randomWeights(rng, degree + 1) : VecX());
+  const VecX w = rational ? randomWeights(rng, degree + 1) : VecX();  // drawn last argument first (test_helpers.h)
+  return BezierCurve(randomMatrix(rng, degree + 1, dim, -5.0, 5.0), w);
 }
 
 BezierPatch randomBezierPatch(std::mt19937_64& rng, int du, int dv, int dim, bool rational) {
   const int n = (du + 1) * (dv + 1);
-  return BezierPatch(du, dv, randomMatrix(rng, n, dim, -5.0, 5.0), rational ? randomWeights(rng, n) : VecX());
+  const VecX w = rational ? randomWeights(rng, n) : VecX();  // (drawn last argument first, as above)
+  return BezierPatch(du, dv, randomMatrix(rng, n, dim, -5.0, 5.0), w);
 }
 
 /// Round-off scale of the explicit sums: the B-spline magnitude helper on Bezier knots (a Bezier curve is the

@@ -499,9 +499,11 @@ TEST(BSplineCurve, DecomposeInsertsIntoOneMatrixAsInsertKnotDoes) {
         BSplineCurve c = randomCurve(rng, p, 3, {.rational = trial % 2 == 1, .clamped = clamped, .minSpans = 1,
                                                  .maxSpans = 6});
         const std::vector<double> inner = c.knots().interiorBreakpoints(p);
-        if (trial >= 2 && !inner.empty())
+        if (trial >= 2 && !inner.empty()) {
+          const int times = uniformInt(rng, 1, p);  // drawn last argument first (test_helpers.h)
           c = c.withKnotInserted(inner[static_cast<size_t>(uniformInt(rng, 0, static_cast<int>(inner.size()) - 1))],
-                                 uniformInt(rng, 1, p));
+                                 times);
+        }
         for (const Matrix& start : {c.homogeneous(), test::randomMatrix(rng, c.numPoints(), 16)}) {
           std::vector<double> knots = c.knots().values(), oldKnots = knots;
           Matrix rows = start, oldRows = start;

@@ -938,7 +938,8 @@ TEST(BSplineSurfaceExtension, ContinuesTheEndPiecesExactly) {
     test::RandomSplineOptions o;
     o.rational = trial % 2 == 1;
     o.clamped = trial % 3 != 0;
-    BSplineSurface s = randomSurface(rng, uniformInt(rng, 1, 4), uniformInt(rng, 1, 4), 3, o);
+    const int pv = uniformInt(rng, 1, 4), pu = uniformInt(rng, 1, 4);  // drawn last argument first (test_helpers.h)
+    BSplineSurface s = randomSurface(rng, pu, pv, 3, o);
     if (o.rational)  // weights as CAD systems write them (neighbours within a factor 1.6; 0.3..3 continued by
                      // 10 % reaches negative control weights in most nets, which extendedSurface refuses)
       s = BSplineSurface(s.degreeU(), s.degreeV(), s.knotsU(), s.knotsV(), s.numU(), s.numV(), s.points(),

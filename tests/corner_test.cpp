@@ -242,9 +242,11 @@ TEST(Corner, CornerJetsFromTheControlNetAgreeWithTheEvaluator) {
     const int m = p + 2;  // control points per patch and direction: m + 1 (two interior knots)
     std::vector<std::vector<Vec3>> grid(static_cast<size_t>(2 * m + 1), std::vector<Vec3>(static_cast<size_t>(2 * m + 1)));
     for (int i = 0; i <= 2 * m; ++i)
-      for (int j = 0; j <= 2 * m; ++j)
+      for (int j = 0; j <= 2 * m; ++j) {
+        const double z = jitter(rng), y = jitter(rng), x = jitter(rng);  // drawn last argument first (test_helpers.h)
         grid[static_cast<size_t>(i)][static_cast<size_t>(j)] =
-            Vec3(i + jitter(rng), j + jitter(rng), 0.3 * std::sin(0.7 * i + 0.4 * j) + jitter(rng));
+            Vec3(i + x, j + y, 0.3 * std::sin(0.7 * i + 0.4 * j) + z);
+      }
     auto knots = [&](double lo, double hi) {  // clamped, two interior knots, non-uniform
       double a = cut(rng), b = cut(rng);
       if (a > b) std::swap(a, b);

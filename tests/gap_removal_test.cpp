@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -171,8 +172,11 @@ TEST(C1BicubicConversion, AgreesWithTheKernelsBezierDecomposition) {
   Rng rng(20240401);
   for (int trial = 0; trial < 20; ++trial) {
     const int m = seamtest::irand(rng, 1, 5), n = seamtest::irand(rng, 1, 4);
-    const BSplineSurface s = c1Graph(rng, randomBreaks(rng, m, urand(rng, -2, 0), urand(rng, 0.5, 3)),
-                                     randomBreaks(rng, n, urand(rng, -2, 0), urand(rng, 0.5, 3)), 0.5);
+    // (drawn last argument first: test_helpers.h, "Random draws and argument order")
+    const double vHi = urand(rng, 0.5, 3), vLo = urand(rng, -2, 0);
+    const std::vector<double> bv = randomBreaks(rng, n, vLo, vHi);
+    const double uHi = urand(rng, 0.5, 3), uLo = urand(rng, -2, 0);
+    const BSplineSurface s = c1Graph(rng, randomBreaks(rng, m, uLo, uHi), bv, 0.5);
     auto net = c1BicubicToBezier(s);
     ASSERT_TRUE(net.isOk()) << net.status().message();
     ASSERT_EQ(net->m, m);
@@ -192,7 +196,8 @@ TEST(C1BicubicConversion, RoundTripAndTheC1ConditionsAreChecked) {
   Rng rng(77);
   for (int trial = 0; trial < 10; ++trial) {
     const int m = seamtest::irand(rng, 1, 4), n = seamtest::irand(rng, 1, 4);
-    const BSplineSurface s = c1Graph(rng, randomBreaks(rng, m, 0, 1), randomBreaks(rng, n, 0, 2), 0.3);
+    const std::vector<double> bv = randomBreaks(rng, n, 0, 2);  // drawn last argument first (test_helpers.h)
+    const BSplineSurface s = c1Graph(rng, randomBreaks(rng, m, 0, 1), bv, 0.3);
     auto net = c1BicubicToBezier(s);
     ASSERT_TRUE(net.isOk());
     auto back = c1BicubicFromBezier(*net);
@@ -273,7 +278,8 @@ TEST(Theorem1, RecoversTheRowsOfAnExactSplitInAllThreeCases) {
     const int mBig = seamtest::irand(rng, 3, 5);
     const std::vector<double> bu = randomBreaks(rng, mBig, 0.0, 1.0);
     std::vector<double> bv = randomBreaks(rng, seamtest::irand(rng, 1, 3), -1.0, 0.0);
-    const std::vector<double> up = randomBreaks(rng, seamtest::irand(rng, 1, 3), 0.0, urand(rng, 0.5, 2.0));
+    const double upHi = urand(rng, 0.5, 2.0);  // drawn last argument first (test_helpers.h)
+    const std::vector<double> up = randomBreaks(rng, seamtest::irand(rng, 1, 3), 0.0, upHi);
     bv.insert(bv.end(), up.begin() + 1, up.end());
     const BSplineSurface F = c1Graph(rng, bu, bv, 0.4);
     SplitPair sp = splitPair(F);
@@ -519,8 +525,10 @@ TEST(BezierStrip, DefaultEllMinimisesTheDisplacementAndBadEllIsRejected) {
 TEST(ThreePatchCorner, TheSixC1ConditionsForceTheSevenCoefficientsToCoincide) {
   Rng rng(42);
   for (int trial = 0; trial < 20; ++trial) {
-    auto d = threePatchCornerDiagnostic(urand(rng, 0.1, 3), urand(rng, 0.1, 3), urand(rng, 0.1, 3),
-                                        urand(rng, 0.1, 3), urand(rng, 0.1, 3), urand(rng, 0.1, 3));
+    std::array<double, 6> r{};
+    // drawn last argument first (test_helpers.h)
+    for (int k = 5; k >= 0; --k) r[static_cast<size_t>(k)] = urand(rng, 0.1, 3);
+    auto d = threePatchCornerDiagnostic(r[0], r[1], r[2], r[3], r[4], r[5]);
     ASSERT_TRUE(d.isOk());
     EXPECT_EQ(d->nullity, 1);
     EXPECT_TRUE(d->coefficientsCoincide) << d->explanation;

@@ -55,8 +55,9 @@ BernsteinPatch randomPatch(Rng& rng, int m, int l, bool integral) {
   Matrix c((m + 1) * (l + 1), integral ? 3 : 4);
   for (int i = 0; i <= m; ++i)
     for (int j = 0; j <= l; ++j) {
-      const Vec3 p(double(i) / m + urand(rng, -0.05, 0.05), double(j) / l + urand(rng, -0.05, 0.05),
-                   urand(rng, -0.2, 0.2));
+      // (drawn last argument first: test_helpers.h, "Random draws and argument order")
+      const double z = urand(rng, -0.2, 0.2), y = urand(rng, -0.05, 0.05), x = urand(rng, -0.05, 0.05);
+      const Vec3 p(double(i) / m + x, double(j) / l + y, z);
       const double w = integral ? 1.0 : urand(rng, 0.8, 1.2);
       if (integral)
         c.row(i * (l + 1) + j) = p.transpose();

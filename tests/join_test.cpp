@@ -293,8 +293,9 @@ TEST(LeastSquaresJoin, DifferentDegreesAndKnots) {
   Rng rng(2002);
   for (int trial = 0; trial < 8; ++trial) {
     const int eS = trial % 2, eT = (trial / 2) % 2;  // S above or below T in degree
-    Case c = makeCase(rng, seamtest::irand(rng, 2, 3), seamtest::irand(rng, 2, 3), false, eS, eT,
-                      seamtest::irand(rng, 0, 2), 2, 0.01);
+    // (drawn last argument first: test_helpers.h, "Random draws and argument order")
+    const int shift = seamtest::irand(rng, 0, 2), dT = seamtest::irand(rng, 2, 3), dS = seamtest::irand(rng, 2, 3);
+    Case c = makeCase(rng, dS, dT, false, eS, eT, shift, 2, 0.01);
     if (eT > eS) {
       // T was degree-elevated from F, so its edge is still a curve of S's degree (elevation is exact) and S can
       // meet it without being raised. Moving one interior point of T's boundary row makes T's edge a genuine curve
@@ -330,8 +331,9 @@ TEST(LeastSquaresJoin, G0AndG2) {
   Rng rng(4004);
   for (int trial = 0; trial < 6; ++trial) {
     const bool g2 = trial % 2 == 1;
-    const Case c = makeCase(rng, seamtest::irand(rng, 3, 4), seamtest::irand(rng, 3, 5), false, 0, 0, 0,
-                            g2 ? 3 : 1, 0.01);
+    // drawn last argument first (test_helpers.h)
+    const int dT = seamtest::irand(rng, 3, 5), dS = seamtest::irand(rng, 3, 4);
+    const Case c = makeCase(rng, dS, dT, false, 0, 0, 0, g2 ? 3 : 1, 0.01);
     JoinOptions o = opts();
     o.continuity = g2 ? GeometricClass::kG2 : GeometricClass::kG0;
     auto r = join(c, o);
@@ -449,7 +451,7 @@ CreasePair creasePair(Rng& rng, double creaseDeg, bool rational, double c, doubl
   const BSplineSurface T(3, 3, ku, KnotVector(seamtest::randomClampedKnots(rng, 3, nvT)), nu, nvT, pt, wt);
   const BSplineSurface S(3, 3, ku, KnotVector(seamtest::randomClampedKnots(rng, 3, nvS)), nu, nvS, ps, ws);
   const Eigen::Matrix3d rot = seamtest::randomRotation(rng);
-  const Vec3 shift(urand(rng, -1, 1), urand(rng, -1, 1), urand(rng, -1, 1));
+  const Vec3 shift = seamtest::randomVec3(rng, -1, 1);
   return {seamtest::transformed(S, rot, shift), seamtest::transformed(T, rot, shift)};
 }
 
@@ -1155,8 +1157,9 @@ TEST(SurfaceDisplacement, TheSharpBoundIsWithinOneAndAHalfOfTheTrueMaximum) {
         const int r = i * nv + j;
         p0.row(r) << i, j, urand(rng, -0.5, 0.5);
         // Small moves of alternating sign: the control-point bound is loose where they cancel.
-        p1.row(r) = p0.row(r) + Vec3(urand(rng, -0.02, 0.02), urand(rng, -0.02, 0.02), ((i + j) % 2 ? 0.05 : -0.05))
-                                    .transpose();
+        // drawn last argument first (test_helpers.h)
+        const double y = urand(rng, -0.02, 0.02), x = urand(rng, -0.02, 0.02);
+        p1.row(r) = p0.row(r) + Vec3(x, y, (i + j) % 2 ? 0.05 : -0.05).transpose();
         if (rational) {
           w0[r] = urand(rng, 0.5, 2.0);
           w1[r] = w0[r] * urand(rng, 0.8, 1.25);
@@ -1249,7 +1252,7 @@ TEST(NormalTurnover, APoleHasNoDirectionAndAWiderLimitAllowsMore) {
       const double r = i / 3.0, th = j * kPi / 6.0;
       p0.row(i * 4 + j) << r * std::cos(th), r * std::sin(th), 0.3 * (1.0 - r * r);
       p1.row(i * 4 + j) = p0.row(i * 4 + j);
-      if (i > 0) p1.row(i * 4 + j) += Vec3(urand(rng, -0.01, 0.01), urand(rng, -0.01, 0.01), urand(rng, -0.01, 0.01)).transpose();
+      if (i > 0) p1.row(i * 4 + j) += seamtest::randomVec3(rng, -0.01, 0.01).transpose();
     }
   const std::vector<double> k = {0, 0, 0, 0, 1, 1, 1, 1};
   const Result<BSplineSurface> before = BSplineSurface::create(3, 3, k, k, 4, 4, p0);

@@ -339,8 +339,10 @@ TEST(JsonReadRoutes, AModelOfManyChunksIsStreamedAndItsLastErrorIsTheOtherRoutes
                         k == 0 ? "" : ",", k);
     for (int i = 0; i < 4; ++i) {
       text += i == 0 ? "[" : ", [";
-      for (int j = 0; j < 4; ++j)
-        text += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", j == 0 ? "" : ", ", coord(rng), coord(rng), coord(rng));
+      for (int j = 0; j < 4; ++j) {
+        const double z = coord(rng), y = coord(rng), x = coord(rng);  // drawn last argument first (test_helpers.h)
+        text += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", j == 0 ? "" : ", ", x, y, z);
+      }
       text += "]";
     }
     text += "]}";

@@ -89,8 +89,10 @@ TEST(RegularityLinearPieces, SurfacePatchesAreBitIdenticalToBezierPatches) {
       w.resize(nu * nv);
       for (int i = 0; i < nu * nv; ++i) w[i] = 0.2 + std::abs(u(rng));
     }
-    Result<BSplineSurface> s = BSplineSurface::create(pu, pv, randomKnots(rng, pu, nu, trial % 2 == 0),
-                                                      randomKnots(rng, pv, nv, trial % 5 == 0), nu, nv, pts, w);
+    // drawn last argument first (test_helpers.h)
+    const std::vector<double> kv = randomKnots(rng, pv, nv, trial % 5 == 0);
+    Result<BSplineSurface> s = BSplineSurface::create(pu, pv, randomKnots(rng, pu, nu, trial % 2 == 0), kv, nu, nv,
+                                                      pts, w);
     if (!s) continue;
     ++valid;
     const std::vector<BezierPatchPiece> want = s->bezierPatches();
@@ -278,7 +280,8 @@ BSplineSurface poleSurface(std::mt19937_64& rng, int side, int pu, int pv, doubl
   const int nu = pu + 1 + static_cast<int>(rng() % 3);
   std::vector<double> ku(static_cast<size_t>(nu + pu + 1));
   for (int i = 0; i < static_cast<int>(ku.size()); ++i) ku[i] = std::clamp(i - pu, 0, nu - pu) / double(nu - pu);
-  apex = Vec3(u01(rng), u01(rng), u01(rng)) * 10.0;
+  const double z = u01(rng), y = u01(rng), x = u01(rng);  // drawn last argument first (test_helpers.h)
+  apex = Vec3(x, y, z) * 10.0;
   const double scale = std::pow(10.0, -3.0 + 7.0 * u01(rng));  // 1e-3 .. 1e4
   Matrix q(nc, 3);
   for (int j = 0; j < nc; ++j) {  // angles increasing over at most 300 degrees, radii 0.5 .. 1.5

@@ -625,7 +625,8 @@ TEST(SeamLemma2, CurvatureConditionGivesG2ButNotC1) {
   for (int trial = 0; trial < 4; ++trial) {
     SCOPED_TRACE("trial " + std::to_string(trial));
     const LambdaKappa lk = randomLambdaKappa(rng, trial % 2 == 1, true);
-    const BernsteinPoly mu = BernsteinPoly::linear(urand(rng, -1, 1), urand(rng, -1, 1));
+    const double mu1 = urand(rng, -1, 1), mu0 = urand(rng, -1, 1);  // drawn last argument first (test_helpers.h)
+    const BernsteinPoly mu = BernsteinPoly::linear(mu0, mu1);
     const BernsteinPoly nu = BernsteinPoly::constant(urand(rng, -1, 1));
     const BezierPatch a0 = randomGraphBezier(rng, 3, irand(rng, 2, 3), false);
     const Lemma1Pair pr = lemma1Pair(rng, a0, lk.lambda, lk.kappa, 3, true, trial >= 2, mu, nu);
@@ -691,9 +692,11 @@ TEST(SeamKink, DihedralAngleIsMeasuredExactly) {
   for (const double theta : {0.02, 0.5, 7.0, 30.0, 90.0, 135.0, 170.0}) {
     for (int variant = 0; variant < 3; ++variant) {
       SCOPED_TRACE("theta " + std::to_string(theta) + " variant " + std::to_string(variant));
-      const KinkPair k =
-          planarKink(rng, theta, irand(rng, 1, 3), irand(rng, 1, 3), irand(rng, 1, 3), false, false,
-                     randomRotation(rng), Vec3(urand(rng, -3, 3), urand(rng, -3, 3), 0.5));
+      // (drawn last argument first: test_helpers.h, "Random draws and argument order")
+      const double y = urand(rng, -3, 3), x = urand(rng, -3, 3);
+      const Eigen::Matrix3d rot = randomRotation(rng);
+      const int d3 = irand(rng, 1, 3), d2 = irand(rng, 1, 3), d1 = irand(rng, 1, 3);
+      const KinkPair k = planarKink(rng, theta, d1, d2, d3, false, false, rot, Vec3(x, y, 0.5));
       // variant 1: B reversed along the edge; variant 2: A swapped (edge V0).
       const BSplineSurface a = variant == 2 ? k.a.swappedUV() : k.a;
       const Edge ea = variant == 2 ? Edge::V0 : Edge::U0;
@@ -789,7 +792,7 @@ PlanarEdgePair planarEdgeLemma1Pair(Rng& rng) {
   const Lemma1Pair pr =
       lemma1Pair(rng, a0, BernsteinPoly::constant(1.0), BernsteinPoly::constant(0.0), 3, false, false);
   const Eigen::Matrix3d rot = randomRotation(rng);
-  const Vec3 shift(urand(rng, -2, 2), urand(rng, -2, 2), urand(rng, -2, 2));
+  const Vec3 shift = randomVec3(rng, -2, 2);
   return {transformed(pr.a.toBSpline(), rot, shift), transformed(pr.b.toBSpline(), rot, shift), rot, shift};
 }
 
@@ -1367,7 +1370,8 @@ TEST(SeamSharedRows, RowsEqualButForAPerturbationOf1e12TakeTheGeneralRoute) {
     const SplitPair sp = randomSplitU(rng, 3, false);
     const double scale = patchScale(sp.s);
     const int j = irand(rng, 1, sp.b.numV() - 2);
-    const Vec3 d = 1e-12 * scale * Vec3(urand(rng, -1, 1), urand(rng, -1, 1), 1.0).normalized();
+    const double y = urand(rng, -1, 1), x = urand(rng, -1, 1);  // drawn last argument first (test_helpers.h)
+    const Vec3 d = 1e-12 * scale * Vec3(x, y, 1.0).normalized();
     SeamOptions general;
     general.sharedRows = false;
     for (int row = 0; row < 3; ++row) {  // the boundary row, the first and the second cross row
@@ -2283,8 +2287,9 @@ TEST(SideJet, FusedPassGivesTheGenericBits) {
         const int nv = static_cast<int>(kv.size()) - p - 1;
         Matrix pts = graphNet(rng, nu, nv, 0.25);
         pts(0, 2) = -0.0;  // a negative zero coordinate (its sign must survive both routes alike)
+        VecX w = rational ? randomWeights(rng, nu * nv) : VecX();  // drawn last argument first (test_helpers.h)
         const BSplineSurface s(p, p, KnotVector(randomClampedKnots(rng, p, nu)), KnotVector(kv), nu, nv,
-                               std::move(pts), rational ? randomWeights(rng, nu * nv) : VecX());
+                               std::move(pts), std::move(w));
         const Patch patch = makePatch("S", s);
         for (const Edge e : {Edge::U0, Edge::U1, Edge::V0, Edge::V1}) {
           const KnotVector& along = isUEdge(e) ? s.knotsV() : s.knotsU();

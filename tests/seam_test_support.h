@@ -33,6 +33,12 @@ using Rng = std::mt19937_64;
 
 inline double urand(Rng& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
 inline int irand(Rng& rng, int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); }
+/// A point with coordinates uniform in [a, b], drawn z, y, x (test_helpers.h, "Random draws and argument order": the
+/// order GCC evaluated Vec3(urand(..), urand(..), urand(..)) in, which this replaces).
+inline Vec3 randomVec3(Rng& rng, double a, double b) {
+  const double z = urand(rng, a, b), y = urand(rng, a, b), x = urand(rng, a, b);
+  return {x, y, z};
+}
 /// Uniform in [lo, hi] but never in the open band (1/away, away) around 1 (so a random factor is clearly not 1).
 inline double factorAwayFromOne(Rng& rng, double lo, double hi, double away) {
   for (;;) {
@@ -53,7 +59,9 @@ inline Vec3 v3(const VecX& v) { return Vec3(v[0], v[1], v[2]); }
 /// A rotation from a normalised random quaternion (own generator: no global RNG state).
 inline Eigen::Matrix3d randomRotation(Rng& rng) {
   std::normal_distribution<double> g;
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  // (Drawn last argument first: test_helpers.h, "Random draws and argument order".)
+  const double z = g(rng), y = g(rng), x = g(rng), w = g(rng);
+  Eigen::Quaterniond q(w, x, y, z);
   q.normalize();
   return q.toRotationMatrix();
 }
@@ -121,9 +129,11 @@ inline VecX randomWeights(Rng& rng, int n, double lo = 0.5, double hi = 2.0) {
 inline BSplineSurface randomGraphSurface(Rng& rng, int pu, int pv, int nu, int nv, bool rational, double amp = 0.25) {
   Matrix p = graphNet(rng, nu, nv, amp);
   VecX w = rational ? randomWeights(rng, nu * nv) : VecX();
-  BSplineSurface s(pu, pv, KnotVector(randomClampedKnots(rng, pu, nu)), KnotVector(randomClampedKnots(rng, pv, nv)),
-                   nu, nv, std::move(p), std::move(w));
-  return transformed(s, randomRotation(rng), Vec3(urand(rng, -2, 2), urand(rng, -2, 2), urand(rng, -2, 2)));
+  KnotVector kv(randomClampedKnots(rng, pv, nv));  // drawn last argument first (test_helpers.h)
+  BSplineSurface s(pu, pv, KnotVector(randomClampedKnots(rng, pu, nu)), std::move(kv), nu, nv, std::move(p),
+                   std::move(w));
+  const Vec3 shift = randomVec3(rng, -2, 2);
+  return transformed(s, randomRotation(rng), shift);
 }
 
 /// The referee's settings in the repair tests: certified bounds, subdivided only until within 25 % of the sampled
@@ -581,7 +591,7 @@ inline BoundsPair makeBoundsPair(Rng& rng, bool nearG1, bool rational, int varia
   const int pbu = std::min(nbu - 1, irand(rng, 2, 4));
   const BSplineSurface b(pbu, pv, KnotVector(randomClampedKnots(rng, pbu, nbu)), KnotVector(kv), nbu, nv, nb, wb);
   const Eigen::Matrix3d rot = randomRotation(rng);
-  const Vec3 shift(urand(rng, -1, 1), urand(rng, -1, 1), urand(rng, -1, 1));
+  const Vec3 shift = randomVec3(rng, -1, 1);
   bp.a = transformed(a, rot, shift);
   bp.b = transformed(b, rot, shift);
   bp.ea = Edge::U0;
