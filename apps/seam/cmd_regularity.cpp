@@ -136,8 +136,8 @@ class JsonStream {
 };
 
 /// Progress lines on stderr for long runs: nothing during the first second, then at most one line a second, on
-/// any stderr (a terminal or a log), like the progress of `seam check` on large B-reps.
-// Called from the threads that analyse the objects at once: one line a second at most, whichever object prints it.
+/// any stderr (a terminal or a log), like the progress of `seam check` on large B-reps. Its callbacks are called
+/// from the threads that analyse the objects at once; the one line a second is whichever object's comes first.
 class ProgressPrinter {
  public:
   explicit ProgressPrinter(std::string file) : file_(std::move(file)), start_(Clock::now()), last_(start_) {}
@@ -211,38 +211,32 @@ void addRegularity(CLI::App& app, int& exit) {
     ProgressPrinter progress(o->file);
 
     // Everything is analysed before anything is printed (a failing object prints its error and nothing else: the
-    // first in the file's order).
+    // first in the file's order). `collect` moves the results out, or returns false at the first error.
     bool problem = false;
-    std::vector<CurveRegularity> curveResults;
-    std::vector<SurfaceRegularity> patchResults;
+    const auto collect = [&](const auto& objects, auto& got, const char* kind, auto& results) {
+      for (size_t i = 0; i < objects.size(); ++i) {
+        if (!got[i]) {
+          printError(fmt::format("{}: {} \"{}\": {}", o->file, kind, objects[i]->name, got[i].status().message()));
+          exit = kExitBadInput;
+          return false;
+        }
+        problem = problem || got[i]->anyFails();
+        results.push_back(std::move(got[i]).value());
+      }
+      return true;
+    };
     std::vector<const BSplineCurve*> curveOf;
     for (const Curve* c : curves) curveOf.push_back(&c->curve);
     std::vector<Result<CurveRegularity>> curveGot = analyzeCurves(
         curveOf, options, [&](size_t i) { return progress.callback("curve \"" + curves[i]->name + "\""); });
-    for (size_t i = 0; i < curves.size(); ++i) {
-      Result<CurveRegularity>& r = curveGot[i];
-      if (!r) {
-        printError(fmt::format("{}: curve \"{}\": {}", o->file, curves[i]->name, r.status().message()));
-        exit = kExitBadInput;
-        return;
-      }
-      problem = problem || r->anyFails();
-      curveResults.push_back(std::move(r).value());
-    }
+    std::vector<CurveRegularity> curveResults;
+    if (!collect(curves, curveGot, "curve", curveResults)) return;
     std::vector<const BSplineSurface*> surfaceOf;
     for (const Patch* p : patches) surfaceOf.push_back(&p->surface);
     std::vector<Result<SurfaceRegularity>> patchGot = analyzeSurfaces(
         surfaceOf, options, [&](size_t i) { return progress.callback("patch \"" + patches[i]->name + "\""); });
-    for (size_t i = 0; i < patches.size(); ++i) {
-      Result<SurfaceRegularity>& r = patchGot[i];
-      if (!r) {
-        printError(fmt::format("{}: patch \"{}\": {}", o->file, patches[i]->name, r.status().message()));
-        exit = kExitBadInput;
-        return;
-      }
-      problem = problem || r->anyFails();
-      patchResults.push_back(std::move(r).value());
-    }
+    std::vector<SurfaceRegularity> patchResults;
+    if (!collect(patches, patchGot, "patch", patchResults)) return;
     exit = problem ? kExitGeometryProblem : kExitOk;
 
     if (o->json) {
