@@ -1919,6 +1919,40 @@ double lagU(double t, double c1, double w) {
   return (w * b1 * c1 + t * t) / ((1.0 - t) * (1.0 - t) + w * b1 + t * t);
 }
 
+/// B a cylinder of radius s below the quarter circle s (cos phi, sin phi, 0), A the cone above it through the circle
+/// s (1 + a) (cos phi, sin phi, 1) at height s h (rational quadratic in u, linear in v); u runs along the circle.
+std::pair<BSplineSurface, BSplineSurface> coneOnCylinder(double s, double a, double h) {
+  const double r2 = std::sqrt(0.5);
+  Matrix pa(6, 3), pb(6, 3);
+  const double arc[3][2] = {{1, 0}, {1, 1}, {0, 1}};
+  for (int i = 0; i < 3; ++i) {
+    pa.row(2 * i) << s * arc[i][0], s * arc[i][1], 0.0;
+    pa.row(2 * i + 1) << s * (1 + a) * arc[i][0], s * (1 + a) * arc[i][1], s * h;
+    pb.row(2 * i) << s * arc[i][0], s * arc[i][1], 0.0;
+    pb.row(2 * i + 1) << s * arc[i][0], s * arc[i][1], -s;
+  }
+  VecX w(6);
+  w << 1.0, 1.0, r2, r2, 1.0, 1.0;
+  return {BSplineSurface(2, 1, KnotVector({0, 0, 0, 1, 1, 1}), KnotVector({0, 0, 1, 1}), 3, 2, std::move(pa), w),
+          BSplineSurface(2, 1, KnotVector({0, 0, 0, 1, 1, 1}), KnotVector({0, 0, 1, 1}), 3, 2, std::move(pb), w)};
+}
+
+/// Independent: the largest angle between the quarter circle's points at lagU(t) and t, densely (the rational
+/// quarter circle's angle phi(u) = atan2(y, x) from its Bernstein form).
+double quarterCircleLag(double c1, double w) {
+  const double r2 = std::sqrt(0.5);
+  const auto phi = [&](double u) {
+    const double b0 = (1 - u) * (1 - u), b1 = 2 * u * (1 - u), b2 = u * u;
+    return std::atan2(r2 * b1 + b2, b0 + r2 * b1);
+  };
+  double dphi = 0.0;
+  for (int i = 0; i <= 20000; ++i) {
+    const double t = i / 20000.0;
+    dphi = std::max(dphi, phi(lagU(t, c1, w)) - phi(t));
+  }
+  return dphi;
+}
+
 }  // namespace pcurve
 
 TEST(PCurveSeam, TheClosestPointExcessCoversAPairingThatLags) {
@@ -1985,35 +2019,14 @@ TEST(PCurveSeam, TheClosestPointExcessAlongALineOfCurvatureIsSecondOrderInTheLag
   // paired and closest points, which is what the excess was before the along / across split) and be of second order
   // in dphi, at sizes 1e-3, 1, 1e4 (dphi 0.0083 with the polynomial pcurve, 0.0207 with the rational one).
   const double a = 0.364, h = 1.0, eps = 0.02, c1 = 0.5 + 0.5 * eps, deg = 180.0 / std::numbers::pi;
-  const double theta = std::atan(a / h) * deg, r2 = std::sqrt(0.5);
+  const double theta = std::atan(a / h) * deg;
   for (const double s : {1e-3, 1.0, 1e4})
     for (const bool rational : {false, true}) {
       SCOPED_TRACE(::testing::Message() << "size " << s << " rational pcurve " << rational);
-      Matrix pa(6, 3), pb(6, 3);
-      const double arc[3][2] = {{1, 0}, {1, 1}, {0, 1}};
-      for (int i = 0; i < 3; ++i) {
-        pa.row(2 * i) << s * arc[i][0], s * arc[i][1], 0.0;
-        pa.row(2 * i + 1) << s * (1 + a) * arc[i][0], s * (1 + a) * arc[i][1], s * h;
-        pb.row(2 * i) << s * arc[i][0], s * arc[i][1], 0.0;
-        pb.row(2 * i + 1) << s * arc[i][0], s * arc[i][1], -s;
-      }
-      VecX w(6);
-      w << 1.0, 1.0, r2, r2, 1.0, 1.0;
-      const BSplineSurface A(2, 1, KnotVector({0, 0, 0, 1, 1, 1}), KnotVector({0, 0, 1, 1}), 3, 2, std::move(pa), w);
-      const BSplineSurface B(2, 1, KnotVector({0, 0, 0, 1, 1, 1}), KnotVector({0, 0, 1, 1}), 3, 2, std::move(pb), w);
+      const auto [A, B] = pcurve::coneOnCylinder(s, a, h);
       const double pw = rational ? 1.1 : 1.0;
       const BSplineCurve cb = pcurve::lagging(c1, pw);
-      // Independent: the largest angle dphi between the circle's points at u(t) and t, densely (the rational quarter
-      // circle's angle phi(u) = atan2(y, x) from its Bernstein form).
-      const auto phi = [&](double u) {
-        const double b0 = (1 - u) * (1 - u), b1 = 2 * u * (1 - u), b2 = u * u;
-        return std::atan2(r2 * b1 + b2, b0 + r2 * b1);
-      };
-      double dphi = 0.0;
-      for (int i = 0; i <= 20000; ++i) {
-        const double t = i / 20000.0;
-        dphi = std::max(dphi, phi(pcurve::lagU(t, c1, pw)) - phi(t));
-      }
+      const double dphi = pcurve::quarterCircleLag(c1, pw);
       ASSERT_GT(dphi, 0.005);
       SeamOptions opt;
       opt.boundRelGap = 1e-4;
@@ -2029,6 +2042,40 @@ TEST(PCurveSeam, TheClosestPointExcessAlongALineOfCurvatureIsSecondOrderInTheLag
       EXPECT_LE(r->g1ClosestExcessDeg, 3.0 * dphi * dphi / (theta / deg) * deg);
       EXPECT_LE(r->g1ClosestExcessDeg, 0.2 * dphi * deg);
     }
+}
+
+TEST(PCurveSeam, TheClosestPointExcessIsBoundedNextToSliverPieces) {
+  // The cone on the cylinder of the test above (angle theta along a quarter circle of radius s, B's pcurve lagging
+  // by up to dphi), with a sliver of 1e-9 of the edge cut into it: two knots 1e-9 apart inserted into A's pcurve (a
+  // leaf that short, B's pcurve whole across it) or into B's (a piece of B's pcurve that short). Knot insertion
+  // leaves both edges as they were, so the angle between closest points is theta still and the edge's curvature
+  // 1 / s. On the sliver the second derivative of B's composed polynomial is round-off over (1e-9)^2, a curvature
+  // of about 1e3 / s, which next to the pairing's distance of 0.008 s made the excess unbounded: it must stay bounded,
+  // cover theta, and stay within a fifth of dphi as without the sliver, at sizes 1e-3, 1, 1e4, polynomial and rational
+  // pcurves.
+  const double a = 0.364, h = 1.0, eps = 0.02, c1 = 0.5 + 0.5 * eps, deg = 180.0 / std::numbers::pi;
+  const double theta = std::atan(a / h) * deg, at = 0.41, sliver = 1e-9;
+  for (const double s : {1e-3, 1.0, 1e4})
+    for (const bool rational : {false, true})
+      for (const bool inA : {true, false}) {
+        SCOPED_TRACE(::testing::Message() << "size " << s << " rational pcurve " << rational << " sliver in "
+                                          << (inA ? "A" : "B"));
+        const auto [A, B] = pcurve::coneOnCylinder(s, a, h);
+        const double pw = rational ? 1.1 : 1.0;
+        BSplineCurve ca = pcurve::line2d({0, 0}, {1, 0}), cb = pcurve::lagging(c1, pw);
+        BSplineCurve& cut = inA ? ca : cb;
+        cut = cut.withKnotInserted(at).withKnotInserted(at + sliver);
+        const double dphi = pcurve::quarterCircleLag(c1, pw);
+        ASSERT_GT(dphi, 0.005);
+        SeamOptions opt;
+        opt.boundRelGap = 1e-4;
+        opt.closestPointsOn = ClosestPoints::kOnB;
+        const Result<PCurveSeamBounds> r = certifyPCurveSeam(pcurve::side(A, ca), pcurve::side(B, cb, -1.0), opt);
+        ASSERT_TRUE(r) << r.status().message();
+        ASSERT_TRUE(std::isfinite(r->g1ClosestExcessDeg));
+        EXPECT_GE(r->g1BoundDeg + r->g1ClosestExcessDeg, theta);
+        EXPECT_LE(r->g1ClosestExcessDeg, 0.2 * dphi * deg);
+      }
 }
 
 TEST(PCurveSeam, CreaseHasNoCertifiedG2) {

@@ -62,6 +62,44 @@ double maxAbsBound(const BernsteinPoly& p, int depth) {
 constexpr int kReachRounds = 6;
 constexpr double kReachGrowth = 1.5;
 
+/// The curvature and arc length of each part of B's edge within reach of a cell (excessOfCells).
+using Bends = std::vector<std::pair<double, double>>;
+
+/// The sum of curvature times arc length over the parts of `bends` whose curvature is above `level`: how far B's
+/// tangent turns over them.
+double bentAbove(const Bends& bends, double level) {
+  double above = 0.0;
+  for (const auto& [k, a] : bends)
+    if (k > level) above += k * a;
+  return above;
+}
+
+/// How far (arc length) B's point closest to A(t) lies from the paired point, where |h'| <= r there (closestExcess),
+/// |A - B| <= G within that far, and `bends` holds the parts of B's edge within reach. h'(s) - h'(0) >= s - G int_0^s
+/// kappa, and int_0^s kappa <= k0 s + bentAbove(k0) for any level k0, so h' has the sign of s beyond l(k0) = (r + G
+/// bentAbove(k0)) / (1 - G k0) where 1 > G k0. The least over the parts' curvatures and 0: the largest gives r / (1 -
+/// G kappa), the pointwise bound; a lower level counts a short sharp bend by its turning (a pcurve of degree 9 with
+/// knots 1e-8 apart bends its edge at 4 500 / mm over them, linkrods.step, where G kappa = 1.9; a sliver leaf's
+/// curvature bound is round-off over its length squared). Infinite where no level gives a bound.
+double closestWithin(const Bends& bends, double r, double G) {
+  double best = kInf;
+  const auto level = [&](double k0) {
+    const double c = 1.0 - G * k0;
+    if (c > 0.0) best = std::min(best, (r + G * bentAbove(bends, k0)) / c);
+  };
+  level(0.0);
+  for (const auto& bend : bends) level(bend.first);
+  return best;
+}
+
+/// How far B's tangent turns within arc length l of the paired point: at most k0 l + bentAbove(k0) for any level k0,
+/// the least over the parts' curvatures and 0 (the largest gives kappa l).
+double turnWithin(const Bends& bends, double l) {
+  double best = bentAbove(bends, 0.0);
+  for (const auto& bend : bends) best = std::min(best, bend.first * l + bentAbove(bends, bend.first));
+  return best;
+}
+
 /// The excess (radians) of each of `cells` (in edge order, the cells of `leaves`): see closestExcess; infinite where
 /// a cell's excess cannot be bounded. The bounds of B's speed, curvature and normal turning are taken over the cell
 /// and over the parts of its neighbours within the reach in t (whole neighbours made the normal's turning at a far
@@ -74,13 +112,15 @@ std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const 
   whole.assign(cells.size(), kInf);
   const auto len = [&](size_t j) { return cells[j].t1 - cells[j].t0; };
   std::vector<std::pair<ClosestSplit, double>> reached;  // the split of each part taken, and its length in t
+  Bends bends;                                           // the curvature of each part taken, and its arc length
   for (size_t i = 0; i < cells.size(); ++i) {
     const double f = cells[i].d.f / len(i);  // per unit of t
     const double lo = cells[i].t0, hi = cells[i].t1;
-    double reach = 0.0;
+    double reach = 0.0, need = 0.0;  // need: the arc length the last round's closest point asked for
     for (int round = 0; round < kReachRounds; ++round) {
-      double m = kInf, kappa = 0.0, K = 0.0;
+      double m = kInf, K = 0.0;
       reached.clear();
+      bends.clear();
       // B's bounds on [a, b] of cell j (per unit of t).
       const auto take = [&](size_t j, double a, double b) {  // (whole cells where !clip)
         const ClosestCell& c = cells[j];
@@ -93,22 +133,29 @@ std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const 
           d = closestData(leaves[c.leaf], x(a), x(b), false);
         }
         m = std::min(m, d.speedLo / (b - a));
-        kappa = std::max(kappa, d.curvatureHi);
         K = std::max(K, d.turnHi / (b - a));
         reached.emplace_back(d.split, b - a);
+        bends.emplace_back(d.curvatureHi, d.speedHi);
       };
       take(i, lo, hi);
       for (size_t j = i; j > 0 && cells[j - 1].t1 > lo - reach; --j)
         take(j - 1, std::max(cells[j - 1].t0, lo - reach), cells[j - 1].t1);
       for (size_t j = i + 1; j < cells.size() && cells[j].t0 < hi + reach; ++j)
         take(j, cells[j].t0, std::min(cells[j].t1, hi + reach));
-      const double r = f / m, d = 2.0 * r, dt = d / m;  // arc lengths, and the reach they ask for in t
-      if (!(m > 0.0) || !std::isfinite(kappa) || !std::isfinite(dt)) break;
+      // Arc lengths, and the reach they ask for in t: d = 2 r (the closest point within r / (1/2) = d wherever h'' >=
+      // 1/2), or what the last round's closest point asked for.
+      const double r = f / m, gap = cells[i].d.gapHi, d = std::max(need, 2.0 * r), dt = d / m;
+      if (!(m > 0.0) || !std::isfinite(dt)) break;
       // A reach over every cell on both sides takes in B's whole range: a longer one adds nothing.
       const bool atEnds = lo - reach <= cells.front().t0 && hi + reach >= cells.back().t1;
       if (dt <= reach || (atEnds && round > 0)) {
-        const double c = 1.0 - (cells[i].d.gapHi + d) * kappa, l = r / c;  // l: paired to closest, arc length
-        if (!(c >= 0.5)) break;  // (or NaN: 0 / 0, inf * 0) not bounded
+        const double l = closestWithin(bends, r, gap + d);  // l: paired to closest, arc length
+        if (!(l <= d)) {  // (or NaN, infinite) not within the reach
+          if (!(l < kInf)) break;
+          need = kReachGrowth * l;
+          reach = std::max(reach, kReachGrowth * need / m);
+          continue;
+        }
         double e = K / m * l;
         whole[i] = e;
         // Split along and across the edge (closestExcess), per unit of arc length: the part along it is taken as the
@@ -116,7 +163,7 @@ std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const 
         double across = 0.0;
         for (const auto& [sp, length] : reached) across = std::max(across, sp.acrossTurnHi / length);
         const double kn = K / m, tau = std::min(across, K) / m;
-        const double eps = std::min(1.0, cells[i].d.split.tangentSinHi + kappa * l);
+        const double eps = std::min(1.0, cells[i].d.split.tangentSinHi + turnWithin(bends, l));
         const double chord = std::sqrt(s0 * s0 + 2.0 * kn * eps * l) + tau * l;
         if (chord < 2.0) e = std::min(e, std::max(0.0, 2.0 * std::asin(0.5 * chord) - paired));
         // A halved cell keeps its parent's bound where that is lower.
@@ -127,6 +174,19 @@ std::vector<double> excessOfCells(const std::vector<ClosestLeaf>& leaves, const 
     }
   }
   return out;
+}
+
+/// The curvature of an edge x / w, where T = x' w - x w' (|T| >= tLo), T1 = T' and acc = T' w - 2 T w', w in
+/// [wLo, wHi] (infinite where tLo = 0): |B_x x B_xx| / |B_x|^3 with B_x = T / w^2, B_xx = acc / w^3, so
+/// B_x x B_xx = T x T' / w^4 and kappa = w^2 |T x T'| / |T|^3; also at most |B_xx| / |B_x|^2 (the smaller bound is
+/// taken). Independent of the parametrisation: T and T1 may be per unit of any affine parameter.
+double curvatureBound(const BernsteinPoly& T, double tLo, const BernsteinPoly& T1, const BernsteinPoly& acc,
+                      double wLo, double wHi) {
+  if (!(tLo > 0.0) || !(wLo > 0.0)) return kInf;
+  const double speedLo = tLo / (wHi * wHi);
+  const double byCross = wHi * wHi * cross(T, T1).maxCoeffNorm() / (tLo * tLo * tLo);
+  const double byAccel = acc.maxCoeffNorm() / (wLo * wLo * wLo) / (speedLo * speedLo);
+  return std::min(byCross, byAccel);
 }
 
 }  // namespace
@@ -152,13 +212,18 @@ ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine)
   d.f = (refine ? maxAbsBound(F, kResidualBoundDepth) : F.maxAbsCoeff()) / den;
   const double tLo = normLowerBound(T);
   d.speedLo = tLo / (wbHi * wbHi);
+  d.speedHi = T.maxCoeffNorm() / (wbLo * wbLo);
   d.gapHi = D.maxCoeffNorm() / (waLo * wbLo);
-  // Curvature |B_x x B_xx| / |B_x|^3 with B_x = T / w^2, B_xx = (T' w - 2 T w') / w^3: B_x x B_xx = T x T' / w^4, so
-  // kappa = w^2 |T x T'| / |T|^3; also at most |B_xx| / |B_x|^2 (the smaller bound is taken).
-  if (tLo > 0.0) {
-    const double byCross = wbHi * wbHi * cross(T, T1).maxCoeffNorm() / (tLo * tLo * tLo);
-    const double byAccel = acc.maxCoeffNorm() / (wbLo * wbLo * wbLo) / (d.speedLo * d.speedLo);
-    d.curvatureHi = std::min(byCross, byAccel);
+  d.curvatureHi = curvatureBound(T, tLo, T1, acc, wbLo, wbHi);
+  if (L.window) {
+    // The same curvature from the derivatives formed on the window, restricted to [x0, x1] of the leaf
+    // (ClosestWindow): each bound holds, the smaller is taken.
+    const ClosestWindow& W = *L.window;
+    const double y0 = W.y0 + x0 * (W.y1 - W.y0), y1 = W.y0 + x1 * (W.y1 - W.y0);
+    const BernsteinPoly Tw = W.t.restricted(y0, y1), w = W.w.restricted(y0, y1);
+    d.curvatureHi = std::min(d.curvatureHi, curvatureBound(Tw, normLowerBound(Tw), W.t1.restricted(y0, y1),
+                                                           W.acc.restricted(y0, y1), w.coeffs().minCoeff(),
+                                                           w.coeffs().maxCoeff()));
   }
   // d(N / |N|) / dx = (N' - (n . N') n) / |N| with n = N / |N|: its length is |N x N'| / |N|^2 <= |N'| / |N|. The
   // first is zero for a plane whose normal numerator only changes length (HealCrease: a vertical plane with a
@@ -179,12 +244,36 @@ ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine)
   return d;
 }
 
+ClosestWindow closestWindow(const BernsteinPoly& x, const BernsteinPoly& w, double y0, double y1) {
+  const BernsteinPoly w1 = w.derivative();
+  BernsteinPoly T = product(x.derivative(), w) - product(x, w1);
+  BernsteinPoly T1 = T.derivative();
+  BernsteinPoly acc = product(T1, w) - 2.0 * product(T, w1);
+  return {std::move(T), std::move(T1), std::move(acc), w, y0, y1};
+}
+
 ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly na,
-                        BernsteinPoly nb, size_t index, double t0, double t1) {
-  ClosestLeaf c{std::move(xa), std::move(wa), std::move(xb), std::move(wb), std::move(na), std::move(nb), {}};
+                        BernsteinPoly nb, size_t index, double t0, double t1, std::optional<ClosestWindow> window) {
+  ClosestLeaf c{std::move(xa), std::move(wa), std::move(xb), std::move(wb), std::move(na), std::move(nb), {},
+                std::move(window)};
   c.whole = {index, 0.0, 1.0, t0, t1, closestData(c, 0.0, 1.0, false)};
   return c;
 }
+
+namespace {
+
+/// Where the local argument fails somewhere (closestExcess), the excess is still at most the total turning of B's
+/// unit normal along the whole edge: the closest point lies on B's edge, and the angle from A's normal to B's normal
+/// there exceeds the paired angle by at most the angle between B's two normals. Zero on a plane (trj3_s1-al-214.stp:
+/// four 90 deg seams whose planar side's edge bends at 1 400 / mm next to a 0.03 mm gap). Infinite (not bounded) from
+/// pi on, where it says nothing (teaspoon.bpt: a seam next to a pole keeps its sampled angle, not certified).
+double turning(const std::vector<ClosestCell>& cells) {
+  double total = 0.0;
+  for (const ClosestCell& c : cells) total += c.d.turnHi;
+  return total < std::numbers::pi ? total : kInf;
+}
+
+}  // namespace
 
 double closestExcess(const std::vector<ClosestLeaf>& closest, double target, double paired,
                      const ClosestRefinement& how) {
@@ -206,7 +295,7 @@ double closestExcess(const std::vector<ClosestLeaf>& closest, double target, dou
     // turning's went on to 0.00037).
     const bool gained = worst < how.gain * previous || worstWhole < how.gain * previousWhole ||
                         (how.whileUnboundedShrink && unbounded > 0 && unbounded < previousUnbounded);
-    if (worst <= target || round >= how.rounds || (round > 0 && !gained)) return worst;
+    if (worst <= target || round >= how.rounds || (round > 0 && !gained)) return worst < kInf ? worst : turning(cells);
     previous = worst;
     previousWhole = worstWhole;
     previousUnbounded = unbounded;

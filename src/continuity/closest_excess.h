@@ -5,6 +5,7 @@
 // between closest points".
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "seam/core/bernstein.h"
@@ -27,6 +28,7 @@ struct ClosestSplit {
 struct ClosestData {
   double f = 0.0;        ///< max |(A - B) . B_x|, the closest-point equation's residual at the paired point
   double speedLo = 0.0;  ///< min |B_x| (0: not bounded away from zero)
+  double speedHi = std::numeric_limits<double>::infinity();  ///< max |B_x|: B's arc length over the piece
   double gapHi = 0.0;    ///< max |A - B|
   /// max curvature of B's edge (1 / length; infinite where not bounded): independent of the parametrisation, so a
   /// speed that varies along the edge (uneven knots) does not count as bending, as |B_xx| / |B_x|^2 would.
@@ -44,12 +46,28 @@ struct ClosestCell {
   double cap = std::numeric_limits<double>::infinity();  ///< the excess of the cell it was halved from
 };
 
+/// B's edge on a window around a short leaf, for the bound of its curvature (ClosestData::curvatureHi). On a sliver
+/// leaf (linkrods.step: a surface knot 2e-9 of the edge from a pcurve's breakpoint) the second derivative of the
+/// leaf's own polynomials is the round-off of their coefficients (of the model's size) over the leaf's length squared:
+/// a curvature bound of 4e5 / mm where the edge bends by about 1, which left the closest-point excess unbounded. On a
+/// window where B is the same polynomial (one piece of its pcurve, one span of its surface) and that is not short,
+/// the derivatives are formed first and then restricted to the leaf's part of it, so they keep their own size.
+struct ClosestWindow {
+  BernsteinPoly t, t1, acc, w;  ///< T = X_B' w_B - X_B w_B', T', T' w_B - 2 T w_B' and w_B on the window
+  double y0 = 0.0, y1 = 1.0;    ///< the leaf's local x in [0, 1] is y0 + x (y1 - y0) of the window's
+};
+
+/// The ClosestWindow of B = x / w over a window of B's parameter, the leaf being [y0, y1] of its local parameter.
+ClosestWindow closestWindow(const BernsteinPoly& x, const BernsteinPoly& w, double y0, double y1);
+
 /// One leaf's sides for the closest-point excess (SeamOptions::closestPointsOn): A = xa / wa, the side whose points
 /// are taken, B = xb / wb, the side their closest points lie on, na and nb their normal numerators (end roots divided
-/// out), and the leaf as one cell.
+/// out), and the leaf as one cell; `window`: B on a window around a short leaf, whose curvature bound is taken where
+/// it is lower than the leaf's own.
 struct ClosestLeaf {
   BernsteinPoly xa, wa, xb, wb, na, nb;
   ClosestCell whole;
+  std::optional<ClosestWindow> window;
 };
 
 /// How far closestExcess halves the cells above its target: at most `rounds` times, only while a round lowers the
@@ -79,7 +97,8 @@ ClosestData closestData(const ClosestLeaf& L, double x0, double x1, bool refine)
 /// The leaf `index` of a seam with A = xa / wa, B = xb / wb and normal numerators na, nb along local x in [0, 1],
 /// over [t0, t1] of the edge parameter both sides are written in (t0 < t1; leaves in increasing t), as one cell.
 ClosestLeaf closestLeaf(BernsteinPoly xa, BernsteinPoly wa, BernsteinPoly xb, BernsteinPoly wb, BernsteinPoly na,
-                        BernsteinPoly nb, size_t index, double t0, double t1);
+                        BernsteinPoly nb, size_t index, double t0, double t1,
+                        std::optional<ClosestWindow> window = std::nullopt);
 
 /// How much the angle between A's normal and B's at B's (local) closest point can exceed the angle at the paired
 /// points, in radians, where that angle is at most `paired` (radians) everywhere (SeamOptions::closestPointsOn; kOnA:

@@ -65,6 +65,19 @@ constexpr int kPCurveG2MaxDegree = 256;
 constexpr double kChartCurvatureNoiseShare = 0.01;
 /// The unit round-off of double arithmetic (the evaluation error of each coefficient operation).
 constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon();
+/// The closest-point excess bounds the curvature of a leaf shorter than kClosestWindowRel of its side's range from
+/// derivatives that keep their size (detail::ClosestWindow): for a polynomial pcurve, from its derivatives at the
+/// leaf's middle (PCurveSeam::closestTaylor); for a rational one, from a window around the leaf: the side's pcurve
+/// piece holding the leaf, narrowed by
+/// kClosestWindowShrink at a time (at most kClosestWindowTries times) until its pcurve stays within one span's width
+/// of the leaf's span (the span's polynomial continued that far grows its coefficients by a small factor only), and
+/// taken only while it is at least kClosestWindowGain times as long as the leaf. At 1e-3 of the range the leaf's own
+/// bound carries round-off of about 1e-10 of the model's size per length squared, below any curvature that matters;
+/// the slivers that need the window are 1e-9 to 2e-6 of their edge (linkrods.step, trj3, boxed_sphere).
+constexpr double kClosestWindowRel = 1e-3;
+constexpr double kClosestWindowShrink = 0.25;
+constexpr int kClosestWindowTries = 12;
+constexpr double kClosestWindowGain = 16.0;
 
 /// The largest of value(piece, x) at kPCurveSamplesPerPiece + 1 evenly spaced x on every piece (the start value
 /// of certifyMax).
@@ -399,6 +412,8 @@ struct PCurveSeam {
              bool& ok, double& cutAt) const;
   bool split(double t0, double t1, int depth);
   void composeLeaf(size_t li);
+  std::optional<detail::ClosestWindow> closestWindow(size_t li, bool onB) const;
+  std::optional<detail::ClosestWindow> closestTaylor(size_t li, bool onB, const ComposedSide& side) const;
   G2Leaf buildG2Leaf(size_t li) const;
   bool buildG2Pieces();
   void boundG2(double flat);
@@ -501,9 +516,106 @@ void PCurveSeam::composeLeaf(size_t li) {
   if (opt.closestPointsOn != ClosestPoints::kNone) {
     const bool onB = opt.closestPointsOn == ClosestPoints::kOnB;
     const ComposedSide &from = onB ? A : B, &to = onB ? B : A;
-    closest[li] = detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NA : NB, onB ? NB : NA, li, L.t0, L.t1);
+    const bool taylor = !(onB ? b : a).pcurve.isRational();
+    closest[li] = detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NA : NB, onB ? NB : NA, li, L.t0, L.t1,
+                                      taylor ? closestTaylor(li, onB, to) : closestWindow(li, onB));
   }
   composed[li] = {std::move(A.h), std::move(B.h)};
+}
+
+// The window of leaf li's closest-point side (B with onB, else A) for its curvature bound (kClosestWindowRel). The
+// leaf's B is the span's polynomial composed with the pcurve piece's: the same composition over a longer window of
+// the piece (both polynomials continued where the window crosses the span's knot line: a sliver is mostly a leaf cut
+// at a knot-line crossing next to the piece's end) is the same polynomial, restricted to the leaf.
+std::optional<detail::ClosestWindow> PCurveSeam::closestWindow(size_t li, bool onB) const {
+  const PCurveLeaf& L = leaves[li];
+  const PCurveSide& side = onB ? b : a;
+  const std::vector<BezierCurvePiece>& pcs = onB ? pcB : pcA;
+  const SpanPatches& sp = onB ? spB : spA;
+  const double s0 = onB ? toB(L.t0) : L.t0, s1 = onB ? toB(L.t1) : L.t1;
+  if (!(s1 - s0 < kClosestWindowRel * side.range.length()) || pcs.empty()) return std::nullopt;
+  const size_t iu = onB ? L.biu : L.aiu, iv = onB ? L.biv : L.aiv;
+  const std::array<Interval, 2> span{sp.us[iu], sp.vs[iv]};
+  // The piece pcurveOn takes for the leaf (by its middle); the window never leaves it, except by the leaf itself
+  // where a breakpoint within kSameBreakpointRel of the leaf's end was merged with it.
+  size_t k = 0;
+  while (k + 1 < pcs.size() && 0.5 * (s0 + s1) > pcs[k].interval.hi) ++k;
+  const Interval P = pcs[k].interval;
+  double reach = P.length();
+  for (int i = 0; i < kClosestWindowTries; ++i, reach *= kClosestWindowShrink) {
+    const double w0 = std::min(s0, std::max(P.lo, s0 - reach)), w1 = std::max(s1, std::min(P.hi, s1 + reach));
+    if (!(w1 - w0 >= kClosestWindowGain * (s1 - s0))) return std::nullopt;
+    const PCurvePiece c = pcurveOn(pcs, w0, w1);
+    bool near = true;
+    for (int j = 0; j < 2; ++j) {
+      const auto [lo, hi] = c.hull(j);
+      near = near && lo >= span[j].lo - span[j].length() && hi <= span[j].hi + span[j].length();
+    }
+    if (!near) continue;
+    const ComposedSide W = composeSide(sp, iu, iv, c, side.surface->isRational(), side.normalSign);
+    return detail::closestWindow(W.x, W.w, (s0 - w0) / (w1 - w0), (s1 - w0) / (w1 - w0));
+  }
+  return std::nullopt;
+}
+
+/// sum_j d_j (h (x - 1/2))^j / j! as a polynomial of x in [0, 1]: a Taylor series about the middle of a leaf of
+/// length h.
+BernsteinPoly taylorOnLeaf(const std::vector<double>& d, double h) {
+  VecX a = VecX::Zero(static_cast<Eigen::Index>(std::max<size_t>(d.size(), 1)));
+  double scale = 1.0;  // h^j / j!
+  for (size_t j = 0; j < d.size(); ++j) {
+    if (j > 0) scale *= h / static_cast<double>(j);
+    double binom = 1.0;  // C(j, i)
+    for (size_t i = 0; i <= j; ++i) {
+      a[static_cast<Eigen::Index>(i)] += d[j] * scale * binom * std::pow(-0.5, static_cast<double>(j - i));
+      binom = binom * static_cast<double>(j - i) / static_cast<double>(i + 1);
+    }
+  }
+  return BernsteinPoly::fromPowerBasis(a);
+}
+
+// Leaf li's closest-point side (B with onB, else A), `side` its composition on the leaf, from its polynomial
+// pcurve's derivatives (kClosestWindowRel). A short leaf often lies in a piece of the pcurve that is as short (B-spline
+// pcurves with knots 1e-10 apart: occ22470.igs, linkrods.step), whose own Bezier points agree to all but a few
+// digits: differenced twice, they are round-off. The B-spline's derivatives at the leaf's middle (from its de Boor
+// points, differenced over knot intervals that are not all short) give c', c'' on the leaf exactly as Taylor
+// polynomials (the leaf lies in one piece); the surface's partials come from its differenced net (spanPatches):
+// X_t = H_u u' + H_v v', X_tt = H_uu u'^2 + 2 H_uv u' v' + H_vv v'^2 + H_u u'' + H_v v'' (span-local u, v), and
+// with X = (x, w): T = x_t w - x w_t, T' = x_tt w - x w_tt.
+std::optional<detail::ClosestWindow> PCurveSeam::closestTaylor(size_t li, bool onB, const ComposedSide& side) const {
+  const PCurveLeaf& L = leaves[li];
+  const PCurveSide& ps = onB ? b : a;
+  const double s0 = onB ? toB(L.t0) : L.t0, s1 = onB ? toB(L.t1) : L.t1, h = s1 - s0;
+  if (!(h < kClosestWindowRel * ps.range.length()) || ps.pcurve.dim() != 2) return std::nullopt;
+  const SpanPatches& sp = onB ? spB : spA;
+  const size_t iu = onB ? L.biu : L.aiu, iv = onB ? L.biv : L.aiv;
+  const Interval U = sp.us[iu], V = sp.vs[iv];
+  const int p = ps.pcurve.degree();
+  if (p < 1) return std::nullopt;
+  const Matrix D = ps.pcurve.derivatives(0.5 * (s0 + s1), p);  // rows 0..p
+  if (!D.allFinite()) return std::nullopt;
+  // u', v' (from row 1) and u'', v'' (from row 2) per unit of the span's local parameters.
+  const auto series = [&](int from, int k, double len) {
+    std::vector<double> d;
+    for (int r = from; r <= p; ++r) d.push_back(D(r, k) / len);
+    return taylorOnLeaf(d, h);
+  };
+  const BernsteinPoly du = series(1, 0, U.length()), dv = series(1, 1, V.length());
+  const BernsteinPoly ddu = p >= 2 ? series(2, 0, U.length()) : BernsteinPoly::constant(0.0);
+  const BernsteinPoly ddv = p >= 2 ? series(2, 1, V.length()) : BernsteinPoly::constant(0.0);
+  const LocalPCurve lc(onB ? L.cb : L.ca, U, V, ps.surface->isRational());
+  const auto& H = sp.at(iu, iv);
+  const BernsteinPoly &X = side.h[0], &Hu = side.h[1], &Hv = side.h[2];
+  const BernsteinPoly Huu = lc.compose(H[3], 2), Huv = lc.compose(H[4], 2), Hvv = lc.compose(H[5], 2);
+  const BernsteinPoly Xt = product(du, Hu) + product(dv, Hv);
+  const BernsteinPoly Xtt = product(product(du, du), Huu) + 2.0 * product(product(du, dv), Huv) +
+                            product(product(dv, dv), Hvv) + product(ddu, Hu) + product(ddv, Hv);
+  if (X.dim() == 3) return detail::ClosestWindow{Xt, Xtt, Xtt, BernsteinPoly::constant(1.0), 0.0, 1.0};
+  const auto xyz = [](const BernsteinPoly& q) { return BernsteinPoly(Matrix(q.coeffs().leftCols(3))); };
+  const BernsteinPoly x = xyz(X), w = X.component(3), xt = xyz(Xt), wt = Xt.component(3);
+  const BernsteinPoly T = product(xt, w) - product(x, wt);
+  const BernsteinPoly T1 = product(xyz(Xtt), w) - product(x, Xtt.component(3));
+  return detail::ClosestWindow{T, T1, product(T1, w) - 2.0 * product(T, wt), w, 0.0, 1.0};
 }
 
 // The leaves are composed on the calling thread's arena (each leaf a pure function of its own data: the same
