@@ -837,6 +837,32 @@ TEST(OcctBRep, AnglesAreBetweenClosestPointsWhereTheBearingsPCurvesDrift) {
   EXPECT_EQ(found, 3);
 }
 
+TEST(OcctBRep, UntrimmedFacesWhoseEdgesOverhangAreCertifiedThroughTheirPCurves) {
+  // Edges of bearing.iges between untrimmed faces, each along a whole side of its face, where one edge runs past the
+  // other by more than the gap between them elsewhere (edge 23: ends 5.6e-7 mm apart, 5.5e-7 elsewhere): the
+  // patch-edge route finds no polynomial correspondence and only sampled them. The pcurve route's monotone
+  // correspondence certifies them (2026-12-03). Expected values from tests/occt_probe (OpenCASCADE only: the file
+  // read and sewn, 2 000 points of the 3-D edge projected onto both faces' boundaries, the angle between the faces'
+  // normals there): edge 23 0.0089555 deg, 76 0.022927, 82 0.019294 (the sampled value shown before was 0.0132).
+  // Each must be certified, G1 (below the 0.5 deg tolerance) and at or above the probe's angle, within 3x of it.
+  const Result<occt::BRepCheckReport> rep = occt::checkBRepFile(kData / "iges" / "bearing.iges");
+  ASSERT_TRUE(rep.isOk()) << rep.status().message();
+  const std::map<int, double> probe = {{23, 0.0089555}, {76, 0.022927}, {82, 0.019294}};
+  int found = 0;
+  for (const occt::BRepSeam& s : rep->seams) {
+    const auto it = probe.find(s.edge);
+    if (it == probe.end()) continue;
+    ++found;
+    std::string notes;
+    for (const std::string& n : s.report.notes) notes += n + "\n";
+    EXPECT_TRUE(s.report.certified) << "edge " << s.edge << "\n" << notes;
+    EXPECT_GE(s.report.geometric, GeometricClass::kG1) << "edge " << s.edge << "\n" << notes;
+    EXPECT_GE(s.report.g1MaxDeg, 0.999 * it->second) << "edge " << s.edge << "\n" << notes;
+    EXPECT_LE(s.report.g1MaxDeg, 3.0 * it->second) << "edge " << s.edge << "\n" << notes;
+  }
+  EXPECT_EQ(found, 3);
+}
+
 TEST(OcctBRep, ProgressIsReportedFromStartToEnd) {
   // bearing.iges (213 faces after sewing): calls at 0, every kProgressEdgeStep edges and at the end, in order.
   occt::BRepCheckOptions o;

@@ -420,6 +420,15 @@ EdgeOutcome analyseEdge(const EdgeCheckContext& ctx, int i) {
           done = false;
           seam.report = SeamReport{};
           seam.viaPatchEdges = false;
+        } else if (!seam.report.certified && loadSides()) {
+          // Where the patch-edge route finds no polynomial correspondence (one edge running past the other by more
+          // than the gap: bearing.iges, BUC50025.igs), the pcurve route pairs the edges by its own monotone
+          // correspondence and may certify them: its report is taken where it does, the sampled one kept otherwise.
+          SeamReport viaPCurves = pcurveRouteReport(ctx, edge, A, B, ia, ib, pa, pb, seam.a, seam.b);
+          if (viaPCurves.certified) {
+            seam.report = std::move(viaPCurves);
+            seam.viaPatchEdges = false;
+          }
         }
       }
     }
