@@ -246,6 +246,9 @@ struct LocalPCurve {
   [[nodiscard]] Vec2 at(double x) const { return Vec2(u.scalar(x), v.scalar(x)) / w.scalar(x); }
 };
 
+/// The Cartesian part (first three coordinates) of a homogeneous polynomial.
+BernsteinPoly xyz(const BernsteinPoly& p) { return BernsteinPoly(Matrix(p.coeffs().leftCols(3))); }
+
 /// The composed side on a leaf: homogeneous S, S_u, S_v of the surface along the pcurve.
 struct ComposedSide {
   BernsteinPoly x, w;   // Cartesian numerator and weight (w = 1 for polynomial surfaces)
@@ -270,7 +273,6 @@ ComposedSide composeSide(const SpanPatches& sp, size_t iu, size_t iv, const PCur
     out.normal = cross(Xu, Xv) * sign;
     return out;
   }
-  auto xyz = [](const BernsteinPoly& p) { return BernsteinPoly(Matrix(p.coeffs().leftCols(3))); };
   out.x = xyz(X);
   out.w = X.component(3);
   // S = x / w: S_u = (w x_u - w_u x) / w^2; the normal direction is that of the product of the numerators (the
@@ -611,7 +613,6 @@ std::optional<detail::ClosestWindow> PCurveSeam::closestTaylor(size_t li, bool o
   const BernsteinPoly Xtt = product(product(du, du), Huu) + 2.0 * product(product(du, dv), Huv) +
                             product(product(dv, dv), Hvv) + product(ddu, Hu) + product(ddv, Hv);
   if (X.dim() == 3) return detail::ClosestWindow{Xt, Xtt, Xtt, BernsteinPoly::constant(1.0), 0.0, 1.0};
-  const auto xyz = [](const BernsteinPoly& q) { return BernsteinPoly(Matrix(q.coeffs().leftCols(3))); };
   const BernsteinPoly x = xyz(X), w = X.component(3), xt = xyz(Xt), wt = Xt.component(3);
   const BernsteinPoly T = product(xt, w) - product(x, wt);
   const BernsteinPoly T1 = product(xyz(Xtt), w) - product(x, Xtt.component(3));
