@@ -398,7 +398,13 @@ struct PCurveSeam {
   std::vector<PCurveLeaf> leaves;
   std::vector<Piece> pieces;                                             // the G0 / G1 data per leaf
   std::vector<std::array<std::array<BernsteinPoly, 3>, 2>> composed;  // A's and B's ComposedSide::h per leaf
-  std::vector<detail::ClosestLeaf> closest;  // per leaf, with SeamOptions::closestPointsOn
+  // Per leaf, with SeamOptions::closestPointsOn: [0] A's points and their closest points on B, [1] B's on A.
+  std::array<std::vector<detail::ClosestLeaf>, 2> closest;
+  /// Whether the angle bound covers the closest points on B (onB) or on A of the other side's points.
+  bool closesOn(bool onB) const {
+    return opt.closestPointsOn == ClosestPoints::kBoth ||
+           opt.closestPointsOn == (onB ? ClosestPoints::kOnB : ClosestPoints::kOnA);
+  }
   double edgeScale = 0.0;
   std::vector<Piece> g2Pieces;
   double curvMax = 0.0;
@@ -458,7 +464,20 @@ bool PCurveSeam::place(const PCurvePiece& c, const SpanPatches& sp, const PCurve
       continue;
     }
     const auto idx = spanOf(spans, lo, hi, k == 0 ? side.faceU : side.faceV, side.domainSlackRel);
-    if (!idx) return false;
+    if (!idx) {
+      // The control hull of a rational pcurve (a conic) reaches past the domain where the curve need not: where
+      // both of the piece's end points lie in the domain, the piece is halved (the hulls close in on the curve);
+      // where an end point is outside, the pcurve leaves the domain.
+      const double d = spans.back().hi - spans.front().lo, slack = side.domainSlackRel * d;
+      bool endsInside = c.rational;
+      for (const double x : {0.0, 1.0}) {
+        const double y = c.num(k).scalar(x) / c.w.scalar(x);
+        endsInside = endsInside && y >= spans.front().lo - slack && y <= spans.back().hi + slack;
+      }
+      if (!endsInside) return false;
+      ok = false;
+      continue;
+    }
     (k == 0 ? iu : iv) = *idx;
   }
   return true;
@@ -515,12 +534,13 @@ void PCurveSeam::composeLeaf(size_t li) {
   pc.Q = dot(pc.cross, pc.cross);
   pc.R = product(dot(NA, NA), dot(NB, NB));
   pc.crossScale = NA.maxCoeffNorm() * NB.maxCoeffNorm();
-  if (opt.closestPointsOn != ClosestPoints::kNone) {
-    const bool onB = opt.closestPointsOn == ClosestPoints::kOnB;
+  for (const bool onB : {true, false}) {
+    if (!closesOn(onB)) continue;
     const ComposedSide &from = onB ? A : B, &to = onB ? B : A;
     const bool taylor = !(onB ? b : a).pcurve.isRational();
-    closest[li] = detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NA : NB, onB ? NB : NA, li, L.t0, L.t1,
-                                      taylor ? closestTaylor(li, onB, to) : closestWindow(li, onB));
+    closest[onB ? 0 : 1][li] =
+        detail::closestLeaf(from.x, from.w, to.x, to.w, onB ? NA : NB, onB ? NB : NA, li, L.t0, L.t1,
+                            taylor ? closestTaylor(li, onB, to) : closestWindow(li, onB));
   }
   composed[li] = {std::move(A.h), std::move(B.h)};
 }
@@ -626,7 +646,8 @@ std::optional<detail::ClosestWindow> PCurveSeam::closestTaylor(size_t li, bool o
 Status PCurveSeam::composeG1Pieces() {
   pieces.resize(leaves.size());
   composed.resize(leaves.size());
-  if (opt.closestPointsOn != ClosestPoints::kNone) closest.resize(leaves.size());
+  for (const bool onB : {true, false})
+    if (closesOn(onB)) closest[onB ? 0 : 1].resize(leaves.size());
   for (size_t first = 0; first < leaves.size(); first += batch) {
     const size_t last = std::min(leaves.size(), first + batch);
     if (last - first > 1) tbb::parallel_for(first, last, [this](size_t li) { composeLeaf(li); });
@@ -654,6 +675,7 @@ Status PCurveSeam::certifyG0G1() {
   out.g0Bound = certifyMax(pieces, detail::g0Bound, detail::g0Value, g0Best, g0x, g0p, kRoundoff * edgeScale, opt,
                            ok0, nullptr, nullptr, opt.tol.distance);
   if (!ok0) return Status(ErrorCode::kUnsupported, "pcurve seam: the distance bound could not be closed");
+  out.g0Bound += a.surfaceError + b.surfaceError;  // stand-in surfaces (PCurveSide::surfaceError)
   std::pair<int, double> unclosed{-1, 0.0};
   const double g1b = certifyMax(pieces, detail::g1Bound, detail::g1Value, g1Best, g1x, g1p, kAngleBoundFloor, opt,
                                 ok1, nullptr, &unclosed, opt.tol.angleDeg / kRadToDeg);
@@ -667,11 +689,14 @@ Status PCurveSeam::certifyG0G1() {
   out.g1Identity = detail::g1IdentityOf(pieces, ok1, out.g1BoundDeg);
   // The excess is made closer where it exceeds the bound's own certification gap (boundRelGap). Its split bound
   // rests on the paired angle's bound: a sampled stand-in is not one, and 180 deg leaves the whole-turning excess.
-  if (opt.closestPointsOn != ClosestPoints::kNone)
-    out.g1ClosestExcessDeg =
-        detail::closestExcess(closest, std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg),
-                              ok1 ? out.g1BoundDeg / kRadToDeg : std::numbers::pi) *
-        kRadToDeg;
+  const double excessGap = std::max(kAngleBoundFloor, opt.boundRelGap * out.g1BoundDeg / kRadToDeg);
+  for (const bool onB : {true, false})
+    if (closesOn(onB)) {
+      double& e = onB ? out.g1ClosestExcessOnBDeg : out.g1ClosestExcessOnADeg;
+      e = detail::closestExcess(closest[onB ? 0 : 1], excessGap, ok1 ? out.g1BoundDeg / kRadToDeg : std::numbers::pi) *
+          kRadToDeg;
+      out.g1ClosestExcessDeg = std::max(out.g1ClosestExcessDeg, e);
+    }
   if (!ok1 && !out.g1Identity)
     out.g1PoleT = unclosed.first >= 0 ? pieces[static_cast<size_t>(unclosed.first)].tOf.scalar(unclosed.second)
                                       : out.g1At;
@@ -816,6 +841,8 @@ Result<PCurveSeamBounds> certifyPCurveSeam(const PCurveSide& a, const PCurveSide
     if (!(s->range.length() > 0.0)) return invalidInput("pcurve seam: empty parameter range");
     if (!(s->domainSlackRel >= 0.0 && std::isfinite(s->domainSlackRel)))
       return invalidInput("pcurve seam: the domain slack is negative or not finite");
+    if (!(s->surfaceError >= 0.0 && std::isfinite(s->surfaceError)))
+      return invalidInput("pcurve seam: the surface's error bound is negative or not finite");
   }
   // Each side's spans: the shared ones when given for its surface, else built here.
   std::optional<SpanPatches> ownA, ownB;

@@ -4,6 +4,7 @@
 #define OCC_CONVERT_SIGNALS
 #endif
 #include "occt/brep_edge.h"
+#include "occt/analytic_patch.h"
 
 #include <fmt/format.h>
 
@@ -109,6 +110,7 @@ std::vector<Vec3> edgePolyline(const TopoDS_Edge& e) {
 }
 
 /// The seam through the pcurves: sampled, with the certified route where both faces' patches are exact conversions
+/// (or the face's surface has its own polynomial patch: a cylinder, cone, sphere or torus)
 /// (patches pa and pb of faces ia and ib). The samples and the certificate run as two tasks when ctx.threads != 1.
 SeamReport pcurveRouteReport(const EdgeCheckContext& ctx, const TopoDS_Edge& edge, const FaceSide& A,
                              const FaceSide& B, int ia, int ib, size_t pa, size_t pb, const std::string& nameA,
@@ -116,14 +118,17 @@ SeamReport pcurveRouteReport(const EdgeCheckContext& ctx, const TopoDS_Edge& edg
   const SeamOptions& seamOpt = ctx.seamOpt;
   const double size = ctx.modelSize;
   SeamReport report;
-  const bool exact = ctx.import.faces[pa].exact && ctx.import.faces[pb].exact;
+  // A face whose patch approximates its surface is certified only where that surface has its own polynomial patch
+  // (a cylinder, cone, sphere or torus: analyticSide, which the approximated patch's check sends it to).
+  const bool exactA = ctx.import.faces[pa].exact, exactB = ctx.import.faces[pb].exact;
+  const bool certifiable = (exactA || hasAnalyticPatch(A.surface)) && (exactB || hasAnalyticPatch(B.surface));
   EdgeSamples samples;
   EdgeCertificate cert;
   auto certify = [&] {
-    if (exact)
+    if (certifiable)
       tryCertificate(cert, A, B, ctx.faceBoxes, ia, ib, ctx.import.model.patches[pa].surface,
                      ctx.import.model.patches[pb].surface, edge, nameA, nameB, seamOpt, size,
-                     ctx.spans, pa, pb);
+                     ctx.spans, pa, pb, exactA, exactB);
   };
   if (ctx.threads == 1) {
     samples = sampleEdge(edge, A, B, seamOpt, size);
@@ -153,12 +158,13 @@ SeamReport pcurveRouteReport(const EdgeCheckContext& ctx, const TopoDS_Edge& edg
     if (sampleError) std::rethrow_exception(sampleError);
     if (certError) std::rethrow_exception(certError);
   }
-  if (exact) {
+  if (certifiable) {
     cert.closestSampleAngleDeg = closestAngleOfEdgeDeg(samples, cert, A, B);
     retryAngleByClosestPoints(cert, ctx.spans, pa, pb);
+    sharpenReverseDirection(cert, A, B, ctx.spans, pa, pb);
   }
   report = sampledSeam(samples, A, B, nameA, nameB, seamOpt, !cert.certifies(), !cert.certifiesG2());
-  if (exact) {
+  if (certifiable) {
     applyCertificate(report, cert, nameA, nameB, size);
   } else {
     report.notes.push_back(

@@ -138,6 +138,11 @@ struct FacePCurve {
   PCurveSide side;
   bool ownParameter = false;
   std::string how;  ///< for the seam's notes, when ownParameter
+  /// The polynomial patch side.surface points to when the face is an analytic surface whose converted patch runs in
+  /// other parameters and the edge is no iso-line (analyticPatch): the pcurve is then composed with this patch in the
+  /// face's own parameters. Shared by the copies of this side. Null otherwise.
+  std::shared_ptr<const BSplineSurface> ownSurface;
+  std::string surfaceNote;  ///< for the seam's notes, when ownSurface
 };
 
 /// The certified route of an edge, tried before its sampled report is made (the sampled values the certified ones
@@ -150,6 +155,11 @@ struct FacePCurve {
 /// stands, held to the samples) and where a normal vanishes (g1PoleT: the angle is measured, not bounded).
 inline double closestExcessDeg(const PCurveSeamBounds& r) {
   return r.g1PoleT || !std::isfinite(r.g1ClosestExcessDeg) ? 0.0 : r.g1ClosestExcessDeg;
+}
+/// The same for one direction: A's points and their closest points on B (onB), or B's and theirs on A.
+inline double closestExcessDeg(const PCurveSeamBounds& r, bool onB) {
+  const double e = onB ? r.g1ClosestExcessOnBDeg : r.g1ClosestExcessOnADeg;
+  return r.g1PoleT || !std::isfinite(e) ? 0.0 : e;
 }
 
 struct EdgeCertificate {
@@ -166,6 +176,12 @@ struct EdgeCertificate {
   /// The certified angle at equal edge parameters (degrees), when samples between closest points lay above it and
   /// the closest-point pairing certified the edge instead (retryAngleByClosestPoints); 0 otherwise.
   double equalParameterAngleDeg = 0.0;
+  /// The bound of the reverse direction from a pairing made from the other side's points (sharpenReverseDirection),
+  /// degrees; 0 where not made.
+  double reverseAngleDeg = 0.0;
+  /// The reverse direction's sampled angle where no pairing from the other side certified (sharpenReverseDirection),
+  /// degrees; 0 where not sampled.
+  double reverseSampleAngleDeg = 0.0;
   /// The largest angle of the sampled route (A's edge points and the closest points of B's edge), degrees.
   double closestSampleAngleDeg = 0.0;
   /// The certified angle lies above seam's strict angle (kStrictAngleDeg, or the tolerance when smaller), the samples
@@ -174,20 +190,28 @@ struct EdgeCertificate {
   bool angleFromPairing = false;
   /// G0 and G1 (g2: and G2) values will come from the certified route (unless reconcileVerdict withdraws them).
   [[nodiscard]] bool certifies() const { return bounds && bounds->isOk(); }
-  /// The certified angle between closest points (degrees; when certifies()): the paired points' bound plus how much
-  /// the closest points' angle can exceed it (PCurveSeamBounds::g1ClosestExcessDeg), where that is bounded; where it
-  /// is not (or a normal vanishes, g1PoleT), the paired points' angle.
-  [[nodiscard]] double angleBoundDeg() const { return (*bounds)->g1BoundDeg + closestExcessDeg(**bounds); }
+  /// The certified angle between closest points in the pairing's own direction (degrees; when certifies()): the
+  /// paired points' bound plus how much the closest points' angle can exceed it that way (forwardExcessDeg), where
+  /// that is bounded; where it is not (or a normal vanishes, g1PoleT), the paired points' angle. The two-sided angle
+  /// the report shows (PCurveSeamBounds::g1ClosestExcessDeg) is settled by sharpenReverseDirection.
+  [[nodiscard]] double angleBoundDeg() const { return (*bounds)->g1BoundDeg + forwardExcessDeg(); }
+  /// The pairing was made from A's points (equal edge parameters, or a correspondence with A as the master): its
+  /// closest-point excess toward B is the sharp one, the other direction's may be loose (sharpenReverseDirection).
+  [[nodiscard]] bool pairedFromA() const { return !byCorrespondence || masterA; }
+  /// The closest-point excess in the pairing's own direction (degrees; 0 where not bounded, as closestExcessDeg).
+  [[nodiscard]] double forwardExcessDeg() const { return closestExcessDeg(**bounds, pairedFromA()); }
   [[nodiscard]] bool certifiesG2() const { return certifies() && (*bounds)->g2Certified; }
 };
 
 /// The certified route of the edge between faces fa and fb (1-based face indices; patches pa and pb, indices
-/// patchA and patchB of the model) into `c`: see EdgeCertificate.
+/// patchA and patchB of the model) into `c`: see EdgeCertificate. `exactA` / `exactB`: the face's patch converts
+/// its surface exactly; where it only approximates it, the side is composed with the surface's own polynomial patch
+/// (a cylinder, cone, sphere or torus: analyticSide), or the route fails.
 void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const FaceBoxCache& boxes, int fa,
                     int fb, const BSplineSurface& pa, const BSplineSurface& pb,
                     const TopoDS_Edge& edge, const std::string& nameA, const std::string& nameB,
                     const SeamOptions& opt, double modelSize, const SpansCache& spans, size_t patchA,
-                    size_t patchB);
+                    size_t patchB, bool exactA, bool exactB);
 
 /// The largest angle between closest points of an edge whose equal-parameter route certified `c` (degrees; 0 next
 /// to a pole and where G1 is an identity): the samples', refined next to the certified worst point.
@@ -199,6 +223,18 @@ bool closestAnglesAboveDeg(const FaceSide& A, const FaceSide& B, double boundDeg
 /// Where the equal-parameter bound lies below a sample between closest points, or is loose above the strict angle,
 /// the edge is certified again through the closest-point correspondence (issue 35 section 1 for angles).
 void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size_t patchA, size_t patchB);
+
+/// The angle between closest points both ways (SeamOptions::closestPointsOn = kBoth): a pairing made from one side's
+/// points bounds the other direction's excess only loosely (trj3_s1-al-214.stp edge 81: 0.0367 deg paired, 0.085 deg
+/// of excess from B's side, where the probe measures 0.0367 both ways). Where that direction's excess is more than
+/// the certification gap above the pairing's own, the edge is paired again from the other side's points, whose own
+/// direction is then the sharp one; the angle shown is the larger of the two directions' sharp bounds. Where that
+/// pairing does not certify, the reverse direction is sampled (kMinSamples + 1 points of the other side's edge and
+/// their closest points): within the pairing's own bound, that bound stands (its direction certified, the other held
+/// to the samples, as before the two-sided angle); above it, the loose two-sided bound, or where that is not finite,
+/// the samples withdraw the certificate.
+void sharpenReverseDirection(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const SpansCache& spans,
+                             size_t patchA, size_t patchB);
 
 /// Applies the certified route (tryCertificate) to the edge's sampled report.
 void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::string& nameA, const std::string& nameB,

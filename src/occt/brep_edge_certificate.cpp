@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "continuity/sampling.h"
+#include "occt/analytic_patch.h"
 
 namespace seam::occt::detail {
 
@@ -38,6 +39,9 @@ constexpr double kProjectStepRel = 1e-15;
 constexpr int kReparamCheckPoints = 32;
 /// A parameter that changes by less than this fraction of the domain along an edge is constant there (iso-lines).
 constexpr double kIsoLineRel = 1e-9;
+/// The polynomial patch of an analytic face (analyticSide) covers its parameter box widened by this fraction of the
+/// box's size on each side.
+constexpr double kAnalyticBoxMargin = 0.01;
 
 /// The type name of a pcurve under its trims ("Geom2d_Circle", ...).
 std::string basisName(Handle(Geom2d_Curve) c) {
@@ -125,11 +129,8 @@ Result<BSplineCurve> isoLineInPatch(const FaceSide& f, const BSplineCurve& faceP
   return BSplineCurve::create(1, std::vector<double>{0.0, 0.0, 1.0, 1.0}, std::move(pts), VecX());
 }
 
-/// kUnsupported, with the reason, when OpenCASCADE cannot convert the pcurve, when it leaves the patch's domain, or
-/// when the patch made from the face reproduces the face's edge neither along the pcurve nor as an iso-line.
-Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int face, const BSplineSurface& patch,
-                              double modelSize, double edgeTol) {
-  auto why = [&](std::string_view reason) {
+/// The type name of a face's surface under its trims ("Geom_CylindricalSurface", ...), "?" where OpenCASCADE fails.
+std::string surfaceTypeName(const FaceSide& f) {
     std::string type = "?";
     try {
       Handle(Geom_Surface) base = f.surface;
@@ -137,7 +138,44 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
       type = base->DynamicType()->Name();
     } catch (const Standard_Failure&) {
     }
-    return Status(ErrorCode::kUnsupported, fmt::format("{} (face surface {})", reason, type));
+  return type;
+}
+
+Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int face, const BSplineSurface& patch,
+                              double modelSize, double edgeTol, bool standIn);
+
+/// A face on an analytic surface whose converted patch runs in other parameters, with an edge that is no iso-line:
+/// the pcurve composed with the surface's polynomial patch in the face's own parameters (analyticPatch, over the
+/// face's parameter box), checked against the face like a converted patch (pcurveSide). `isoLineWhy`: the reason the
+/// iso-line route failed, the error where the surface has no such patch.
+Result<FacePCurve> analyticSide(const FaceSide& f, const FaceBoxCache& boxes, int face, double modelSize,
+                                double edgeTol, const std::string& isoLineWhy) {
+  // Over the face's parameter box widened by kAnalyticBoxMargin of its size each way: the surface is the same there,
+  // and a pcurve that overshoots the box (by its edge's tolerance: 1e-7 absolute on a 0.5 mm cylinder cut by
+  // OpenCASCADE's Boolean operations) stays inside the patch's domain.
+  const detail::ParamBox& box = boxes.at(face);
+  const double mu = kAnalyticBoxMargin * (box.u1 - box.u0), mv = kAnalyticBoxMargin * (box.v1 - box.v0);
+  Result<AnalyticPatch> ap = analyticPatch(f.surface, box.u0 - mu, box.u1 + mu, box.v0 - mv, box.v1 + mv);
+  if (!ap)
+    return Status(ErrorCode::kUnsupported, fmt::format("{} (face surface {})", isoLineWhy, surfaceTypeName(f)));
+  auto own = std::make_shared<const AnalyticPatch>(std::move(ap).value());
+  Result<FacePCurve> out = pcurveSide(f, boxes, face, own->surface, modelSize, edgeTol, true);
+  if (!out) return out;
+  out->side.surfaceError = own->positionError;
+  out->ownSurface = std::shared_ptr<const BSplineSurface>(own, &own->surface);
+  out->surfaceNote = fmt::format("its {} composed as a polynomial patch in the face's own (angle) parameters, within "
+                                 "{:.2g} of the surface",
+                                 own->kind, own->positionError);
+  return out;
+}
+
+/// kUnsupported, with the reason, when OpenCASCADE cannot convert the pcurve, when it leaves the patch's domain, or
+/// when the patch made from the face reproduces the face's edge neither along the pcurve nor as an iso-line.
+/// `standIn`: `patch` is the face's analytic surface's polynomial patch in its own parameters (analyticSide).
+Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int face, const BSplineSurface& patch,
+                              double modelSize, double edgeTol, bool standIn = false) {
+  auto why = [&](std::string_view reason) {
+    return Status(ErrorCode::kUnsupported, fmt::format("{} (face surface {})", reason, surfaceTypeName(f)));
   };
   try {
     const Handle(Geom2d_TrimmedCurve) trimmed = new Geom2d_TrimmedCurve(f.pcurve, f.first, f.last);
@@ -213,15 +251,16 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
       // evaluator clamps; OpenCASCADE's continues the end span).
       const Vec3 x = patchPoint(patch, cu, cv);
       if ((x - toVec(f.surface->Value(cu, cv))).norm() > kSameParametrisationRel * modelSize) {
+        if (standIn) return why("the polynomial patch of the analytic surface does not reproduce it");
         // A converted analytic surface: the edge as an iso-line of the patch, in a parameter of its own.
         Result<BSplineCurve> line = isoLineInPatch(f, side.pcurve, patch, modelSize);
-        if (!line) return why(line.status().message());
+        if (!line) return analyticSide(f, boxes, face, modelSize, edgeTol, line.status().message());
         side.pcurve = std::move(line).value();
         side.range = {0.0, 1.0};
         side.faceU = pd;  // the patch converts the face's surface over the face's box
         side.faceV = qd;
         return FacePCurve{std::move(side), true,
-                          "an iso-line of its converted patch (whose parameter is not the angle)"};
+                          "an iso-line of its converted patch (whose parameter is not the angle)", nullptr, {}};
       }
       // The B-spline form of the pcurve must keep the pcurve's own parameter (the edge's) for the two faces to be
       // paired by parameter: a circle or ellipse becomes a rational B-spline whose parameter differs from the
@@ -234,10 +273,12 @@ Result<FacePCurve> pcurveSide(const FaceSide& f, const FaceBoxCache& boxes, int 
         side.range = side.pcurve.domain();
         return FacePCurve{std::move(side), true,
                           fmt::format("the rational B-spline form of its {} pcurve (whose parameter is not the angle)",
-                                      basisName(f.pcurve))};
+                                      basisName(f.pcurve)),
+                          nullptr,
+                          {}};
       }
     }
-    return FacePCurve{std::move(side), false, {}};
+    return FacePCurve{std::move(side), false, {}, nullptr, {}};
   } catch (const Standard_Failure& e) {
     return why(std::string("OpenCASCADE failed on the pcurve: ") + e.GetMessageString());
   }
@@ -327,11 +368,15 @@ constexpr double kDriftRetryFraction = 0.01;
 /// Pairs the two sides of `c` by a monotone piecewise-cubic correspondence: the master keeps its parameter; the
 /// other is composed with a cubic (its degree triples): master = the side with its own parameter, or of the higher
 /// pcurve degree. Sets c.a and c.b, or c.failure (c.a stays null).
-void pairByCorrespondence(EdgeCertificate& c, double pairFraction = detail::kCorrespondenceTolFraction) {
+/// `masterA`: the master chosen by the caller (sharpenReverseDirection), else by the rule above.
+void pairByCorrespondence(EdgeCertificate& c, double pairFraction = detail::kCorrespondenceTolFraction,
+                          std::optional<bool> masterA = std::nullopt) {
   const FacePCurve& sa = **c.sideA;
   const FacePCurve& sb = **c.sideB;
   c.byCorrespondence = true;
-  c.masterA = sa.ownParameter != sb.ownParameter ? sa.ownParameter : sa.side.pcurve.degree() >= sb.side.pcurve.degree();
+  c.masterA = masterA ? *masterA
+              : sa.ownParameter != sb.ownParameter ? sa.ownParameter
+                                                   : sa.side.pcurve.degree() >= sb.side.pcurve.degree();
   const FacePCurve& master = c.masterA ? sa : sb;
   const FacePCurve& other = c.masterA ? sb : sa;
   c.correspondence.emplace(detail::correspondInParameterOf(master.side, other.side, c.opt.tol.distance, pairFraction));
@@ -341,8 +386,9 @@ void pairByCorrespondence(EdgeCertificate& c, double pairFraction = detail::kCor
     return;
   }
   c.opt.maxBoundWork = std::min(c.opt.maxBoundWork, detail::kCorrespondenceBoundWork);
-  // The master's points are paired with their closest points on the other side: the angle bound covers those.
-  c.opt.closestPointsOn = c.masterA ? ClosestPoints::kOnB : ClosestPoints::kOnA;
+  // The master's points are paired with their closest points on the other side: the angle bound covers those, and
+  // the other side's points with theirs on the master (as tryCertificate).
+  c.opt.closestPointsOn = ClosestPoints::kBoth;
   c.a = c.masterA ? &master.side : &(*c.correspondence)->b;
   c.b = c.masterA ? &(*c.correspondence)->b : &master.side;
 }
@@ -357,13 +403,14 @@ void repoint(EdgeCertificate& c) {
 /// their equal edge parameters, when it certifies: the retry of a SameParameter edge whose pcurves drift.
 std::optional<EdgeCertificate> closestPointCertificate(const EdgeCertificate& c, const SpansCache& spans,
                                                        size_t patchA, size_t patchB,
-                                                       double pairFraction = detail::kCorrespondenceTolFraction) {
+                                                       double pairFraction = detail::kCorrespondenceTolFraction,
+                                                       std::optional<bool> masterA = std::nullopt) {
   EdgeCertificate closest;
   closest.sideA = c.sideA;
   closest.sideB = c.sideB;
   closest.sameParameter = true;
   closest.opt = c.opt;
-  pairByCorrespondence(closest, pairFraction);
+  pairByCorrespondence(closest, pairFraction, masterA);
   if (closest.a == nullptr) return std::nullopt;
   closest.bounds.emplace(certifyPCurveSeam(*closest.a, *closest.b, closest.opt, spans.at(patchA), spans.at(patchB)));
   if (!closest.certifies()) return std::nullopt;
@@ -404,15 +451,20 @@ void tryCertificate(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, co
                     int fb, const BSplineSurface& pa, const BSplineSurface& pb,
                     const TopoDS_Edge& edge, const std::string& nameA, const std::string& nameB,
                     const SeamOptions& opt, double modelSize, const SpansCache& spans, size_t patchA,
-                    size_t patchB) {
+                    size_t patchB, bool exactA, bool exactB) {
   const double edgeTol = BRep_Tool::Tolerance(edge);
-  c.sideA.emplace(pcurveSide(A, boxes, fa, pa, modelSize, edgeTol));
-  c.sideB.emplace(pcurveSide(B, boxes, fb, pb, modelSize, edgeTol));
+  const std::string approximated = "its patch approximates the face's surface";
+  c.sideA.emplace(exactA ? pcurveSide(A, boxes, fa, pa, modelSize, edgeTol)
+                         : analyticSide(A, boxes, fa, modelSize, edgeTol, approximated));
+  c.sideB.emplace(exactB ? pcurveSide(B, boxes, fb, pb, modelSize, edgeTol)
+                         : analyticSide(B, boxes, fb, modelSize, edgeTol, approximated));
   c.sameParameter = BRep_Tool::SameParameter(edge) && BRep_Tool::SameRange(edge);
   c.opt = opt;
-  // Angles between closest points (PCurveSeamBounds::g1ClosestExcessDeg): A's edge points and their closest points
-  // on B, as the sampled route takes them (pairByCorrespondence: the direction its pairing was made in).
-  c.opt.closestPointsOn = ClosestPoints::kOnB;
+  // Angles between closest points (PCurveSeamBounds::g1ClosestExcessDeg) both ways: A's edge points and their
+  // closest points on B (as the sampled route takes them), and B's and theirs on A. One way alone fell below the
+  // OpenCASCADE probe's two-sided boundary angle by 1.5 % across a 0.02 mm gap (boxed_sphere.step edge 9: 4.272 deg
+  // certified, 4.337 deg measured from B's side).
+  c.opt.closestPointsOn = ClosestPoints::kBoth;
   const Result<FacePCurve>& sa = *c.sideA;
   const Result<FacePCurve>& sb = *c.sideB;
   if (!sa || !sb) {
@@ -505,7 +557,7 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   // certification gap: the pcurves drift, and the closest-point pairing, whose excess is at the pairing's accuracy,
   // may give the closer bound (trj3_s1-al-214.stp edge 96: 0.0369 deg at equal parameters plus 0.0443 of excess).
   const auto excessLoose = [](const EdgeCertificate& e) {
-    return closestExcessDeg(**e.bounds) > kLooseAngleRelSlack * (*e.bounds)->g1BoundDeg + kAngleRetrySlackDeg;
+    return e.forwardExcessDeg() > kLooseAngleRelSlack * (*e.bounds)->g1BoundDeg + kAngleRetrySlackDeg;
   };
   const bool looseExcess = excessLoose(c);
   if (!belowSamples && !looseBound && !aboveSamples && !looseExcess) return;
@@ -534,7 +586,7 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   if (closest && excessLoose(*closest)) {
     const PCurveSeamBounds& cb = **closest->bounds;
     const double fraction = std::max(detail::kFinerPairingFractions.back(),
-                                     pairing * kLooseAngleRelSlack * cb.g1BoundDeg / closestExcessDeg(cb));
+                                     pairing * kLooseAngleRelSlack * cb.g1BoundDeg / closest->forwardExcessDeg());
     if (fraction < pairing)
       if (std::optional<EdgeCertificate> finer = closestPointCertificate(c, spans, patchA, patchB, fraction);
           finer && finer->angleBoundDeg() < closest->angleBoundDeg()) {
@@ -558,6 +610,53 @@ void retryAngleByClosestPoints(EdgeCertificate& c, const SpansCache& spans, size
   closest->equalParameterAngleDeg = bound;
   closest->closestSampleAngleDeg = sample;
   adopt(c, std::move(*closest));
+}
+
+void sharpenReverseDirection(EdgeCertificate& c, const FaceSide& A, const FaceSide& B, const SpansCache& spans,
+                             size_t patchA, size_t patchB) {
+  if (!c.certifies()) return;
+  PCurveSeamBounds& b = **c.bounds;
+  if (b.g1PoleT) return;
+  const bool fromA = c.pairedFromA();
+  const double forward = fromA ? b.g1ClosestExcessOnBDeg : b.g1ClosestExcessOnADeg;
+  const double reverse = fromA ? b.g1ClosestExcessOnADeg : b.g1ClosestExcessOnBDeg;
+  if (!std::isfinite(forward)) return;  // the paired points' bound stands (certifyThroughPCurves), as before
+  const double own = b.g1BoundDeg + forward;
+  // The reverse direction's excess within the certification gap of the pairing's own: the two-sided bound stands.
+  if (reverse <= forward + kLooseAngleRelSlack * own + kAngleRetrySlackDeg) return;
+  // The other side's points paired with their closest points (a correspondence with that side as the master): its
+  // own direction is the sharp one.
+  if (std::optional<EdgeCertificate> other =
+          closestPointCertificate(c, spans, patchA, patchB, detail::kCorrespondenceTolFraction, !fromA)) {
+    const PCurveSeamBounds& ob = **other->bounds;
+    const double e = fromA ? ob.g1ClosestExcessOnADeg : ob.g1ClosestExcessOnBDeg;
+    if (!ob.g1PoleT && std::isfinite(e) && !(ob.g1BoundDeg + e >= b.g1BoundDeg + reverse)) {
+      c.reverseAngleDeg = ob.g1BoundDeg + e;
+      b.g1ClosestExcessDeg = std::max(own, c.reverseAngleDeg) - b.g1BoundDeg;
+      return;
+    }
+  }
+  // No sharper pairing from the other side (its correspondence cannot be formed or certified: trj3_s1-al-214.stp
+  // edge 81, whose loose reverse excess of 0.25 deg would multiply a 0.037 deg angle by 8): the other side's edge
+  // points at kMinSamples + 1 evenly spaced parameters, with the normal at their closest points. Where they stay
+  // within the pairing's own bound, that bound is shown (its direction certified, the other held to the samples, as
+  // before the two-sided angle); above it, the loose two-sided bound where it is finite, else the samples withdraw
+  // the certificate (applyCertificate).
+  const FaceSide& from = fromA ? B : A;
+  const FaceSide& to = fromA ? A : B;
+  double sampled = 0.0;
+  for (int i = 0; i <= kMinSamples; ++i) {
+    const double t = from.first + (from.last - from.first) * i / kMinSamples;
+    const PointData m = measure(from, to, t);
+    if (m.normalsOk && std::isfinite(m.g1)) sampled = std::max(sampled, m.g1 * kRadToDeg);
+  }
+  c.reverseSampleAngleDeg = sampled;
+  if (sampled <= own * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg) {
+    b.g1ClosestExcessDeg = forward;
+  } else if (!std::isfinite(reverse)) {
+    b.g1ClosestExcessDeg = forward;
+    c.closestSampleAngleDeg = std::max(c.closestSampleAngleDeg, sampled);
+  }
 }
 
 /// Applies the certified route (tryCertificate) to the edge's sampled report.
@@ -608,9 +707,24 @@ void applyCertificate(SeamReport& rep, const EdgeCertificate& c, const std::stri
     rep.certified = false;
     reconcileVerdict(rep, c.opt.tol);
   }
-  if (!c.byCorrespondence || !rep.certified) return;
+  if (!rep.certified) return;
   const FacePCurve& a = **c.sideA;
   const FacePCurve& b = **c.sideB;
+  for (const auto& [s, name] : {std::pair{&a, &nameA}, std::pair{&b, &nameB}})
+    if (s->ownSurface) rep.notes.push_back(fmt::format("{}: {}", *name, s->surfaceNote));
+  const std::string& from = c.pairedFromA() ? nameB : nameA;
+  const std::string& to = c.pairedFromA() ? nameA : nameB;
+  if (c.reverseAngleDeg > 0.0)
+    rep.notes.push_back(fmt::format("between {}'s edge points and their closest points on {}'s edge the angle is "
+                                    "bounded by a second pairing, made from {}'s side ({:.6g} deg)",
+                                    from, to, from, c.reverseAngleDeg));
+  else if (c.reverseSampleAngleDeg > 0.0 && (*c.bounds)->g1ClosestExcessDeg == c.forwardExcessDeg())
+    rep.notes.push_back(fmt::format("between {}'s edge points and their closest points on {}'s edge the angle is "
+                                    "sampled ({:.6g} deg at {} points, within the bound): the bound of that direction "
+                                    "through the pairing from {}'s side is loose, and no pairing from {}'s side "
+                                    "certifies",
+                                    from, to, c.reverseSampleAngleDeg, kMinSamples + 1, to, from));
+  if (!c.byCorrespondence) return;
   const detail::Correspondence& corr = **c.correspondence;
   const bool masterA = c.masterA;
   std::string why = !c.sameParameter ? "the edge's pcurves do not share its parameter (no SameParameter / SameRange)"

@@ -52,7 +52,9 @@ struct SeamSample {
 };
 
 /// Which closest points a pcurve seam's angle bound covers (SeamOptions::closestPointsOn).
-enum class ClosestPoints { kNone, kOnB, kOnA };
+/// kBoth: A's points paired with their closest points on B and B's with theirs on A (the two-sided angle, as the gap
+/// is two-sided).
+enum class ClosestPoints { kNone, kOnB, kOnA, kBoth };
 
 struct SeamOptions {
   Tolerances tol;                 ///< classification thresholds (defaults: Tolerances{}; scale them to the model)
@@ -79,8 +81,8 @@ struct SeamOptions {
   bool sharedRows = true;
   /// Pcurve seams (certifyPCurveSeam): also bound how much the angle between the normals at closest points can
   /// exceed the angle at the points the route pairs (PCurveSeamBounds::g1ClosestExcessDeg): kOnB for each point of
-  /// A's edge and its closest point on B's, kOnA the other way. The B-rep check asks for the direction its pairing
-  /// was made in: its angles are between closest points (issue 35).
+  /// A's edge and its closest point on B's, kOnA the other way, kBoth both ways. The B-rep check asks for both: its
+  /// angles are between closest points, either way, as its gaps are two-sided (issue 35; the probe's boundary angle).
   ClosestPoints closestPointsOn = ClosestPoints::kNone;
 };
 
@@ -176,6 +178,9 @@ struct PCurveSide {
   /// polynomial continues the surface there (exactly as OpenCASCADE evaluates a bounded B-spline surface outside its
   /// bounds). The B-rep check sets kBRepDomainRelTol (model/brep.h) for the faces whose patch is their own surface.
   double domainSlackRel = kPCurveDomainSlackRel;
+  /// A bound of how far `surface` lies from the face's own surface, where it is a polynomial stand-in for an analytic
+  /// one (the B-rep check's patch of a cylinder in its angle parameter): added to the certified gap. 0 otherwise.
+  double surfaceError = 0.0;
 };
 
 /// Certified values of a seam between two faces along their pcurves, which share the edge parameter (B's range
@@ -212,10 +217,14 @@ struct PCurveSeamBounds {
   /// With SeamOptions::closestPointsOn = kOnB: a certified bound of how much the angle between A's normal at a point
   /// of A's edge and B's normal at the (local) closest point of B's edge can exceed the angle between the normals at
   /// the points the route pairs, in degrees (g1BoundDeg + this bounds the angle between closest points); kOnA: the
-  /// same with A and B exchanged. Infinite where it cannot be bounded (the other edge's tangent or normal not bounded
-  /// away from zero near the pairing, or its curvature too large for the distance between the paired points). 0
-  /// with kNone.
+  /// same with A and B exchanged; kBoth: the larger of the two. Infinite where it cannot be bounded (the other edge's
+  /// tangent or normal not bounded away from zero near the pairing, or its curvature too large for the distance
+  /// between the paired points). 0 with kNone.
   double g1ClosestExcessDeg = 0.0;
+  /// The two directions of g1ClosestExcessDeg apart: A's points and their closest points on B (kOnB, kBoth), B's and
+  /// theirs on A (kOnA, kBoth); 0 where not asked for. A pairing made from one side's closest points has the sharp
+  /// excess in that direction; the other direction's may be loose (the B-rep check then pairs from the other side).
+  double g1ClosestExcessOnBDeg = 0.0, g1ClosestExcessOnADeg = 0.0;
 };
 /// Errors (the caller samples instead): kInvalidInput (missing surface, pcurve not 2-D, empty ranges),
 /// kUnsupported (a pcurve leaving its surface's domain, knot lines that cannot be isolated, degree
