@@ -122,6 +122,12 @@ TEST(AnalyticPatch, OtherSurfacesAndEmptyBoxesAreRefused) {
     ASSERT_FALSE(q.isOk());
     EXPECT_EQ(q.status().code(), ErrorCode::kInvalidInput);
   }
+  const Result<occt::detail::AnalyticPatch> none = occt::detail::analyticPatch(Handle(Geom_Surface)(), 0, 1, 0, 1);
+  ASSERT_FALSE(none.isOk());
+  EXPECT_EQ(none.status().code(), ErrorCode::kInvalidInput);
+  EXPECT_FALSE(occt::detail::hasAnalyticPatch(Handle(Geom_Surface)()));
+  EXPECT_FALSE(occt::detail::hasAnalyticPatch(plane));
+  EXPECT_TRUE(occt::detail::hasAnalyticPatch(cyl));
   // Under a trimmed surface the basis surface is taken.
   const Handle(Geom_RectangularTrimmedSurface) trimmed = new Geom_RectangularTrimmedSurface(cyl, 0.0, 1.0, 0.0, 2.0);
   const Result<occt::detail::AnalyticPatch> t = occt::detail::analyticPatch(trimmed, 0.0, 1.0, 0.0, 2.0);

@@ -137,6 +137,7 @@ Result<AnalyticPatch> analyticPatch(const Handle(Geom_Surface) & surface, double
   if (!(std::isfinite(u0) && std::isfinite(u1) && std::isfinite(v0) && std::isfinite(v1) && u1 > u0 && v1 > v0))
     return invalidInput(fmt::format("analytic patch: the parameter box [{}, {}] x [{}, {}] is empty or not finite",
                                     u0, u1, v0, v1));
+  if (surface.IsNull()) return invalidInput("analytic patch: no surface");
   Handle(Geom_Surface) base = surface;
   std::vector<Term> terms;
   AnalyticPatch out;

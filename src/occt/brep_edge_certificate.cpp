@@ -131,13 +131,13 @@ Result<BSplineCurve> isoLineInPatch(const FaceSide& f, const BSplineCurve& faceP
 
 /// The type name of a face's surface under its trims ("Geom_CylindricalSurface", ...), "?" where OpenCASCADE fails.
 std::string surfaceTypeName(const FaceSide& f) {
-    std::string type = "?";
-    try {
-      Handle(Geom_Surface) base = f.surface;
-      while (const auto rts = Handle(Geom_RectangularTrimmedSurface)::DownCast(base)) base = rts->BasisSurface();
-      type = base->DynamicType()->Name();
-    } catch (const Standard_Failure&) {
-    }
+  std::string type = "?";
+  try {
+    Handle(Geom_Surface) base = f.surface;
+    while (const auto rts = Handle(Geom_RectangularTrimmedSurface)::DownCast(base)) base = rts->BasisSurface();
+    type = base->DynamicType()->Name();
+  } catch (const Standard_Failure&) {
+  }
   return type;
 }
 
