@@ -645,11 +645,8 @@ void sharpenReverseDirection(EdgeCertificate& c, const FaceSide& A, const FaceSi
   const FaceSide& from = fromA ? B : A;
   const FaceSide& to = fromA ? A : B;
   double sampled = 0.0;
-  for (int i = 0; i <= kMinSamples; ++i) {
-    const double t = from.first + (from.last - from.first) * i / kMinSamples;
-    const PointData m = measure(from, to, t);
-    if (m.normalsOk && std::isfinite(m.g1)) sampled = std::max(sampled, m.g1 * kRadToDeg);
-  }
+  for (int i = 0; i <= kMinSamples; ++i)
+    sampled = std::max(sampled, closestAngleDeg(from, to, from.first + (from.last - from.first) * i / kMinSamples));
   c.reverseSampleAngleDeg = sampled;
   if (sampled <= own * (1.0 + kAngleRetryRelSlack) + kAngleRetrySlackDeg) {
     b.g1ClosestExcessDeg = forward;
