@@ -113,6 +113,14 @@ const HostileCase kCases[] = {
     {"iges_truncated_crash.igs", 0, "only 14 of 15 root entities", nullptr},
     // used to look clean with 3 faces of 7
     {"iges_truncated_3_of_7.igs", 0, "only 3 of 7 root entities", nullptr},
+    // BUC50025.igs with one B-spline surface's upper indices K1, K2 set to 9999 (parameter line 30, "128,2,12,2,12,"
+    // -> "128,9999,9999,"; its directory entry is "D      3"): OpenCASCADE allocated 10^8 poles and weights before
+    // reading one (2.4 GB, the fuzzer's out-of-memory of the CI run of 2026-12-03); refused before it reads them
+    {"iges_bspline_counts_oom.igs", 2, "type 128 (directory entry 3) declares", nullptr},
+    // the fuzzer's mutation of the file above (seed 7, 508th input): the line that holds the counts is one byte too
+    // long (81 columns, its section letter in column 74), and OpenCASCADE's line reader still gives the counts to
+    // the entity; a split of the file by 80-column lines missed them
+    {"iges_bspline_counts_long_line.igs", 2, "type 128 (directory entry 3) declares", nullptr},
 };
 
 class HostileCad : public ::testing::TestWithParam<HostileCase> {};

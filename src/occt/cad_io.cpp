@@ -62,6 +62,7 @@
 #include <IGESControl_Writer.hxx>
 #include <IGESData_IGESWriter.hxx>
 #include <IGESSelect_WorkLibrary.hxx>
+#include <igesread.h>  // OpenCASCADE's IGES parser (C): what IGESFile_Read runs before it reads any entity
 #include <StepAP214.hxx>
 #include <StepAP214_Protocol.hxx>
 #include <StepData_StepModel.hxx>
@@ -106,6 +107,7 @@
 #include <cctype>
 #include <cfenv>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -120,6 +122,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 namespace seam::occt {
 
@@ -230,6 +233,126 @@ int countStepInstances(std::string_view data) {
     pos = k;
   }
   return n;
+}
+
+/// IGES entities whose sizes come from counts in their own parameters: OpenCASCADE's readers allocate the arrays from
+/// those counts before reading a value (IGESGeom_ToolBSplineSurface allocates (K1 + 1)(K2 + 1) poles and weights), so
+/// a corrupt count of a few bytes asks for gigabytes (a fuzzed 128 entity: 655 MB in one allocation, 2.4 GB in all,
+/// CI of 2026-12-03). A count that asks for more values than the entity holds is refused before OpenCASCADE reads the
+/// file when it asks for more than this many: below it the arrays stay small (a few MB) and OpenCASCADE's own check
+/// reports the shortfall as a failed entity (a truncated file, said as a warning).
+constexpr std::int64_t kIgesMaxUnbackedValues = 100000;
+/// Counts are clamped here while the declared size is computed (no overflow; any larger count is refused anyway).
+constexpr std::int64_t kIgesCountClamp = std::int64_t{1} << 30;
+/// The parameters of an entity that hold its counts: the type number and up to four counts after it.
+constexpr size_t kIgesCountParams = 5;
+
+/// One entity of an IGES file as OpenCASCADE's parser (igesread) splits it: its type (directory entry), the
+/// sequence number of its directory entry, its first parameters (the type number, then the counts) and how many
+/// parameters follow the type number.
+struct IgesEntity {
+  int type = 0;
+  int directoryLine = 0;
+  std::vector<std::string> params;
+  std::int64_t held = 0;
+};
+
+/// The declared number of parameter values of an entity of the types whose arrays OpenCASCADE sizes from counts
+/// (IGES 5.3 parameter layouts; a lower bound: optional trailing values are not counted), or nullopt for other types
+/// and for counts that are not integers.
+std::optional<std::int64_t> igesDeclaredValues(const IgesEntity& r) {
+  const auto integer = [&r](size_t k) -> std::optional<std::int64_t> {
+    if (k >= r.params.size()) return std::nullopt;
+    std::string_view t = r.params[k];  // igesread drops the blanks around a parameter
+    bool negative = false;
+    if (!t.empty() && (t.front() == '+' || t.front() == '-')) {
+      negative = t.front() == '-';
+      t.remove_prefix(1);
+    }
+    if (t.empty()) return std::nullopt;
+    std::int64_t v = 0;
+    for (char c : t) {
+      if (!std::isdigit(static_cast<unsigned char>(c))) return std::nullopt;
+      v = std::min(v * 10 + (c - '0'), kIgesCountClamp);
+    }
+    return negative ? -v : v;
+  };
+  // OpenCASCADE reads an entity only when its first parameter is its directory entry's type number.
+  if (integer(0) != std::optional<std::int64_t>(r.type)) return std::nullopt;
+  // c(k): the count at parameter k, never below 0 (a negative count allocates nothing).
+  const auto c = [&integer](size_t k) { return std::max<std::int64_t>(integer(k).value_or(0), 0); };
+  switch (r.type) {
+    case 102: return 1 + c(1);                                          // composite curve: N curves
+    case 106: return 2 + 2 * c(2);                                      // copious data: N points (2 to 6 values each)
+    case 112: return 4 + (c(3) + 1) + 12 * c(3);                        // parametric spline curve: N segments
+    case 114: return 4 + (c(3) + 1) + (c(4) + 1) + 48 * c(3) * c(4);    // parametric spline surface: M x N patches
+    case 126: return 6 + (c(1) + c(2) + 2) + 4 * (c(1) + 1) + 2;        // B-spline curve: K + 1 poles, degree M
+    case 128:                                                           // B-spline surface: (K1 + 1)(K2 + 1) poles
+      return 9 + (c(1) + c(3) + 2) + (c(2) + c(4) + 2) + 4 * (c(1) + 1) * (c(2) + 1) + 4;
+    case 141: return 4 + 3 * c(4);                                      // boundary: N curves
+    case 143: return 3 + c(3);                                          // bounded surface: N boundaries
+    case 144: return 4 + c(3);                                          // trimmed surface: N2 inner boundaries
+    case 186: return 3 + 2 * c(3);                                      // manifold solid: N voids
+    case 308: return 3 + c(3);                                          // subfigure: N entities
+    case 502: return 1 + 3 * c(1);                                      // vertex list: N vertices
+    case 504: return 1 + 5 * c(1);                                      // edge list: N edges
+    case 508: return 1 + 5 * c(1);                                      // loop: N edges
+    case 510: return 3 + c(2);                                          // face: N loops
+    case 514: return 2 + 2 * c(2);                                      // shell: N faces
+    default: return std::nullopt;
+  }
+}
+
+/// OpenCASCADE's IGES parser keeps its state in globals (structiges.c): one parse at a time in this process.
+std::mutex& igesParserMutex() {
+  static std::mutex m;
+  return m;
+}
+
+/// The entities of an IGES file as OpenCASCADE's own parser splits them (igesread, which IGESFile_Read runs before it
+/// reads any entity; its line reader and the assignment of parameter lines to entities have quirks that a separate
+/// reading would miss: a fuzzed line one byte too long, for one). Empty where igesread cannot open the file.
+/// The caller holds igesParserMutex.
+std::vector<IgesEntity> igesEntities(const fs::path& file) {
+  std::vector<IgesEntity> out;
+  // igesread only opens the file (a name of one character would be stdin: seam's names end in .igs or .iges). No
+  // memory of seam's is allocated before it returns: a signal inside it skips the destructors (see readShape).
+  int sections[6] = {};
+  if (igesread(const_cast<char*>(file.c_str()), sections, 0) != 0) return out;
+  int parts = 0, params = 0;
+  iges_stats(&parts, &params);
+  if (parts > 0) {  // (IGESFile_Read reads no part either without one: the first page is then uninitialised)
+    int* directory = nullptr;
+    char *res1 = nullptr, *res2 = nullptr, *label = nullptr, *subscript = nullptr;
+    int count = 0, line = 0;
+    while ((line = iges_lirpart(&directory, &res1, &res2, &label, &subscript, &count)) != 0) {
+      IgesEntity e;
+      e.type = directory[0];
+      e.directoryLine = line;
+      e.held = std::max(count - 1, 0);
+      int kind = 0;
+      char* value = nullptr;
+      while (e.params.size() < kIgesCountParams && iges_lirparam(&kind, &value) != 0) e.params.emplace_back(value);
+      out.push_back(std::move(e));
+      iges_nextpart();
+    }
+  }
+  iges_finfile(0);
+  return out;
+}
+
+/// Refuses an IGES file with an entity whose counts ask for more than kIgesMaxUnbackedValues values that it does not
+/// hold (see kIgesMaxUnbackedValues). The caller holds igesParserMutex.
+Status checkIgesCounts(const fs::path& file) {
+  for (const IgesEntity& e : igesEntities(file)) {
+    const std::optional<std::int64_t> declared = igesDeclaredValues(e);
+    if (!declared || *declared <= e.held || *declared <= kIgesMaxUnbackedValues) continue;
+    return invalidInput(fmt::format("{}: the IGES entity of type {} (directory entry {}) declares {} values (from its "
+                                    "counts) but holds {}; the file is corrupt (refused before OpenCASCADE allocates "
+                                    "for it)",
+                                    file.string(), e.type, e.directoryLine, *declared, e.held));
+  }
+  return Status::ok();
 }
 
 /// With `stepInstances`, a STEP file's entity instances are counted too (countStepInstances).
@@ -595,6 +718,11 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
   const char* kind = format == CadFormat::kStep ? "STEP" : "IGES";
   const std::string name = file.string();
   OcctSignalGuard guard;
+  // OpenCASCADE's IGES parser is not reentrant (its state is global): one IGES parse at a time. The lock is taken
+  // outside the try block: a signal inside OpenCASCADE returns to OCC_CATCH_SIGNALS by longjmp, which would skip the
+  // destructor of a lock taken after it (the mutex stayed locked and the next read hung: fuzz_iges, 2026-12-03).
+  std::unique_lock<std::mutex> igesLock(igesParserMutex(), std::defer_lock);
+  if (format == CadFormat::kIges) igesLock.lock();
   try {
     OCC_CATCH_SIGNALS
     if (format == CadFormat::kIges) IGESControl_Controller::Init();
@@ -623,7 +751,15 @@ Result<TopoDS_Shape> readShape(const fs::path& file, CadFormat format, std::vect
         plain = std::make_unique<IGESControl_Reader>();
       reader = plain.get();
     }
-    const IFSelect_ReturnStatus st = stepCaf ? stepCaf->ReadFile(file.c_str()) : reader->ReadFile(file.c_str());
+    IFSelect_ReturnStatus st = IFSelect_RetVoid;
+    if (format == CadFormat::kIges) {
+      // The counts are checked on OpenCASCADE's own split of the file before its readers allocate from them.
+      if (Status counts = checkIgesCounts(file); !counts) return counts;
+      st = reader->ReadFile(file.c_str());
+      igesLock.unlock();
+    } else {
+      st = stepCaf ? stepCaf->ReadFile(file.c_str()) : reader->ReadFile(file.c_str());
+    }
     if (st != IFSelect_RetDone) return invalidInput(fmt::format("{}: not a readable {} file", name, kind));
     // Entities the reader could not load (a truncated or corrupted file) are dropped by OpenCASCADE: count them.
     // (Interface_InterfaceModel::IsErrorEntity; WS()->ModelCheckList() throws on valid IGES files.)
