@@ -616,15 +616,15 @@ TEST(OcctTruth, TorusFilletOnAPlaneAlongACircleIsCertifiedG1) {
 // B-spline form, whose parameter along the circle is not the angle, does not compose with it. The outward normals
 // there are n_c = (cos u, sin u, 0) and n_p = (-sin a, 0, cos a): the angle between them is acos(-sin a cos u), at
 // most 90 deg + a (at u = 0) and at least 90 deg - a. Certified through the cylinder's polynomial patch in its own
-// parameters (analyticPatch; before 2026-12-03 these seams were only sampled), at four scales. At radius 0.5 and
+// parameters (analyticPatch; before 2026-12-03 these seams were only sampled), at five scales. At radius 0.5 and
 // below, the plane's rational ellipse pcurve has control points outside the plane's patch, which the route now halves
 // instead of refusing.
 TEST(OcctTruth, AnEllipseOnACylinderIsCertifiedThroughTheCylindersAngleParameter) {
   const double a = kPi / 6.0;
   const double worst = 90.0 + a * 180.0 / kPi, least = 90.0 - a * 180.0 / kPi;
-  // (Radius 0.05 is left out: there the plane's ellipse and the cylinder's pcurve have breakpoints whose closest
-  // points do not come in the same order, and the correspondence is refused before any patch is composed; issue 35.)
-  for (const double radius : {0.005, 0.5, 5.0, 5000.0}) {
+  // Radius 0.05 was refused until 2026-12-03 ("breakpoints do not correspond in order"): both edges are closed, their
+  // end points tie, and round-off turned the correspondence round (correspondInParameterOf, kClosedEdgeRel).
+  for (const double radius : {0.005, 0.05, 0.5, 5.0, 5000.0}) {
     SCOPED_TRACE(::testing::Message() << "radius " << radius);
     BRepPrimAPI_MakeCylinder cylinder(gp_Ax2(gp_Pnt(0, 0, -2.0 * radius), gp::DZ()), radius, 4.0 * radius);
     const TopoDS_Face cut = BRepBuilderAPI_MakeFace(gp_Pln(gp::Origin(), gp_Dir(-std::sin(a), 0, std::cos(a))));

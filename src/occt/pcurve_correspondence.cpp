@@ -42,6 +42,10 @@ EdgeJet EdgeJetMemo::at(double t) {
 
 namespace {
 
+/// An edge is closed when its end points lie within this fraction of the distance from its start to its middle point
+/// (a full circle or ellipse: the same vertex at both ends, apart by round-off).
+constexpr double kClosedEdgeRel = 1e-6;
+
 /// Gauss-Newton steps of a closest-point search along an edge, and the step (relative to the range) that ends it.
 constexpr int kClosestIterations = 40;
 constexpr double kClosestStepRel = 1e-15;
@@ -110,11 +114,23 @@ Result<Correspondence> correspondInParameterOf(const PCurveSide& a, const PCurve
   if (!(distanceTol > 0.0) || !(pairFraction > 0.0) || !a.surface || !b.surface)
     return invalidInput("correspondence: bad sides");
   const Interval ra = a.range, rb = b.range;
-  // Orientation from the end points: B's range runs along A's or against it.
+  // Orientation: B's range runs along A's or against it, from the end points. On two closed edges (a full ellipse)
+  // the end points tie and round-off chose (4.90998e-13 against 4.91064e-13 at radius 0.05 in
+  // OcctTruth.AnEllipseOnACylinderIsCertifiedThroughTheCylindersAngleParameter: reversed, and no correspondence):
+  // there the points a third and two thirds along each range decide.
   EdgeJetMemo jetA(a), jetB(b);
   const Vec3 a0 = jetA.at(ra.lo).point, a1 = jetA.at(ra.hi).point;
   const Vec3 b0 = jetB.at(rb.lo).point, b1 = jetB.at(rb.hi).point;
-  const bool reversed = (a0 - b1).norm() + (a1 - b0).norm() < (a0 - b0).norm() + (a1 - b1).norm();
+  const auto along = [](const Interval& r, double f) { return r.lo + f * r.length(); };
+  const auto closed = [&](EdgeJetMemo& jet, const Interval& r, const Vec3& p0, const Vec3& p1) {
+    return (p1 - p0).norm() <= kClosedEdgeRel * (jet.at(along(r, 0.5)).point - p0).norm();
+  };
+  bool reversed = (a0 - b1).norm() + (a1 - b0).norm() < (a0 - b0).norm() + (a1 - b1).norm();
+  if (closed(jetA, ra, a0, a1) && closed(jetB, rb, b0, b1)) {
+    const Vec3 a3 = jetA.at(along(ra, 1.0 / 3)).point, a6 = jetA.at(along(ra, 2.0 / 3)).point;
+    const Vec3 b3 = jetB.at(along(rb, 1.0 / 3)).point, b6 = jetB.at(along(rb, 2.0 / 3)).point;
+    reversed = (a3 - b6).norm() + (a6 - b3).norm() < (a3 - b3).norm() + (a6 - b6).norm();
+  }
   const double qStart = reversed ? rb.hi : rb.lo, qEnd = reversed ? rb.lo : rb.hi;
   auto linearGuess = [&](double r) { return qStart + (r - ra.lo) / ra.length() * (qEnd - qStart); };
   auto phiStar = [&](double r, double guess) { return closest(jetB, jetA.at(r).point, guess); };
